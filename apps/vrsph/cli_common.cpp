@@ -1,0 +1,110 @@
+#include "cli_common.hpp"
+#include <unistd.h>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <vrsph/core/error.hpp>
+
+namespace vrsph::cli {
+
+namespace {
+std::string find_plot_script() {
+  if (const char* env = std::getenv("VRSPH_PLOT_SCRIPT")) return env;
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const auto installed = exe.parent_path().parent_path() / "share" / "vrsph" / "plot_convergence.py";
+    if (std::filesystem::exists(installed)) return installed.string();
+  }
+  return std::string(VRSPH_SOURCE_DIR) + "/share/plot_convergence.py";
+}
+
+// Debian's interpreter has python3-matplotlib; a python3 earlier on PATH (pyenv,
+// venv) may not. VRSPH_PYTHON overrides.
+std::string python_interpreter() {
+  if (const char* env = std::getenv("VRSPH_PYTHON")) return env;
+  return std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+}  // namespace
+
+void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
+          const std::string& plot_y, const std::string& plot_group, const std::string& plot_title) {
+  const TableFormat fmt = parse_table_format(out.format);
+  const std::string text = format_table(table, fmt, extra_json);
+  if (out.output.empty()) {
+    std::cout << text << std::flush;
+  } else {
+    std::ofstream f(out.output);
+    check<InputError>(static_cast<bool>(f), "cannot write output file '", out.output, "'");
+    f << text;
+  }
+  if (out.plot.empty()) return;
+  const auto json_path = std::filesystem::temp_directory_path() / ("vrsph-plot-" + std::to_string(::getpid()) + ".json");
+  {
+    std::ofstream f(json_path);
+    check<InputError>(static_cast<bool>(f), "cannot write temporary file ", json_path.string());
+    f << to_json(table, extra_json);
+  }
+  const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(find_plot_script()) + " " + shell_quote(json_path.string()) + " " +
+                          shell_quote(out.plot) + " --x " + plot_x + " --y " + plot_y + " --group " + plot_group +
+                          " --title " + shell_quote(plot_title);
+  const int rc = std::system(cmd.c_str());
+  std::filesystem::remove(json_path);
+  check<InputError>(rc == 0, "plotting failed (", cmd, " exited with status ", rc,
+                    "); is python3-matplotlib installed?");
+}
+
+std::vector<int> parse_int_list(const std::string& text, const std::string& option) {
+  std::vector<int> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    check<ConfigError>(!item.empty() && end && *end == '\0', "option ", option, ": '", item, "' is not an integer");
+    check<ConfigError>(v >= 1 && v <= 100000000, "option ", option, ": ", v, " is out of range");
+    out.push_back(static_cast<int>(v));
+  }
+  check<ConfigError>(!out.empty(), "option ", option, " needs at least one value");
+  return out;
+}
+
+std::vector<std::string> parse_name_list(const std::string& text, const std::string& option) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    check<ConfigError>(!item.empty(), "option ", option, ": empty name in '", text, "'");
+    out.push_back(item);
+  }
+  check<ConfigError>(!out.empty(), "option ", option, " needs at least one name");
+  return out;
+}
+
+Progress::Progress() : enabled_(::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
+
+Progress::~Progress() {
+  if (shown_) std::cerr << "\r\033[K" << std::flush;
+}
+
+void Progress::update(const std::string& label, double fraction) {
+  if (!enabled_) return;
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (elapsed < 1.0 && !shown_) return;
+  shown_ = true;
+  const int width = 30, filled = static_cast<int>(fraction * width + 0.5);
+  std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+            << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << static_cast<int>(100 * fraction)
+            << "% " << label << " (" << static_cast<int>(elapsed) << " s)\033[K" << std::flush;
+}
+
+}  // namespace vrsph::cli

@@ -1,0 +1,40 @@
+#pragma once
+// Helpers shared by the vrsph subcommands: output, plotting, progress, list parsing.
+#include <chrono>
+#include <string>
+#include <vector>
+#include <vrsph/io/table.hpp>
+
+namespace vrsph::cli {
+
+/// Options every table-producing command has.
+struct OutputOptions {
+  std::string format = "md";
+  std::string output;  ///< file, empty = stdout
+  std::string plot;    ///< PNG file, empty = no plot
+};
+
+/// Writes the table in the chosen format to stdout or the output file, and the plot if asked.
+/// plot_x/plot_y name the columns to plot (log-log), grouped by plot_group.
+void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
+          const std::string& plot_y, const std::string& plot_group, const std::string& plot_title);
+
+/// "8,16,32" -> {8,16,32}; throws ConfigError naming the option on bad input.
+std::vector<int> parse_int_list(const std::string& text, const std::string& option);
+std::vector<std::string> parse_name_list(const std::string& text, const std::string& option);
+
+/// A one-line progress bar on stderr, shown only when stderr is a terminal and the
+/// run has lasted more than a second.
+class Progress {
+ public:
+  Progress();
+  ~Progress();
+  void update(const std::string& label, double fraction);
+
+ private:
+  bool enabled_;
+  bool shown_ = false;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace vrsph::cli

@@ -1,0 +1,14 @@
+#pragma once
+// Each subcommand registers itself on the CLI11 app; the callbacks may throw
+// vrsph::Error, which main() turns into a message and an exit code.
+#include <CLI/CLI.hpp>
+
+namespace vrsph::cli {
+
+void add_methods_command(CLI::App& app);
+void add_kernels_command(CLI::App& app);
+void add_cloud_command(CLI::App& app);
+void add_operator_command(CLI::App& app);
+void add_bench_command(CLI::App& app);
+
+}  // namespace vrsph::cli

@@ -1,0 +1,156 @@
+// `vrsph cloud`: generate a cloud, or read one (--input) and inspect/convert it.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/io/csv.hpp>
+#include <vrsph/io/vtu.hpp>
+#include <vrsph/neighbours/brute_force.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include "../cli_common.hpp"
+#include "../commands.hpp"
+
+namespace vrsph::cli {
+
+namespace {
+struct CloudArgs {
+  std::string input, output, format = "md", family = "uniform", layout = "vertex", domain = "unit";
+  int dim = 2, n = 20, ghost_layers = 0;
+  double delta = 0.5, h_factor = 3;
+  std::uint64_t seed = 1;
+  bool perturb_boundary = false, check_brute = false;
+};
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+PointCloud generate(const CloudArgs& a) {
+  CloudSpec spec;
+  spec.family = parse_cloud_family(a.family);
+  check<ConfigError>(a.domain == "unit" || a.domain == "symmetric", "--domain must be unit ([0,1]^d) or symmetric ([-1,1]^d), got '",
+                     a.domain, "'");
+  check<ConfigError>(a.dim >= 1 && a.dim <= 3, "--dim must be 1, 2 or 3, got ", a.dim);
+  spec.box = a.domain == "unit" ? Domain::unit_box(a.dim) : Domain::symmetric_box(a.dim, 1.0);
+  spec.n = a.n;
+  check<ConfigError>(a.layout == "vertex" || a.layout == "cells", "--layout must be vertex (layout A) or cells (layout B), got '",
+                     a.layout, "'");
+  spec.layout = a.layout == "vertex" ? Layout::Vertex : Layout::CellCentred;
+  check<ConfigError>(a.ghost_layers >= 0, "--ghost-layers must be >= 0");
+  const Real dx = (spec.box.hi[0] - spec.box.lo[0]) / a.n;
+  spec.ghost_width = a.ghost_layers > 0 ? a.ghost_layers * dx : 0;
+  spec.delta = a.delta;
+  spec.seed = a.seed;
+  spec.perturb_boundary = a.perturb_boundary;
+  return make_study_cloud(spec).cloud;
+}
+}  // namespace
+
+void add_cloud_command(CLI::App& app) {
+  auto a = std::make_shared<CloudArgs>();
+  auto* cmd = app.add_subcommand("cloud", "Generate a point cloud, or inspect/convert one given with --input");
+  cmd->add_option("--input", a->input, "Read this CSV cloud (x,y,z,tag[,nx,ny,nz]) instead of generating one");
+  cmd->add_option("--output", a->output, "Write the cloud to this file (.csv or .vtu)");
+  cmd->add_option("--format", a->format, "Report format: md, csv or json")->capture_default_str();
+  cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk")->capture_default_str();
+  cmd->add_option("--layout", a->layout, "Lattice layout: vertex (A, boundary on faces) or cells (B)")->capture_default_str();
+  cmd->add_option("--domain", a->domain, "Box: unit ([0,1]^d) or symmetric ([-1,1]^d)")->capture_default_str();
+  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3 (with --input: 0 = infer from the columns)")->capture_default_str();
+  cmd->add_option("--n", a->n, "Intervals per direction (dx = side/n)")->capture_default_str();
+  cmd->add_option("--ghost-layers", a->ghost_layers, "Lattice layers of ghost particles outside the box")->capture_default_str();
+  cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx (perturbed family)")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed")->capture_default_str();
+  cmd->add_flag("--perturb-boundary", a->perturb_boundary, "Also move boundary particles along their faces");
+  cmd->add_option("--h-factor", a->h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
+  cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
+  cmd->callback([a, cmd] {
+    PointCloud cloud;
+    if (!a->input.empty()) {
+      const int dim = cmd->count("--dim") ? a->dim : 0;
+      cloud = read_csv(a->input, dim);
+    } else {
+      cloud = generate(*a);
+    }
+    validate(cloud);
+    const Real spacing = estimate_spacing(cloud);
+    check<InputError>(spacing > 0 && std::isfinite(spacing), "cannot estimate a particle spacing for this cloud");
+    const ClosestPair cp = closest_pair(cloud);
+    SearchParams sp;
+    sp.radius = a->h_factor * spacing;
+    sp.min_neighbours = 0;  // report, do not fail, on isolated particles
+    const NeighbourList nl = find_neighbours(cloud, sp);  // throws on duplicates, naming them
+    if (a->check_brute) {
+      check<ConfigError>(cloud.size() <= 50000, "--check is limited to 50000 particles");
+      const NeighbourList ref = find_neighbours_brute_force(cloud, sp);
+      check<NumericalError>(ref.offsets == nl.offsets && ref.indices == nl.indices,
+                            "neighbour search disagrees with the brute-force reference");
+    }
+    Index nmin = std::numeric_limits<Index>::max(), nmax = 0, isolated = 0;
+    long long nsum = 0, counted = 0;
+    for (Index i = 0; i < cloud.size(); ++i) {
+      if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+      const Index c = nl.count(i);
+      nmin = std::min(nmin, c);
+      nmax = std::max(nmax, c);
+      nsum += c;
+      ++counted;
+      if (c == 0) ++isolated;
+    }
+    Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+    for (const auto& x : cloud.positions) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    Table t;
+    t.columns = {"quantity", "value"};
+    auto add = [&](const std::string& q, TableCell v) { t.add_row({{"quantity", q}, {"value", v}}); };
+    add("dim", static_cast<long long>(cloud.dim));
+    add("particles", static_cast<long long>(cloud.size()));
+    add("interior", static_cast<long long>(cloud.count(Tag::Interior)));
+    add("dirichlet", static_cast<long long>(cloud.count(Tag::Dirichlet)));
+    add("neumann", static_cast<long long>(cloud.count(Tag::Neumann)));
+    add("ghost", static_cast<long long>(cloud.count(Tag::Ghost)));
+    add("spacing", spacing);
+    add("min_distance", cp.distance);
+    add("min_distance_pair", std::to_string(cp.i) + "," + std::to_string(cp.j));
+    add("duplicates", 0LL);
+    add("h", sp.radius);
+    add("neighbours_min", static_cast<long long>(counted ? nmin : 0));
+    add("neighbours_mean", counted ? static_cast<double>(nsum) / static_cast<double>(counted) : 0.0);
+    add("neighbours_max", static_cast<long long>(nmax));
+    add("isolated_particles", static_cast<long long>(isolated));
+    for (int k = 0; k < cloud.dim; ++k) {
+      add(std::string("min_") + "xyz"[k], lo[k]);
+      add(std::string("max_") + "xyz"[k], hi[k]);
+    }
+    if (a->check_brute) add("brute_force_check", std::string("agrees"));
+    if (a->format == "json") {
+      nlohmann::ordered_json j;
+      for (const auto& row : t.rows) {
+        const auto& name = std::get<std::string>(row[0]);
+        std::visit([&](const auto& v) {
+          using V = std::decay_t<decltype(v)>;
+          if constexpr (std::is_same_v<V, std::monostate>) j[name] = nullptr;
+          else j[name] = v;
+        }, row[1]);
+      }
+      std::cout << j.dump(2) << '\n';
+    } else {
+      std::cout << format_table(t, parse_table_format(a->format));
+    }
+    if (!a->output.empty()) {
+      if (ends_with(a->output, ".vtu")) {
+        Eigen::MatrixXd counts(cloud.size(), 1);
+        for (Index i = 0; i < cloud.size(); ++i) counts(i, 0) = nl.count(i);
+        write_vtu(a->output, cloud, {{"neighbours", counts}});
+      } else {
+        check<ConfigError>(ends_with(a->output, ".csv"), "--output must end in .csv or .vtu, got '", a->output, "'");
+        write_csv(a->output, cloud);
+      }
+    }
+  });
+}
+
+}  // namespace vrsph::cli

@@ -1,0 +1,86 @@
+// `vrsph operator`: truncation-error study of operator stencils over a refinement list.
+#include <iostream>
+#include <vrsph/analysis/operator_study.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include "../cli_common.hpp"
+#include "../commands.hpp"
+
+namespace vrsph::cli {
+
+namespace {
+struct OperatorArgs {
+  std::string problem = "qw-trunc", methods = "sph", op = "laplacian", cloud = "uniform", n = "8,16,32,64,128",
+              kernel = "cubic", u, exact, a;
+  int dim = 2;
+  std::uint64_t seed = 1;
+  double h_factor = 3, delta = 0.5;
+  bool no_ghosts = false;
+  std::vector<std::string> method_opts;
+  OutputOptions out;
+};
+}  // namespace
+
+void add_operator_command(CLI::App& app) {
+  auto a = std::make_shared<OperatorArgs>();
+  auto* cmd = app.add_subcommand("operator", "Truncation-error study: method x operator x cloud x refinement list");
+  cmd->add_option("--problem", a->problem, "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d) or unit-box ([0,1]^d)")->capture_default_str();
+  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3")->capture_default_str();
+  cmd->add_option("--method", a->methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
+  cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value for one method (repeatable)");
+  cmd->add_option("--operator", a->op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative")
+      ->capture_default_str();
+  cmd->add_option("--cloud", a->cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
+  cmd->add_option("--n", a->n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed (perturbed, centroids)")->capture_default_str();
+  cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx")->capture_default_str();
+  cmd->add_option("--kernel", a->kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4")->capture_default_str();
+  cmd->add_flag("--no-ghosts", a->no_ghosts, "No ghost particles: layout A with boundary particles ([QW] Example 4)");
+  cmd->add_option("--u", a->u, "Test function: catalogue name (cos-pi, sin-pi, exp-x, ...) or expression in x,y,z; default cos-pi");
+  cmd->add_option("--exact", a->exact, "Expected operator value as expression(s), ';' between gradient components; default: exact derivatives of --u");
+  cmd->add_option("--a", a->a, "Coefficient a(x) for div-a-grad: name or expression; default one-plus-r2");
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->add_option("--plot", a->out.plot, "Also plot error_inf against dx (log-log) into this PNG file");
+  cmd->callback([a] {
+    OperatorStudyParams p;
+    p.problem = a->problem;
+    p.dim = a->dim;
+    p.methods = parse_name_list(a->methods, "--method");
+    for (const auto& item : a->method_opts) {
+      // "method:key=value" applies to one method, "key=value" to all.
+      const auto colon = item.find(':'), eq = item.find('=');
+      if (colon != std::string::npos && colon < eq) {
+        const std::string m = item.substr(0, colon);
+        check<ConfigError>(std::find(p.methods.begin(), p.methods.end(), m) != p.methods.end(), "--method-opt ", item,
+                           ": method ", m, " is not in --method");
+        auto& o = p.method_options[m];
+        o = MethodOptions::parse({item.substr(colon + 1)});
+      } else {
+        for (const auto& m : p.methods) {
+          auto parsed = MethodOptions::parse({item});
+          for (const auto& [k, v] : parsed.values()) p.method_options[m].set(k, v);
+        }
+      }
+    }
+    p.op = parse_operator(a->op);
+    p.cloud = parse_cloud_family(a->cloud);
+    p.n = parse_int_list(a->n, "--n");
+    p.seed = a->seed;
+    p.h_factor = a->h_factor;
+    p.delta = a->delta;
+    p.ghosts = !a->no_ghosts;
+    p.kernel = parse_kernel(a->kernel);
+    p.u = a->u;
+    p.exact = a->exact;
+    p.a = a->a;
+    Progress progress;
+    p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
+    const OperatorStudyResult r = run_operator_study(p);
+    emit(to_table(r), a->out, metadata_json(r), "dx", "error_inf", "method",
+         a->problem + " " + a->op + " " + a->cloud + " " + std::to_string(a->dim) + "D");
+  });
+}
+
+}  // namespace vrsph::cli

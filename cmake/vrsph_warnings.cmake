@@ -1,0 +1,10 @@
+# Strict warnings for everything vrsph compiles itself (library, CLI, tests).
+add_library(vrsph_warnings INTERFACE)
+target_compile_options(vrsph_warnings INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wnon-virtual-dtor
+  -Wold-style-cast -Wcast-align -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion
+  -Wimplicit-fallthrough -Werror=return-type)
+if(NOT VRSPH_WITH_OPENMP)
+  # Sequential builds (e.g. the sanitizer preset) ignore the OpenMP pragmas on purpose.
+  target_compile_options(vrsph_warnings INTERFACE -Wno-unknown-pragmas)
+endif()

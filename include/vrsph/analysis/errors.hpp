@@ -1,0 +1,29 @@
+#pragma once
+// Error norms over a set of particles, split into interior and near-boundary ones.
+//   L∞  = max_i |e_i|
+//   L2  = sqrt(sum_i v_i |e_i|^2 / sum_i v_i)   (volume-weighted, v_i = particle volume)
+//   RMS = sqrt(mean_i |e_i|^2)
+// For vector errors |e_i| is the Euclidean norm over components (METHODS §5).
+#include <span>
+#include <vrsph/cloud/point_cloud.hpp>
+
+namespace vrsph {
+
+struct ErrorNorms {
+  Real linf = 0, l2 = 0, rms = 0;
+  Index count = 0;
+  Index worst = -1;  ///< particle attaining linf
+};
+
+struct ErrorReport {
+  ErrorNorms all, interior, near_boundary;
+};
+
+/// err: N x c pointwise errors; rows: which particles count; near_distance: particles
+/// whose distance to the domain boundary is below it count as near-boundary (use the
+/// support radius: their kernels would be truncated without ghosts); volumes: N values
+/// or empty (equal volumes).
+ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
+                        Real near_distance, std::span<const Real> volumes = {});
+
+}  // namespace vrsph

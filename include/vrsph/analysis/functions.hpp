@@ -1,0 +1,63 @@
+#pragma once
+// Exact scalar functions u(x) with gradient and Laplacian, from a built-in catalogue
+// or from muParser expressions in x, y, z (constants pi and e). Used as manufactured
+// solutions, coefficients a(x) and right-hand sides.
+//
+// Expression functions evaluate derivatives the user did not give by 4th-order
+// central differences (step 1e-3 * max(1, |x|)), accurate to ~1e-10 for smooth
+// functions. Expression objects are not thread-safe: sample them serially.
+#include <memory>
+#include <string>
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/stencil/operator_kind.hpp>
+
+namespace vrsph {
+
+class ScalarFunction {
+ public:
+  virtual ~ScalarFunction() = default;
+  virtual std::string name() const = 0;
+  virtual Real value(const Vec3& x) const = 0;
+  virtual Vec3 gradient(const Vec3& x) const;  ///< default: finite differences of value()
+  virtual Real laplacian(const Vec3& x) const; ///< default: finite differences of value()
+  int dim = 2;
+};
+
+struct FunctionEntry {
+  std::string name, formula;
+};
+/// cos-pi (prod cos(pi x_k), [QW] §6), sin-pi (prod sin(pi x_k), [QW] Ex. 5), exp-x (e^x, [AAR]),
+/// one-plus-r2 (1 + |x|^2, [QW] Ex. 5 coefficient), one, linear (1 + x + 2y + 3z), quadratic.
+const std::vector<FunctionEntry>& function_catalogue();
+/// Throws ConfigError for an unknown name.
+std::unique_ptr<ScalarFunction> make_function(const std::string& name, int dim);
+/// u given by an expression; optional exact gradient components and Laplacian expressions
+/// (empty strings: finite differences). Throws InputError if an expression does not parse.
+std::unique_ptr<ScalarFunction> make_expression_function(const std::string& u, int dim,
+                                                         const std::vector<std::string>& gradient = {},
+                                                         const std::string& laplacian = "");
+
+/// A single muParser expression f(x, y, z), for right-hand sides and expected values.
+class Expression {
+ public:
+  /// Throws InputError naming the expression and muParser's message if it does not parse.
+  Expression(const std::string& text);
+  ~Expression();
+  Expression(Expression&&) noexcept;
+  Real operator()(const Vec3& x) const;
+  const std::string& text() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// u at every particle; throws InputError naming the particle if a value is not finite.
+Field sample(const ScalarFunction& u, const PointCloud& cloud);
+/// Exact value of the operator applied to u at x (component c of the gradient);
+/// DivAGrad needs a: a Δu + ∇a·∇u.
+Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const Vec3& x, int component);
+/// N x components(kind, dim) matrix of exact values (rows of unwanted particles are 0).
+Eigen::MatrixXd sample_exact(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const PointCloud& cloud);
+
+}  // namespace vrsph

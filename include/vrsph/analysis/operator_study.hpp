@@ -1,0 +1,73 @@
+#pragma once
+// Truncation-error study of operator stencils: method x operator x cloud family x
+// refinement list -> errors and observed orders. Shared by `vrsph operator` and the
+// convergence tests, so both run exactly the same code.
+//
+// Problems:
+//   qw-trunc  [QW] Examples 1, 2, 4 (seed 000): f = cos(pi x) cos(pi y) [cos(pi x) in 1D,
+//             product over 3 coordinates in 3D] on [-1,1]^d, dx = 2/n. With ghosts
+//             (default): cell-centred lattice continued over a layer of width h + dx so
+//             no kernel is truncated; errors over the particles inside the domain.
+//             Without ghosts ([QW] Example 4): layout A (vertex lattice with boundary
+//             particles), errors over the particles of the open domain (METHODS P14).
+//   unit-box  the same constructions on [0,1]^d (for user expressions).
+#include <chrono>
+#include <functional>
+#include <map>
+#include <string>
+#include <vrsph/analysis/errors.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/io/table.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/options.hpp>
+#include <vrsph/stencil/operator_kind.hpp>
+
+namespace vrsph {
+
+struct OperatorStudyParams {
+  std::string problem = "qw-trunc";
+  int dim = 2;
+  std::vector<std::string> methods{"sph"};
+  std::map<std::string, MethodOptions> method_options;  ///< per method name
+  OperatorKind op = OperatorKind::Laplacian;
+  CloudFamily cloud = CloudFamily::Uniform;
+  std::vector<int> n{8, 16, 32, 64, 128};
+  std::uint64_t seed = 1;
+  Real h_factor = 3;  ///< support radius h = h_factor * dx
+  Real delta = 0.5;
+  bool ghosts = true;
+  KernelType kernel = KernelType::CubicSpline;
+  std::string u;        ///< function name from the catalogue or a muParser expression; empty: problem default
+  std::string exact;    ///< optional expected operator value(s), ';'-separated for the gradient
+  std::string a;        ///< coefficient for div-a-grad (catalogue name or expression); empty: "one-plus-r2"
+  /// Called after each (method, n) step with a label and the fraction done.
+  std::function<void(const std::string&, double)> progress;
+};
+
+struct OperatorStudyRow {
+  std::string method;
+  int n = 0;
+  Index particles = 0;    ///< particles inside the domain (ghosts excluded)
+  Index total = 0;        ///< including ghosts
+  Real dx = 0, h = 0;
+  ErrorReport errors;
+  Real order_inf = 0, order_l2 = 0;  ///< pairwise, NaN in the first row of a method
+  Real neighbours_mean = 0;
+  Index neighbours_min = 0, neighbours_max = 0;
+  Real nnz_per_row = 0;
+  Real seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_apply = 0;
+};
+
+struct OperatorStudyResult {
+  OperatorStudyParams params;
+  std::vector<OperatorStudyRow> rows;
+  std::map<std::string, Real> fitted_order_inf;  ///< least-squares slope per method
+};
+
+/// Throws ConfigError/InputError for bad parameters before any work is done.
+OperatorStudyResult run_operator_study(const OperatorStudyParams& params);
+Table to_table(const OperatorStudyResult& result);
+/// Problem/parameter metadata as a JSON object text (merged into --format json output).
+std::string metadata_json(const OperatorStudyResult& result);
+
+}  // namespace vrsph

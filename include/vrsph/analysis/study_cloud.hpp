@@ -1,0 +1,39 @@
+#pragma once
+// The cloud families that studies refine: one description, one factory, so the
+// operator study, the BVP study and the tests build identical clouds.
+#include <cstdint>
+#include <string>
+#include <vrsph/cloud/generate.hpp>
+
+namespace vrsph {
+
+enum class CloudFamily { Uniform, Perturbed, Centroids, Disk };
+/// "uniform" | "perturbed" | "centroids" | "disk"; throws ConfigError otherwise.
+CloudFamily parse_cloud_family(const std::string& name);
+std::string to_string(CloudFamily f);
+
+enum class Layout {
+  Vertex,      ///< layout A: lattice vertices, boundary particles on the faces
+  CellCentred  ///< cell centres (with ghosts: no boundary particles)
+};
+
+struct CloudSpec {
+  CloudFamily family = CloudFamily::Uniform;
+  Domain box = Domain::unit_box(2);  ///< for Disk: the ball inscribed in this box
+  int n = 20;                        ///< intervals per direction (dx = side / n)
+  Layout layout = Layout::Vertex;
+  Real ghost_width = 0;              ///< > 0: continue the cloud outside (Ghost particles)
+  Real delta = 0.5;                  ///< perturbation amplitude (Perturbed)
+  std::uint64_t seed = 1;
+  bool perturb_boundary = false;     ///< Perturbed: also move boundary particles along their faces
+};
+
+struct StudyCloud {
+  PointCloud cloud;
+  Real dx = 0;        ///< nominal spacing the smoothing radius refers to (h = kappa dx)
+  Real max_edge = 0;  ///< Centroids: longest mesh edge (must be < dx)
+};
+
+StudyCloud make_study_cloud(const CloudSpec& spec);
+
+}  // namespace vrsph

@@ -1,0 +1,49 @@
+#pragma once
+// PointCloud: particle positions in 1D/2D/3D with a role tag per particle and
+// optional outward normals. A plain value type; every stage takes it by const&.
+#include <string_view>
+#include <vrsph/cloud/domain.hpp>
+#include <vrsph/core/types.hpp>
+
+namespace vrsph {
+
+/// Role of a particle in a discretisation.
+///  Interior  – an unknown of a boundary value problem; operators are evaluated here.
+///  Dirichlet – on the boundary, carries prescribed values.
+///  Neumann   – on the boundary, carries a prescribed flux a du/dn (needs a normal).
+///  Ghost     – outside the domain; supplies exact values so that no kernel is truncated
+///              in operator (truncation-error) tests; never an unknown.
+enum class Tag : std::uint8_t { Interior = 0, Dirichlet = 1, Neumann = 2, Ghost = 3 };
+
+std::string_view to_string(Tag tag);
+/// Accepts "interior", "dirichlet", "neumann", "ghost" (any case) or the digits 0..3.
+/// Throws InputError otherwise.
+Tag parse_tag(std::string_view text);
+
+struct PointCloud {
+  int dim = 2;                 ///< 1, 2 or 3
+  std::vector<Vec3> positions; ///< unused coordinates are exactly 0
+  std::vector<Tag> tags;       ///< one per particle
+  std::vector<Vec3> normals;   ///< empty, or one outward unit normal per particle (0 where undefined)
+  Real spacing = 0;            ///< nominal particle spacing dx; 0 = unknown (estimate_spacing() then)
+  Domain domain;               ///< what the cloud discretises (Shape::None if unknown)
+
+  Index size() const { return static_cast<Index>(positions.size()); }
+  bool has_normals() const { return !normals.empty(); }
+  Index count(Tag tag) const;
+  /// Appends one particle (normal only if the cloud stores normals).
+  void add(const Vec3& x, Tag tag, const Vec3& normal = Vec3::Zero());
+};
+
+/// Checks the invariants that do not need a neighbour search: dimension in 1..3,
+/// array sizes agree, every coordinate finite, unused coordinates zero, normals
+/// of Neumann particles non-zero, at least one particle. Throws InputError naming
+/// the first offending particle. (Duplicate points are reported by the neighbour
+/// search, which sees every close pair anyway.)
+void validate(const PointCloud& cloud);
+
+/// Nominal spacing: cloud.spacing if set, else (measure(domain)/N)^(1/d) if the
+/// domain is known, else the mean nearest-neighbour distance (O(N) with a cell list).
+Real estimate_spacing(const PointCloud& cloud);
+
+}  // namespace vrsph

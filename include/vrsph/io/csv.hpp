@@ -1,0 +1,22 @@
+#pragma once
+// Point clouds as CSV. Header line required; columns (any order, case-insensitive):
+//   x[,y[,z]], tag[, nx[,ny[,nz]]]
+// tag is interior|dirichlet|neumann|ghost or 0..3. The dimension is the number of
+// coordinate columns up to the last one that is not identically zero, unless a
+// dimension is requested (then extra coordinates must be zero: else a mismatch).
+#include <iosfwd>
+#include <string>
+#include <vrsph/cloud/point_cloud.hpp>
+
+namespace vrsph {
+
+/// Throws InputError naming the file, line and problem (missing file, empty file,
+/// missing header/columns, wrong field count, non-numeric or non-finite values,
+/// unknown tag, dimension mismatch).
+PointCloud read_csv(const std::string& path, int dim = 0);
+PointCloud read_csv(std::istream& in, const std::string& name, int dim = 0);
+/// Writes x,y,z,tag[,nx,ny,nz] with 17 significant digits (lossless round trip).
+void write_csv(const std::string& path, const PointCloud& cloud);
+void write_csv(std::ostream& out, const PointCloud& cloud);
+
+}  // namespace vrsph

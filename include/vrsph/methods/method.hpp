@@ -1,0 +1,59 @@
+#pragma once
+// Method: something that turns (cloud, neighbours, kernel) into stencils.
+//
+// Adding a method = a header/impl pair under methods/<family>/, one line in
+// register_builtin_methods() (registry.cpp) and a section in docs/methods.md. The
+// CLI listing, the conformance tests and the studies pick it up from the registry.
+#include <memory>
+#include <string>
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/options.hpp>
+#include <vrsph/neighbours/neighbour_list.hpp>
+#include <vrsph/stencil/stencil.hpp>
+
+namespace vrsph {
+
+struct MethodInfo {
+  std::string name;           ///< registry key, e.g. "sph"
+  std::string paper;          ///< seed file the method comes from
+  std::string description;
+  std::string claimed_order;  ///< what the paper claims, in words
+  std::vector<OperatorKind> operators;
+  /// Options the method reads: {key, "help (default ...)"}.
+  std::vector<std::pair<std::string, std::string>> options;
+  bool supports(OperatorKind k) const;
+};
+
+/// Everything a method may look at. Row i uses the support radius neighbours.radius(i)
+/// (gather convention); `spacing` is the nominal dx (for volumes v = dx^d).
+struct Discretisation {
+  const PointCloud& cloud;
+  const NeighbourList& neighbours;
+  KernelType kernel = KernelType::CubicSpline;
+  Real spacing = 0;
+  Kernel kernel_at(Index i) const { return Kernel(kernel, cloud.dim, neighbours.radius(i)); }
+};
+
+struct StencilRequest {
+  OperatorKind kind = OperatorKind::Laplacian;
+  /// Values of a(x) > 0 at every particle; required for DivAGrad.
+  const Field* coefficient = nullptr;
+  /// Optional exact grad a (N x dim); methods without a flux form (Taylor-corrected
+  /// ones) use it in a Laplacian + grad(a).grad formulation, others ignore it.
+  const Eigen::MatrixXd* coefficient_gradient = nullptr;
+};
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  virtual const MethodInfo& info() const = 0;
+  /// Rows of ghost particles are left empty (zero). Throws ConfigError for an
+  /// unsupported operator, InputError for bad coefficients.
+  virtual Stencil build(const Discretisation& disc, const StencilRequest& request) const = 0;
+};
+
+/// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.
+void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request);
+
+}  // namespace vrsph

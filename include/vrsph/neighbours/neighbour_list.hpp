@@ -1,0 +1,29 @@
+#pragma once
+// NeighbourList: for every particle i, the particles j with r_ij < radius_i, in
+// compressed-sparse-row form. Row i is indices[offsets[i] .. offsets[i+1]),
+// sorted ascending; self is excluded unless the search asked for it.
+// If distances were cached, distances[k] = |x_i - x_j| for the same slot k.
+#include <span>
+#include <vrsph/core/types.hpp>
+
+namespace vrsph {
+
+struct NeighbourList {
+  std::vector<Index> offsets{0};  ///< size N+1
+  std::vector<Index> indices;     ///< size offsets.back()
+  std::vector<Real> distances;    ///< empty, or one r_ij per entry of indices
+  std::vector<Real> radii;        ///< search radius used for each row (size N)
+
+  Index size() const { return static_cast<Index>(offsets.size()) - 1; }
+  Index count(Index i) const { return offsets[static_cast<std::size_t>(i) + 1] - offsets[static_cast<std::size_t>(i)]; }
+  Index total() const { return offsets.back(); }
+  std::span<const Index> of(Index i) const {
+    return {indices.data() + offsets[static_cast<std::size_t>(i)], static_cast<std::size_t>(count(i))};
+  }
+  std::span<const Real> distances_of(Index i) const {
+    return {distances.data() + offsets[static_cast<std::size_t>(i)], static_cast<std::size_t>(count(i))};
+  }
+  Real radius(Index i) const { return radii[static_cast<std::size_t>(i)]; }
+};
+
+}  // namespace vrsph

@@ -1,0 +1,47 @@
+#pragma once
+// Radius neighbour search, built in two passes (count, then fill) so the CSR
+// arrays are sized once and never reallocated.
+//
+// How to choose the backend: CellList (default) bins particles into cells of the
+// largest search radius; expected O(N) for quasi-uniform clouds and the faster of
+// the two in `vrsph bench neighbours` on every cloud we ship. KdTree (nanoflann)
+// is the robust choice for strongly graded clouds or radii that vary by orders of
+// magnitude, where a uniform cell size wastes work.
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/neighbours/neighbour_list.hpp>
+
+namespace vrsph {
+
+enum class SearchBackend { CellList, KdTree };
+
+struct SearchParams {
+  Real radius = 0;            ///< support radius used for every particle if `radii` is empty
+  std::vector<Real> radii;    ///< optional per-particle radius (gather: j in N_i iff r_ij < radii[i])
+  bool include_self = false;  ///< list i in its own row
+  bool cache_distances = true;
+  SearchBackend backend = SearchBackend::CellList;
+  /// Rows of non-ghost particles with fewer neighbours than this raise GeometryError.
+  Index min_neighbours = 1;
+  /// Two particles closer than duplicate_tolerance * radius are reported as duplicates (InputError).
+  Real duplicate_tolerance = 1e-10;
+};
+
+/// Throws InputError (non-positive or non-finite radius, duplicate particles) or
+/// GeometryError (a non-ghost particle with too few neighbours), naming the particle.
+NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params);
+
+/// Mean distance to the nearest other particle (used when no spacing is known).
+Real mean_nearest_neighbour_distance(const PointCloud& cloud);
+
+/// Minimum pairwise distance and the pair attaining it (i < j); {inf,-1,-1} for N < 2.
+struct ClosestPair {
+  Real distance;
+  Index i, j;
+};
+ClosestPair closest_pair(const PointCloud& cloud);
+
+/// Distance from each particle to its k-th nearest other particle (k >= 1), e.g. for a
+/// per-particle smoothing radius h_i = factor * dist_k.
+std::vector<Real> kth_neighbour_distance(const PointCloud& cloud, int k);
+
+}  // namespace vrsph

@@ -1,0 +1,18 @@
+#pragma once
+// Applying a stencil, and viewing it as an Eigen sparse matrix without copying.
+#include <Eigen/SparseCore>
+#include <vrsph/stencil/stencil.hpp>
+
+namespace vrsph {
+
+using SparseMatrix = Eigen::SparseMatrix<Real, Eigen::RowMajor, Index>;
+using SparseView = Eigen::Map<const SparseMatrix>;
+
+/// (L u) for every component: an N x components() matrix. Throws InputError on a size mismatch.
+Eigen::MatrixXd apply(const Stencil& s, const Field& u);
+/// One component only.
+Field apply_component(const Stencil& s, const Field& u, int component);
+/// Zero-copy view of one component (the stencil must outlive the view).
+SparseView as_eigen(const Stencil& s, int component = 0);
+
+}  // namespace vrsph

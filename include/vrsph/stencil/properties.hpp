@@ -1,0 +1,51 @@
+#pragma once
+// Structural properties of a stencil: row sums, sign structure, the M-matrix
+// test behind the discrete maximum principle, and exactness on monomials.
+#include <array>
+#include <span>
+#include <string>
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/stencil/stencil.hpp>
+
+namespace vrsph {
+
+/// sum_k values[c][k] over each row (0 for difference-form operators).
+Field row_sums(const Stencil& s, int component = 0);
+
+/// Result of testing -L (restricted to unknown rows/columns) for the M-matrix property
+/// by weak chained diagonal dominance ([QW] Thm 5.1 / Cor 5.2, METHODS §3.2):
+///  (1) Z-matrix: every off-diagonal entry of -L between unknowns is <= 0 (L_ij >= 0);
+///  (2) every row of -L is weakly diagonally dominant: -L_ii >= sum_{j unknown} |L_ij|;
+///  (3) from every unknown row a path of non-zero entries reaches a strictly dominant
+///      row (typically one linked to a Dirichlet particle).
+/// (1)+(2)+(3) make -L a non-singular M-matrix.
+struct MMatrixReport {
+  bool z_matrix = true;
+  bool diagonally_dominant = true;
+  bool chained = true;
+  Index rows = 0;                 ///< unknown rows examined
+  Index positive_offdiagonal = 0; ///< count of L_ij < -tol (violations of (1))
+  Index non_dominant_rows = 0;    ///< violations of (2)
+  std::vector<Index> unreachable; ///< unknown rows with no path to a strictly dominant row
+  Index first_violation = -1;     ///< particle index of the first failing row
+  bool is_m_matrix() const { return z_matrix && diagonally_dominant && chained; }
+  std::string summary() const;
+};
+/// unknown[i] says whether particle i is an unknown (row and column kept).
+/// tol is relative to the largest |L_ij| of each row.
+MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol = 1e-12);
+
+/// Residual of the stencil on the monomial (x - x_i)^alpha centred at each row
+/// particle, made dimensionless by the row's support radius s_i:
+///   max over rows of | sum_j L_ij (x_j - x_i)^alpha - exact_alpha | * s_i^(order - |alpha|),
+/// where exact_alpha is the operator applied to the monomial at x_i (1 for d/dx_k of
+/// x_k, 2 for the Laplacian of x_k^2, ...). Only for Value, Dx/Dy/Dz, Gradient (Euclidean
+/// norm over components) and Laplacian.
+struct MonomialResidual {
+  std::array<int, 3> exponent;
+  Real max_residual;
+};
+std::vector<MonomialResidual> monomial_residuals(const Stencil& s, const PointCloud& cloud, std::span<const Real> row_scale,
+                                                 int max_degree, std::span<const char> rows);
+
+}  // namespace vrsph

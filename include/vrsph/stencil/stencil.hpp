@@ -1,0 +1,50 @@
+#pragma once
+// Stencil: the one output shape of every method. A sparse linear operator over
+// the particles in CSR form, (L u)_i = sum_k values[c][k] * u[col[k]] for k in row i.
+//
+// Sign convention: the stored stencil approximates the operator itself, with its
+// natural sign. A Laplacian or div(a grad) stencil therefore has non-positive
+// diagonal and, for monotone methods (SPH/Morris, VRSPH), non-negative off-diagonal
+// entries: it is -L that is (up to boundary rows) an M-matrix. Operators that are
+// exact on constants are stored in difference form, L_ii = -sum_{j != i} L_ij.
+//
+// Shapes: row_ptr has rows()+1 entries; col (sorted within each row, always
+// containing the diagonal) and every values[c] have nnz() entries. Vector
+// operators (Gradient) keep dim value arrays over one shared pattern.
+#include <string>
+#include <vrsph/core/types.hpp>
+#include <vrsph/neighbours/neighbour_list.hpp>
+#include <vrsph/stencil/operator_kind.hpp>
+
+namespace vrsph {
+
+struct Stencil {
+  OperatorKind kind = OperatorKind::Laplacian;
+  int dim = 2;
+  std::string method;                    ///< registry name of the method that built it
+  std::vector<Index> row_ptr{0};
+  std::vector<Index> col;
+  std::vector<Index> diag;               ///< position in col of the diagonal of each row
+  std::vector<std::vector<Real>> values; ///< components(kind, dim) arrays
+
+  Index rows() const { return static_cast<Index>(row_ptr.size()) - 1; }
+  Index nnz() const { return row_ptr.back(); }
+  int components() const { return static_cast<int>(values.size()); }
+  Index row_begin(Index i) const { return row_ptr[static_cast<std::size_t>(i)]; }
+  Index row_end(Index i) const { return row_ptr[static_cast<std::size_t>(i) + 1]; }
+};
+
+/// Pattern {i} ∪ N_i for every row (sorted, diagonal included), all values zero.
+Stencil make_stencil_pattern(const NeighbourList& neighbours, OperatorKind kind, int dim, std::string method);
+
+/// Slot in the stencil row of i that holds neighbour number k of the neighbour list
+/// (the neighbour row skips the diagonal, the stencil row does not).
+inline Index neighbour_slot(const Stencil& s, Index i, Index k) {
+  const Index pos = s.row_begin(i) + k;
+  return pos >= s.diag[static_cast<std::size_t>(i)] ? pos + 1 : pos;
+}
+
+/// Sets L_ii = -sum_{j != i} L_ij in every component and row (difference form).
+void set_difference_diagonal(Stencil& s);
+
+}  // namespace vrsph

@@ -1,0 +1,27 @@
+#pragma once
+// Umbrella header: the whole public surface of vrsph.
+#include <vrsph/analysis/convergence.hpp>
+#include <vrsph/analysis/errors.hpp>
+#include <vrsph/analysis/functions.hpp>
+#include <vrsph/analysis/operator_study.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/cloud/domain.hpp>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/types.hpp>
+#include <vrsph/io/csv.hpp>
+#include <vrsph/io/table.hpp>
+#include <vrsph/io/vtu.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/method.hpp>
+#include <vrsph/methods/options.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/methods/sph/sph.hpp>
+#include <vrsph/neighbours/brute_force.hpp>
+#include <vrsph/neighbours/neighbour_list.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include <vrsph/stencil/operator_kind.hpp>
+#include <vrsph/stencil/properties.hpp>
+#include <vrsph/stencil/stencil.hpp>

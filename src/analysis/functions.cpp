@@ -1,0 +1,259 @@
+#include <cmath>
+#include <muParser.h>
+#include <numbers>
+#include <vrsph/analysis/functions.hpp>
+#include <vrsph/core/error.hpp>
+
+namespace vrsph {
+
+Vec3 ScalarFunction::gradient(const Vec3& x) const {
+  Vec3 g = Vec3::Zero();
+  for (int k = 0; k < dim; ++k) {
+    const Real d = 1e-3 * std::max<Real>(1, std::abs(x[k]));
+    Vec3 e = Vec3::Zero();
+    e[k] = d;
+    g[k] = (8 * (value(x + e) - value(x - e)) - (value(x + 2 * e) - value(x - 2 * e))) / (12 * d);
+  }
+  return g;
+}
+
+Real ScalarFunction::laplacian(const Vec3& x) const {
+  Real s = 0;
+  const Real u0 = value(x);
+  for (int k = 0; k < dim; ++k) {
+    const Real d = 1e-3 * std::max<Real>(1, std::abs(x[k]));
+    Vec3 e = Vec3::Zero();
+    e[k] = d;
+    s += (-(value(x + 2 * e) + value(x - 2 * e)) + 16 * (value(x + e) + value(x - e)) - 30 * u0) / (12 * d * d);
+  }
+  return s;
+}
+
+namespace {
+constexpr Real pi = std::numbers::pi;
+
+class ProductTrig final : public ScalarFunction {  // prod_k f(pi x_k), f = cos or sin
+ public:
+  ProductTrig(bool cosine, int d) : cos_(cosine) { dim = d; }
+  std::string name() const override { return cos_ ? "cos-pi" : "sin-pi"; }
+  Real f(Real t) const { return cos_ ? std::cos(pi * t) : std::sin(pi * t); }
+  Real df(Real t) const { return cos_ ? -pi * std::sin(pi * t) : pi * std::cos(pi * t); }
+  Real value(const Vec3& x) const override {
+    Real p = 1;
+    for (int k = 0; k < dim; ++k) p *= f(x[k]);
+    return p;
+  }
+  Vec3 gradient(const Vec3& x) const override {
+    Vec3 g = Vec3::Zero();
+    for (int k = 0; k < dim; ++k) {
+      Real p = df(x[k]);
+      for (int l = 0; l < dim; ++l)
+        if (l != k) p *= f(x[l]);
+      g[k] = p;
+    }
+    return g;
+  }
+  Real laplacian(const Vec3& x) const override { return -dim * pi * pi * value(x); }
+
+ private:
+  bool cos_;
+};
+
+class Polynomial final : public ScalarFunction {
+ public:
+  enum Kind { One, Linear, Quadratic, OnePlusR2 };
+  Polynomial(Kind k, int d) : kind_(k) { dim = d; }
+  std::string name() const override {
+    switch (kind_) {
+      case One: return "one";
+      case Linear: return "linear";
+      case Quadratic: return "quadratic";
+      case OnePlusR2: return "one-plus-r2";
+    }
+    return "";
+  }
+  Real value(const Vec3& x) const override {
+    switch (kind_) {
+      case One: return 1;
+      case Linear: return 1 + x[0] + 2 * x[1] + 3 * x[2];
+      case Quadratic: return 1 + x[0] - x[1] + x[0] * x[0] + 2 * x[0] * x[1] + 3 * x[1] * x[1] - x[2] * x[2] + x[0] * x[2];
+      case OnePlusR2: return 1 + x.squaredNorm();
+    }
+    return 0;
+  }
+  Vec3 gradient(const Vec3& x) const override {
+    Vec3 g = Vec3::Zero();
+    switch (kind_) {
+      case One: break;
+      case Linear: g = Vec3(1, 2, 3); break;
+      case Quadratic: g = Vec3(1 + 2 * x[0] + 2 * x[1] + x[2], -1 + 2 * x[0] + 6 * x[1], -2 * x[2] + x[0]); break;
+      case OnePlusR2: g = 2 * x; break;
+    }
+    for (int k = dim; k < 3; ++k) g[k] = 0;
+    return g;
+  }
+  Real laplacian(const Vec3&) const override {
+    switch (kind_) {
+      case One:
+      case Linear: return 0;
+      case Quadratic: return 2 + (dim > 1 ? 6 : 0) + (dim > 2 ? -2 : 0);
+      case OnePlusR2: return 2.0 * dim;
+    }
+    return 0;
+  }
+
+ private:
+  Kind kind_;
+};
+
+class ExpX final : public ScalarFunction {
+ public:
+  explicit ExpX(int d) { dim = d; }
+  std::string name() const override { return "exp-x"; }
+  Real value(const Vec3& x) const override { return std::exp(x[0]); }
+  Vec3 gradient(const Vec3& x) const override { return Vec3(std::exp(x[0]), 0, 0); }
+  Real laplacian(const Vec3& x) const override { return std::exp(x[0]); }
+};
+}  // namespace
+
+const std::vector<FunctionEntry>& function_catalogue() {
+  static const std::vector<FunctionEntry> list = {
+      {"cos-pi", "prod_k cos(pi x_k)  ([QW] §6 test function)"},
+      {"sin-pi", "prod_k sin(pi x_k)  ([QW] Example 5 solution)"},
+      {"exp-x", "exp(x)  ([AAR] §5)"},
+      {"one-plus-r2", "1 + |x|^2  ([QW] Example 5 coefficient)"},
+      {"one", "1"},
+      {"linear", "1 + x + 2y + 3z"},
+      {"quadratic", "1 + x - y + x^2 + 2xy + 3y^2 - z^2 + xz"},
+  };
+  return list;
+}
+
+std::unique_ptr<ScalarFunction> make_function(const std::string& name, int dim) {
+  check<ConfigError>(dim >= 1 && dim <= 3, "function dimension must be 1, 2 or 3, got ", dim);
+  if (name == "cos-pi") return std::make_unique<ProductTrig>(true, dim);
+  if (name == "sin-pi") return std::make_unique<ProductTrig>(false, dim);
+  if (name == "exp-x") return std::make_unique<ExpX>(dim);
+  if (name == "one-plus-r2") return std::make_unique<Polynomial>(Polynomial::OnePlusR2, dim);
+  if (name == "one") return std::make_unique<Polynomial>(Polynomial::One, dim);
+  if (name == "linear") return std::make_unique<Polynomial>(Polynomial::Linear, dim);
+  if (name == "quadratic") return std::make_unique<Polynomial>(Polynomial::Quadratic, dim);
+  std::string known;
+  for (const auto& e : function_catalogue()) known += (known.empty() ? "" : ", ") + e.name;
+  throw ConfigError("unknown function '" + name + "' (known: " + known + ")");
+}
+
+// ---- muParser expressions ----
+struct Expression::Impl {
+  std::string text;
+  mutable double x = 0, y = 0, z = 0;
+  mu::Parser parser;
+};
+
+Expression::Expression(const std::string& text) : impl_(std::make_unique<Impl>()) {
+  impl_->text = text;
+  check<InputError>(!text.empty(), "empty expression");
+  try {
+    auto& p = impl_->parser;
+    p.DefineVar("x", &impl_->x);
+    p.DefineVar("y", &impl_->y);
+    p.DefineVar("z", &impl_->z);
+    p.DefineConst("pi", std::numbers::pi);
+    p.DefineConst("e", std::numbers::e);
+    p.SetExpr(text);
+    (void)p.Eval();  // parse now, so errors surface here and not mid-run
+  } catch (const mu::Parser::exception_type& e) {
+    throw InputError("cannot parse expression '" + text + "': " + e.GetMsg());
+  }
+}
+Expression::~Expression() = default;
+Expression::Expression(Expression&&) noexcept = default;
+const std::string& Expression::text() const { return impl_->text; }
+
+Real Expression::operator()(const Vec3& x) const {
+  impl_->x = x[0];
+  impl_->y = x[1];
+  impl_->z = x[2];
+  try {
+    return impl_->parser.Eval();
+  } catch (const mu::Parser::exception_type& e) {
+    throw InputError("cannot evaluate expression '" + impl_->text + "': " + e.GetMsg());
+  }
+}
+
+namespace {
+class ExpressionFunction final : public ScalarFunction {
+ public:
+  ExpressionFunction(const std::string& u, int d, const std::vector<std::string>& grad, const std::string& lap)
+      : u_(u) {
+    dim = d;
+    check<InputError>(grad.empty() || static_cast<int>(grad.size()) == d, "expected ", d,
+                      " gradient expressions, got ", grad.size(), " (dimension mismatch)");
+    for (const auto& g : grad) grad_.emplace_back(g);
+    if (!lap.empty()) lap_ = std::make_unique<Expression>(lap);
+  }
+  std::string name() const override { return u_.text(); }
+  Real value(const Vec3& x) const override { return u_(x); }
+  Vec3 gradient(const Vec3& x) const override {
+    if (grad_.empty()) return ScalarFunction::gradient(x);
+    Vec3 g = Vec3::Zero();
+    for (int k = 0; k < dim; ++k) g[k] = grad_[static_cast<std::size_t>(k)](x);
+    return g;
+  }
+  Real laplacian(const Vec3& x) const override { return lap_ ? (*lap_)(x) : ScalarFunction::laplacian(x); }
+
+ private:
+  Expression u_;
+  std::vector<Expression> grad_;
+  std::unique_ptr<Expression> lap_;
+};
+}  // namespace
+
+std::unique_ptr<ScalarFunction> make_expression_function(const std::string& u, int dim,
+                                                         const std::vector<std::string>& gradient,
+                                                         const std::string& laplacian) {
+  check<ConfigError>(dim >= 1 && dim <= 3, "function dimension must be 1, 2 or 3, got ", dim);
+  return std::make_unique<ExpressionFunction>(u, dim, gradient, laplacian);
+}
+
+Field sample(const ScalarFunction& u, const PointCloud& cloud) {
+  Field out(cloud.size());
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    out[i] = u.value(x);
+    check<InputError>(std::isfinite(out[i]), "function '", u.name(), "' is not finite (", out[i], ") at particle ", i,
+                      " (", x[0], ", ", x[1], ", ", x[2], ")");
+  }
+  return out;
+}
+
+Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const Vec3& x, int component) {
+  switch (kind) {
+    case OperatorKind::Value: return u.value(x);
+    case OperatorKind::Dx: return u.gradient(x)[0];
+    case OperatorKind::Dy: return u.gradient(x)[1];
+    case OperatorKind::Dz: return u.gradient(x)[2];
+    case OperatorKind::Gradient: return u.gradient(x)[component];
+    case OperatorKind::Laplacian: return u.laplacian(x);
+    case OperatorKind::DivAGrad:
+      check<ConfigError>(a != nullptr, "exact div(a grad u) needs the coefficient a");
+      return a->value(x) * u.laplacian(x) + a->gradient(x).dot(u.gradient(x));
+  }
+  return 0;
+}
+
+Eigen::MatrixXd sample_exact(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const PointCloud& cloud) {
+  const int nc = components(kind, cloud.dim);
+  Eigen::MatrixXd out(cloud.size(), nc);
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    for (int c = 0; c < nc; ++c) {
+      out(i, c) = exact_operator(kind, u, a, x, c);
+      check<InputError>(std::isfinite(out(i, c)), "exact ", to_string(kind), " of '", u.name(), "' is not finite at particle ",
+                        i, " (", x[0], ", ", x[1], ", ", x[2], ")");
+    }
+  }
+  return out;
+}
+
+}  // namespace vrsph

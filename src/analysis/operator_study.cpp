@@ -1,0 +1,222 @@
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vrsph/analysis/convergence.hpp>
+#include <vrsph/analysis/functions.hpp>
+#include <vrsph/analysis/operator_study.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/apply.hpp>
+
+namespace vrsph {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+Domain problem_domain(const std::string& problem, int dim) {
+  if (problem == "qw-trunc") return Domain::symmetric_box(dim, 1.0);
+  if (problem == "unit-box") return Domain::unit_box(dim);
+  throw ConfigError("unknown operator problem '" + problem + "' (known: qw-trunc, unit-box)");
+}
+
+bool is_catalogue_name(const std::string& s) {
+  for (const auto& e : function_catalogue())
+    if (e.name == s) return true;
+  return false;
+}
+
+std::unique_ptr<ScalarFunction> function_from(const std::string& spec, int dim) {
+  return is_catalogue_name(spec) ? make_function(spec, dim) : make_expression_function(spec, dim);
+}
+
+std::vector<std::string> split_semicolons(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream is(s);
+  while (std::getline(is, cur, ';')) out.push_back(cur);
+  return out;
+}
+
+void validate_params(const OperatorStudyParams& p) {
+  check<ConfigError>(p.dim >= 1 && p.dim <= 3, "--dim must be 1, 2 or 3, got ", p.dim);
+  check<ConfigError>(!p.methods.empty(), "no method given");
+  check<ConfigError>(!p.n.empty(), "empty refinement list --n");
+  for (int n : p.n) check<ConfigError>(n >= 1 && n <= 20000, "refinement level n = ", n, " outside 1..20000");
+  check<InputError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive, got ", p.h_factor);
+  check<InputError>(p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ", p.delta);
+  for (const auto& m : p.methods) {
+    const auto& info = builtin_methods().info(m);  // throws for unknown names
+    check<ConfigError>(info.supports(p.op), "method ", m, " does not provide operator ", to_string(p.op));
+    auto it = p.method_options.find(m);
+    (void)builtin_methods().create(m, it == p.method_options.end() ? MethodOptions{} : it->second);
+  }
+  check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");
+  check<ConfigError>(p.cloud != CloudFamily::Disk || !p.ghosts, "the disk cloud has no ghosts: add --no-ghosts");
+}
+}  // namespace
+
+OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
+  validate_params(p);
+  const Domain box = problem_domain(p.problem, p.dim);
+  const std::string u_spec = p.u.empty() ? "cos-pi" : p.u;
+  auto u = function_from(u_spec, p.dim);
+  std::unique_ptr<ScalarFunction> a;
+  if (p.op == OperatorKind::DivAGrad) a = function_from(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
+  std::vector<Expression> expected;
+  if (!p.exact.empty()) {
+    for (const auto& e : split_semicolons(p.exact)) expected.emplace_back(e);
+    check<InputError>(static_cast<int>(expected.size()) == components(p.op, p.dim), "--exact gives ", expected.size(),
+                      " expression(s) but operator ", to_string(p.op), " has ", components(p.op, p.dim),
+                      " component(s) in ", p.dim, "D (separate components with ';')");
+  }
+
+  OperatorStudyResult result;
+  result.params = p;
+  const double steps = static_cast<double>(p.methods.size() * p.n.size());
+  double done = 0;
+  for (const auto& name : p.methods) {
+    auto it = p.method_options.find(name);
+    const auto method = builtin_methods().create(name, it == p.method_options.end() ? MethodOptions{} : it->second);
+    std::vector<OperatorStudyRow> rows;
+    for (int n : p.n) {
+      OperatorStudyRow row;
+      row.method = name;
+      row.n = n;
+      auto t0 = Clock::now();
+      CloudSpec spec;
+      spec.family = p.cloud;
+      spec.box = box;
+      spec.n = n;
+      spec.delta = p.delta;
+      spec.seed = p.seed;
+      const Real dx = (box.hi[0] - box.lo[0]) / n;
+      const Real h = p.h_factor * dx;
+      spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
+      spec.ghost_width = p.ghosts ? h + dx : 0;
+      const StudyCloud sc = make_study_cloud(spec);
+      const PointCloud& cloud = sc.cloud;
+      row.seconds_cloud = seconds_since(t0);
+      row.dx = sc.dx;
+      row.h = p.h_factor * sc.dx;
+      row.total = cloud.size();
+      row.particles = cloud.size() - cloud.count(Tag::Ghost);
+
+      t0 = Clock::now();
+      SearchParams sp;
+      sp.radius = row.h;
+      const NeighbourList nl = find_neighbours(cloud, sp);
+      row.seconds_neighbours = seconds_since(t0);
+
+      t0 = Clock::now();
+      const Discretisation disc{cloud, nl, p.kernel, cloud.spacing};
+      StencilRequest req;
+      req.kind = p.op;
+      Field a_values;
+      if (a) {
+        a_values = sample(*a, cloud);
+        req.coefficient = &a_values;
+      }
+      const Stencil s = method->build(disc, req);
+      row.seconds_stencil = seconds_since(t0);
+
+      t0 = Clock::now();
+      const Field uh = sample(*u, cloud);
+      const Eigen::MatrixXd approx = apply(s, uh);
+      row.seconds_apply = seconds_since(t0);
+      Eigen::MatrixXd exact(cloud.size(), components(p.op, p.dim));
+      if (expected.empty()) {
+        exact = sample_exact(p.op, *u, a.get(), cloud);
+      } else {
+        for (Index i = 0; i < cloud.size(); ++i)
+          for (int c = 0; c < exact.cols(); ++c) exact(i, c) = expected[static_cast<std::size_t>(c)](cloud.positions[static_cast<std::size_t>(i)]);
+      }
+      std::vector<char> rows_mask(static_cast<std::size_t>(cloud.size()));
+      Index evaluated = 0, nmin = std::numeric_limits<Index>::max(), nmax = 0;
+      long long nsum = 0;
+      for (Index i = 0; i < cloud.size(); ++i) {
+        const bool use = cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior;
+        rows_mask[static_cast<std::size_t>(i)] = use;
+        if (!use) continue;
+        ++evaluated;
+        nsum += nl.count(i);
+        nmin = std::min(nmin, nl.count(i));
+        nmax = std::max(nmax, nl.count(i));
+      }
+      check<GeometryError>(evaluated > 0, "no interior particle to evaluate at n = ", n);
+      row.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(evaluated);
+      row.neighbours_min = nmin;
+      row.neighbours_max = nmax;
+      row.nnz_per_row = static_cast<Real>(s.nnz()) / static_cast<Real>(s.rows());
+      const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
+      row.errors = error_norms(approx - exact, rows_mask, cloud, row.h, vol);
+      rows.push_back(row);
+      done += 1;
+      if (p.progress) p.progress(name + " n=" + std::to_string(n), done / steps);
+    }
+    std::vector<Real> sizes, einf, el2;
+    for (const auto& r : rows) {
+      sizes.push_back(r.dx);
+      einf.push_back(r.errors.all.linf);
+      el2.push_back(r.errors.all.l2);
+    }
+    const auto oi = pairwise_orders(sizes, einf), o2 = pairwise_orders(sizes, el2);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      rows[k].order_inf = oi[k];
+      rows[k].order_l2 = o2[k];
+    }
+    result.fitted_order_inf[name] = least_squares_order(sizes, einf);
+    result.rows.insert(result.rows.end(), rows.begin(), rows.end());
+  }
+  return result;
+}
+
+Table to_table(const OperatorStudyResult& r) {
+  Table t;
+  t.columns = {"method", "n", "N", "N_total", "dx", "h", "error_inf", "order_inf", "error_l2", "order_l2", "error_rms",
+               "error_inf_interior", "error_inf_boundary", "neighbours_mean", "nnz_per_row", "seconds_neighbours",
+               "seconds_stencil"};
+  for (const auto& row : r.rows) {
+    t.add_row({{"method", row.method},
+               {"n", static_cast<long long>(row.n)},
+               {"N", static_cast<long long>(row.particles)},
+               {"N_total", static_cast<long long>(row.total)},
+               {"dx", row.dx},
+               {"h", row.h},
+               {"error_inf", row.errors.all.linf},
+               {"order_inf", row.order_inf},
+               {"error_l2", row.errors.all.l2},
+               {"order_l2", row.order_l2},
+               {"error_rms", row.errors.all.rms},
+               {"error_inf_interior", row.errors.interior.count ? row.errors.interior.linf : std::nan("")},
+               {"error_inf_boundary", row.errors.near_boundary.count ? row.errors.near_boundary.linf : std::nan("")},
+               {"neighbours_mean", row.neighbours_mean},
+               {"nnz_per_row", row.nnz_per_row},
+               {"seconds_neighbours", row.seconds_neighbours},
+               {"seconds_stencil", row.seconds_stencil}});
+  }
+  return t;
+}
+
+std::string metadata_json(const OperatorStudyResult& r) {
+  const auto& p = r.params;
+  nlohmann::ordered_json j;
+  j["problem"] = p.problem;
+  j["dim"] = p.dim;
+  j["operator"] = std::string(to_string(p.op));
+  j["cloud"] = to_string(p.cloud);
+  j["ghosts"] = p.ghosts;
+  j["h_factor"] = p.h_factor;
+  j["kernel"] = std::string(kernel_info(p.kernel).name);
+  j["seed"] = p.seed;
+  j["delta"] = p.delta;
+  j["function"] = p.u.empty() ? "cos-pi" : p.u;
+  nlohmann::ordered_json fit = nlohmann::ordered_json::object();
+  for (const auto& [m, o] : r.fitted_order_inf) fit[m] = std::isfinite(o) ? nlohmann::ordered_json(o) : nlohmann::ordered_json();
+  j["fitted_order_inf"] = fit;
+  return j.dump();
+}
+
+}  // namespace vrsph

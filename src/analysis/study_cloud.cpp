@@ -1,0 +1,61 @@
+#include <cmath>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/core/error.hpp>
+
+namespace vrsph {
+
+CloudFamily parse_cloud_family(const std::string& name) {
+  if (name == "uniform") return CloudFamily::Uniform;
+  if (name == "perturbed") return CloudFamily::Perturbed;
+  if (name == "centroids") return CloudFamily::Centroids;
+  if (name == "disk" || name == "ball") return CloudFamily::Disk;
+  throw ConfigError("unknown cloud family '" + name + "' (known: uniform, perturbed, centroids, disk)");
+}
+
+std::string to_string(CloudFamily f) {
+  switch (f) {
+    case CloudFamily::Uniform: return "uniform";
+    case CloudFamily::Perturbed: return "perturbed";
+    case CloudFamily::Centroids: return "centroids";
+    case CloudFamily::Disk: return "disk";
+  }
+  return "?";
+}
+
+StudyCloud make_study_cloud(const CloudSpec& spec) {
+  check<InputError>(spec.box.shape == Domain::Shape::Box, "study clouds need a box domain");
+  check<InputError>(spec.n >= 1, "number of intervals n must be >= 1, got ", spec.n);
+  const Real side = spec.box.hi[0] - spec.box.lo[0];
+  const Real dx = side / spec.n;
+  StudyCloud out;
+  out.dx = dx;
+  const int ghost_layers = spec.ghost_width > 0 ? ghost_layers_for(spec.ghost_width - dx, dx) : 0;
+  switch (spec.family) {
+    case CloudFamily::Uniform:
+    case CloudFamily::Perturbed:
+      out.cloud = spec.layout == Layout::Vertex ? vertex_lattice(spec.box, spec.n, ghost_layers)
+                                                : cell_centred_lattice(spec.box, spec.n, ghost_layers == 0, ghost_layers);
+      if (spec.family == CloudFamily::Perturbed) {
+        PerturbOptions o;
+        o.delta = spec.delta;
+        o.seed = spec.seed;
+        o.boundary_tangential = spec.perturb_boundary;
+        perturb(out.cloud, o);
+      }
+      break;
+    case CloudFamily::Centroids:
+      out.cloud = mesh_centroids(spec.box, dx, spec.seed, spec.ghost_width, spec.ghost_width <= 0, &out.max_edge);
+      break;
+    case CloudFamily::Disk: {
+      check<InputError>(spec.ghost_width <= 0, "the disk cloud has no ghost particles (use --no-ghosts)");
+      out.cloud = ball_cloud(spec.box.dim, 0.5 * side, spec.n);
+      const Vec3 centre = 0.5 * (spec.box.lo + spec.box.hi);
+      for (auto& x : out.cloud.positions) x += centre;
+      out.cloud.domain = Domain::ball(spec.box.dim, centre, 0.5 * side);
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace vrsph

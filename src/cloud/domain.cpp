@@ -1,0 +1,99 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vrsph/cloud/domain.hpp>
+#include <vrsph/core/error.hpp>
+
+namespace vrsph {
+
+Domain Domain::box(int dim, const Vec3& lo, const Vec3& hi) {
+  check<InputError>(dim >= 1 && dim <= 3, "domain dimension must be 1, 2 or 3, got ", dim);
+  Domain d;
+  d.shape = Shape::Box;
+  d.dim = dim;
+  d.lo = Vec3::Zero();
+  d.hi = Vec3::Zero();
+  for (int k = 0; k < dim; ++k) {
+    check<InputError>(hi[k] > lo[k], "box: upper bound ", hi[k], " must exceed lower bound ", lo[k],
+                      " in coordinate ", k);
+    d.lo[k] = lo[k];
+    d.hi[k] = hi[k];
+  }
+  return d;
+}
+
+Domain Domain::unit_box(int dim) { return box(dim, Vec3::Zero(), Vec3::Ones()); }
+
+Domain Domain::symmetric_box(int dim, Real half_width) {
+  return box(dim, Vec3::Constant(-half_width), Vec3::Constant(half_width));
+}
+
+Domain Domain::ball(int dim, const Vec3& centre, Real radius) {
+  check<InputError>(dim >= 1 && dim <= 3, "domain dimension must be 1, 2 or 3, got ", dim);
+  check<InputError>(radius > 0, "ball radius must be positive, got ", radius);
+  Domain d;
+  d.shape = Shape::Ball;
+  d.dim = dim;
+  d.centre = Vec3::Zero();
+  for (int k = 0; k < dim; ++k) d.centre[k] = centre[k];
+  d.radius = radius;
+  return d;
+}
+
+Real Domain::signed_distance(const Vec3& x) const {
+  switch (shape) {
+    case Shape::None:
+      return std::numeric_limits<Real>::infinity();
+    case Shape::Ball:
+      return radius - (x - centre).head(dim).norm();
+    case Shape::Box: {
+      // Inside: distance to the nearest face. Outside: minus the Euclidean distance to the box.
+      Real inside = std::numeric_limits<Real>::infinity();
+      Real outside2 = 0;
+      for (int k = 0; k < dim; ++k) {
+        inside = std::min({inside, x[k] - lo[k], hi[k] - x[k]});
+        const Real excess = std::max({lo[k] - x[k], x[k] - hi[k], Real(0)});
+        outside2 += excess * excess;
+      }
+      return inside >= 0 ? inside : -std::sqrt(outside2);
+    }
+  }
+  return 0;
+}
+
+Real Domain::measure() const {
+  switch (shape) {
+    case Shape::None:
+      return 0;
+    case Shape::Box: {
+      Real m = 1;
+      for (int k = 0; k < dim; ++k) m *= hi[k] - lo[k];
+      return m;
+    }
+    case Shape::Ball:
+      if (dim == 1) return 2 * radius;
+      if (dim == 2) return std::numbers::pi * radius * radius;
+      return 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  }
+  return 0;
+}
+
+Vec3 Domain::outward_normal(const Vec3& x, Real tol) const {
+  Vec3 n = Vec3::Zero();
+  if (shape == Shape::Ball) {
+    n.head(dim) = (x - centre).head(dim);
+    const Real len = n.norm();
+    return len > 0 ? Vec3(n / len) : n;
+  }
+  if (shape != Shape::Box) return n;
+  const Real d = std::abs(signed_distance(x));
+  for (int k = 0; k < dim; ++k) {
+    if (std::abs(x[k] - lo[k]) <= d + tol) n[k] -= 1;
+    if (std::abs(hi[k] - x[k]) <= d + tol) n[k] += 1;
+  }
+  const Real len = n.norm();
+  return len > 0 ? Vec3(n / len) : n;
+}
+
+}  // namespace vrsph

@@ -1,0 +1,188 @@
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include "random.hpp"
+
+namespace vrsph {
+
+namespace {
+
+void check_box(const Domain& box, int n) {
+  check<InputError>(box.shape == Domain::Shape::Box, "lattice generators need a box domain");
+  check<InputError>(n >= 1, "number of intervals per direction must be >= 1, got ", n);
+  check<InputError>(n <= 100000, "number of intervals per direction ", n, " is unreasonably large");
+}
+
+// Tensor product of per-axis coordinate lists; tag by position relative to the box.
+PointCloud tensor_cloud(const Domain& box, const std::vector<std::vector<Real>>& axes, Real spacing) {
+  PointCloud c;
+  c.dim = box.dim;
+  c.domain = box;
+  c.spacing = spacing;
+  c.normals.reserve(1);
+  c.normals.clear();
+  std::size_t total = 1;
+  for (int k = 0; k < box.dim; ++k) total *= axes[static_cast<std::size_t>(k)].size();
+  c.positions.reserve(total);
+  c.tags.reserve(total);
+  c.normals.reserve(total);
+  const std::size_t nx = axes[0].size(), ny = box.dim > 1 ? axes[1].size() : 1, nz = box.dim > 2 ? axes[2].size() : 1;
+  const Real tol = 1e-12 * spacing;
+  for (std::size_t kz = 0; kz < nz; ++kz)
+    for (std::size_t ky = 0; ky < ny; ++ky)
+      for (std::size_t kx = 0; kx < nx; ++kx) {
+        Vec3 x = Vec3::Zero();
+        x[0] = axes[0][kx];
+        if (box.dim > 1) x[1] = axes[1][ky];
+        if (box.dim > 2) x[2] = axes[2][kz];
+        const Real sd = box.signed_distance(x);
+        Tag tag = Tag::Interior;
+        Vec3 normal = Vec3::Zero();
+        if (sd < -tol) {
+          tag = Tag::Ghost;
+        } else if (sd <= tol) {
+          tag = Tag::Dirichlet;
+          normal = box.outward_normal(x, tol);
+        }
+        c.positions.push_back(x);
+        c.tags.push_back(tag);
+        c.normals.push_back(normal);
+      }
+  return c;
+}
+
+Real box_spacing(const Domain& box, int n) {
+  Real prod = 1;
+  for (int k = 0; k < box.dim; ++k) prod *= (box.hi[k] - box.lo[k]) / n;
+  return std::pow(prod, 1.0 / box.dim);
+}
+
+}  // namespace
+
+int ghost_layers_for(Real support_radius, Real dx) {
+  check<InputError>(dx > 0 && support_radius > 0, "ghost layers need positive h and dx");
+  return static_cast<int>(std::ceil((support_radius + dx) / dx - 1e-9));
+}
+
+PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers) {
+  check_box(box, n);
+  check<InputError>(ghost_layers >= 0, "ghost layers must be >= 0");
+  std::vector<std::vector<Real>> axes(3);
+  for (int k = 0; k < box.dim; ++k) {
+    const Real dx = (box.hi[k] - box.lo[k]) / n;
+    for (int i = -ghost_layers; i <= n + ghost_layers; ++i)
+      axes[static_cast<std::size_t>(k)].push_back(i == n ? box.hi[k] : box.lo[k] + i * dx);
+  }
+  return tensor_cloud(box, axes, box_spacing(box, n));
+}
+
+PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particles, int ghost_layers) {
+  check_box(box, n);
+  check<InputError>(ghost_layers >= 0, "ghost layers must be >= 0");
+  std::vector<std::vector<Real>> axes(3);
+  for (int k = 0; k < box.dim; ++k) {
+    const Real dx = (box.hi[k] - box.lo[k]) / n;
+    auto& a = axes[static_cast<std::size_t>(k)];
+    for (int i = -ghost_layers; i < n + ghost_layers; ++i) {
+      if (boundary_particles && i == 0) a.push_back(box.lo[k]);
+      if (boundary_particles && i == n) a.push_back(box.hi[k]);
+      a.push_back(box.lo[k] + (i + 0.5) * dx);
+    }
+    if (boundary_particles && ghost_layers == 0) a.push_back(box.hi[k]);
+  }
+  return tensor_cloud(box, axes, box_spacing(box, n));
+}
+
+void perturb(PointCloud& cloud, const PerturbOptions& o) {
+  validate(cloud);
+  check<InputError>(std::isfinite(o.delta) && o.delta >= 0 && o.delta < 1,
+                    "perturbation amplitude delta must be in [0, 1), got ", o.delta);
+  check<InputError>(cloud.spacing > 0, "perturbation needs the cloud spacing dx");
+  const bool bounded = cloud.count(Tag::Dirichlet) + cloud.count(Tag::Neumann) > 0;
+  const Real amp = o.delta * cloud.spacing;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Tag tag = cloud.tags[si];
+    Vec3 step = Vec3::Zero();
+    for (int k = 0; k < cloud.dim; ++k)
+      step[k] = amp * (2 * detail::uniform01(o.seed, static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(k)) - 1);
+    if (tag == Tag::Dirichlet || tag == Tag::Neumann) {
+      if (!o.boundary_tangential || !cloud.has_normals()) continue;
+      // Move only along the face: drop the normal component; skip edges/corners
+      // (normal not aligned with an axis) and curved boundaries.
+      const Vec3& nrm = cloud.normals[si];
+      if (cloud.domain.shape != Domain::Shape::Box || std::abs(nrm.cwiseAbs().maxCoeff() - 1) > 1e-12) continue;
+      step -= step.dot(nrm) * nrm;
+      const Vec3 x = cloud.positions[si] + step;
+      bool inside_face = true;  // stay strictly inside the face, off its edges
+      for (int k = 0; k < cloud.dim; ++k)
+        if (std::abs(nrm[k]) < 0.5) inside_face = inside_face && x[k] > cloud.domain.lo[k] && x[k] < cloud.domain.hi[k];
+      if (inside_face) cloud.positions[si] = x;
+      continue;
+    }
+    Vec3 x = cloud.positions[si] + step;
+    if (bounded && tag == Tag::Interior) {
+      for (int halvings = 0; halvings < 30 && cloud.domain.signed_distance(x) < 0.1 * cloud.spacing; ++halvings) {
+        step *= 0.5;
+        x = cloud.positions[si] + step;
+      }
+    }
+    cloud.positions[si] = x;
+  }
+  if (!bounded && cloud.domain.shape != Domain::Shape::None) {
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      cloud.tags[si] = cloud.domain.signed_distance(cloud.positions[si]) >= 0 ? Tag::Interior : Tag::Ghost;
+    }
+  }
+}
+
+PointCloud ball_cloud(int dim, Real radius, int n) {
+  check<InputError>(dim >= 1 && dim <= 3, "ball cloud dimension must be 1, 2 or 3, got ", dim);
+  check<InputError>(radius > 0 && std::isfinite(radius), "ball radius must be positive, got ", radius);
+  check<InputError>(n >= 2 && n <= 100000, "ball cloud needs n in 2..100000 intervals per diameter, got ", n);
+  PointCloud c;
+  c.dim = dim;
+  c.domain = Domain::ball(dim, Vec3::Zero(), radius);
+  const Real dx = 2 * radius / n;
+  c.spacing = dx;
+  c.normals.clear();
+  c.normals.reserve(16);
+  auto add = [&](const Vec3& x, Tag t, const Vec3& nrm) {
+    c.positions.push_back(x);
+    c.tags.push_back(t);
+    c.normals.push_back(nrm);
+  };
+  // Interior lattice points at least dx/2 inside the surface.
+  const int m = n / 2 + 1;
+  for (int k = -m; k <= m; ++k)
+    for (int j = (dim > 1 ? -m : 0); j <= (dim > 1 ? m : 0); ++j)
+      for (int i = (dim > 2 ? -m : 0); i <= (dim > 2 ? m : 0); ++i) {
+        Vec3 x(k * dx, j * dx, i * dx);
+        if (c.domain.signed_distance(x) >= 0.5 * dx - 1e-12 * dx) add(x, Tag::Interior, Vec3::Zero());
+      }
+  if (dim == 1) {
+    add(Vec3(-radius, 0, 0), Tag::Dirichlet, Vec3(-1, 0, 0));
+    add(Vec3(radius, 0, 0), Tag::Dirichlet, Vec3(1, 0, 0));
+  } else if (dim == 2) {
+    const int nb = std::max(8, static_cast<int>(std::lround(2 * std::numbers::pi * radius / dx)));
+    for (int k = 0; k < nb; ++k) {
+      const Real t = 2 * std::numbers::pi * k / nb;
+      const Vec3 nrm(std::cos(t), std::sin(t), 0);
+      add(radius * nrm, Tag::Dirichlet, nrm);
+    }
+  } else {
+    const int nb = std::max(12, static_cast<int>(std::lround(4 * std::numbers::pi * radius * radius / (dx * dx))));
+    const Real golden = std::numbers::pi * (3 - std::sqrt(5.0));
+    for (int k = 0; k < nb; ++k) {
+      const Real z = 1 - 2 * (k + 0.5) / nb, rr = std::sqrt(1 - z * z), t = golden * k;
+      const Vec3 nrm(rr * std::cos(t), rr * std::sin(t), z);
+      add(radius * nrm, Tag::Dirichlet, nrm);
+    }
+  }
+  return c;
+}
+
+}  // namespace vrsph

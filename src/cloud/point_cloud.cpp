@@ -1,0 +1,83 @@
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/search.hpp>
+
+namespace vrsph {
+
+std::string_view to_string(Tag tag) {
+  switch (tag) {
+    case Tag::Interior: return "interior";
+    case Tag::Dirichlet: return "dirichlet";
+    case Tag::Neumann: return "neumann";
+    case Tag::Ghost: return "ghost";
+  }
+  return "?";
+}
+
+Tag parse_tag(std::string_view text) {
+  std::string t(text);
+  std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (t == "interior" || t == "0") return Tag::Interior;
+  if (t == "dirichlet" || t == "1") return Tag::Dirichlet;
+  if (t == "neumann" || t == "2") return Tag::Neumann;
+  if (t == "ghost" || t == "3") return Tag::Ghost;
+  throw InputError("unknown particle tag '" + std::string(text) +
+                   "' (expected interior, dirichlet, neumann, ghost or 0..3)");
+}
+
+Index PointCloud::count(Tag tag) const {
+  return static_cast<Index>(std::count(tags.begin(), tags.end(), tag));
+}
+
+void PointCloud::add(const Vec3& x, Tag tag, const Vec3& normal) {
+  positions.push_back(x);
+  tags.push_back(tag);
+  if (has_normals()) normals.push_back(normal);
+}
+
+void validate(const PointCloud& cloud) {
+  check<InputError>(cloud.dim >= 1 && cloud.dim <= 3, "point cloud dimension must be 1, 2 or 3, got ", cloud.dim);
+  check<InputError>(!cloud.positions.empty(), "point cloud is empty");
+  check<InputError>(cloud.tags.size() == cloud.positions.size(), "point cloud has ", cloud.positions.size(),
+                    " positions but ", cloud.tags.size(), " tags");
+  check<InputError>(cloud.normals.empty() || cloud.normals.size() == cloud.positions.size(), "point cloud has ",
+                    cloud.positions.size(), " positions but ", cloud.normals.size(), " normals");
+  check<InputError>(std::isfinite(cloud.spacing) && cloud.spacing >= 0,
+                    "point cloud spacing must be finite and >= 0, got ", cloud.spacing);
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    for (int k = 0; k < 3; ++k) {
+      check<InputError>(std::isfinite(x[k]), "particle ", i, " has a non-finite coordinate ", "xyz"[k], " = ", x[k]);
+      check<InputError>(k < cloud.dim || x[k] == 0, "particle ", i, " has a non-zero coordinate ", "xyz"[k], " = ",
+                        x[k], " in a ", cloud.dim, "D cloud (dimension mismatch)");
+    }
+    const auto tag = static_cast<unsigned>(cloud.tags[static_cast<std::size_t>(i)]);
+    check<InputError>(tag <= 3u, "particle ", i, " has an invalid tag value ", tag);
+    if (cloud.has_normals()) {
+      const Vec3& n = cloud.normals[static_cast<std::size_t>(i)];
+      check<InputError>(n.allFinite(), "particle ", i, " has a non-finite normal");
+    }
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann && cloud.dim > 1) {
+      check<InputError>(cloud.has_normals() && cloud.normals[static_cast<std::size_t>(i)].norm() > 0.5,
+                        "Neumann particle ", i, " at (", x[0], ", ", x[1], ", ", x[2],
+                        ") has no outward normal (give nx,ny[,nz] columns)");
+    }
+  }
+}
+
+Real estimate_spacing(const PointCloud& cloud) {
+  if (cloud.spacing > 0) return cloud.spacing;
+  const Real measure = cloud.domain.measure();
+  if (measure > 0) {
+    // Count only the particles that discretise the domain (ghosts lie outside it).
+    const Index inside = cloud.size() - cloud.count(Tag::Ghost);
+    return std::pow(measure / static_cast<Real>(std::max<Index>(inside, 1)), 1.0 / cloud.dim);
+  }
+  return mean_nearest_neighbour_distance(cloud);
+}
+
+}  // namespace vrsph

@@ -1,0 +1,143 @@
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <vrsph/core/error.hpp>
+#include <vrsph/io/csv.hpp>
+
+namespace vrsph {
+
+namespace {
+std::string trim_lower(std::string s) {
+  auto not_space = [](unsigned char c) { return !std::isspace(c); };
+  s.erase(s.begin(), std::find_if(s.begin(), s.end(), not_space));
+  s.erase(std::find_if(s.rbegin(), s.rend(), not_space).base(), s.end());
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream is(line);
+  while (std::getline(is, cur, ',')) out.push_back(cur);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+}  // namespace
+
+PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
+  check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
+  std::string line;
+  std::size_t lineno = 0;
+  // Header: first non-blank line.
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (!trim_lower(line).empty()) break;
+  }
+  check<InputError>(!trim_lower(line).empty(), name, ": empty file (expected a header line x,y,z,tag[,nx,ny,nz])");
+  const auto header = split(line);
+  std::map<std::string, std::size_t> col;
+  static const std::vector<std::string> known = {"x", "y", "z", "tag", "nx", "ny", "nz"};
+  for (std::size_t k = 0; k < header.size(); ++k) {
+    const std::string h = trim_lower(header[k]);
+    check<InputError>(std::find(known.begin(), known.end(), h) != known.end(), name, ":", lineno, ": unknown column '",
+                      header[k], "' in header (expected x,y,z,tag[,nx,ny,nz])");
+    check<InputError>(!col.count(h), name, ":", lineno, ": column '", h, "' appears twice in the header");
+    col[h] = k;
+  }
+  check<InputError>(col.count("x") && col.count("tag"), name, ":", lineno,
+                    ": header must contain at least the columns x and tag (got '", line, "')");
+  int coord_cols = 1;
+  if (col.count("y")) coord_cols = 2;
+  if (col.count("z")) {
+    check<InputError>(col.count("y"), name, ": column z without column y");
+    coord_cols = 3;
+  }
+  const bool normals = col.count("nx") > 0;
+  check<InputError>(!normals || (col.count("ny") > 0) == (coord_cols > 1), name,
+                    ": normal columns must match the coordinate columns (nx[,ny[,nz]])");
+
+  PointCloud c;
+  c.dim = 3;
+  Vec3 any_nonzero = Vec3::Zero();
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (trim_lower(line).empty()) continue;
+    const auto f = split(line);
+    check<InputError>(f.size() == header.size(), name, ":", lineno, ": expected ", header.size(), " fields, found ",
+                      f.size());
+    auto number = [&](const char* key) -> Real {
+      const auto it = col.find(key);
+      if (it == col.end()) return 0;
+      const std::string s = trim_lower(f[it->second]);
+      char* end = nullptr;
+      const Real v = std::strtod(s.c_str(), &end);
+      check<InputError>(!s.empty() && end && *end == '\0', name, ":", lineno, ": column ", key, ": '", f[it->second],
+                        "' is not a number");
+      check<InputError>(std::isfinite(v), name, ":", lineno, ": column ", key, " is not finite (", s, ")");
+      return v;
+    };
+    Vec3 x(number("x"), number("y"), number("z"));
+    for (int k = 0; k < 3; ++k)
+      if (x[k] != 0) any_nonzero[k] = 1;
+    Tag tag;
+    try {
+      tag = parse_tag(trim_lower(f[col["tag"]]));
+    } catch (const InputError& e) {
+      throw InputError(detail::concat(name, ":", lineno, ": ", e.what()));
+    }
+    c.positions.push_back(x);
+    c.tags.push_back(tag);
+    if (normals) c.normals.emplace_back(number("nx"), number("ny"), number("nz"));
+  }
+  check<InputError>(!c.positions.empty(), name, ": no particles after the header");
+  int inferred = 1;
+  for (int k = 0; k < coord_cols; ++k)
+    if (any_nonzero[k] != 0) inferred = k + 1;
+  if (dim == 0) {
+    c.dim = inferred;
+  } else {
+    check<InputError>(dim <= coord_cols, name, ": dimension mismatch: ", dim, "D requested but the file has only ",
+                      coord_cols, " coordinate column(s)");
+    check<InputError>(inferred <= dim, name, ": dimension mismatch: ", dim,
+                      "D requested but coordinate ", "xyz"[inferred - 1], " is non-zero for some particles");
+    c.dim = dim;
+  }
+  if (normals)
+    for (auto& n : c.normals)
+      for (int k = c.dim; k < 3; ++k) n[k] = 0;
+  validate(c);
+  return c;
+}
+
+PointCloud read_csv(const std::string& path, int dim) {
+  std::ifstream in(path);
+  check<InputError>(static_cast<bool>(in), "cannot open point cloud file '", path, "'");
+  return read_csv(in, path, dim);
+}
+
+void write_csv(std::ostream& out, const PointCloud& c) {
+  validate(c);
+  out.precision(17);
+  out << "x,y,z,tag" << (c.has_normals() ? ",nx,ny,nz" : "") << '\n';
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Vec3& x = c.positions[si];
+    out << x[0] << ',' << x[1] << ',' << x[2] << ',' << to_string(c.tags[si]);
+    if (c.has_normals()) out << ',' << c.normals[si][0] << ',' << c.normals[si][1] << ',' << c.normals[si][2];
+    out << '\n';
+  }
+}
+
+void write_csv(const std::string& path, const PointCloud& cloud) {
+  std::ofstream out(path);
+  check<InputError>(static_cast<bool>(out), "cannot write point cloud file '", path, "'");
+  write_csv(out, cloud);
+  check<InputError>(static_cast<bool>(out), "error while writing '", path, "'");
+}
+
+}  // namespace vrsph

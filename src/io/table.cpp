@@ -1,0 +1,111 @@
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vrsph/core/error.hpp>
+#include <vrsph/io/table.hpp>
+
+namespace vrsph {
+
+void Table::add_row(const std::vector<std::pair<std::string, TableCell>>& cells) {
+  std::vector<TableCell> row(columns.size());
+  for (const auto& [name, value] : cells) {
+    auto it = std::find(columns.begin(), columns.end(), name);
+    check<ConfigError>(it != columns.end(), "table has no column '", name, "'");
+    row[static_cast<std::size_t>(it - columns.begin())] = value;
+  }
+  rows.push_back(std::move(row));
+}
+
+TableFormat parse_table_format(const std::string& name) {
+  if (name == "md" || name == "markdown") return TableFormat::Markdown;
+  if (name == "csv") return TableFormat::Csv;
+  if (name == "json") return TableFormat::Json;
+  throw ConfigError("unknown output format '" + name + "' (expected md, csv or json)");
+}
+
+namespace {
+std::string text(const TableCell& c) {
+  std::ostringstream os;
+  if (std::holds_alternative<long long>(c)) os << std::get<long long>(c);
+  else if (std::holds_alternative<double>(c)) {
+    const double v = std::get<double>(c);
+    if (std::isnan(v)) os << "–";
+    else {
+      os.precision(4);
+      os << std::scientific << v;
+    }
+  } else if (std::holds_alternative<std::string>(c)) os << std::get<std::string>(c);
+  else if (std::holds_alternative<bool>(c)) os << (std::get<bool>(c) ? "yes" : "no");
+  return os.str();
+}
+std::string csv_text(const TableCell& c) {
+  if (std::holds_alternative<double>(c)) {
+    std::ostringstream os;
+    os.precision(10);
+    const double v = std::get<double>(c);
+    if (!std::isnan(v)) os << v;
+    return os.str();
+  }
+  return text(c);
+}
+}  // namespace
+
+std::string to_markdown(const Table& t) {
+  std::ostringstream os;
+  os << '|';
+  for (const auto& c : t.columns) os << ' ' << c << " |";
+  os << "\n|";
+  for (std::size_t k = 0; k < t.columns.size(); ++k) os << "---|";
+  os << '\n';
+  for (const auto& r : t.rows) {
+    os << '|';
+    for (const auto& c : r) os << ' ' << text(c) << " |";
+    os << '\n';
+  }
+  return os.str();
+}
+
+std::string to_csv(const Table& t) {
+  std::ostringstream os;
+  for (std::size_t k = 0; k < t.columns.size(); ++k) os << (k ? "," : "") << t.columns[k];
+  os << '\n';
+  for (const auto& r : t.rows) {
+    for (std::size_t k = 0; k < r.size(); ++k) os << (k ? "," : "") << csv_text(r[k]);
+    os << '\n';
+  }
+  return os.str();
+}
+
+std::string to_json(const Table& t, const std::string& extra) {
+  nlohmann::ordered_json j = extra.empty() ? nlohmann::ordered_json::object() : nlohmann::ordered_json::parse(extra);
+  auto rows = nlohmann::ordered_json::array();
+  for (const auto& r : t.rows) {
+    nlohmann::ordered_json o = nlohmann::ordered_json::object();
+    for (std::size_t k = 0; k < r.size(); ++k) {
+      const auto& c = r[k];
+      const auto& name = t.columns[k];
+      if (std::holds_alternative<long long>(c)) o[name] = std::get<long long>(c);
+      else if (std::holds_alternative<double>(c)) {
+        const double v = std::get<double>(c);
+        if (std::isfinite(v)) o[name] = v;
+        else o[name] = nullptr;  // JSON has no NaN: first-row orders are null
+      } else if (std::holds_alternative<std::string>(c)) o[name] = std::get<std::string>(c);
+      else if (std::holds_alternative<bool>(c)) o[name] = std::get<bool>(c);
+      else o[name] = nullptr;
+    }
+    rows.push_back(std::move(o));
+  }
+  j["rows"] = std::move(rows);
+  return j.dump(2) + "\n";
+}
+
+std::string format_table(const Table& t, TableFormat f, const std::string& extra) {
+  switch (f) {
+    case TableFormat::Markdown: return to_markdown(t);
+    case TableFormat::Csv: return to_csv(t);
+    case TableFormat::Json: return to_json(t, extra);
+  }
+  return {};
+}
+
+}  // namespace vrsph

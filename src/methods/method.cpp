@@ -1,0 +1,30 @@
+#include <algorithm>
+#include <cmath>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/method.hpp>
+
+namespace vrsph {
+
+bool MethodInfo::supports(OperatorKind k) const {
+  return std::find(operators.begin(), operators.end(), k) != operators.end();
+}
+
+void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request) {
+  check<ConfigError>(info.supports(request.kind), "method ", info.name, " does not provide operator ",
+                     to_string(request.kind));
+  check<InputError>(disc.neighbours.size() == disc.cloud.size(), "neighbour list has ", disc.neighbours.size(),
+                    " rows for ", disc.cloud.size(), " particles (size mismatch)");
+  if (request.kind == OperatorKind::DivAGrad) {
+    check<InputError>(request.coefficient != nullptr, "operator div-a-grad needs the coefficient a at every particle");
+    const Field& a = *request.coefficient;
+    check<InputError>(a.size() == disc.cloud.size(), "coefficient a has ", a.size(), " values for ", disc.cloud.size(),
+                      " particles (size mismatch)");
+    for (Index i = 0; i < a.size(); ++i) {
+      const Vec3& x = disc.cloud.positions[static_cast<std::size_t>(i)];
+      check<InputError>(std::isfinite(a[i]) && a[i] > 0, "coefficient a must be positive and finite: a = ", a[i],
+                        " at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
+    }
+  }
+}
+
+}  // namespace vrsph

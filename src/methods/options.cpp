@@ -1,0 +1,61 @@
+#include <cstdlib>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/options.hpp>
+
+namespace vrsph {
+
+MethodOptions MethodOptions::parse(const std::vector<std::string>& items) {
+  MethodOptions o;
+  for (const auto& item : items) {
+    const auto eq = item.find('=');
+    check<ConfigError>(eq != std::string::npos && eq > 0, "method option '", item, "' is not of the form key=value");
+    const std::string key = item.substr(0, eq);
+    check<ConfigError>(!o.values_.count(key), "method option '", key, "' given twice");
+    o.values_[key] = item.substr(eq + 1);
+  }
+  return o;
+}
+
+std::string MethodOptions::get_string(const std::string& key, const std::string& fallback) const {
+  used_.insert(key);
+  const auto it = values_.find(key);
+  return it == values_.end() ? fallback : it->second;
+}
+
+std::string MethodOptions::get_choice(const std::string& key, const std::string& fallback,
+                                      const std::set<std::string>& allowed) const {
+  const std::string v = get_string(key, fallback);
+  if (!allowed.count(v)) {
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    throw ConfigError(detail::concat("method option ", key, "='", v, "' is not one of: ", list));
+  }
+  return v;
+}
+
+Real MethodOptions::get_real(const std::string& key, Real fallback) const {
+  const auto it = values_.find(key);
+  used_.insert(key);
+  if (it == values_.end()) return fallback;
+  char* end = nullptr;
+  const Real v = std::strtod(it->second.c_str(), &end);
+  check<ConfigError>(end && *end == '\0' && !it->second.empty(), "method option ", key, "='", it->second,
+                     "' is not a number");
+  return v;
+}
+
+bool MethodOptions::get_bool(const std::string& key, bool fallback) const {
+  const std::string v = get_string(key, fallback ? "true" : "false");
+  if (v == "true" || v == "1" || v == "yes" || v == "on") return true;
+  if (v == "false" || v == "0" || v == "no" || v == "off") return false;
+  throw ConfigError(detail::concat("method option ", key, "='", v, "' is not a boolean"));
+}
+
+void MethodOptions::reject_unused(const std::string& method) const {
+  std::string unknown;
+  for (const auto& [k, v] : values_)
+    if (!used_.count(k)) unknown += (unknown.empty() ? "" : ", ") + k;
+  check<ConfigError>(unknown.empty(), "method ", method, " has no option(s): ", unknown);
+}
+
+}  // namespace vrsph

@@ -1,0 +1,100 @@
+#pragma once
+// Internal: the count-then-fill driver shared by every search backend. A backend
+// supplies `visit(i, emit)`, which calls emit(j, r2) for every candidate j that may
+// lie within radius_i of particle i (a superset is fine; the driver filters).
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/search.hpp>
+
+namespace vrsph::detail {
+
+std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& params);
+
+template <class Visit>
+NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
+                              Visit&& visit) {
+  const Index n = cloud.size();
+  NeighbourList list;
+  list.offsets.assign(static_cast<std::size_t>(n) + 1, 0);
+  const Real dup_tol = params.duplicate_tolerance;
+  std::atomic<long long> duplicate{std::numeric_limits<long long>::max()};  // encoded i * n + j
+
+  // Pass 1: count.
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < n; ++i) {
+    const Real ri = radii[static_cast<std::size_t>(i)];
+    const Real r2max = ri * ri, dup2 = dup_tol * dup_tol * r2max;
+    Index count = 0;
+    visit(i, [&](Index j, Real r2) {
+      if (j == i) {
+        count += params.include_self ? 1 : 0;
+        return;
+      }
+      if (r2 <= dup2) {
+        const long long code = static_cast<long long>(std::min(i, j)) * n + std::max(i, j);
+        long long cur = duplicate.load();
+        while (code < cur && !duplicate.compare_exchange_weak(cur, code)) {
+        }
+      }
+      if (r2 < r2max) ++count;
+    });
+    list.offsets[static_cast<std::size_t>(i) + 1] = count;
+  }
+  if (const long long code = duplicate.load(); code != std::numeric_limits<long long>::max()) {
+    const auto a = static_cast<std::size_t>(code / n), b = static_cast<std::size_t>(code % n);
+    const Vec3& x = cloud.positions[a];
+    throw InputError(concat("duplicate particles ", a, " and ", b, " at (", x[0], ", ", x[1], ", ", x[2],
+                            "): distance ", (cloud.positions[a] - cloud.positions[b]).norm(),
+                            " is below the duplicate tolerance"));
+  }
+  long long total = 0;
+  for (Index i = 0; i < n; ++i) {
+    total += list.offsets[static_cast<std::size_t>(i) + 1];
+    check<InputError>(total <= std::numeric_limits<Index>::max(), "neighbour list too large: more than ",
+                      std::numeric_limits<Index>::max(), " pairs");
+    list.offsets[static_cast<std::size_t>(i) + 1] = static_cast<Index>(total);
+  }
+  // Too few neighbours: reported before filling, naming the first offender.
+  for (Index i = 0; i < n; ++i) {
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+    const Index c = list.count(i) - (params.include_self ? 1 : 0);
+    if (c < params.min_neighbours) {
+      const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+      throw GeometryError(concat("particle ", i, " at (", x[0], ", ", x[1], ", ", x[2], ") has ", c,
+                                 " neighbours within radius ", radii[static_cast<std::size_t>(i)], " (need at least ",
+                                 params.min_neighbours, "); increase the smoothing radius or check the cloud"));
+    }
+  }
+
+  // Pass 2: fill, then sort each row by index so the output does not depend on the backend.
+  list.indices.resize(static_cast<std::size_t>(total));
+  if (params.cache_distances) list.distances.resize(static_cast<std::size_t>(total));
+#pragma omp parallel
+  {
+    std::vector<std::pair<Index, Real>> row;
+#pragma omp for schedule(dynamic, 256)
+    for (Index i = 0; i < n; ++i) {
+      const Real ri = radii[static_cast<std::size_t>(i)];
+      const Real r2max = ri * ri;
+      row.clear();
+      visit(i, [&](Index j, Real r2) {
+        if (j == i ? params.include_self : r2 < r2max) row.emplace_back(j, r2);
+      });
+      std::sort(row.begin(), row.end());
+      auto k = static_cast<std::size_t>(list.offsets[static_cast<std::size_t>(i)]);
+      for (const auto& [j, r2] : row) {
+        list.indices[k] = j;
+        if (params.cache_distances) list.distances[k] = std::sqrt(r2);
+        ++k;
+      }
+    }
+  }
+  list.radii = std::move(radii);
+  return list;
+}
+
+}  // namespace vrsph::detail

@@ -1,0 +1,161 @@
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <vrsph/core/error.hpp>
+#include <vrsph/stencil/properties.hpp>
+
+namespace vrsph {
+
+Field row_sums(const Stencil& s, int component) {
+  check<InputError>(component >= 0 && component < s.components(), "row_sums: component ", component, " out of range");
+  const auto& v = s.values[static_cast<std::size_t>(component)];
+  Field out = Field::Zero(s.rows());
+  for (Index i = 0; i < s.rows(); ++i)
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) out[i] += v[static_cast<std::size_t>(k)];
+  return out;
+}
+
+std::string MMatrixReport::summary() const {
+  if (is_m_matrix()) return detail::concat("-L is an M-matrix (", rows, " unknown rows, weakly chained diagonally dominant)");
+  std::string s = "-L is NOT an M-matrix:";
+  if (!z_matrix) s += detail::concat(" ", positive_offdiagonal, " off-diagonal entries of the wrong sign;");
+  if (!diagonally_dominant) s += detail::concat(" ", non_dominant_rows, " rows not diagonally dominant;");
+  if (!chained) s += detail::concat(" ", unreachable.size(), " rows not connected to a strictly dominant (boundary) row;");
+  if (first_violation >= 0) s += detail::concat(" first at particle ", first_violation);
+  return s;
+}
+
+MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol) {
+  check<InputError>(static_cast<Index>(unknown.size()) == s.rows(), "check_m_matrix: mask has ", unknown.size(),
+                    " entries for ", s.rows(), " rows (size mismatch)");
+  check<ConfigError>(s.components() == 1, "check_m_matrix needs a scalar operator, got ", to_string(s.kind));
+  const auto& v = s.values[0];
+  MMatrixReport rep;
+  const Index n = s.rows();
+  std::vector<char> strict(static_cast<std::size_t>(n), 0);
+  auto flag = [&](Index i) {
+    if (rep.first_violation < 0) rep.first_violation = i;
+  };
+  for (Index i = 0; i < n; ++i) {
+    if (!unknown[static_cast<std::size_t>(i)]) continue;
+    ++rep.rows;
+    Real scale = 0;
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) scale = std::max(scale, std::abs(v[static_cast<std::size_t>(k)]));
+    const Real eps = tol * scale;
+    const Real diag = -v[static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])];  // diagonal of -L
+    Real off = 0;
+    bool row_z = true;
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+      const Index j = s.col[static_cast<std::size_t>(k)];
+      if (j == i || !unknown[static_cast<std::size_t>(j)]) continue;
+      const Real lij = v[static_cast<std::size_t>(k)];
+      if (lij < -eps) {
+        ++rep.positive_offdiagonal;
+        row_z = false;
+      }
+      off += std::abs(lij);
+    }
+    if (!row_z) {
+      rep.z_matrix = false;
+      flag(i);
+    }
+    if (diag < off - eps) {
+      ++rep.non_dominant_rows;
+      rep.diagonally_dominant = false;
+      flag(i);
+    } else if (diag > off + eps) {
+      strict[static_cast<std::size_t>(i)] = 1;
+    }
+  }
+  // Reachability: row i "reaches" j if L_ij != 0. Breadth-first search backwards from
+  // the strictly dominant rows over the reversed edges.
+  std::vector<std::vector<Index>> reverse(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i) {
+    if (!unknown[static_cast<std::size_t>(i)]) continue;
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+      const Index j = s.col[static_cast<std::size_t>(k)];
+      if (j != i && unknown[static_cast<std::size_t>(j)] && v[static_cast<std::size_t>(k)] != 0)
+        reverse[static_cast<std::size_t>(j)].push_back(i);
+    }
+  }
+  std::vector<char> reached(strict);
+  std::deque<Index> queue;
+  for (Index i = 0; i < n; ++i)
+    if (strict[static_cast<std::size_t>(i)]) queue.push_back(i);
+  while (!queue.empty()) {
+    const Index j = queue.front();
+    queue.pop_front();
+    for (Index i : reverse[static_cast<std::size_t>(j)])
+      if (!reached[static_cast<std::size_t>(i)]) {
+        reached[static_cast<std::size_t>(i)] = 1;
+        queue.push_back(i);
+      }
+  }
+  for (Index i = 0; i < n; ++i)
+    if (unknown[static_cast<std::size_t>(i)] && !reached[static_cast<std::size_t>(i)]) {
+      rep.unreachable.push_back(i);
+      rep.chained = false;
+      flag(i);
+    }
+  return rep;
+}
+
+namespace {
+// Exact value at x_i of the operator applied to (x - x_i)^alpha, component c.
+Real exact_on_centred_monomial(OperatorKind kind, const std::array<int, 3>& a, int c) {
+  const int deg = a[0] + a[1] + a[2];
+  switch (kind) {
+    case OperatorKind::Value: return deg == 0 ? 1 : 0;
+    case OperatorKind::Dx:
+    case OperatorKind::Dy:
+    case OperatorKind::Dz: {
+      const int k = kind == OperatorKind::Dx ? 0 : kind == OperatorKind::Dy ? 1 : 2;
+      return deg == 1 && a[static_cast<std::size_t>(k)] == 1 ? 1 : 0;
+    }
+    case OperatorKind::Gradient: return deg == 1 && a[static_cast<std::size_t>(c)] == 1 ? 1 : 0;
+    case OperatorKind::Laplacian: return deg == 2 && (a[0] == 2 || a[1] == 2 || a[2] == 2) ? 2 : 0;
+    case OperatorKind::DivAGrad: break;
+  }
+  throw ConfigError(detail::concat("monomial residuals are not defined for operator ", to_string(kind)));
+}
+}  // namespace
+
+std::vector<MonomialResidual> monomial_residuals(const Stencil& s, const PointCloud& cloud,
+                                                 std::span<const Real> row_scale, int max_degree,
+                                                 std::span<const char> rows) {
+  check<ConfigError>(s.kind != OperatorKind::DivAGrad, "monomial residuals are not defined for div-a-grad");
+  check<InputError>(s.rows() == cloud.size() && static_cast<Index>(rows.size()) == s.rows() &&
+                        static_cast<Index>(row_scale.size()) == s.rows(),
+                    "monomial_residuals: stencil, cloud, scale and row mask sizes differ");
+  check<InputError>(max_degree >= 0 && max_degree <= 6, "monomial degree must be in 0..6, got ", max_degree);
+  const int order = traits(s.kind).derivative_order;
+  std::vector<MonomialResidual> out;
+  for (int deg = 0; deg <= max_degree; ++deg)
+    for (int a0 = deg; a0 >= 0; --a0)
+      for (int a1 = deg - a0; a1 >= 0; --a1) {
+        const std::array<int, 3> a{a0, a1, deg - a0 - a1};
+        if ((s.dim < 2 && a[1] > 0) || (s.dim < 3 && a[2] > 0)) continue;
+        Real worst = 0;
+        for (Index i = 0; i < s.rows(); ++i) {
+          if (!rows[static_cast<std::size_t>(i)]) continue;
+          const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+          Real norm2 = 0;
+          for (int c = 0; c < s.components(); ++c) {
+            const auto& v = s.values[static_cast<std::size_t>(c)];
+            Real acc = 0;
+            for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+              const Vec3 d = cloud.positions[static_cast<std::size_t>(s.col[static_cast<std::size_t>(k)])] - xi;
+              acc += v[static_cast<std::size_t>(k)] * std::pow(d[0], a[0]) * std::pow(d[1], a[1]) * std::pow(d[2], a[2]);
+            }
+            const Real r = (acc - exact_on_centred_monomial(s.kind, a, c)) *
+                           std::pow(row_scale[static_cast<std::size_t>(i)], order - deg);
+            norm2 += r * r;
+          }
+          worst = std::max(worst, std::sqrt(norm2));
+        }
+        out.push_back({a, worst});
+      }
+  return out;
+}
+
+}  // namespace vrsph

@@ -1,0 +1,83 @@
+#include <algorithm>
+#include <vrsph/core/error.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include <vrsph/stencil/stencil.hpp>
+
+namespace vrsph {
+
+Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, std::string method) {
+  Stencil s;
+  s.kind = kind;
+  s.dim = dim;
+  s.method = std::move(method);
+  const Index n = nl.size();
+  check<ConfigError>(kind != OperatorKind::Dy || dim >= 2, "operator dy needs dimension >= 2");
+  check<ConfigError>(kind != OperatorKind::Dz || dim >= 3, "operator dz needs dimension 3");
+  s.row_ptr.resize(static_cast<std::size_t>(n) + 1);
+  s.diag.resize(static_cast<std::size_t>(n));
+  s.row_ptr[0] = 0;
+  for (Index i = 0; i < n; ++i) {
+    const auto row = nl.of(i);
+    const bool self_listed = std::binary_search(row.begin(), row.end(), i);
+    s.row_ptr[static_cast<std::size_t>(i) + 1] = s.row_ptr[static_cast<std::size_t>(i)] + nl.count(i) + (self_listed ? 0 : 1);
+  }
+  s.col.resize(static_cast<std::size_t>(s.nnz()));
+  for (Index i = 0; i < n; ++i) {
+    const auto row = nl.of(i);
+    check<ConfigError>(!std::binary_search(row.begin(), row.end(), i),
+                       "stencil patterns need neighbour lists without self (search with include_self = false)");
+    auto out = s.col.begin() + s.row_begin(i);
+    const auto split = std::lower_bound(row.begin(), row.end(), i);
+    out = std::copy(row.begin(), split, out);
+    s.diag[static_cast<std::size_t>(i)] = static_cast<Index>(out - s.col.begin());
+    *out++ = i;
+    std::copy(split, row.end(), out);
+  }
+  s.values.assign(static_cast<std::size_t>(components(kind, dim)), std::vector<Real>(s.col.size(), 0.0));
+  return s;
+}
+
+void set_difference_diagonal(Stencil& s) {
+  for (auto& v : s.values)
+    for (Index i = 0; i < s.rows(); ++i) {
+      Real sum = 0;
+      const Index d = s.diag[static_cast<std::size_t>(i)];
+      for (Index k = s.row_begin(i); k < s.row_end(i); ++k)
+        if (k != d) sum += v[static_cast<std::size_t>(k)];
+      v[static_cast<std::size_t>(d)] = -sum;
+    }
+}
+
+Eigen::MatrixXd apply(const Stencil& s, const Field& u) {
+  check<InputError>(u.size() == s.rows(), "apply: field has ", u.size(), " values but the stencil has ", s.rows(),
+                    " rows (size mismatch)");
+  Eigen::MatrixXd out(s.rows(), s.components());
+  for (int c = 0; c < s.components(); ++c) out.col(c) = apply_component(s, u, c);
+  return out;
+}
+
+Field apply_component(const Stencil& s, const Field& u, int component) {
+  check<InputError>(u.size() == s.rows(), "apply: field has ", u.size(), " values but the stencil has ", s.rows(),
+                    " rows (size mismatch)");
+  check<InputError>(component >= 0 && component < s.components(), "apply: component ", component,
+                    " out of range for a stencil with ", s.components(), " components");
+  const auto& v = s.values[static_cast<std::size_t>(component)];
+  Field out(s.rows());
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < s.rows(); ++i) {
+    Real acc = 0;
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k)
+      acc += v[static_cast<std::size_t>(k)] * u[s.col[static_cast<std::size_t>(k)]];
+    out[i] = acc;
+  }
+  return out;
+}
+
+SparseView as_eigen(const Stencil& s, int component) {
+  check<InputError>(component >= 0 && component < s.components(), "as_eigen: component ", component,
+                    " out of range for a stencil with ", s.components(), " components");
+  return SparseView(s.rows(), s.rows(), s.nnz(), s.row_ptr.data(), s.col.data(),
+                    s.values[static_cast<std::size_t>(component)].data());
+}
+
+}  // namespace vrsph

@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""CLI tests: exit codes, and JSON output parsed with json (never regex on text).
+
+Usage: test_cli.py PATH_TO_VRSPH
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+VRSPH = None
+
+
+def run(*args, check=True):
+    p = subprocess.run([VRSPH, *args], capture_output=True, text=True, timeout=300)
+    if check and p.returncode != 0:
+        raise AssertionError(f"vrsph {' '.join(args)} exited {p.returncode}: {p.stderr}")
+    return p
+
+
+def run_json(*args):
+    return json.loads(run(*args, "--format", "json").stdout)
+
+
+class Methods(unittest.TestCase):
+    def test_methods_json_lists_sph(self):
+        methods = run_json("methods")
+        self.assertIsInstance(methods, list)
+        names = {m["name"]: m for m in methods}
+        self.assertIn("sph", names)
+        for m in methods:
+            for key in ("name", "paper", "operators", "claimed_order"):
+                self.assertIn(key, m)
+        self.assertIn("laplacian", names["sph"]["operators"])
+
+    def test_kernels(self):
+        self.assertEqual(run("kernels").returncode, 0)
+
+
+class Operator(unittest.TestCase):
+    def test_qw_trunc_rows(self):
+        out = run_json("operator", "--problem", "qw-trunc", "--method", "sph", "--operator", "gradient",
+                       "--cloud", "uniform", "--n", "8,16,32", "--seed", "3", "--h-factor", "3")
+        rows = out["rows"]
+        self.assertEqual([r["n"] for r in rows], [8, 16, 32])
+        for r in rows:
+            for key in ("n", "N", "h", "error_inf", "order_inf"):
+                self.assertIn(key, r)
+        self.assertEqual(rows[0]["N"], 64)
+        self.assertAlmostEqual(rows[1]["h"], 3 * 2 / 16)
+        self.assertIsNone(rows[0]["order_inf"])
+        self.assertGreater(rows[2]["order_inf"], 1.5)
+        self.assertEqual(out["dim"], 2)
+
+    def test_perturbed_laplacian_diverges(self):
+        out = run_json("operator", "--method", "sph", "--operator", "laplacian", "--cloud", "perturbed",
+                       "--n", "16,32,64", "--seed", "5")
+        self.assertLess(out["fitted_order_inf"]["sph"], -0.5)
+
+    def test_expression_and_exact(self):
+        out = run_json("operator", "--problem", "unit-box", "--dim", "1", "--operator", "second-derivative",
+                       "--u", "sin(2*x)", "--exact", "-4*sin(2*x)", "--n", "16,32", "--h-factor", "6")
+        self.assertLess(out["rows"][1]["error_inf"], out["rows"][0]["error_inf"])
+
+    def test_csv_and_plot(self):
+        with tempfile.TemporaryDirectory() as d:
+            png = os.path.join(d, "conv.png")
+            csv = os.path.join(d, "t.csv")
+            run("operator", "--n", "8,16", "--format", "csv", "--output", csv, "--plot", png)
+            with open(csv, encoding="utf-8") as f:
+                header = f.readline().strip().split(",")
+            self.assertIn("error_inf", header)
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_bad_options(self):
+        p = run("operator", "--method", "nope", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("unknown method 'nope'", p.stderr)
+        p = run("operator", "--h-factor", "-1", check=False)
+        self.assertEqual(p.returncode, 3)
+        self.assertIn("h-factor must be positive", p.stderr)
+        p = run("operator", "--u", "sin(", check=False)
+        self.assertEqual(p.returncode, 3)
+        self.assertIn("cannot parse expression", p.stderr)
+        p = run("operator", "--frobnicate", check=False)
+        self.assertNotEqual(p.returncode, 0)
+
+
+class Cloud(unittest.TestCase):
+    def write(self, d, text):
+        path = os.path.join(d, "c.csv")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+        return path
+
+    def test_generate_convert_inspect(self):
+        with tempfile.TemporaryDirectory() as d:
+            csv = os.path.join(d, "g.csv")
+            vtu = os.path.join(d, "g.vtu")
+            info = run_json("cloud", "--family", "perturbed", "--n", "10", "--seed", "4", "--output", csv)
+            self.assertEqual(info["particles"], 121)
+            self.assertEqual(info["dirichlet"], 40)
+            again = run_json("cloud", "--input", csv, "--output", vtu)
+            self.assertEqual(again["particles"], 121)
+            self.assertEqual(again["dim"], 2)
+            self.assertAlmostEqual(again["min_distance"], info["min_distance"])
+            self.assertTrue(os.path.getsize(vtu) > 0)
+            checked = run_json("cloud", "--input", csv, "--check")
+            self.assertEqual(checked["brute_force_check"], "agrees")
+
+    def test_bad_clouds_exit_non_zero_with_reason(self):
+        cases = {
+            "": "empty file",
+            "x,y,tag\n0,0,0\n0,nan,0\n": "not finite",
+            "x,y,tag\n0,0,0\n1,0,0\n0,0,0\n": "duplicate particles 0 and 2",
+            "x,y,tag\n0,0,0\n1,0\n": "expected 3 fields",
+            "x,y,tag\n0,0,0\n1,zero,0\n": "is not a number",
+        }
+        with tempfile.TemporaryDirectory() as d:
+            for text, reason in cases.items():
+                p = run("cloud", "--input", self.write(d, text), check=False)
+                self.assertEqual(p.returncode, 3, msg=f"{text!r}: {p.stderr}")
+                self.assertIn(reason, p.stderr)
+            p = run("cloud", "--input", os.path.join(d, "missing.csv"), check=False)
+            self.assertEqual(p.returncode, 3)
+            self.assertIn("cannot open", p.stderr)
+            p = run("cloud", "--input", self.write(d, "x,y,z,tag\n0,0,1,0\n1,0,0,0\n"), "--dim", "2", check=False)
+            self.assertEqual(p.returncode, 3)
+            self.assertIn("dimension mismatch", p.stderr)
+
+
+class Bench(unittest.TestCase):
+    def test_neighbours_bench_json(self):
+        out = run_json("bench", "neighbours", "--dim", "2", "--n", "60", "--repeat", "1")
+        rows = out["rows"]
+        self.assertEqual(len(rows), 2)
+        self.assertEqual(rows[0]["ratio_to_cell_list"], 1.0)
+        self.assertEqual(rows[0]["pairs"], rows[1]["pairs"])
+
+
+if __name__ == "__main__":
+    VRSPH = os.path.abspath(sys.argv.pop(1))
+    unittest.main(verbosity=2)

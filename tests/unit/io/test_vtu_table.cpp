@@ -1,0 +1,41 @@
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/io/table.hpp>
+#include <vrsph/io/vtu.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+TEST(Vtu, WritesPointsTagsAndFields) {
+  const PointCloud c = vertex_lattice(Domain::unit_box(2), 3);
+  Eigen::MatrixXd s = Eigen::MatrixXd::Constant(c.size(), 1, 2.5), g = Eigen::MatrixXd::Ones(c.size(), 2);
+  const std::string path = ::testing::TempDir() + "/vrsph_test.vtu";
+  write_vtu(path, c, {{"U", s}, {"grad", g}});
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string t = text.str();
+  EXPECT_NE(t.find("NumberOfPoints=\"16\""), std::string::npos);
+  EXPECT_NE(t.find("Name=\"U\""), std::string::npos);
+  EXPECT_NE(t.find("Name=\"grad\" NumberOfComponents=\"3\""), std::string::npos);
+  EXPECT_NE(t.find("</VTKFile>"), std::string::npos);
+  std::remove(path.c_str());
+  EXPECT_THROW_MSG(write_vtu(path, c, {{"bad", Eigen::MatrixXd::Zero(3, 1)}}), InputError, "VTU field 'bad' has 3 rows");
+}
+
+TEST(Table, FormatsMarkdownCsvAndJson) {
+  Table t;
+  t.columns = {"n", "error", "order"};
+  t.add_row({{"n", 8LL}, {"error", 0.5}, {"order", std::nan("")}});
+  t.add_row({{"n", 16LL}, {"error", 0.125}, {"order", 2.0}});
+  EXPECT_NE(to_markdown(t).find("| 16 | 1.2500e-01 | 2.0000e+00 |"), std::string::npos);
+  EXPECT_NE(to_csv(t).find("8,0.5,\n"), std::string::npos);
+  const std::string j = to_json(t, "{\"problem\":\"x\"}");
+  EXPECT_NE(j.find("\"problem\": \"x\""), std::string::npos);
+  EXPECT_NE(j.find("\"order\": null"), std::string::npos);
+  EXPECT_THROW_MSG(parse_table_format("xml"), ConfigError, "unknown output format 'xml'");
+  EXPECT_THROW_MSG(t.add_row({{"nope", 1LL}}), ConfigError, "no column 'nope'");
+}

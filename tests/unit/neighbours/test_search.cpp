@@ -1,0 +1,112 @@
+#include <random>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/brute_force.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+PointCloud random_cloud(int dim, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  PointCloud c;
+  c.dim = dim;
+  for (int i = 0; i < n; ++i) {
+    Vec3 x = Vec3::Zero();
+    for (int k = 0; k < dim; ++k) x[k] = u(rng) * (k == 0 ? 2.0 : 1.0);  // anisotropic bounding box
+    c.add(x, Tag::Interior);
+  }
+  return c;
+}
+}  // namespace
+
+class SearchVsBruteForce : public ::testing::TestWithParam<std::tuple<int, SearchBackend, bool>> {};
+
+TEST_P(SearchVsBruteForce, AgreesExactlyAsSets) {
+  const auto [dim, backend, variable] = GetParam();
+  const PointCloud c = random_cloud(dim, dim == 1 ? 400 : 1500, 7u + static_cast<unsigned>(dim));
+  SearchParams p;
+  p.backend = backend;
+  p.min_neighbours = 0;
+  p.radius = dim == 1 ? 0.02 : dim == 2 ? 0.08 : 0.2;
+  if (variable) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.5, 2.0);
+    for (Index i = 0; i < c.size(); ++i) p.radii.push_back(p.radius * u(rng));
+  }
+  const NeighbourList fast = find_neighbours(c, p), ref = find_neighbours_brute_force(c, p);
+  ASSERT_EQ(fast.offsets, ref.offsets);
+  ASSERT_EQ(fast.indices, ref.indices);
+  ASSERT_EQ(fast.distances.size(), fast.indices.size());
+  for (Index i = 0; i < c.size(); ++i)
+    for (Index k = fast.offsets[static_cast<std::size_t>(i)]; k < fast.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
+      const Index j = fast.indices[static_cast<std::size_t>(k)];
+      EXPECT_NE(i, j);
+      EXPECT_DOUBLE_EQ(fast.distances[static_cast<std::size_t>(k)], (c.positions[static_cast<std::size_t>(i)] - c.positions[static_cast<std::size_t>(j)]).norm());
+      EXPECT_LT(fast.distances[static_cast<std::size_t>(k)], fast.radius(i));
+    }
+  EXPECT_GT(fast.total(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, SearchVsBruteForce,
+                         ::testing::Combine(::testing::Values(1, 2, 3),
+                                            ::testing::Values(SearchBackend::CellList, SearchBackend::KdTree),
+                                            ::testing::Bool()));
+
+TEST(Search, StrictRadiusAndSelf) {
+  // Lattice spacing 1: with radius exactly 1 the face neighbours (r = 1) are excluded.
+  PointCloud c = vertex_lattice(Domain::box(2, Vec3(0, 0, 0), Vec3(4, 4, 0)), 4);
+  SearchParams p;
+  p.radius = 1.0;
+  p.min_neighbours = 0;
+  EXPECT_EQ(find_neighbours(c, p).total(), 0);
+  p.radius = 1.0 + 1e-9;
+  p.include_self = true;
+  const auto nl = find_neighbours(c, p);
+  EXPECT_EQ(nl.count(12), 5);  // centre particle: itself + 4 face neighbours
+}
+
+TEST(Search, DuplicatesAreReportedByIndex) {
+  PointCloud c = random_cloud(2, 50, 1);
+  c.add(c.positions[17], Tag::Interior);
+  SearchParams p;
+  p.radius = 0.3;
+  EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "duplicate particles 17 and 50");
+  p.backend = SearchBackend::KdTree;
+  EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "duplicate particles 17 and 50");
+}
+
+TEST(Search, TooFewNeighboursIsAGeometryError) {
+  PointCloud c = random_cloud(2, 20, 2);
+  c.add(Vec3(10, 10, 0), Tag::Interior);
+  SearchParams p;
+  p.radius = 0.9;
+  EXPECT_THROW_MSG(find_neighbours(c, p), GeometryError, "particle 20 at (10, 10, 0) has 0 neighbours");
+  c.tags.back() = Tag::Ghost;  // ghosts may be isolated
+  EXPECT_NO_THROW(find_neighbours(c, p));
+}
+
+TEST(Search, RejectsBadRadiiAndCoordinates) {
+  PointCloud c = random_cloud(3, 10, 3);
+  SearchParams p;
+  EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "search radius must be positive");
+  p.radius = 1;
+  p.radii = {1.0, 2.0};
+  EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "got 2 values for 10 particles");
+  p.radii.clear();
+  c.positions[4][1] = std::nan("");
+  EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "particle 4 has a non-finite coordinate y");
+}
+
+TEST(Search, KnnQueries) {
+  const PointCloud c = vertex_lattice(Domain::unit_box(2), 10);
+  const auto d1 = kth_neighbour_distance(c, 1);
+  for (double d : d1) EXPECT_NEAR(d, 0.1, 1e-12);
+  const auto d5 = kth_neighbour_distance(c, 5);  // centre-ish: 4 at 0.1, then sqrt(2)*0.1
+  EXPECT_NEAR(d5[60], std::sqrt(2.0) * 0.1, 1e-12);
+  const auto cp = closest_pair(c);
+  EXPECT_NEAR(cp.distance, 0.1, 1e-12);
+  EXPECT_NEAR(mean_nearest_neighbour_distance(c), 0.1, 1e-12);
+}

@@ -1,0 +1,68 @@
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+struct Fixture {
+  PointCloud cloud = [] {
+    PointCloud c = vertex_lattice(Domain::unit_box(2), 8);
+    perturb(c, {0.3, 5, false});
+    return c;
+  }();
+  NeighbourList nl = [this] {
+    SearchParams p;
+    p.radius = 2.5 * cloud.spacing;
+    return find_neighbours(cloud, p);
+  }();
+};
+}  // namespace
+
+TEST(Stencil, PatternHasSortedColumnsAndTheDiagonal) {
+  Fixture f;
+  const Stencil s = make_stencil_pattern(f.nl, OperatorKind::Gradient, 2, "test");
+  ASSERT_EQ(s.rows(), f.cloud.size());
+  EXPECT_EQ(s.nnz(), f.nl.total() + f.cloud.size());
+  EXPECT_EQ(s.components(), 2);
+  for (Index i = 0; i < s.rows(); ++i) {
+    EXPECT_EQ(s.col[static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])], i);
+    for (Index k = s.row_begin(i) + 1; k < s.row_end(i); ++k)
+      EXPECT_LT(s.col[static_cast<std::size_t>(k) - 1], s.col[static_cast<std::size_t>(k)]);
+    for (Index k = 0; k < f.nl.count(i); ++k)
+      EXPECT_EQ(s.col[static_cast<std::size_t>(neighbour_slot(s, i, k))], f.nl.of(i)[static_cast<std::size_t>(k)]);
+  }
+}
+
+TEST(Stencil, ApplyAgreesWithTheEigenView) {
+  Fixture f;
+  const auto m = builtin_methods().create("sph");
+  const Stencil s = m->build({f.cloud, f.nl, KernelType::CubicSpline, f.cloud.spacing}, {OperatorKind::Gradient});
+  Field u(f.cloud.size());
+  for (Index i = 0; i < u.size(); ++i) u[i] = std::sin(3.0 * i);
+  const Eigen::MatrixXd out = apply(s, u);
+  for (int c = 0; c < 2; ++c) {
+    const Field ref = as_eigen(s, c) * u;
+    EXPECT_LT((ref - out.col(c)).cwiseAbs().maxCoeff(), 1e-12 * (1 + ref.cwiseAbs().maxCoeff()));
+  }
+}
+
+TEST(Stencil, SizeMismatchesAreReported) {
+  Fixture f;
+  const Stencil s = make_stencil_pattern(f.nl, OperatorKind::Laplacian, 2, "test");
+  EXPECT_THROW_MSG(apply(s, Field::Zero(3)), InputError, "field has 3 values but the stencil has");
+  EXPECT_THROW_MSG(as_eigen(s, 1), InputError, "component 1 out of range");
+  EXPECT_THROW_MSG(make_stencil_pattern(f.nl, OperatorKind::Dz, 2, "t"), ConfigError, "dz needs dimension 3");
+}
+
+TEST(Stencil, OperatorNamesRoundTrip) {
+  for (const auto& t : operator_catalogue()) EXPECT_EQ(parse_operator(t.name), t.kind);
+  EXPECT_EQ(parse_operator("second-derivative"), OperatorKind::Laplacian);
+  EXPECT_EQ(parse_operator("first-derivative"), OperatorKind::Dx);
+  EXPECT_THROW_MSG(parse_operator("curl"), ConfigError, "unknown operator 'curl'");
+  EXPECT_EQ(components(OperatorKind::Gradient, 3), 3);
+  EXPECT_EQ(components(OperatorKind::Laplacian, 3), 1);
+}
