@@ -5,13 +5,14 @@
 // If distances were cached, distances[k] = |x_i - x_j| for the same slot k.
 #include <span>
 #include <vrsph/core/types.hpp>
+#include <vrsph/core/uninitialized.hpp>
 
 namespace vrsph {
 
 struct NeighbourList {
   std::vector<Index> offsets{0};  ///< size N+1
-  std::vector<Index> indices;     ///< size offsets.back()
-  std::vector<Real> distances;    ///< empty, or one r_ij per entry of indices
+  UninitVector<Index> indices;    ///< size offsets.back()
+  UninitVector<Real> distances;   ///< empty, or one r_ij per entry of indices
   std::vector<Real> radii;        ///< search radius used for each row (size N)
 
   Index size() const { return static_cast<Index>(offsets.size()) - 1; }
