@@ -18,6 +18,10 @@
 #include <vrsph/methods/options.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/methods/sph/sph.hpp>
+#include <vrsph/methods/vrsph/moments.hpp>
+#include <vrsph/methods/vrsph/nnls.hpp>
+#include <vrsph/methods/vrsph/volumes.hpp>
+#include <vrsph/methods/vrsph/vrsph.hpp>
 #include <vrsph/neighbours/brute_force.hpp>
 #include <vrsph/neighbours/neighbour_list.hpp>
 #include <vrsph/neighbours/search.hpp>

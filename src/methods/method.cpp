@@ -14,6 +14,8 @@ void check_request(const MethodInfo& info, const Discretisation& disc, const Ste
                      to_string(request.kind));
   check<InputError>(disc.neighbours.size() == disc.cloud.size(), "neighbour list has ", disc.neighbours.size(),
                     " rows for ", disc.cloud.size(), " particles (size mismatch)");
+  check<InputError>(request.rows.empty() || static_cast<Index>(request.rows.size()) == disc.cloud.size(),
+                    "row mask has ", request.rows.size(), " entries for ", disc.cloud.size(), " particles (size mismatch)");
   if (request.kind == OperatorKind::DivAGrad) {
     check<InputError>(request.coefficient != nullptr, "operator div-a-grad needs the coefficient a at every particle");
     const Field& a = *request.coefficient;

@@ -1,6 +1,7 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/methods/sph/sph.hpp>
+#include <vrsph/methods/vrsph/vrsph.hpp>
 
 namespace vrsph {
 
@@ -38,6 +39,7 @@ std::vector<MethodInfo> MethodRegistry::list() const {
 
 void register_builtin_methods(MethodRegistry& r) {
   r.add(sph_info(), make_sph);
+  r.add(vrsph_info(), make_vrsph);
 }
 
 const MethodRegistry& builtin_methods() {

@@ -5,6 +5,7 @@
 // register_builtin_methods() (registry.cpp) and a section in docs/methods.md. The
 // CLI listing, the conformance tests and the studies pick it up from the registry.
 #include <memory>
+#include <span>
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/kernels/kernel.hpp>
@@ -42,6 +43,9 @@ struct StencilRequest {
   /// Optional exact grad a (N x dim); methods without a flux form (Taylor-corrected
   /// ones) use it in a Laplacian + grad(a).grad formulation, others ignore it.
   const Eigen::MatrixXd* coefficient_gradient = nullptr;
+  /// Rows to compute (1) or leave empty (0); empty span = every non-ghost particle.
+  /// A boundary value problem asks only for its unknowns' rows.
+  std::span<const char> rows = {};
 };
 
 class Method {

@@ -26,6 +26,11 @@ struct Stencil {
   std::vector<Index> col;
   std::vector<Index> diag;               ///< position in col of the diagonal of each row
   std::vector<std::vector<Real>> values; ///< components(kind, dim) arrays
+  /// Per-row residual of the method's local problem (VRSPH: ||A v - b||_2 of the moment
+  /// system, |b| = sqrt(d)); empty for methods without one.
+  std::vector<Real> residual;
+  /// Per-row flag: the local solve failed (e.g. NNLS iteration cap); empty if none.
+  std::vector<char> local_failure;
 
   Index rows() const { return static_cast<Index>(row_ptr.size()) - 1; }
   Index nnz() const { return row_ptr.back(); }

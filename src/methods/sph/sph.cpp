@@ -51,7 +51,7 @@ class Sph final : public Method {
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
-      if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+      if (req.rows.empty() ? cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost : !req.rows[static_cast<std::size_t>(i)]) continue;
       const Kernel ker = disc.kernel_at(i);
       const auto nbr = disc.neighbours.of(i);
       const auto dist = disc.neighbours.distances_of(i);

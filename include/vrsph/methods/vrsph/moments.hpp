@@ -1,0 +1,27 @@
+#pragma once
+// The discrete moment (regularity) conditions of [QW] (seed 000_906375e5ed7c9bb7.txt,
+// eqs. (3.7), (3.16), (4.1)–(4.3); METHODS §3.2) as the rows of VRSPH's NNLS system.
+//
+// For centre i and neighbour j: A_{(beta,alpha), j} = x_ji^alpha d_beta W_ij, where
+// d_beta W_ij = (grad_i W_ij)_beta = 1/2 Y_ij (x_ji)_beta, and b_{(beta,alpha)} = 1 if
+// alpha = e_beta, else 0. Rows: beta = 1..d (outer) x alpha (inner) ordered 0, e_1..e_d,
+// then the degree-2 monomials in lexicographic order ((2,0),(1,1),(0,2) in 2D).
+// Laplace/Morris version (4.2): |alpha| <= 2 -> 3 / 12 / 30 rows in 1D / 2D / 3D.
+// Gradient version (4.1): 1 <= |alpha| <= 2 -> 2 / 10 / 27 rows.
+// Rows are unscaled and duplicates are kept (METHODS P6): scaling changes the minimiser.
+#include <array>
+#include <vrsph/core/types.hpp>
+
+namespace vrsph {
+
+enum class MomentConditions { Gradient, Laplace };
+
+/// Multi-indices alpha in the row order above (inner loop).
+const std::vector<std::array<int, 3>>& moment_exponents(MomentConditions c, int dim);
+int moment_rows(MomentConditions c, int dim);
+
+/// Fills the column-major rows x n matrix A (column j for neighbour j) and b (rows).
+/// xji[j] = x_j - x_i, half_y[j] = Y_ij / 2 = -W'(r_ij)/r_ij >= 0.
+void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Real* half_y, int n, Real* A, Real* b);
+
+}  // namespace vrsph

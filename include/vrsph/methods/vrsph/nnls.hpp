@@ -1,0 +1,55 @@
+#pragma once
+// Non-negative least squares, min ||A x - b||_2 subject to x >= 0, for the many small
+// dense problems VRSPH poses (rows 3/12/30, columns = neighbours, 10–200).
+//
+// NnlsSolver is the Lawson–Hanson active-set algorithm (the algorithm of MATLAB's
+// lsqnonneg and SciPy's nnls) written for throughput: one workspace per thread, no
+// heap allocation per solve, and the QR factorisation of the passive columns is
+// updated by Givens rotations when a column enters or leaves instead of being
+// recomputed. Written by hand because it is our core (every VRSPH particle solves
+// one) and no Debian library offers a small-problem NNLS without per-call allocation.
+//
+// Tolerance (METHODS §3.0): tol = 10 eps ||A||_1 max(m, n), unless given.
+// Safeguards (Lawson & Hanson 1974, ch. 23): a column that is numerically dependent
+// on the passive set, or whose trial coefficient is not positive, is not admitted.
+#include <vector>
+#include <vrsph/core/types.hpp>
+
+namespace vrsph {
+
+struct NnlsOptions {
+  Real tolerance = -1;      ///< < 0: 10 eps ||A||_1 max(m, n)
+  int max_iterations = -1;  ///< < 0: 3 n (counts inner and outer iterations)
+};
+
+enum class NnlsStatus { Converged, IterationLimit };
+
+struct NnlsResult {
+  NnlsStatus status = NnlsStatus::Converged;
+  int iterations = 0;
+  int passive = 0;          ///< number of positive entries of x
+  Real residual = 0;        ///< ||A x - b||_2
+};
+
+class NnlsSolver {
+ public:
+  /// Workspace for problems up to max_rows x max_cols (grown on demand, never shrunk).
+  NnlsSolver(int max_rows = 30, int max_cols = 256);
+  /// A is column-major m x n (column j = A + j*m); x receives n values.
+  NnlsResult solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options = {});
+
+ private:
+  void reserve(int m, int n);
+  std::vector<Real> Q_, R_, qtb_, z_, w_, r_, v_, xp_;
+  std::vector<int> passive_;  // column index per passive position
+  std::vector<char> in_passive_, rejected_;
+  int cap_m_ = 0, cap_n_ = 0;
+};
+
+/// Textbook Lawson–Hanson (a direct transcription of lsqnonneg with a fresh QR of the
+/// passive columns at every step and Eigen's dynamic matrices). The reference for
+/// tests and the baseline for `vrsph bench volumes`.
+NnlsResult nnls_reference(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                          const NnlsOptions& options = {});
+
+}  // namespace vrsph

@@ -1,0 +1,299 @@
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/vrsph/nnls.hpp>
+
+namespace vrsph {
+
+namespace {
+constexpr Real eps = std::numeric_limits<Real>::epsilon();
+
+Real default_tolerance(const Real* A, int m, int n) {
+  Real norm1 = 0;  // max column sum
+  for (int j = 0; j < n; ++j) {
+    Real s = 0;
+    for (int i = 0; i < m; ++i) s += std::abs(A[static_cast<std::size_t>(j) * static_cast<std::size_t>(m) + static_cast<std::size_t>(i)]);
+    norm1 = std::max(norm1, s);
+  }
+  return 10 * eps * norm1 * std::max(m, n);
+}
+
+// Givens rotation (c, s) with [c s; -s c] [a; b] = [r; 0].
+inline void givens(Real a, Real b, Real& c, Real& s) {
+  if (b == 0) {
+    c = 1;
+    s = 0;
+    return;
+  }
+  const Real r = std::hypot(a, b);
+  c = a / r;
+  s = b / r;
+}
+}  // namespace
+
+NnlsSolver::NnlsSolver(int max_rows, int max_cols) { reserve(max_rows, max_cols); }
+
+void NnlsSolver::reserve(int m, int n) {
+  if (m <= cap_m_ && n <= cap_n_) return;
+  cap_m_ = std::max(m, cap_m_);
+  cap_n_ = std::max(n, cap_n_);
+  const auto M = static_cast<std::size_t>(cap_m_), N = static_cast<std::size_t>(cap_n_);
+  Q_.resize(M * M);
+  R_.resize(M * M);
+  qtb_.resize(M);
+  z_.resize(M);
+  xp_.resize(M);
+  r_.resize(M);
+  v_.resize(M);
+  w_.resize(N);
+  passive_.resize(M);
+  in_passive_.resize(N);
+  rejected_.resize(N);
+}
+
+NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options) {
+  check<InputError>(m >= 1 && n >= 0, "NNLS: invalid problem size ", m, " x ", n);
+  reserve(m, n);
+  const auto M = static_cast<std::size_t>(m);
+  auto col = [&](int j) { return A + static_cast<std::size_t>(j) * M; };
+  Real* Q = Q_.data();  // column-major m x m; A_P = Q R
+  Real* R = R_.data();  // column-major m x (k <= m), upper triangular
+  Real* qtb = qtb_.data();
+  const Real tol = options.tolerance >= 0 ? options.tolerance : default_tolerance(A, m, n);
+  const int max_it = options.max_iterations >= 0 ? options.max_iterations : 3 * std::max(n, 1);
+
+  std::fill(x, x + n, 0.0);
+  std::fill(Q, Q + M * M, 0.0);
+  for (std::size_t i = 0; i < M; ++i) Q[i * M + i] = 1;
+  std::copy(b, b + m, qtb);
+  std::fill(in_passive_.begin(), in_passive_.begin() + n, 0);
+  int k = 0;  // passive count
+  NnlsResult res;
+
+  // R[0:k,0:k] z = qtb[0:k]
+  auto back_substitute = [&] {
+    for (int i = k - 1; i >= 0; --i) {
+      Real s = qtb[i];
+      for (int j = i + 1; j < k; ++j) s -= R[static_cast<std::size_t>(j) * M + static_cast<std::size_t>(i)] * z_[static_cast<std::size_t>(j)];
+      z_[static_cast<std::size_t>(i)] = s / R[static_cast<std::size_t>(i) * M + static_cast<std::size_t>(i)];
+    }
+  };
+  // Apply the rotation (c, s) to rows (p, q) of Q^T, i.e. columns p, q of Q, and to qtb.
+  auto rotate_q = [&](int p, int q, Real c, Real s) {
+    Real* Qp = Q + static_cast<std::size_t>(p) * M;
+    Real* Qq = Q + static_cast<std::size_t>(q) * M;
+    for (std::size_t i = 0; i < M; ++i) {
+      const Real a = Qp[i], bq = Qq[i];
+      Qp[i] = c * a + s * bq;
+      Qq[i] = -s * a + c * bq;
+    }
+    const Real a = qtb[p], bq = qtb[q];
+    qtb[p] = c * a + s * bq;
+    qtb[q] = -s * a + c * bq;
+  };
+  // w = A^T (b - A_P z) with the residual taken from the orthogonal complement: r = Q[:,k:] qtb[k:].
+  auto gradient = [&] {
+    std::fill(r_.begin(), r_.begin() + m, 0.0);
+    Real res2 = 0;
+    for (int j = k; j < m; ++j) {
+      const Real t = qtb[j];
+      res2 += t * t;
+      const Real* Qj = Q + static_cast<std::size_t>(j) * M;
+      for (std::size_t i = 0; i < M; ++i) r_[i] += t * Qj[i];
+    }
+    for (int j = 0; j < n; ++j) {
+      const Real* a = col(j);
+      Real s = 0;
+      for (std::size_t i = 0; i < M; ++i) s += a[i] * r_[i];
+      w_[static_cast<std::size_t>(j)] = s;
+    }
+    return std::sqrt(res2);
+  };
+  // Appends column t as passive position k. Returns false (and leaves the factorisation
+  // unchanged in its leading k columns) if t is numerically dependent on the passive set.
+  auto add_column = [&](int t) {
+    const Real* a = col(t);
+    Real anorm = 0;
+    for (std::size_t i = 0; i < M; ++i) {
+      Real s = 0;
+      const Real* Qi = Q + i * M;
+      for (std::size_t l = 0; l < M; ++l) s += Qi[l] * a[l];
+      v_[i] = s;
+      anorm += a[i] * a[i];
+    }
+    // Rotate v[k+1..m-1] into v[k], bottom up, updating Q and qtb alike.
+    for (int i = m - 1; i > k; --i) {
+      Real c, s;
+      givens(v_[static_cast<std::size_t>(i) - 1], v_[static_cast<std::size_t>(i)], c, s);
+      if (s == 0) continue;
+      v_[static_cast<std::size_t>(i) - 1] = c * v_[static_cast<std::size_t>(i) - 1] + s * v_[static_cast<std::size_t>(i)];
+      v_[static_cast<std::size_t>(i)] = 0;
+      rotate_q(i - 1, i, c, s);
+    }
+    if (std::abs(v_[static_cast<std::size_t>(k)]) <= 100 * eps * std::sqrt(anorm) * m) return false;
+    Real* Rk = R + static_cast<std::size_t>(k) * M;
+    for (int i = 0; i <= k; ++i) Rk[i] = v_[static_cast<std::size_t>(i)];
+    passive_[static_cast<std::size_t>(k)] = t;
+    xp_[static_cast<std::size_t>(k)] = 0;  // t comes from the zero set
+    in_passive_[static_cast<std::size_t>(t)] = 1;
+    ++k;
+    return true;
+  };
+  // Removes passive position p; restores triangularity with Givens rotations.
+  auto remove_position = [&](int p) {
+    in_passive_[static_cast<std::size_t>(passive_[static_cast<std::size_t>(p)])] = 0;
+    for (int j = p; j < k - 1; ++j) {
+      std::copy(R + static_cast<std::size_t>(j + 1) * M, R + static_cast<std::size_t>(j + 1) * M + M, R + static_cast<std::size_t>(j) * M);
+      passive_[static_cast<std::size_t>(j)] = passive_[static_cast<std::size_t>(j) + 1];
+      xp_[static_cast<std::size_t>(j)] = xp_[static_cast<std::size_t>(j) + 1];
+    }
+    --k;
+    for (int j = p; j < k; ++j) {  // R is upper Hessenberg in columns p..k-1
+      Real c, s;
+      const std::size_t jj = static_cast<std::size_t>(j);
+      givens(R[jj * M + jj], R[jj * M + jj + 1], c, s);
+      if (s == 0) continue;
+      for (int l = j; l < k; ++l) {
+        Real* Rl = R + static_cast<std::size_t>(l) * M;
+        const Real a = Rl[jj], bb = Rl[jj + 1];
+        Rl[jj] = c * a + s * bb;
+        Rl[jj + 1] = -s * a + c * bb;
+      }
+      rotate_q(j, j + 1, c, s);
+    }
+  };
+
+  std::fill(rejected_.begin(), rejected_.begin() + n, 0);
+  res.residual = gradient();
+  while (k < m) {
+    // Entering column: largest multiplier among the zero set (first index on ties).
+    int t = -1;
+    Real best = tol;
+    for (int j = 0; j < n; ++j)
+      if (!in_passive_[static_cast<std::size_t>(j)] && !rejected_[static_cast<std::size_t>(j)] && w_[static_cast<std::size_t>(j)] > best) {
+        best = w_[static_cast<std::size_t>(j)];
+        t = j;
+      }
+    if (t < 0) break;
+    if (++res.iterations > max_it) {
+      res.status = NnlsStatus::IterationLimit;
+      break;
+    }
+    if (!add_column(t)) {
+      rejected_[static_cast<std::size_t>(t)] = 1;
+      continue;
+    }
+    back_substitute();
+    if (z_[static_cast<std::size_t>(k) - 1] <= 0) {  // LH safeguard: t must enter with a positive value
+      remove_position(k - 1);
+      rejected_[static_cast<std::size_t>(t)] = 1;
+      continue;
+    }
+    std::fill(rejected_.begin(), rejected_.begin() + n, 0);
+    // Inner loop: step back towards the feasible region while some z <= 0.
+    for (;;) {
+      int neg = -1;
+      Real alpha = std::numeric_limits<Real>::infinity();
+      for (int p = 0; p < k; ++p)
+        if (z_[static_cast<std::size_t>(p)] <= 0) {
+          const Real xv = xp_[static_cast<std::size_t>(p)], den = xv - z_[static_cast<std::size_t>(p)];
+          const Real a = den > 0 ? xv / den : 0;
+          if (a < alpha) {
+            alpha = a;
+            neg = p;
+          }
+        }
+      if (neg < 0) break;
+      if (++res.iterations > max_it) {
+        res.status = NnlsStatus::IterationLimit;
+        break;
+      }
+      for (int p = 0; p < k; ++p) xp_[static_cast<std::size_t>(p)] += alpha * (z_[static_cast<std::size_t>(p)] - xp_[static_cast<std::size_t>(p)]);
+      xp_[static_cast<std::size_t>(neg)] = 0;
+      for (int p = k - 1; p >= 0; --p)
+        if (std::abs(xp_[static_cast<std::size_t>(p)]) < tol) remove_position(p);
+      back_substitute();
+    }
+    if (res.status == NnlsStatus::IterationLimit) break;
+    for (int p = 0; p < k; ++p) xp_[static_cast<std::size_t>(p)] = z_[static_cast<std::size_t>(p)];
+    res.residual = gradient();
+  }
+  for (int p = 0; p < k; ++p) x[passive_[static_cast<std::size_t>(p)]] = std::max(xp_[static_cast<std::size_t>(p)], 0.0);
+  res.passive = k;
+  // Report the true residual of the returned x.
+  Real r2 = 0;
+  for (std::size_t i = 0; i < M; ++i) {
+    Real s = -b[i];
+    for (int p = 0; p < k; ++p) s += col(passive_[static_cast<std::size_t>(p)])[i] * x[passive_[static_cast<std::size_t>(p)]];
+    r2 += s * s;
+  }
+  res.residual = std::sqrt(r2);
+  return res;
+}
+
+NnlsResult nnls_reference(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Eigen::VectorXd& x, const NnlsOptions& o) {
+  const Eigen::Index m = A.rows(), n = A.cols();
+  check<InputError>(b.size() == m, "NNLS: b has ", b.size(), " entries for ", m, " rows");
+  const Real tol = o.tolerance >= 0 ? o.tolerance : 10 * eps * A.cwiseAbs().colwise().sum().maxCoeff() * static_cast<Real>(std::max(m, n));
+  const int max_it = o.max_iterations >= 0 ? o.max_iterations : 3 * static_cast<int>(std::max<Eigen::Index>(n, 1));
+  x = Eigen::VectorXd::Zero(n);
+  std::vector<bool> P(static_cast<std::size_t>(n), false);
+  NnlsResult res;
+  auto solve_passive = [&] {
+    std::vector<Eigen::Index> idx;
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (P[static_cast<std::size_t>(j)]) idx.push_back(j);
+    Eigen::MatrixXd Ap(m, static_cast<Eigen::Index>(idx.size()));
+    for (std::size_t c = 0; c < idx.size(); ++c) Ap.col(static_cast<Eigen::Index>(c)) = A.col(idx[c]);
+    const Eigen::VectorXd zp = Ap.colPivHouseholderQr().solve(b);
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+    for (std::size_t c = 0; c < idx.size(); ++c) z[idx[c]] = zp[static_cast<Eigen::Index>(c)];
+    return z;
+  };
+  Eigen::VectorXd w = A.transpose() * (b - A * x);
+  for (;;) {
+    Eigen::Index t = -1;
+    Real best = tol;
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (!P[static_cast<std::size_t>(j)] && w[j] > best) {
+        best = w[j];
+        t = j;
+      }
+    if (t < 0) break;
+    if (++res.iterations > max_it) {
+      res.status = NnlsStatus::IterationLimit;
+      break;
+    }
+    P[static_cast<std::size_t>(t)] = true;
+    Eigen::VectorXd z = solve_passive();
+    for (;;) {
+      bool any = false;
+      Real alpha = std::numeric_limits<Real>::infinity();
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (P[static_cast<std::size_t>(j)] && z[j] <= 0) {
+          any = true;
+          alpha = std::min(alpha, x[j] - z[j] > 0 ? x[j] / (x[j] - z[j]) : 0.0);
+        }
+      if (!any) break;
+      if (++res.iterations > max_it) {
+        res.status = NnlsStatus::IterationLimit;
+        break;
+      }
+      x += alpha * (z - x);
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (P[static_cast<std::size_t>(j)] && std::abs(x[j]) < tol) P[static_cast<std::size_t>(j)] = false;
+      z = solve_passive();
+    }
+    if (res.status == NnlsStatus::IterationLimit) break;
+    x = z;
+    w = A.transpose() * (b - A * x);
+  }
+  x = x.cwiseMax(0.0);
+  res.passive = static_cast<int>(std::count(P.begin(), P.end(), true));
+  res.residual = (A * x - b).norm();
+  return res;
+}
+
+}  // namespace vrsph

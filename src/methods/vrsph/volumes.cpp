@@ -1,0 +1,60 @@
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/vrsph/volumes.hpp>
+
+namespace vrsph {
+
+ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
+                                         std::span<const char> rows, const NnlsOptions& nnls) {
+  const PointCloud& cloud = disc.cloud;
+  const NeighbourList& nl = disc.neighbours;
+  const Index n = cloud.size();
+  check<InputError>(rows.empty() || static_cast<Index>(rows.size()) == n, "volume reconstruction: row mask has ",
+                    rows.size(), " entries for ", n, " particles");
+  check<InputError>(nl.distances.size() == nl.indices.size(), "VRSPH needs neighbour lists with cached distances");
+  const int dim = cloud.dim;
+  const int m = moment_rows(conditions, dim);
+  ReconstructedVolumes out;
+  out.conditions = conditions;
+  out.v.resize(static_cast<std::size_t>(nl.total()));
+  out.residual.assign(static_cast<std::size_t>(n), 0.0);
+  out.failed.assign(static_cast<std::size_t>(n), 0);
+  out.iterations.assign(static_cast<std::size_t>(n), 0);
+  out.positive.assign(static_cast<std::size_t>(n), 0);
+  Index max_count = 0;
+  for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
+#pragma omp parallel
+  {
+    // Per-thread workspaces, sized once: no allocation inside the particle loop.
+    NnlsSolver solver(m, static_cast<int>(max_count));
+    std::vector<Real> A(static_cast<std::size_t>(m) * static_cast<std::size_t>(max_count)), b(static_cast<std::size_t>(m)),
+        half_y(static_cast<std::size_t>(max_count));
+    std::vector<Vec3> xji(static_cast<std::size_t>(max_count));
+#pragma omp for schedule(dynamic, 64)
+    for (Index i = 0; i < n; ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      Real* v = out.v.data() + nl.offsets[si];
+      const int cnt = static_cast<int>(nl.count(i));
+      const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
+      if (!wanted) {
+        std::fill(v, v + cnt, 0.0);
+        continue;
+      }
+      const Kernel ker = disc.kernel_at(i);
+      const auto nbr = nl.of(i);
+      const auto dist = nl.distances_of(i);
+      for (int k = 0; k < cnt; ++k) {
+        xji[static_cast<std::size_t>(k)] = cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - cloud.positions[si];
+        half_y[static_cast<std::size_t>(k)] = -ker.dW_over_r(dist[static_cast<std::size_t>(k)]);
+      }
+      build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data());
+      const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, nnls);
+      out.residual[si] = r.residual;
+      out.failed[si] = r.status != NnlsStatus::Converged;
+      out.iterations[si] = r.iterations;
+      out.positive[si] = r.passive;
+    }
+  }
+  return out;
+}
+
+}  // namespace vrsph

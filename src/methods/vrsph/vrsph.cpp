@@ -1,0 +1,76 @@
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/vrsph/volumes.hpp>
+#include <vrsph/methods/vrsph/vrsph.hpp>
+
+namespace vrsph {
+
+MethodInfo vrsph_info() {
+  return {"vrsph",
+          "000_906375e5ed7c9bb7.txt ([QW] §4-5)",
+          "volume-reconstruction SPH: per-particle NNLS volumes satisfying the moment conditions (4.1)/(4.2)",
+          "O(h^2) gradient and Laplacian on uniform, perturbed and centroid particles; O(h^2) Poisson; -L an M-matrix",
+          {OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient, OperatorKind::Laplacian,
+           OperatorKind::DivAGrad},
+          {{"nnls_tolerance", "NNLS tolerance; default 10 eps ||A||_1 max(m,n) (METHODS §3.0)"},
+           {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"}}};
+}
+
+namespace {
+
+class Vrsph final : public Method {
+ public:
+  explicit Vrsph(const MethodOptions& o) : info_(vrsph_info()) {
+    nnls_.tolerance = o.get_real("nnls_tolerance", -1);
+    nnls_.max_iterations = static_cast<int>(o.get_real("nnls_max_iterations", -1));
+  }
+  const MethodInfo& info() const override { return info_; }
+
+  Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
+    check_request(info_, disc, req);
+    const bool laplace = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
+    const ReconstructedVolumes vol =
+        reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient, req.rows, nnls_);
+    Stencil s = make_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name);
+    const auto& cloud = disc.cloud;
+    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+#pragma omp parallel for schedule(dynamic, 256)
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (req.rows.empty() ? cloud.tags[si] == Tag::Ghost : !req.rows[si]) continue;
+      const Kernel ker = disc.kernel_at(i);
+      const auto nbr = disc.neighbours.of(i);
+      const auto dist = disc.neighbours.distances_of(i);
+      const Real* v = vol.v.data() + disc.neighbours.offsets[si];
+      for (std::size_t k = 0; k < nbr.size(); ++k) {
+        const auto j = static_cast<std::size_t>(nbr[k]);
+        const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
+        const Real f = ker.dW_over_r(dist[k]);  // F_ij = W'/r = -Y/2
+        switch (req.kind) {
+          case OperatorKind::Laplacian: s.values[0][slot] = -2 * v[k] * f; break;
+          case OperatorKind::DivAGrad: s.values[0][slot] = -v[k] * ((*req.coefficient)[i] + (*req.coefficient)[static_cast<Eigen::Index>(j)]) * f; break;
+          default: {
+            const Vec3 g = v[k] * f * (cloud.positions[si] - cloud.positions[j]);  // v_j grad_i W_ij
+            if (req.kind == OperatorKind::Gradient)
+              for (int c = 0; c < cloud.dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
+            else
+              s.values[0][slot] = g[axis];
+          }
+        }
+      }
+    }
+    set_difference_diagonal(s);
+    s.residual = vol.residual;
+    s.local_failure = vol.failed;
+    return s;
+  }
+
+ private:
+  MethodInfo info_;
+  NnlsOptions nnls_;
+};
+
+}  // namespace
+
+std::unique_ptr<Method> make_vrsph(const MethodOptions& options) { return std::make_unique<Vrsph>(options); }
+
+}  // namespace vrsph
