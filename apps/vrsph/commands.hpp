@@ -10,5 +10,7 @@ void add_kernels_command(CLI::App& app);
 void add_cloud_command(CLI::App& app);
 void add_operator_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_study_command(CLI::App& app);
+void add_solve_command(CLI::App& app);
 
 }  // namespace vrsph::cli

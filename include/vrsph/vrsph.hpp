@@ -1,6 +1,9 @@
 #pragma once
 // Umbrella header: the whole public surface of vrsph.
+#include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/convergence.hpp>
+#include <vrsph/assembly/assemble.hpp>
+#include <vrsph/solve/solver.hpp>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/analysis/operator_study.hpp>

@@ -1,0 +1,152 @@
+// `vrsph study` (convergence of a boundary value problem over a refinement list) and
+// `vrsph solve` (one problem, fields to VTU).
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/io/vtu.hpp>
+#include "../cli_common.hpp"
+#include "../commands.hpp"
+
+namespace vrsph::cli {
+
+namespace {
+struct StudyArgs {
+  std::string problem = "qw-ex5", methods = "vrsph", cloud = "uniform", n = "20,40,80,160", seeds, kernel = "cubic",
+              solver = "sparselu", on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
+  int dim = 2;
+  std::uint64_t seed = 1;
+  double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6;
+  bool perturb_boundary = false;
+  std::vector<std::string> method_opts;
+  OutputOptions out;
+};
+
+void add_common(CLI::App* cmd, StudyArgs& a) {
+  cmd->add_option("--problem", a.problem, "qw-ex5 ([QW] Example 5) or custom (with --u --a --f); --u implies custom")
+      ->capture_default_str();
+  cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (qw-ex5 in 3D: sin sin sin, a = 1 + |x|^2)")->capture_default_str();
+  cmd->add_option("--method", a.methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
+  cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value (repeatable)");
+  cmd->add_option("--cloud", a.cloud, "uniform, perturbed, centroids or disk")->capture_default_str();
+  cmd->add_option("--seed", a.seed, "Random seed (perturbed, centroids)")->capture_default_str();
+  cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx")->capture_default_str();
+  cmd->add_flag("--perturb-boundary", a.perturb_boundary, "Also move boundary particles along their faces");
+  cmd->add_option("--kernel", a.kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4")
+      ->capture_default_str();
+  cmd->add_option("--solver", a.solver, "Linear solver: sparselu, umfpack, bicgstab")->capture_default_str();
+  cmd->add_option("--u", a.u, "Exact solution u(x,y,z): expression or catalogue name (custom problem)");
+  cmd->add_option("--a", a.a, "Coefficient a(x,y,z) > 0 (custom problem; default 1)");
+  cmd->add_option("--f", a.f, "Right-hand side f = div(a grad u) (custom; default: computed from u and a)");
+  cmd->add_option("--g", a.g, "Dirichlet data g (default: u)");
+  cmd->add_option("--on-infeasible", a.on_infeasible, "Particles whose moment conditions cannot be met: warn or error")
+      ->capture_default_str();
+  cmd->add_option("--infeasible-tol", a.infeasible_tol, "Relative local residual above which a particle is infeasible")
+      ->capture_default_str();
+}
+
+BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& methods) {
+  BvpStudyParams p;
+  p.problem = (!a.u.empty() && a.problem == "qw-ex5") ? "custom" : a.problem;
+  p.dim = a.dim;
+  p.methods = methods;
+  for (const auto& item : a.method_opts) {
+    const auto colon = item.find(':'), eq = item.find('=');
+    const bool scoped = colon != std::string::npos && colon < eq;
+    for (const auto& m : methods) {
+      if (scoped && item.substr(0, colon) != m) continue;
+      const MethodOptions parsed = MethodOptions::parse({scoped ? item.substr(colon + 1) : item});
+      for (const auto& [k, v] : parsed.values()) p.method_options[m].set(k, v);
+    }
+  }
+  p.cloud = parse_cloud_family(a.cloud);
+  p.h_factor = a.h_factor;
+  p.delta = a.delta;
+  p.perturb_boundary = a.perturb_boundary;
+  p.kernel = parse_kernel(a.kernel);
+  p.solver.type = parse_solver(a.solver);
+  p.u = a.u;
+  p.a = a.a;
+  p.f = a.f;
+  p.g = a.g;
+  check<ConfigError>(a.on_infeasible == "warn" || a.on_infeasible == "error", "--on-infeasible must be warn or error, got '",
+                     a.on_infeasible, "'");
+  p.on_infeasible = a.on_infeasible == "warn" ? InfeasiblePolicy::Warn : InfeasiblePolicy::Error;
+  p.infeasible_tolerance = a.infeasible_tol;
+  p.seeds = {a.seed};
+  return p;
+}
+
+void print_warnings(const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return;
+  std::cerr << "vrsph: warning: " << warnings.size() << " run(s) had particles with infeasible moment conditions "
+            << "(expected next to the boundary on perturbed clouds, METHODS §3.2); first: " << warnings.front() << '\n';
+}
+}  // namespace
+
+void add_study_command(CLI::App& app) {
+  auto a = std::make_shared<StudyArgs>();
+  auto* cmd = app.add_subcommand("study", "Convergence of div(a grad u) = f with Dirichlet data over a refinement list");
+  add_common(cmd, *a);
+  cmd->add_option("--n", a->n, "Refinement list: intervals per direction (layout A, dx = 1/n)")->capture_default_str();
+  cmd->add_option("--seeds", a->seeds, "Comma-separated seeds: mean and spread over them (overrides --seed)");
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->add_option("--plot", a->out.plot, "Also plot error_inf against h (log-log) into this PNG file");
+  cmd->callback([a] {
+    BvpStudyParams p = to_params(*a, parse_name_list(a->methods, "--method"));
+    p.n = parse_int_list(a->n, "--n");
+    if (!a->seeds.empty()) {
+      p.seeds.clear();
+      for (int s : parse_int_list(a->seeds, "--seeds")) p.seeds.push_back(static_cast<std::uint64_t>(s));
+    }
+    Progress progress;
+    p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
+    const BvpStudyResult r = run_bvp_study(p);
+    print_warnings(r.warnings);
+    emit(to_table(r), a->out, metadata_json(r), "h", "error_inf", "method",
+         p.problem + " " + a->cloud + " " + std::to_string(p.dim) + "D");
+  });
+}
+
+void add_solve_command(CLI::App& app) {
+  auto a = std::make_shared<StudyArgs>();
+  auto* cmd = app.add_subcommand("solve", "Solve one boundary value problem and write the fields to a VTU file");
+  add_common(cmd, *a);
+  int n = 40;
+  auto np = std::make_shared<int>(40);
+  cmd->add_option("--n", *np, "Intervals per direction (layout A, dx = 1/n)")->capture_default_str();
+  cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
+  cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
+  (void)n;
+  cmd->callback([a, np] {
+    const auto methods = parse_name_list(a->methods, "--method");
+    check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
+    BvpStudyParams p = to_params(*a, methods);
+    p.n = {*np};
+    std::vector<std::string> warnings;
+    PointCloud cloud;
+    const BvpRun r = run_bvp(p, methods.front(), *np, a->seed, true, &warnings, &cloud);
+    print_warnings(warnings);
+    Eigen::MatrixXd U(r.U.size(), 1), ex(r.U.size(), 1), err(r.U.size(), 1), res(r.U.size(), 1);
+    U.col(0) = r.U;
+    ex.col(0) = r.exact;
+    err.col(0) = r.U - r.exact;
+    res.col(0) = r.local_residual;
+    write_vtu(a->vtu, cloud, {{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}});
+    Table t;
+    t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
+                 "solver_iterations", "solver_residual", "seconds_total", "vtu"};
+    t.add_row({{"method", r.method}, {"n", static_cast<long long>(r.n)}, {"N", static_cast<long long>(r.particles)},
+               {"unknowns", static_cast<long long>(r.unknowns)}, {"h", r.h}, {"error_inf", r.errors.all.linf},
+               {"error_l2", r.errors.all.l2}, {"mmatrix", r.m_matrix}, {"infeasible", static_cast<long long>(r.infeasible)},
+               {"solver", r.solve.solver}, {"solver_iterations", static_cast<long long>(r.solve.iterations)},
+               {"solver_residual", r.solve.residual},
+               {"seconds_total", r.seconds_cloud + r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble + r.seconds_solve},
+               {"vtu", a->vtu}});
+    std::cout << format_table(t, parse_table_format(a->out.format));
+  });
+}
+
+}  // namespace vrsph::cli

@@ -1,0 +1,95 @@
+#pragma once
+// Boundary value problem studies: div(a grad u) = f in the box, u = g on the Dirichlet
+// particles, for any registered method, over a refinement list and a set of seeds.
+// Shared by `vrsph study`, `vrsph solve` and the reproduction tests.
+//
+// Problems:
+//   qw-ex5   [QW] Example 5 (seed 000_906375e5ed7c9bb7.txt): [0,1]^d, u = prod sin(pi x_k),
+//            a = 1 + |x|^2, f = a Δu + ∇a·∇u, g = 0; layout A with n intervals (dx = 1/n),
+//            unknowns = interior particles. --dim 3 gives the 3D analogue.
+//   custom   [0,1]^d with user expressions u, a, f (and optionally g; default g = u).
+// Cloud families: uniform, perturbed (interior particles U(-delta dx, delta dx)),
+// centroids (CGAL mesh centroids + mesh nodes on the faces as Dirichlet particles), disk
+// (ball inscribed in the box).
+#include <functional>
+#include <map>
+#include <string>
+#include <vrsph/analysis/errors.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/io/table.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/options.hpp>
+#include <vrsph/solve/solver.hpp>
+
+namespace vrsph {
+
+enum class InfeasiblePolicy { Warn, Error };
+
+struct BvpStudyParams {
+  std::string problem = "qw-ex5";  ///< qw-ex5 | custom
+  int dim = 2;
+  std::vector<std::string> methods{"vrsph"};
+  std::map<std::string, MethodOptions> method_options;
+  CloudFamily cloud = CloudFamily::Uniform;
+  std::vector<int> n{20, 40, 80, 160};
+  std::vector<std::uint64_t> seeds{1};
+  Real h_factor = 3;                 ///< h = h_factor * dx (see h_mode)
+  Real delta = 0.5;
+  bool perturb_boundary = false;     ///< also move boundary particles along their faces
+  KernelType kernel = KernelType::CubicSpline;
+  SolverOptions solver;
+  std::string u, a, f, g;            ///< custom problem: expressions or catalogue names
+  InfeasiblePolicy on_infeasible = InfeasiblePolicy::Warn;
+  Real infeasible_tolerance = 1e-6;  ///< local residual / |b| above this = infeasible
+  bool check_m_matrix = true;
+  std::function<void(const std::string&, double)> progress;
+};
+
+/// One (method, n, seed) solve.
+struct BvpRun {
+  std::string method;
+  int n = 0;
+  std::uint64_t seed = 0;
+  Index particles = 0, unknowns = 0;
+  Real dx = 0, h = 0;
+  ErrorReport errors;        ///< over the unknowns, |U_i - u(x_i)|
+  bool m_matrix = false;
+  std::string m_matrix_summary;
+  Real neighbours_mean = 0, nnz_per_row = 0;
+  Index infeasible = 0;      ///< rows whose local residual exceeds the tolerance (or failed)
+  Real max_local_residual = 0;
+  std::vector<Index> infeasible_particles;  ///< first few, for messages
+  SolveReport solve;
+  double seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
+  // Fields for output (kept only when requested).
+  Field U, exact, local_residual;
+};
+
+/// Mean over seeds of one (method, n).
+struct BvpStudyRow {
+  BvpRun first;              ///< the first seed's run (sizes, timings, diagnostics)
+  int seeds = 1;
+  Real error_inf = 0, error_inf_std = 0, error_l2 = 0;
+  Real error_inf_interior = 0, error_inf_boundary = 0;
+  Real order_inf = 0, order_l2 = 0;
+  bool m_matrix_all = true;  ///< every seed gave an M-matrix
+  Index infeasible_max = 0;
+};
+
+struct BvpStudyResult {
+  BvpStudyParams params;
+  std::vector<BvpStudyRow> rows;
+  std::map<std::string, Real> fitted_order_inf;
+  std::vector<std::string> warnings;
+};
+
+/// Throws ConfigError/InputError/GeometryError for bad input, NumericalError for a failed
+/// solve or (with InfeasiblePolicy::Error) infeasible local problems.
+BvpStudyResult run_bvp_study(const BvpStudyParams& params);
+/// A single solve; keep_fields fills U, exact and local_residual.
+BvpRun run_bvp(const BvpStudyParams& params, const std::string& method, int n, std::uint64_t seed, bool keep_fields,
+               std::vector<std::string>* warnings = nullptr, PointCloud* cloud_out = nullptr);
+Table to_table(const BvpStudyResult& result);
+std::string metadata_json(const BvpStudyResult& result);
+
+}  // namespace vrsph

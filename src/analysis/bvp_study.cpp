@@ -1,0 +1,316 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/convergence.hpp>
+#include <vrsph/analysis/functions.hpp>
+#include <vrsph/assembly/assemble.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/properties.hpp>
+
+namespace vrsph {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+bool in_catalogue(const std::string& s) {
+  for (const auto& e : function_catalogue())
+    if (e.name == s) return true;
+  return false;
+}
+std::unique_ptr<ScalarFunction> function_from(const std::string& spec, int dim) {
+  return in_catalogue(spec) ? make_function(spec, dim) : make_expression_function(spec, dim);
+}
+
+// f = div(a grad u) evaluated from u and a (exact for catalogue functions).
+class DivAGradOf final : public ScalarFunction {
+ public:
+  DivAGradOf(const ScalarFunction& u, const ScalarFunction& a) : u_(u), a_(a) { dim = u.dim; }
+  std::string name() const override { return "div(a grad u)"; }
+  Real value(const Vec3& x) const override { return exact_operator(OperatorKind::DivAGrad, u_, &a_, x, 0); }
+
+ private:
+  const ScalarFunction& u_;
+  const ScalarFunction& a_;
+};
+
+struct ProblemFunctions {
+  std::unique_ptr<ScalarFunction> u, a, f_owned, g_owned;
+  const ScalarFunction* f = nullptr;
+  const ScalarFunction* g = nullptr;
+};
+
+ProblemFunctions problem_functions(const BvpStudyParams& p) {
+  ProblemFunctions pf;
+  if (p.problem == "qw-ex5") {
+    check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty(),
+                       "--u/--a/--f define a custom problem: use them without --problem qw-ex5");
+    pf.u = make_function("sin-pi", p.dim);
+    pf.a = make_function("one-plus-r2", p.dim);
+  } else if (p.problem == "custom") {
+    check<ConfigError>(!p.u.empty(), "a custom problem needs the exact solution --u (used for errors and g)");
+    pf.u = function_from(p.u, p.dim);
+    pf.a = function_from(p.a.empty() ? "one" : p.a, p.dim);
+  } else {
+    throw ConfigError("unknown boundary value problem '" + p.problem + "' (known: qw-ex5, custom)");
+  }
+  if (!p.f.empty()) {
+    pf.f_owned = function_from(p.f, p.dim);
+  } else {
+    pf.f_owned = std::make_unique<DivAGradOf>(*pf.u, *pf.a);
+  }
+  pf.f = pf.f_owned.get();
+  if (!p.g.empty()) {
+    pf.g_owned = function_from(p.g, p.dim);
+    pf.g = pf.g_owned.get();
+  } else {
+    pf.g = pf.u.get();
+  }
+  return pf;
+}
+
+void validate_params(const BvpStudyParams& p) {
+  check<ConfigError>(p.dim >= 1 && p.dim <= 3, "--dim must be 1, 2 or 3, got ", p.dim);
+  check<ConfigError>(!p.methods.empty(), "no method given");
+  check<ConfigError>(!p.n.empty(), "empty refinement list --n");
+  check<ConfigError>(!p.seeds.empty(), "empty seed list");
+  for (int n : p.n) check<ConfigError>(n >= 2 && n <= 20000, "refinement level n = ", n, " outside 2..20000");
+  check<InputError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive, got ", p.h_factor);
+  check<InputError>(p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ", p.delta);
+  check<InputError>(p.infeasible_tolerance > 0, "infeasible tolerance must be positive");
+  check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");
+  for (const auto& m : p.methods) {
+    check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::DivAGrad), "method ", m,
+                       " does not provide div-a-grad");
+    auto it = p.method_options.find(m);
+    (void)builtin_methods().create(m, it == p.method_options.end() ? MethodOptions{} : it->second);
+  }
+  (void)problem_functions(p);  // parse expressions now
+}
+}  // namespace
+
+BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed, bool keep_fields,
+               std::vector<std::string>* warnings, PointCloud* cloud_out) {
+  const ProblemFunctions pf = problem_functions(p);
+  BvpRun run;
+  run.method = method_name;
+  run.n = n;
+  run.seed = seed;
+  auto t0 = Clock::now();
+  CloudSpec spec;
+  spec.family = p.cloud;
+  spec.box = Domain::unit_box(p.dim);
+  spec.n = n;
+  spec.layout = Layout::Vertex;
+  spec.delta = p.delta;
+  spec.seed = seed;
+  spec.perturb_boundary = p.perturb_boundary;
+  StudyCloud sc = make_study_cloud(spec);
+  const PointCloud& cloud = sc.cloud;
+  run.seconds_cloud = since(t0);
+  run.dx = sc.dx;
+  run.h = p.h_factor * sc.dx;
+  run.particles = cloud.size();
+
+  t0 = Clock::now();
+  SearchParams sp;
+  sp.radius = run.h;
+  const NeighbourList nl = find_neighbours(cloud, sp);
+  run.seconds_neighbours = since(t0);
+
+  t0 = Clock::now();
+  std::vector<char> unknown(static_cast<std::size_t>(cloud.size()));
+  long long nsum = 0;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    unknown[static_cast<std::size_t>(i)] = cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior;
+    if (unknown[static_cast<std::size_t>(i)]) nsum += nl.count(i);
+  }
+  const Field a = sample(*pf.a, cloud);
+  auto it = p.method_options.find(method_name);
+  const auto method = builtin_methods().create(method_name, it == p.method_options.end() ? MethodOptions{} : it->second);
+  StencilRequest req;
+  req.kind = OperatorKind::DivAGrad;
+  req.coefficient = &a;
+  req.rows = unknown;
+  const Stencil L = method->build({cloud, nl, p.kernel, cloud.spacing}, req);
+  run.seconds_stencil = since(t0);
+
+  // Local (NNLS) feasibility of the unknowns' rows.
+  const Real bnorm = std::sqrt(static_cast<Real>(p.dim));
+  if (!L.residual.empty()) {
+    std::vector<std::pair<Real, Index>> bad;
+    for (Index i = 0; i < cloud.size(); ++i) {
+      if (!unknown[static_cast<std::size_t>(i)]) continue;
+      const Real r = L.residual[static_cast<std::size_t>(i)] / bnorm;
+      run.max_local_residual = std::max(run.max_local_residual, r);
+      const bool failed = !L.local_failure.empty() && L.local_failure[static_cast<std::size_t>(i)];
+      if (r > p.infeasible_tolerance || failed) bad.emplace_back(failed ? std::numeric_limits<Real>::infinity() : r, i);
+    }
+    run.infeasible = static_cast<Index>(bad.size());
+    std::sort(bad.rbegin(), bad.rend());
+    std::string list;
+    for (std::size_t k = 0; k < bad.size() && k < 10; ++k) {
+      run.infeasible_particles.push_back(bad[k].second);
+      list += detail::concat(k ? ", " : "", bad[k].second, " (", bad[k].first, ")");
+    }
+    if (!bad.empty()) {
+      const std::string msg = detail::concat(method_name, " n=", n, " seed=", seed, ": ", bad.size(),
+                                             " particle(s) with infeasible moment conditions (relative residual > ",
+                                             p.infeasible_tolerance, "); worst: ", list);
+      if (p.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
+      if (warnings) warnings->push_back(msg);
+    }
+  }
+  if (p.check_m_matrix) {
+    const MMatrixReport mm = check_m_matrix(L, unknown);
+    run.m_matrix = mm.is_m_matrix();
+    run.m_matrix_summary = mm.summary();
+  }
+
+  t0 = Clock::now();
+  const Field f = sample(*pf.f, cloud), g = sample(*pf.g, cloud), exact = sample(*pf.u, cloud);
+  const LinearSystem sys = assemble(L, cloud, unknown, f, g);
+  run.unknowns = sys.size();
+  run.seconds_assemble = since(t0);
+  run.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
+  run.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
+
+  Eigen::VectorXd x;
+  run.solve = solve(sys, x, p.solver);
+  run.seconds_solve = run.solve.seconds;
+  if (!run.solve.success)
+    throw NumericalError(detail::concat("solver ", run.solve.solver, " failed for ", method_name, " n=", n, " seed=",
+                                        seed, ": ", run.solve.message, " (relative residual ", run.solve.residual, ")"));
+  const Field U = expand(sys, x);
+  Eigen::MatrixXd err(cloud.size(), 1);
+  err.col(0) = U - exact;
+  const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
+  run.errors = error_norms(err, unknown, cloud, run.h, vol);
+  if (keep_fields) {
+    run.U = U;
+    run.exact = exact;
+    run.local_residual = L.residual.empty() ? Field::Zero(cloud.size())
+                                            : Field(Eigen::Map<const Field>(L.residual.data(), cloud.size()));
+  }
+  if (cloud_out) *cloud_out = cloud;
+  return run;
+}
+
+BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
+  validate_params(p);
+  BvpStudyResult result;
+  result.params = p;
+  const bool random = p.cloud == CloudFamily::Perturbed || p.cloud == CloudFamily::Centroids;
+  const std::vector<std::uint64_t> seeds = random ? p.seeds : std::vector<std::uint64_t>{p.seeds.front()};
+  const double total = static_cast<double>(p.methods.size() * p.n.size() * seeds.size());
+  double done = 0;
+  for (const auto& m : p.methods) {
+    std::vector<BvpStudyRow> rows;
+    for (int n : p.n) {
+      BvpStudyRow row;
+      std::vector<Real> einf;
+      Real el2 = 0, ein = 0, ebd = 0;
+      for (std::size_t s = 0; s < seeds.size(); ++s) {
+        BvpRun r = run_bvp(p, m, n, seeds[s], false, &result.warnings);
+        einf.push_back(r.errors.all.linf);
+        el2 += r.errors.all.l2;
+        ein += r.errors.interior.count ? r.errors.interior.linf : 0;
+        ebd += r.errors.near_boundary.count ? r.errors.near_boundary.linf : 0;
+        row.m_matrix_all = row.m_matrix_all && r.m_matrix;
+        row.infeasible_max = std::max(row.infeasible_max, r.infeasible);
+        if (s == 0) row.first = std::move(r);
+        done += 1;
+        if (p.progress) p.progress(m + " n=" + std::to_string(n), done / total);
+      }
+      const auto k = static_cast<Real>(einf.size());
+      row.seeds = static_cast<int>(einf.size());
+      for (Real e : einf) row.error_inf += e / k;
+      for (Real e : einf) row.error_inf_std += (e - row.error_inf) * (e - row.error_inf);
+      row.error_inf_std = einf.size() > 1 ? std::sqrt(row.error_inf_std / (k - 1)) : 0;
+      row.error_l2 = el2 / k;
+      row.error_inf_interior = ein / k;
+      row.error_inf_boundary = ebd / k;
+      rows.push_back(std::move(row));
+    }
+    std::vector<Real> sizes, einf, el2;
+    for (const auto& r : rows) {
+      sizes.push_back(r.first.dx);
+      einf.push_back(r.error_inf);
+      el2.push_back(r.error_l2);
+    }
+    const auto oi = pairwise_orders(sizes, einf), o2 = pairwise_orders(sizes, el2);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      rows[k].order_inf = oi[k];
+      rows[k].order_l2 = o2[k];
+    }
+    result.fitted_order_inf[m] = least_squares_order(sizes, einf);
+    for (auto& r : rows) result.rows.push_back(std::move(r));
+  }
+  return result;
+}
+
+Table to_table(const BvpStudyResult& r) {
+  Table t;
+  t.columns = {"method", "n", "N", "unknowns", "h", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
+               "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "neighbours_mean",
+               "nnz_per_row", "solver_residual", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
+               "seconds_assemble", "seconds_solve"};
+  for (const auto& row : r.rows) {
+    const BvpRun& f = row.first;
+    t.add_row({{"method", f.method},
+               {"n", static_cast<long long>(f.n)},
+               {"N", static_cast<long long>(f.particles)},
+               {"unknowns", static_cast<long long>(f.unknowns)},
+               {"h", f.h},
+               {"seeds", static_cast<long long>(row.seeds)},
+               {"error_inf", row.error_inf},
+               {"error_inf_std", row.error_inf_std},
+               {"order_inf", row.order_inf},
+               {"error_l2", row.error_l2},
+               {"order_l2", row.order_l2},
+               {"error_inf_interior", row.error_inf_interior},
+               {"error_inf_boundary", row.error_inf_boundary},
+               {"mmatrix", row.m_matrix_all},
+               {"infeasible", static_cast<long long>(row.infeasible_max)},
+               {"neighbours_mean", f.neighbours_mean},
+               {"nnz_per_row", f.nnz_per_row},
+               {"solver_residual", f.solve.residual},
+               {"seconds_cloud", f.seconds_cloud},
+               {"seconds_neighbours", f.seconds_neighbours},
+               {"seconds_stencil", f.seconds_stencil},
+               {"seconds_assemble", f.seconds_assemble},
+               {"seconds_solve", f.seconds_solve}});
+  }
+  return t;
+}
+
+std::string metadata_json(const BvpStudyResult& r) {
+  const auto& p = r.params;
+  nlohmann::ordered_json j;
+  j["problem"] = p.problem;
+  j["dim"] = p.dim;
+  j["cloud"] = to_string(p.cloud);
+  j["h_factor"] = p.h_factor;
+  j["kernel"] = std::string(kernel_info(p.kernel).name);
+  j["solver"] = to_string(p.solver.type);
+  j["seeds"] = p.seeds;
+  j["delta"] = p.delta;
+  if (p.problem == "custom") {
+    j["u"] = p.u;
+    j["a"] = p.a.empty() ? "one" : p.a;
+    j["f"] = p.f.empty() ? "div(a grad u) of u and a" : p.f;
+    j["g"] = p.g.empty() ? "u" : p.g;
+  }
+  nlohmann::ordered_json fit = nlohmann::ordered_json::object();
+  for (const auto& [m, o] : r.fitted_order_inf) fit[m] = std::isfinite(o) ? nlohmann::ordered_json(o) : nlohmann::ordered_json();
+  j["fitted_order_inf"] = fit;
+  j["warnings"] = r.warnings;
+  return j.dump();
+}
+
+}  // namespace vrsph
