@@ -90,6 +90,14 @@ std::vector<std::string> parse_name_list(const std::string& text, const std::str
   return out;
 }
 
+double peak_memory_mib() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0;
+}
+
 Progress::Progress() : enabled_(::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
 
 Progress::~Progress() {

@@ -23,6 +23,9 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);
 std::vector<std::string> parse_name_list(const std::string& text, const std::string& option);
 
+/// Peak resident memory of this process (VmHWM), in MiB; 0 if unknown.
+double peak_memory_mib();
+
 /// A one-line progress bar on stderr, shown only when stderr is a terminal and the
 /// run has lasted more than a second.
 class Progress {

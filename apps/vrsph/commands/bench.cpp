@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <sstream>
 #include <iostream>
 #include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/methods/vrsph/volumes.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include "../cli_common.hpp"
@@ -33,14 +36,6 @@ void set_threads(int threads) {
 #endif
 }
 
-double peak_memory_mib() {
-  std::ifstream f("/proc/self/status");
-  std::string line;
-  while (std::getline(f, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  return 0;
-}
-
 template <class F>
 double best_of(int repeat, F&& f) {
   double best = 1e300;
@@ -52,6 +47,101 @@ double best_of(int repeat, F&& f) {
   return best;
 }
 }  // namespace
+
+// VRSPH Laplace volume reconstruction alone (neighbour search excluded), against the
+// traditional SPH stencil build and the textbook NNLS in the same run.
+void add_volumes_bench(CLI::App& bench) {
+  auto a = std::make_shared<BenchArgs>();
+  auto reference_sample = std::make_shared<int>(20000);
+  auto* cmd = bench.add_subcommand("volumes", "VRSPH volume reconstruction throughput vs SPH stencil and textbook NNLS");
+  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3")->capture_default_str();
+  cmd->add_option("--n", a->n, "Intervals per direction of the perturbed unit lattice ((n+1)^d particles)")->capture_default_str();
+  cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--repeat", a->repeat, "Repetitions; the best time is reported")->capture_default_str();
+  cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->capture_default_str();
+  cmd->add_option("--reference-sample", *reference_sample, "Particles timed with the textbook NNLS (it is slow)")->capture_default_str();
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->callback([a, reference_sample] {
+    check<ConfigError>(a->repeat >= 1, "--repeat must be >= 1");
+    check<ConfigError>(a->dim >= 1 && a->dim <= 3, "--dim must be 1, 2 or 3");
+    check<ConfigError>(*reference_sample >= 0, "--reference-sample must be >= 0");
+    set_threads(a->threads);
+    CloudSpec spec;
+    spec.family = CloudFamily::Perturbed;
+    spec.box = Domain::unit_box(a->dim);
+    spec.n = a->n;
+    spec.seed = a->seed;
+    const StudyCloud sc = make_study_cloud(spec);
+    SearchParams sp;
+    sp.radius = a->h_factor * sc.dx;
+    const NeighbourList nl = find_neighbours(sc.cloud, sp);
+    const Discretisation disc{sc.cloud, nl, KernelType::CubicSpline, sc.cloud.spacing};
+    const auto N = static_cast<double>(sc.cloud.size() - sc.cloud.count(Tag::Ghost));
+    ReconstructedVolumes vol;
+    const double t_vol = best_of(a->repeat, [&] { vol = reconstruct_volumes(disc, MomentConditions::Laplace); });
+    const auto sph = builtin_methods().create("sph");
+    const double t_sph = best_of(a->repeat, [&] { (void)sph->build(disc, {OperatorKind::Laplacian}); });
+    // Textbook NNLS on a sample of interior particles (single solve each, same systems).
+    const int m = moment_rows(MomentConditions::Laplace, a->dim);
+    std::vector<Index> sample;
+    for (Index i = 0; i < sc.cloud.size() && static_cast<int>(sample.size()) < *reference_sample; ++i)
+      if (sc.cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior) sample.push_back(i);
+    double t_ref = 0, t_fast_sample = 0, max_diff = 0;
+    if (!sample.empty()) {
+      std::vector<Eigen::MatrixXd> As;
+      std::vector<Eigen::VectorXd> bs;
+      for (Index i : sample) {
+        const Kernel k = disc.kernel_at(i);
+        const auto nbr = nl.of(i);
+        const auto dist = nl.distances_of(i);
+        std::vector<Vec3> xji;
+        std::vector<Real> hy;
+        for (std::size_t q = 0; q < nbr.size(); ++q) {
+          xji.push_back(sc.cloud.positions[static_cast<std::size_t>(nbr[q])] - sc.cloud.positions[static_cast<std::size_t>(i)]);
+          hy.push_back(-k.dW_over_r(dist[q]));
+        }
+        As.emplace_back(m, static_cast<Eigen::Index>(nbr.size()));
+        bs.emplace_back(m);
+        build_moment_system(MomentConditions::Laplace, a->dim, xji.data(), hy.data(), static_cast<int>(nbr.size()),
+                            As.back().data(), bs.back().data());
+      }
+      std::vector<double> res_ref(sample.size()), res_fast(sample.size());
+      t_ref = best_of(1, [&] {
+        Eigen::VectorXd x;
+        for (std::size_t s = 0; s < As.size(); ++s) res_ref[s] = nnls_reference(As[s], bs[s], x).residual;
+      });
+      t_fast_sample = best_of(a->repeat, [&] {
+        NnlsSolver solver;
+        std::vector<Real> x(256);
+        for (std::size_t s = 0; s < As.size(); ++s) {
+          x.resize(static_cast<std::size_t>(As[s].cols()));
+          res_fast[s] = solver.solve(As[s].data(), m, static_cast<int>(As[s].cols()), bs[s].data(), x.data()).residual;
+        }
+      });
+      for (std::size_t s = 0; s < As.size(); ++s) max_diff = std::max(max_diff, std::abs(res_ref[s] - res_fast[s]));
+    }
+    Table t;
+    t.columns = {"stage", "particles", "threads", "seconds", "particles_per_second", "ratio_to_vrsph_volumes"};
+    auto row = [&](const std::string& name, double particles, double seconds) {
+      t.add_row({{"stage", name}, {"particles", static_cast<long long>(particles)}, {"threads", static_cast<long long>(a->threads)},
+                 {"seconds", seconds}, {"particles_per_second", particles / seconds}, {"ratio_to_vrsph_volumes", (seconds / particles) / (t_vol / N)}});
+    };
+    row("vrsph volumes (fast NNLS)", N, t_vol);
+    row("sph laplacian stencil", N, t_sph);
+    if (!sample.empty()) {
+      row("fast NNLS only (sample)", static_cast<double>(sample.size()), t_fast_sample);
+      row("textbook NNLS only (sample)", static_cast<double>(sample.size()), t_ref);
+    }
+    std::ostringstream extra;
+    extra << "{\"benchmark\":\"volumes\",\"particles\":" << static_cast<long long>(N) << ",\"seconds\":" << t_vol
+          << ",\"particles_per_second\":" << N / t_vol << ",\"neighbours_mean\":" << static_cast<double>(nl.total()) / static_cast<double>(sc.cloud.size())
+          << ",\"textbook_speedup\":" << (t_fast_sample > 0 ? t_ref / t_fast_sample : 0.0)
+          << ",\"max_residual_difference\":" << max_diff << ",\"peak_memory_mib\":" << peak_memory_mib() << "}";
+    emit(t, a->out, extra.str(), "", "", "", "");
+  });
+}
 
 void add_bench_command(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Throughput benchmarks (ratios against an in-run baseline)");
@@ -97,6 +187,7 @@ void add_bench_command(CLI::App& app) {
     emit(t, a->out, "{\"benchmark\":\"neighbours\",\"peak_memory_mib\":" + std::to_string(peak_memory_mib()) + "}", "", "",
          "", "");
   });
+  add_volumes_bench(*bench);
 }
 
 }  // namespace vrsph::cli

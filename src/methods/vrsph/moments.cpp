@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/moments.hpp>
 
@@ -23,7 +25,72 @@ const std::vector<std::array<int, 3>>& moment_exponents(MomentConditions c, int 
 
 int moment_rows(MomentConditions c, int dim) { return dim * static_cast<int>(moment_exponents(c, dim).size()); }
 
-void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Real* half_y, int n, Real* A, Real* b) {
+namespace {
+// Distinct gamma = alpha + e_beta with their multiplicity and target, in first-appearance order.
+struct MergedRow {
+  std::array<int, 3> gamma;
+  Real weight;  // sqrt(multiplicity)
+  Real target;  // 1 for gamma = 2 e_beta, else 0
+};
+const std::vector<MergedRow>& merged_rows(MomentConditions c, int dim) {
+  static const auto table = [] {
+    std::array<std::array<std::vector<MergedRow>, 3>, 2> t;
+    for (int ci = 0; ci < 2; ++ci)
+      for (int d = 1; d <= 3; ++d) {
+        const auto cond = ci ? MomentConditions::Laplace : MomentConditions::Gradient;
+        std::vector<std::pair<std::array<int, 3>, int>> rows;
+        std::vector<Real> target;
+        for (int beta = 0; beta < d; ++beta)
+          for (const auto& al : moment_exponents(cond, d)) {
+            std::array<int, 3> g = al;
+            ++g[static_cast<std::size_t>(beta)];
+            const bool one = al[0] + al[1] + al[2] == 1 && al[static_cast<std::size_t>(beta)] == 1;
+            auto it = std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.first == g; });
+            if (it == rows.end()) {
+              rows.emplace_back(g, 1);
+              target.push_back(one ? 1.0 : 0.0);
+            } else {
+              ++it->second;  // identical row, identical target (both 0: only gamma = 2 e_beta has b = 1)
+            }
+          }
+        auto& out = t[static_cast<std::size_t>(ci)][static_cast<std::size_t>(d - 1)];
+        for (std::size_t r = 0; r < rows.size(); ++r) {
+          const Real w = std::sqrt(static_cast<Real>(rows[r].second));
+          out.push_back({rows[r].first, w, w * target[r]});
+        }
+      }
+    return t;
+  }();
+  return table[c == MomentConditions::Laplace ? 1 : 0][static_cast<std::size_t>(dim - 1)];
+}
+}  // namespace
+
+int moment_rows(MomentConditions c, int dim, MomentRows layout) {
+  return layout == MomentRows::Full ? moment_rows(c, dim) : static_cast<int>(merged_rows(c, dim).size());
+}
+
+void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Real* half_y, int n, Real* A, Real* b,
+                         MomentRows layout) {
+  if (layout == MomentRows::Merged) {
+    const auto& rows = merged_rows(c, dim);
+    const std::size_t m = rows.size();
+    for (std::size_t r = 0; r < m; ++r) b[r] = rows[r].target;
+    for (int j = 0; j < n; ++j) {
+      const Vec3& d = xji[j];
+      // Powers up to 3 of each coordinate, then one product per row.
+      Real pw[3][4];
+      for (int k = 0; k < 3; ++k) {
+        pw[k][0] = 1;
+        for (int e = 1; e < 4; ++e) pw[k][e] = pw[k][e - 1] * d[k];
+      }
+      Real* col = A + static_cast<std::size_t>(j) * m;
+      for (std::size_t r = 0; r < m; ++r) {
+        const auto& g = rows[r].gamma;
+        col[r] = rows[r].weight * half_y[j] * pw[0][g[0]] * pw[1][g[1]] * pw[2][g[2]];
+      }
+    }
+    return;
+  }
   const auto& alphas = moment_exponents(c, dim);
   const int m = dim * static_cast<int>(alphas.size());
   for (int beta = 0; beta < dim; ++beta)

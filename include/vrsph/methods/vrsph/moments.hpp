@@ -18,10 +18,22 @@ enum class MomentConditions { Gradient, Laplace };
 
 /// Multi-indices alpha in the row order above (inner loop).
 const std::vector<std::array<int, 3>>& moment_exponents(MomentConditions c, int dim);
+/// Rows of the literal system: 3/12/30 (Laplace) or 2/10/27 (gradient).
 int moment_rows(MomentConditions c, int dim);
+
+/// Row layout of the system handed to NNLS.
+///  Full:   the literal rows above, duplicates included.
+///  Merged: every row equals (Y/2) x_ji^gamma with gamma = alpha + e_beta, so rows with the
+///          same gamma are identical (x y appears for (beta=x, alpha=y) and (beta=y, alpha=x)).
+///          Each set of c identical rows becomes one row scaled by sqrt(c): the NNLS objective
+///          sum_r (A_r v - b_r)^2 is *unchanged*, so is its minimiser, while the system
+///          shrinks to 3/9/19 rows (Laplace) or 2/7/16 (gradient). Default.
+enum class MomentRows { Merged, Full };
+int moment_rows(MomentConditions c, int dim, MomentRows layout);
 
 /// Fills the column-major rows x n matrix A (column j for neighbour j) and b (rows).
 /// xji[j] = x_j - x_i, half_y[j] = Y_ij / 2 = -W'(r_ij)/r_ij >= 0.
-void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Real* half_y, int n, Real* A, Real* b);
+void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Real* half_y, int n, Real* A, Real* b,
+                         MomentRows layout = MomentRows::Full);
 
 }  // namespace vrsph

@@ -20,7 +20,10 @@ struct ReconstructedVolumes {
 };
 
 /// rows: which particles need volumes (empty = every non-ghost particle).
+/// The residual is reported for the literal (Full) system in either layout: merging
+/// identical rows leaves ||A v - b|| unchanged.
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
-                                         std::span<const char> rows = {}, const NnlsOptions& nnls = {});
+                                         std::span<const char> rows = {}, const NnlsOptions& nnls = {},
+                                         MomentRows layout = MomentRows::Merged);
 
 }  // namespace vrsph

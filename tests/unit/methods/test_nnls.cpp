@@ -1,0 +1,132 @@
+// NNLS: KKT conditions, agreement with brute-force enumeration of active sets and with
+// the textbook reference, degenerate inputs (zero/duplicate columns, infeasible targets).
+#include <Eigen/QR>
+#include <random>
+#include <vrsph/methods/vrsph/nnls.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+Eigen::MatrixXd random_matrix(int m, int n, std::mt19937& rng) {
+  std::normal_distribution<double> g(0, 1);
+  Eigen::MatrixXd A(m, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < m; ++i) A(i, j) = g(rng);
+  return A;
+}
+
+Eigen::VectorXd fast(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, NnlsResult* res = nullptr) {
+  NnlsSolver s(2, 2);  // deliberately small: the workspace must grow on demand
+  Eigen::VectorXd x(A.cols());
+  const NnlsResult r = s.solve(A.data(), static_cast<int>(A.rows()), static_cast<int>(A.cols()), b.data(), x.data());
+  if (res) *res = r;
+  return x;
+}
+
+// KKT: x >= 0, w = A^T (b - A x) <= tol, and w_j = 0 where x_j > 0.
+void expect_kkt(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x, double tol) {
+  const Eigen::VectorXd w = A.transpose() * (b - A * x);
+  for (Eigen::Index j = 0; j < x.size(); ++j) {
+    EXPECT_GE(x[j], 0.0);
+    EXPECT_LE(w[j], tol);
+    if (x[j] > 1e-12) {
+      EXPECT_NEAR(w[j], 0.0, tol);
+    }
+  }
+}
+
+// Brute force: the best least-squares solution over every passive set whose
+// unconstrained solution is non-negative.
+double brute_force_residual(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  const int n = static_cast<int>(A.cols());
+  double best = b.norm();
+  for (int mask = 1; mask < (1 << n); ++mask) {
+    std::vector<int> cols;
+    for (int j = 0; j < n; ++j)
+      if (mask & (1 << j)) cols.push_back(j);
+    Eigen::MatrixXd Ap(A.rows(), static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t c = 0; c < cols.size(); ++c) Ap.col(static_cast<Eigen::Index>(c)) = A.col(cols[c]);
+    const Eigen::VectorXd z = Ap.colPivHouseholderQr().solve(b);
+    if (z.minCoeff() < 0) continue;
+    best = std::min(best, (Ap * z - b).norm());
+  }
+  return best;
+}
+}  // namespace
+
+TEST(Nnls, MatchesBruteForceEnumerationOnSmallRandomProblems) {
+  std::mt19937 rng(12345);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int m = 2 + trial % 6, n = 1 + (trial / 3) % 9;
+    const Eigen::MatrixXd A = random_matrix(m, n, rng);
+    const Eigen::VectorXd b = random_matrix(m, 1, rng).col(0);
+    NnlsResult r;
+    const Eigen::VectorXd x = fast(A, b, &r);
+    SCOPED_TRACE(testing::Message() << "trial " << trial << " m=" << m << " n=" << n);
+    ASSERT_EQ(r.status, NnlsStatus::Converged);
+    EXPECT_NEAR(r.residual, (A * x - b).norm(), 1e-12);
+    EXPECT_NEAR(r.residual, brute_force_residual(A, b), 1e-9 * (1 + b.norm()));
+    expect_kkt(A, b, x, 1e-9);
+    Eigen::VectorXd xr;
+    nnls_reference(A, b, xr);
+    EXPECT_NEAR((A * xr - b).norm(), r.residual, 1e-9);
+  }
+}
+
+TEST(Nnls, WideProblemsLikeVrsphAgreeWithTheReference) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Eigen::MatrixXd A = random_matrix(12, 40 + trial, rng);
+    // A feasible target: b = A x0 with x0 >= 0 sparse.
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(A.cols());
+    for (int k = 0; k < 8; ++k) x0[(k * 7 + trial) % A.cols()] = 0.5 + k;
+    const Eigen::VectorXd b = A * x0;
+    NnlsResult r;
+    const Eigen::VectorXd x = fast(A, b, &r);
+    EXPECT_LT(r.residual, 1e-10 * b.norm());
+    EXPECT_LE(r.passive, 12);
+    expect_kkt(A, b, x, 1e-8 * b.norm());
+  }
+}
+
+TEST(Nnls, DegenerateInputs) {
+  // Zero and duplicate columns.
+  Eigen::MatrixXd A(3, 5);
+  A << 1, 0, 1, 2, 0,  //
+      0, 0, 0, 1, 1,   //
+      1, 0, 1, 0, 1;
+  const Eigen::VectorXd b = Eigen::Vector3d(2, 1, 2);
+  NnlsResult r;
+  Eigen::VectorXd x = fast(A, b, &r);
+  EXPECT_EQ(r.status, NnlsStatus::Converged);
+  EXPECT_EQ(x[1], 0.0);  // the zero column never enters
+  EXPECT_NEAR(r.residual, brute_force_residual(A, b), 1e-12);
+  expect_kkt(A, b, x, 1e-12);
+  // Infeasible target: every column points away from b -> x = 0, residual |b|.
+  Eigen::MatrixXd B(2, 3);
+  B << 1, 2, 0.5,  //
+      1, 0, 3;
+  const Eigen::VectorXd c = Eigen::Vector2d(-1, -1);
+  x = fast(B, c, &r);
+  EXPECT_EQ(x.norm(), 0.0);
+  EXPECT_NEAR(r.residual, std::sqrt(2.0), 1e-15);
+  // No columns at all.
+  Eigen::MatrixXd E(2, 0);
+  x = fast(E, c, &r);
+  EXPECT_NEAR(r.residual, std::sqrt(2.0), 1e-15);
+}
+
+TEST(Nnls, IterationCapIsReported) {
+  std::mt19937 rng(3);
+  const Eigen::MatrixXd A = random_matrix(12, 60, rng);
+  const Eigen::VectorXd b = A * Eigen::VectorXd::Ones(60);
+  NnlsSolver s;
+  Eigen::VectorXd x(60);
+  NnlsOptions o;
+  o.max_iterations = 2;
+  const NnlsResult r = s.solve(A.data(), 12, 60, b.data(), x.data(), o);
+  EXPECT_EQ(r.status, NnlsStatus::IterationLimit);
+  EXPECT_GT(r.residual, 0.0);
+  for (Eigen::Index j = 0; j < 60; ++j) EXPECT_GE(x[j], 0.0);
+}
