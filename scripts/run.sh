@@ -10,12 +10,8 @@ vrsph=build/release/apps/vrsph/vrsph
 if (($#)); then
   exec "$vrsph" "$@"
 fi
-# Default: [QW] Examples 1 and 2 (seed 000) for traditional SPH, gradient and
-# Laplacian on uniform and randomly perturbed particles, h = 3 dx, N^{1/d} = 2^3..2^7.
-for cloud in uniform perturbed; do
-  for op in gradient laplacian; do
-    echo "## SPH ${op}, ${cloud} particles ([QW] Example $([[ $cloud == uniform ]] && echo 1 || echo 2), h = 3 dx, with ghosts)"
-    "$vrsph" operator --problem qw-trunc --method sph --operator "$op" --cloud "$cloud" --n 8,16,32,64,128 --seed 1 --h-factor 3
-    echo
-  done
-done
+# Default: [QW] Example 5 / Table 2 (seed 000): div((1+x^2+y^2) grad u) = f on [0,1]^2,
+# u = sin(pi x) sin(pi y), randomly perturbed particles, h = 3 dx, traditional SPH next to
+# VRSPH, n = 20..160. (Mean over five seeds, as in the tests: add --seeds 1,2,3,4,5.)
+echo "## [QW] Table 2: perturbed particles, SPH vs VRSPH (seed 1)"
+"$vrsph" study --problem qw-ex5 --method sph,vrsph --cloud perturbed --n 20,40,80,160 --seed 1

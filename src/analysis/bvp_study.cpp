@@ -110,6 +110,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   spec.delta = p.delta;
   spec.seed = seed;
   spec.perturb_boundary = p.perturb_boundary;
+  spec.regular_layer = p.regular_layer;
   StudyCloud sc = make_study_cloud(spec);
   const PointCloud& cloud = sc.cloud;
   run.seconds_cloud = since(t0);
@@ -300,6 +301,7 @@ std::string metadata_json(const BvpStudyResult& r) {
   j["solver"] = to_string(p.solver.type);
   j["seeds"] = p.seeds;
   j["delta"] = p.delta;
+  j["regular_layer"] = p.regular_layer;
   if (p.problem == "custom") {
     j["u"] = p.u;
     j["a"] = p.a.empty() ? "one" : p.a;

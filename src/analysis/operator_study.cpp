@@ -92,6 +92,7 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       spec.n = n;
       spec.delta = p.delta;
       spec.seed = p.seed;
+      spec.regular_layer = p.regular_layer;
       const Real dx = (box.hi[0] - box.lo[0]) / n;
       const Real h = p.h_factor * dx;
       spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
@@ -146,6 +147,13 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
         nmax = std::max(nmax, nl.count(i));
       }
       check<GeometryError>(evaluated > 0, "no interior particle to evaluate at n = ", n);
+      if (!s.residual.empty())
+        for (Index i = 0; i < cloud.size(); ++i) {
+          if (!rows_mask[static_cast<std::size_t>(i)]) continue;
+          const Real r = s.residual[static_cast<std::size_t>(i)] / std::sqrt(static_cast<Real>(p.dim));
+          row.max_local_residual = std::max(row.max_local_residual, r);
+          row.infeasible += r > 1e-6 ? 1 : 0;
+        }
       row.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(evaluated);
       row.neighbours_min = nmin;
       row.neighbours_max = nmax;
@@ -176,8 +184,8 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
 Table to_table(const OperatorStudyResult& r) {
   Table t;
   t.columns = {"method", "n", "N", "N_total", "dx", "h", "error_inf", "order_inf", "error_l2", "order_l2", "error_rms",
-               "error_inf_interior", "error_inf_boundary", "neighbours_mean", "nnz_per_row", "seconds_neighbours",
-               "seconds_stencil"};
+               "error_inf_interior", "error_inf_boundary", "neighbours_mean", "nnz_per_row", "max_local_residual", "infeasible",
+               "seconds_neighbours", "seconds_stencil"};
   for (const auto& row : r.rows) {
     t.add_row({{"method", row.method},
                {"n", static_cast<long long>(row.n)},
@@ -194,6 +202,8 @@ Table to_table(const OperatorStudyResult& r) {
                {"error_inf_boundary", row.errors.near_boundary.count ? row.errors.near_boundary.linf : std::nan("")},
                {"neighbours_mean", row.neighbours_mean},
                {"nnz_per_row", row.nnz_per_row},
+               {"max_local_residual", row.max_local_residual},
+               {"infeasible", static_cast<long long>(row.infeasible)},
                {"seconds_neighbours", row.seconds_neighbours},
                {"seconds_stencil", row.seconds_stencil}});
   }
@@ -212,6 +222,7 @@ std::string metadata_json(const OperatorStudyResult& r) {
   j["kernel"] = std::string(kernel_info(p.kernel).name);
   j["seed"] = p.seed;
   j["delta"] = p.delta;
+  j["regular_layer"] = p.regular_layer;
   j["function"] = p.u.empty() ? "cos-pi" : p.u;
   nlohmann::ordered_json fit = nlohmann::ordered_json::object();
   for (const auto& [m, o] : r.fitted_order_inf) fit[m] = std::isfinite(o) ? nlohmann::ordered_json(o) : nlohmann::ordered_json();

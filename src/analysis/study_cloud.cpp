@@ -40,6 +40,7 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
         o.delta = spec.delta;
         o.seed = spec.seed;
         o.boundary_tangential = spec.perturb_boundary;
+        o.regular_layer = spec.regular_layer;
         perturb(out.cloud, o);
       }
       break;

@@ -100,6 +100,8 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
   check<InputError>(std::isfinite(o.delta) && o.delta >= 0 && o.delta < 1,
                     "perturbation amplitude delta must be in [0, 1), got ", o.delta);
   check<InputError>(cloud.spacing > 0, "perturbation needs the cloud spacing dx");
+  check<InputError>(std::isfinite(o.regular_layer) && o.regular_layer >= 0, "regular layer width must be >= 0, got ",
+                    o.regular_layer);
   const bool bounded = cloud.count(Tag::Dirichlet) + cloud.count(Tag::Neumann) > 0;
   const Real amp = o.delta * cloud.spacing;
   for (Index i = 0; i < cloud.size(); ++i) {
@@ -121,6 +123,11 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
         if (std::abs(nrm[k]) < 0.5) inside_face = inside_face && x[k] > cloud.domain.lo[k] && x[k] < cloud.domain.hi[k];
       if (inside_face) cloud.positions[si] = x;
       continue;
+    }
+    if (o.regular_layer > 0 && tag == Tag::Interior && cloud.domain.shape == Domain::Shape::Box) {
+      const Vec3& x0 = cloud.positions[si];
+      for (int k = 0; k < cloud.dim; ++k)
+        if (std::min(x0[k] - cloud.domain.lo[k], cloud.domain.hi[k] - x0[k]) < o.regular_layer * cloud.spacing) step[k] = 0;
     }
     Vec3 x = cloud.positions[si] + step;
     if (bounded && tag == Tag::Interior) {

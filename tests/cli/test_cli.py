@@ -132,7 +132,72 @@ class Cloud(unittest.TestCase):
             self.assertIn("dimension mismatch", p.stderr)
 
 
+class Study(unittest.TestCase):
+    def test_qw_ex5_uniform_table3(self):
+        out = run_json("study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", "uniform",
+                       "--n", "20,40", "--seed", "1")
+        rows = out["rows"]
+        for key in ("n", "N", "h", "error_inf", "error_l2", "order_inf", "mmatrix", "neighbours_mean",
+                    "nnz_per_row", "seconds_solve", "seconds_stencil"):
+            self.assertIn(key, rows[0])
+        self.assertAlmostEqual(rows[0]["error_inf"], 7.0421e-3, delta=5e-7)  # [QW] Table 3
+        self.assertAlmostEqual(rows[1]["error_inf"], 1.7623e-3, delta=5e-8)
+        self.assertTrue(rows[1]["mmatrix"])
+        self.assertGreater(rows[1]["order_inf"], 1.9)
+
+    def test_expression_form_3d_and_seeds(self):
+        out = run_json("study", "--dim", "3", "--u", "sin(pi*x)*sin(pi*y)*sin(pi*z)", "--a", "1+x^2+y^2+z^2",
+                       "--method", "vrsph", "--cloud", "perturbed", "--n", "6,12", "--seeds", "1,2",
+                       "--solver", "umfpack")
+        self.assertEqual(out["problem"], "custom")
+        self.assertEqual(out["rows"][0]["seeds"], 2)
+        self.assertGreater(out["rows"][1]["order_inf"], 1.5)
+
+    def test_infeasible_policy(self):
+        p = run("study", "--method", "vrsph", "--cloud", "perturbed", "--n", "10", "--on-infeasible", "error",
+                check=False)
+        self.assertEqual(p.returncode, 5)
+        self.assertIn("infeasible moment conditions", p.stderr)
+        p = run("study", "--method", "vrsph", "--cloud", "perturbed", "--n", "10", "--format", "json")
+        self.assertIn("warning", p.stderr)
+        self.assertGreater(json.loads(p.stdout)["rows"][0]["infeasible"], 0)
+
+    def test_bad_study_input(self):
+        cases = [
+            (("--u", "sin(pi*x)", "--a", "x-0.5"), 3, "coefficient a must be positive"),
+            (("--u", "sin(pi*x", ), 3, "cannot parse expression"),
+            (("--solver", "magic"), 2, "unknown solver"),
+            (("--problem", "nope"), 2, "unknown boundary value problem"),
+            (("--on-infeasible", "ignore"), 2, "--on-infeasible must be warn or error"),
+        ]
+        for args, code, text in cases:
+            p = run("study", "--n", "8", *args, check=False)
+            self.assertEqual(p.returncode, code, msg=f"{args}: {p.stderr}")
+            self.assertIn(text, p.stderr)
+
+    def test_solve_writes_vtu(self):
+        with tempfile.TemporaryDirectory() as d:
+            vtu = os.path.join(d, "s.vtu")
+            out = run_json("solve", "--method", "vrsph", "--cloud", "perturbed", "--n", "16", "--vtu", vtu)
+            row = out["rows"][0]
+            self.assertEqual(row["n"], 16)
+            self.assertTrue(row["mmatrix"])
+            self.assertLess(row["error_inf"], 5e-3)
+            self.assertLess(row["solver_residual"], 1e-10)
+            with open(vtu, encoding="utf-8") as f:
+                text = f.read()
+            for name in ("U", "u_exact", "error", "local_residual"):
+                self.assertIn(f'Name="{name}"', text)
+
+
 class Bench(unittest.TestCase):
+    def test_volumes_bench_json(self):
+        out = run_json("bench", "volumes", "--dim", "2", "--n", "40", "--repeat", "1", "--reference-sample", "200")
+        self.assertEqual(out["particles"], 41 * 41)
+        self.assertGreater(out["particles_per_second"], 0)
+        self.assertLess(out["max_residual_difference"], 1e-9)
+        self.assertEqual(len(out["rows"]), 4)
+
     def test_neighbours_bench_json(self):
         out = run_json("bench", "neighbours", "--dim", "2", "--n", "60", "--repeat", "1")
         rows = out["rows"]

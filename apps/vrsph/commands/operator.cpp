@@ -16,6 +16,7 @@ struct OperatorArgs {
   std::uint64_t seed = 1;
   double h_factor = 3, delta = 0.5;
   bool no_ghosts = false;
+  double regular_layer = 0;
   std::vector<std::string> method_opts;
   OutputOptions out;
 };
@@ -36,6 +37,9 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
   cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx")->capture_default_str();
   cmd->add_option("--kernel", a->kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4")->capture_default_str();
+  cmd->add_option("--regular-layer", a->regular_layer,
+                  "Perturbed clouds: particles within this many dx of a face move only tangentially")
+      ->capture_default_str();
   cmd->add_flag("--no-ghosts", a->no_ghosts, "No ghost particles: layout A with boundary particles ([QW] Example 4)");
   cmd->add_option("--u", a->u, "Test function: catalogue name (cos-pi, sin-pi, exp-x, ...) or expression in x,y,z; default cos-pi");
   cmd->add_option("--exact", a->exact, "Expected operator value as expression(s), ';' between gradient components; default: exact derivatives of --u");
@@ -71,6 +75,7 @@ void add_operator_command(CLI::App& app) {
     p.h_factor = a->h_factor;
     p.delta = a->delta;
     p.ghosts = !a->no_ghosts;
+    p.regular_layer = a->regular_layer;
     p.kernel = parse_kernel(a->kernel);
     p.u = a->u;
     p.exact = a->exact;

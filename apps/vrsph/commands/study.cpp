@@ -16,7 +16,7 @@ struct StudyArgs {
               solver = "sparselu", on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
   int dim = 2;
   std::uint64_t seed = 1;
-  double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6;
+  double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
   bool perturb_boundary = false;
   std::vector<std::string> method_opts;
   OutputOptions out;
@@ -33,6 +33,9 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx")->capture_default_str();
   cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx")->capture_default_str();
   cmd->add_flag("--perturb-boundary", a.perturb_boundary, "Also move boundary particles along their faces");
+  cmd->add_option("--regular-layer", a.regular_layer,
+                  "Perturbed clouds: particles within this many dx of a face move only tangentially")
+      ->capture_default_str();
   cmd->add_option("--kernel", a.kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4")
       ->capture_default_str();
   cmd->add_option("--solver", a.solver, "Linear solver: sparselu, umfpack, bicgstab")->capture_default_str();
@@ -64,6 +67,7 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.h_factor = a.h_factor;
   p.delta = a.delta;
   p.perturb_boundary = a.perturb_boundary;
+  p.regular_layer = a.regular_layer;
   p.kernel = parse_kernel(a.kernel);
   p.solver.type = parse_solver(a.solver);
   p.u = a.u;

@@ -36,6 +36,7 @@ struct BvpStudyParams {
   Real h_factor = 3;                 ///< h = h_factor * dx (see h_mode)
   Real delta = 0.5;
   bool perturb_boundary = false;     ///< also move boundary particles along their faces
+  Real regular_layer = 0;            ///< first-layer particles move only tangentially (width in dx)
   KernelType kernel = KernelType::CubicSpline;
   SolverOptions solver;
   std::string u, a, f, g;            ///< custom problem: expressions or catalogue names

@@ -36,6 +36,7 @@ struct OperatorStudyParams {
   Real h_factor = 3;  ///< support radius h = h_factor * dx
   Real delta = 0.5;
   bool ghosts = true;
+  Real regular_layer = 0;  ///< see PerturbOptions::regular_layer
   KernelType kernel = KernelType::CubicSpline;
   std::string u;        ///< function name from the catalogue or a muParser expression; empty: problem default
   std::string exact;    ///< optional expected operator value(s), ';'-separated for the gradient
@@ -55,6 +56,8 @@ struct OperatorStudyRow {
   Real neighbours_mean = 0;
   Index neighbours_min = 0, neighbours_max = 0;
   Real nnz_per_row = 0;
+  Real max_local_residual = 0;  ///< max over evaluated rows of the method's local residual / sqrt(d)
+  Index infeasible = 0;         ///< evaluated rows with local residual / sqrt(d) > 1e-6
   Real seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_apply = 0;
 };
 

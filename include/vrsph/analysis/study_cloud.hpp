@@ -26,6 +26,7 @@ struct CloudSpec {
   Real delta = 0.5;                  ///< perturbation amplitude (Perturbed)
   std::uint64_t seed = 1;
   bool perturb_boundary = false;     ///< Perturbed: also move boundary particles along their faces
+  Real regular_layer = 0;            ///< Perturbed: first-layer particles move only tangentially (width in dx)
 };
 
 struct StudyCloud {

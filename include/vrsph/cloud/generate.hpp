@@ -25,6 +25,10 @@ struct PerturbOptions {
   Real delta = 0.5;                 ///< displacement U(-delta*dx, delta*dx) per coordinate ([QW]: 0.5)
   std::uint64_t seed = 1;
   bool boundary_tangential = false; ///< also move boundary particles along their face (not corners/edges)
+  /// Box domains: interior particles closer than regular_layer * dx to a face keep their
+  /// coordinate normal to that face (they move only tangentially). 0 = off. A regular
+  /// first layer keeps VRSPH's Laplacian moment conditions feasible next to the boundary.
+  Real regular_layer = 0;
 };
 /// Perturbs Interior and Ghost particles (and, optionally, boundary particles
 /// tangentially). Random numbers are a counter-based hash of (seed, particle,
