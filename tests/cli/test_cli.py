@@ -182,7 +182,7 @@ class Study(unittest.TestCase):
             row = out["rows"][0]
             self.assertEqual(row["n"], 16)
             self.assertTrue(row["mmatrix"])
-            self.assertLess(row["error_inf"], 5e-3)
+            self.assertLess(row["error_inf"], 2e-2)  # Table 2: 5.8e-3 at n = 20, O(h^2)
             self.assertLess(row["solver_residual"], 1e-10)
             with open(vtu, encoding="utf-8") as f:
                 text = f.read()
