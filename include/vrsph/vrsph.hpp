@@ -2,11 +2,13 @@
 // Umbrella header: the whole public surface of vrsph.
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/convergence.hpp>
+#include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/solve/solver.hpp>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/analysis/operator_study.hpp>
+#include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/cloud/domain.hpp>
 #include <vrsph/cloud/generate.hpp>

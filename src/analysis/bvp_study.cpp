@@ -115,12 +115,15 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   const PointCloud& cloud = sc.cloud;
   run.seconds_cloud = since(t0);
   run.dx = sc.dx;
-  run.h = p.h_factor * sc.dx;
   run.particles = cloud.size();
 
   t0 = Clock::now();
+  SmoothingChoice sm = choose_smoothing(cloud, sc.dx, p.h_factor, p.h_mode, p.h_knn);
+  run.h = sm.h;
+  run.covering_radius = sm.covering_radius;
   SearchParams sp;
-  sp.radius = run.h;
+  sp.radius = sm.h;
+  sp.radii = std::move(sm.radii);
   const NeighbourList nl = find_neighbours(cloud, sp);
   run.seconds_neighbours = since(t0);
 
@@ -257,7 +260,7 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
 
 Table to_table(const BvpStudyResult& r) {
   Table t;
-  t.columns = {"method", "n", "N", "unknowns", "h", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
+  t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
                "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "neighbours_mean",
                "nnz_per_row", "solver_residual", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
                "seconds_assemble", "seconds_solve"};
@@ -268,6 +271,7 @@ Table to_table(const BvpStudyResult& r) {
                {"N", static_cast<long long>(f.particles)},
                {"unknowns", static_cast<long long>(f.unknowns)},
                {"h", f.h},
+               {"covering_radius", f.covering_radius > 0 ? f.covering_radius : std::nan("")},
                {"seeds", static_cast<long long>(row.seeds)},
                {"error_inf", row.error_inf},
                {"error_inf_std", row.error_inf_std},
@@ -297,6 +301,7 @@ std::string metadata_json(const BvpStudyResult& r) {
   j["dim"] = p.dim;
   j["cloud"] = to_string(p.cloud);
   j["h_factor"] = p.h_factor;
+  j["h_mode"] = to_string(p.h_mode);
   j["kernel"] = std::string(kernel_info(p.kernel).name);
   j["solver"] = to_string(p.solver.type);
   j["seeds"] = p.seeds;

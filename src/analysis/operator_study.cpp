@@ -101,13 +101,15 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       const PointCloud& cloud = sc.cloud;
       row.seconds_cloud = seconds_since(t0);
       row.dx = sc.dx;
-      row.h = p.h_factor * sc.dx;
       row.total = cloud.size();
       row.particles = cloud.size() - cloud.count(Tag::Ghost);
 
       t0 = Clock::now();
+      SmoothingChoice sm = choose_smoothing(cloud, sc.dx, p.h_factor, p.h_mode, p.h_knn);
+      row.h = sm.h;
       SearchParams sp;
-      sp.radius = row.h;
+      sp.radius = sm.h;
+      sp.radii = std::move(sm.radii);
       const NeighbourList nl = find_neighbours(cloud, sp);
       row.seconds_neighbours = seconds_since(t0);
 
@@ -219,6 +221,7 @@ std::string metadata_json(const OperatorStudyResult& r) {
   j["cloud"] = to_string(p.cloud);
   j["ghosts"] = p.ghosts;
   j["h_factor"] = p.h_factor;
+  j["h_mode"] = to_string(p.h_mode);
   j["kernel"] = std::string(kernel_info(p.kernel).name);
   j["seed"] = p.seed;
   j["delta"] = p.delta;

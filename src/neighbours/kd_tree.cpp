@@ -98,6 +98,36 @@ void knn(const PointCloud& cloud, int k, std::vector<Real>& dist_k, std::vector<
 }
 }  // namespace
 
+namespace {
+template <int D>
+void nearest_dim(const PointCloud& cloud, const std::vector<Vec3>& queries, std::vector<Real>& dist,
+                 std::vector<Index>& index) {
+  CloudAdaptor adaptor{cloud};
+  Tree<D> tree(D, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  dist.assign(queries.size(), 0);
+  index.assign(queries.size(), -1);
+#pragma omp parallel for schedule(static)
+  for (std::size_t q = 0; q < queries.size(); ++q) {
+    std::uint32_t i = 0;
+    Real d2 = 0;
+    nanoflann::KNNResultSet<Real, std::uint32_t> rs(1);
+    rs.init(&i, &d2);
+    tree.findNeighbors(rs, queries[q].data(), nanoflann::SearchParams());
+    dist[q] = std::sqrt(d2);
+    index[q] = static_cast<Index>(i);
+  }
+}
+}  // namespace
+
+void nearest_particles(const PointCloud& cloud, const std::vector<Vec3>& queries, std::vector<Real>& dist,
+                       std::vector<Index>& index) {
+  switch (cloud.dim) {
+    case 1: return nearest_dim<1>(cloud, queries, dist, index);
+    case 2: return nearest_dim<2>(cloud, queries, dist, index);
+    default: return nearest_dim<3>(cloud, queries, dist, index);
+  }
+}
+
 NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params) {
   switch (cloud.dim) {
     case 1: return search_dim<1>(cloud, std::move(radii), params);

@@ -153,6 +153,18 @@ class Study(unittest.TestCase):
         self.assertEqual(out["rows"][0]["seeds"], 2)
         self.assertGreater(out["rows"][1]["order_inf"], 1.5)
 
+    def test_smoothing_radius_modes(self):
+        for mode in ("covering", "knn"):
+            out = run_json("study", "--method", "vrsph", "--cloud", "perturbed", "--n", "20,40,80", "--h-mode", mode)
+            self.assertEqual(out["h_mode"], mode)
+            self.assertGreater(out["rows"][2]["order_inf"], 1.8)
+        out = run_json("study", "--method", "vrsph", "--cloud", "perturbed", "--n", "20", "--h-mode", "covering")
+        self.assertGreater(out["rows"][0]["h"], 3 * out["rows"][0]["covering_radius"] - 1e-12)
+        info = run_json("cloud", "--family", "perturbed", "--n", "40")
+        self.assertGreater(info["covering_radius_over_spacing"], 0.9)
+        p = run("study", "--h-mode", "adaptive", check=False)
+        self.assertEqual(p.returncode, 2)
+
     def test_infeasible_policy(self):
         p = run("study", "--method", "vrsph", "--cloud", "perturbed", "--n", "10", "--on-infeasible", "error",
                 check=False)

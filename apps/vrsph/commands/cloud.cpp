@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/csv.hpp>
@@ -124,6 +125,11 @@ void add_cloud_command(CLI::App& app) {
     for (int k = 0; k < cloud.dim; ++k) {
       add(std::string("min_") + "xyz"[k], lo[k]);
       add(std::string("max_") + "xyz"[k], hi[k]);
+    }
+    if (cloud.domain.shape != Domain::Shape::None) {
+      const CoveringRadius cr = covering_radius(cloud);
+      add("covering_radius", cr.radius);
+      add("covering_radius_over_spacing", cr.radius / spacing);
     }
     if (a->check_brute) add("brute_force_check", std::string("agrees"));
     if (a->format == "json") {

@@ -16,6 +16,8 @@ struct OperatorArgs {
   std::uint64_t seed = 1;
   double h_factor = 3, delta = 0.5;
   bool no_ghosts = false;
+  std::string h_mode = "fixed";
+  int h_knn = 0;
   double regular_layer = 0;
   std::vector<std::string> method_opts;
   OutputOptions out;
@@ -35,6 +37,10 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--n", a->n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed (perturbed, centroids)")->capture_default_str();
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--h-mode", a->h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
+      ->capture_default_str();
+  cmd->add_option("--h-knn", a->h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
+      ->capture_default_str();
   cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx")->capture_default_str();
   cmd->add_option("--kernel", a->kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4")->capture_default_str();
   cmd->add_option("--regular-layer", a->regular_layer,
@@ -73,6 +79,8 @@ void add_operator_command(CLI::App& app) {
     p.n = parse_int_list(a->n, "--n");
     p.seed = a->seed;
     p.h_factor = a->h_factor;
+    p.h_mode = parse_smoothing_mode(a->h_mode);
+    p.h_knn = a->h_knn;
     p.delta = a->delta;
     p.ghosts = !a->no_ghosts;
     p.regular_layer = a->regular_layer;

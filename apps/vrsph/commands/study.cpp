@@ -14,7 +14,8 @@ namespace {
 struct StudyArgs {
   std::string problem = "qw-ex5", methods = "vrsph", cloud = "uniform", n = "20,40,80,160", seeds, kernel = "cubic",
               solver = "sparselu", on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
-  int dim = 2;
+  int dim = 2, h_knn = 0;
+  std::string h_mode = "fixed";
   std::uint64_t seed = 1;
   double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
   bool perturb_boundary = false;
@@ -31,6 +32,10 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   cmd->add_option("--cloud", a.cloud, "uniform, perturbed, centroids or disk")->capture_default_str();
   cmd->add_option("--seed", a.seed, "Random seed (perturbed, centroids)")->capture_default_str();
   cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--h-mode", a.h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
+      ->capture_default_str();
+  cmd->add_option("--h-knn", a.h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
+      ->capture_default_str();
   cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx")->capture_default_str();
   cmd->add_flag("--perturb-boundary", a.perturb_boundary, "Also move boundary particles along their faces");
   cmd->add_option("--regular-layer", a.regular_layer,
@@ -65,6 +70,8 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   }
   p.cloud = parse_cloud_family(a.cloud);
   p.h_factor = a.h_factor;
+  p.h_mode = parse_smoothing_mode(a.h_mode);
+  p.h_knn = a.h_knn;
   p.delta = a.delta;
   p.perturb_boundary = a.perturb_boundary;
   p.regular_layer = a.regular_layer;
@@ -109,7 +116,9 @@ void add_study_command(CLI::App& app) {
     p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
     const BvpStudyResult r = run_bvp_study(p);
     print_warnings(r.warnings);
-    emit(to_table(r), a->out, metadata_json(r), "h", "error_inf", "method",
+    auto meta = nlohmann::ordered_json::parse(metadata_json(r));
+    meta["peak_memory_mib"] = peak_memory_mib();
+    emit(to_table(r), a->out, meta.dump(), "h", "error_inf", "method",
          p.problem + " " + a->cloud + " " + std::to_string(p.dim) + "D");
   });
 }

@@ -15,6 +15,7 @@
 #include <map>
 #include <string>
 #include <vrsph/analysis/errors.hpp>
+#include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/io/table.hpp>
 #include <vrsph/kernels/kernel.hpp>
@@ -33,7 +34,9 @@ struct BvpStudyParams {
   CloudFamily cloud = CloudFamily::Uniform;
   std::vector<int> n{20, 40, 80, 160};
   std::vector<std::uint64_t> seeds{1};
-  Real h_factor = 3;                 ///< h = h_factor * dx (see h_mode)
+  Real h_factor = 3;                 ///< kappa in the smoothing rule (see h_mode)
+  SmoothingMode h_mode = SmoothingMode::Fixed;
+  int h_knn = 0;                     ///< k for SmoothingMode::Knn (0: 2d)
   Real delta = 0.5;
   bool perturb_boundary = false;     ///< also move boundary particles along their faces
   Real regular_layer = 0;            ///< first-layer particles move only tangentially (width in dx)
@@ -52,7 +55,8 @@ struct BvpRun {
   int n = 0;
   std::uint64_t seed = 0;
   Index particles = 0, unknowns = 0;
-  Real dx = 0, h = 0;
+  Real dx = 0, h = 0;        ///< h: support radius (mean of per-particle radii in knn mode)
+  Real covering_radius = 0;  ///< r_N when h_mode = covering
   ErrorReport errors;        ///< over the unknowns, |U_i - u(x_i)|
   bool m_matrix = false;
   std::string m_matrix_summary;

@@ -16,6 +16,7 @@
 #include <map>
 #include <string>
 #include <vrsph/analysis/errors.hpp>
+#include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/io/table.hpp>
 #include <vrsph/kernels/kernel.hpp>
@@ -33,7 +34,9 @@ struct OperatorStudyParams {
   CloudFamily cloud = CloudFamily::Uniform;
   std::vector<int> n{8, 16, 32, 64, 128};
   std::uint64_t seed = 1;
-  Real h_factor = 3;  ///< support radius h = h_factor * dx
+  Real h_factor = 3;  ///< kappa: support radius h = kappa * dx (see h_mode)
+  SmoothingMode h_mode = SmoothingMode::Fixed;
+  int h_knn = 0;
   Real delta = 0.5;
   bool ghosts = true;
   Real regular_layer = 0;  ///< see PerturbOptions::regular_layer

@@ -1,0 +1,32 @@
+#pragma once
+// Covering radius r_N = max over x in the domain of min_i |x - x_i| ([IM](5), [QW] §4;
+// METHODS §3.8.4), computed exactly for box and ball domains in 1D, 2D and 3D.
+//
+// Method: on each Voronoi cell clipped to the domain the distance to the cell's particle
+// is convex, so its maximum lies at a vertex of the clipped cell, or (on a ball's sphere)
+// at the point of an arc farthest from the particle. Candidates are generated from the
+// CGAL Delaunay triangulation: Voronoi vertices (circumcentres), Voronoi edges/facets
+// (duals of Delaunay facets/edges) intersected with the box faces/edges or the sphere,
+// box corners, and antipodal sphere points. Each candidate inside the domain is scored
+// with its true nearest-particle distance (k-d tree), so a superset of candidates can
+// never overestimate. All particles (ghosts included) count as covering points.
+#include <vrsph/cloud/point_cloud.hpp>
+
+namespace vrsph {
+
+struct CoveringRadius {
+  Real radius = 0;
+  Vec3 point = Vec3::Zero();  ///< where the maximum is attained
+  Index nearest = -1;         ///< the particle nearest to that point
+  Index candidates = 0;       ///< candidate points scored
+};
+
+/// Throws InputError for a cloud without a box or ball domain, or with fewer than d+1 particles.
+CoveringRadius covering_radius(const PointCloud& cloud);
+
+namespace detail {
+/// Candidate points (see above) for 2D/3D clouds; implemented with CGAL.
+std::vector<Vec3> covering_candidates(const PointCloud& cloud);
+}  // namespace detail
+
+}  // namespace vrsph
