@@ -10,14 +10,29 @@ namespace vrsph {
 namespace {
 constexpr Real eps = std::numeric_limits<Real>::epsilon();
 
-Real default_tolerance(const Real* A, int m, int n) {
-  Real norm1 = 0;  // max column sum
+Real norm1(const Real* A, int m, int n) {  // max column sum
+  Real out = 0;
   for (int j = 0; j < n; ++j) {
     Real s = 0;
     for (int i = 0; i < m; ++i) s += std::abs(A[static_cast<std::size_t>(j) * static_cast<std::size_t>(m) + static_cast<std::size_t>(i)]);
-    norm1 = std::max(norm1, s);
+    out = std::max(out, s);
   }
-  return 10 * eps * norm1 * std::max(m, n);
+  return out;
+}
+
+// Tolerances. The multiplier test uses METHODS §3.0's tol = 10 eps ||A||_1 max(m, n)
+// (w = A^T r has the units of A b). lsqnonneg also drops variables with |x_j| < tol, but
+// x has the units of b / A: for VRSPH ||A||_1 ~ h^-3 while the volumes are ~ dx^d, and at
+// n = 1000 that test discarded genuine volumes and made the textbook algorithm cycle.
+// Solving the equivalent problem (A / ||A||_1) x' = b with x' = ||A||_1 x and one
+// tolerance 10 eps max(m, n) gives the scale-consistent x threshold tol / ||A||_1^2.
+struct Tolerances {
+  Real w, x;
+};
+Tolerances tolerances(Real a_norm1, int m, int n, Real user) {
+  const Real tw = user >= 0 ? user : 10 * eps * a_norm1 * std::max(m, n);
+  const Real scale = a_norm1 > 0 ? a_norm1 : 1;
+  return {tw, tw / (scale * scale)};
 }
 
 // Givens rotation (c, s) with [c s; -s c] [a; b] = [r; 0].
@@ -64,7 +79,8 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
   Real* Q = Q_.data();  // column-major m x m; A_P = Q R
   Real* R = R_.data();  // column-major m x (k <= m), upper triangular
   Real* qtb = qtb_.data();
-  const Real tol = options.tolerance >= 0 ? options.tolerance : default_tolerance(A, m, n);
+  const Tolerances tols = tolerances(norm1(A, m, n), m, n, options.tolerance);
+  const Real tol = tols.w, xtol = tols.x;
   const int max_it = options.max_iterations >= 0 ? options.max_iterations : 3 * std::max(n, 1);
 
   std::fill(x, x + n, 0.0);
@@ -218,7 +234,7 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
       for (int p = 0; p < k; ++p) xp_[static_cast<std::size_t>(p)] += alpha * (z_[static_cast<std::size_t>(p)] - xp_[static_cast<std::size_t>(p)]);
       xp_[static_cast<std::size_t>(neg)] = 0;
       for (int p = k - 1; p >= 0; --p)
-        if (std::abs(xp_[static_cast<std::size_t>(p)]) < tol) remove_position(p);
+        if (std::abs(xp_[static_cast<std::size_t>(p)]) < xtol) remove_position(p);
       back_substitute();
     }
     if (res.status == NnlsStatus::IterationLimit) break;
@@ -259,7 +275,9 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
 NnlsResult nnls_reference(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Eigen::VectorXd& x, const NnlsOptions& o) {
   const Eigen::Index m = A.rows(), n = A.cols();
   check<InputError>(b.size() == m, "NNLS: b has ", b.size(), " entries for ", m, " rows");
-  const Real tol = o.tolerance >= 0 ? o.tolerance : 10 * eps * A.cwiseAbs().colwise().sum().maxCoeff() * static_cast<Real>(std::max(m, n));
+  const Tolerances tols = tolerances(n > 0 ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0, static_cast<int>(m),
+                                     static_cast<int>(n), o.tolerance);
+  const Real tol = tols.w;
   const int max_it = o.max_iterations >= 0 ? o.max_iterations : 3 * static_cast<int>(std::max<Eigen::Index>(n, 1));
   x = Eigen::VectorXd::Zero(n);
   std::vector<bool> P(static_cast<std::size_t>(n), false);
@@ -307,7 +325,7 @@ NnlsResult nnls_reference(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Ei
       }
       x += alpha * (z - x);
       for (Eigen::Index j = 0; j < n; ++j)
-        if (P[static_cast<std::size_t>(j)] && std::abs(x[j]) < tol) P[static_cast<std::size_t>(j)] = false;
+        if (P[static_cast<std::size_t>(j)] && std::abs(x[j]) < tols.x) P[static_cast<std::size_t>(j)] = false;
       z = solve_passive();
     }
     if (res.status == NnlsStatus::IterationLimit) break;

@@ -9,7 +9,11 @@
 // recomputed. Written by hand because it is our core (every VRSPH particle solves
 // one) and no Debian library offers a small-problem NNLS without per-call allocation.
 //
-// Tolerance (METHODS §3.0): tol = 10 eps ||A||_1 max(m, n), unless given.
+// Tolerance (METHODS §3.0): tol = 10 eps ||A||_1 max(m, n), unless given, for the
+// multiplier test w_j > tol. Deviation from lsqnonneg: a variable leaves the passive set
+// when |x_j| < tol / ||A||_1^2 (not tol), the threshold of the same algorithm run on the
+// equivalent problem scaled to ||A||_1 = 1; lsqnonneg's literal rule discarded genuine
+// VRSPH volumes at fine resolution (||A||_1 ~ h^-3 against volumes ~ dx^d) and cycled.
 // Safeguards (Lawson & Hanson 1974, ch. 23): a column that is numerically dependent
 // on the passive set, or whose trial coefficient is not positive, is not admitted.
 #include <vector>
@@ -18,7 +22,7 @@
 namespace vrsph {
 
 struct NnlsOptions {
-  Real tolerance = -1;      ///< < 0: 10 eps ||A||_1 max(m, n)
+  Real tolerance = -1;      ///< multiplier tolerance; < 0: 10 eps ||A||_1 max(m, n)
   int max_iterations = -1;  ///< < 0: 3 n (counts inner and outer iterations)
 };
 
