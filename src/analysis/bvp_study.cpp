@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -8,6 +7,7 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/properties.hpp>
@@ -15,17 +15,6 @@
 namespace vrsph {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-bool in_catalogue(const std::string& s) {
-  for (const auto& e : function_catalogue())
-    if (e.name == s) return true;
-  return false;
-}
-std::unique_ptr<ScalarFunction> function_from(const std::string& spec, int dim) {
-  return in_catalogue(spec) ? make_function(spec, dim) : make_expression_function(spec, dim);
-}
 
 // f = div(a grad u) evaluated from u and a (exact for catalogue functions).
 class DivAGradOf final : public ScalarFunction {
@@ -54,19 +43,19 @@ ProblemFunctions problem_functions(const BvpStudyParams& p) {
     pf.a = make_function("one-plus-r2", p.dim);
   } else if (p.problem == "custom") {
     check<ConfigError>(!p.u.empty(), "a custom problem needs the exact solution --u (used for errors and g)");
-    pf.u = function_from(p.u, p.dim);
-    pf.a = function_from(p.a.empty() ? "one" : p.a, p.dim);
+    pf.u = make_function_or_expression(p.u, p.dim);
+    pf.a = make_function_or_expression(p.a.empty() ? "one" : p.a, p.dim);
   } else {
     throw ConfigError("unknown boundary value problem '" + p.problem + "' (known: qw-ex5, custom)");
   }
   if (!p.f.empty()) {
-    pf.f_owned = function_from(p.f, p.dim);
+    pf.f_owned = make_function_or_expression(p.f, p.dim);
   } else {
     pf.f_owned = std::make_unique<DivAGradOf>(*pf.u, *pf.a);
   }
   pf.f = pf.f_owned.get();
   if (!p.g.empty()) {
-    pf.g_owned = function_from(p.g, p.dim);
+    pf.g_owned = make_function_or_expression(p.g, p.dim);
     pf.g = pf.g_owned.get();
   } else {
     pf.g = pf.u.get();
@@ -101,7 +90,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.method = method_name;
   run.n = n;
   run.seed = seed;
-  auto t0 = Clock::now();
+  Stopwatch watch;
   CloudSpec spec;
   spec.family = p.cloud;
   spec.box = Domain::unit_box(p.dim);
@@ -113,11 +102,11 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   spec.regular_layer = p.regular_layer;
   StudyCloud sc = make_study_cloud(spec);
   const PointCloud& cloud = sc.cloud;
-  run.seconds_cloud = since(t0);
+  run.seconds_cloud = watch.seconds();
   run.dx = sc.dx;
   run.particles = cloud.size();
 
-  t0 = Clock::now();
+  watch.restart();
   SmoothingChoice sm = choose_smoothing(cloud, sc.dx, p.h_factor, p.h_mode, p.h_knn);
   run.h = sm.h;
   run.covering_radius = sm.covering_radius;
@@ -125,9 +114,9 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   sp.radius = sm.h;
   sp.radii = std::move(sm.radii);
   const NeighbourList nl = find_neighbours(cloud, sp);
-  run.seconds_neighbours = since(t0);
+  run.seconds_neighbours = watch.seconds();
 
-  t0 = Clock::now();
+  watch.restart();
   std::vector<char> unknown(static_cast<std::size_t>(cloud.size()));
   long long nsum = 0;
   for (Index i = 0; i < cloud.size(); ++i) {
@@ -142,7 +131,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   req.coefficient = &a;
   req.rows = unknown;
   const Stencil L = method->build({cloud, nl, p.kernel, cloud.spacing}, req);
-  run.seconds_stencil = since(t0);
+  run.seconds_stencil = watch.seconds();
 
   // Local (NNLS) feasibility of the unknowns' rows.
   const Real bnorm = std::sqrt(static_cast<Real>(p.dim));
@@ -176,11 +165,11 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
     run.m_matrix_summary = mm.summary();
   }
 
-  t0 = Clock::now();
+  watch.restart();
   const Field f = sample(*pf.f, cloud), g = sample(*pf.g, cloud), exact = sample(*pf.u, cloud);
   const LinearSystem sys = assemble(L, cloud, unknown, f, g);
   run.unknowns = sys.size();
-  run.seconds_assemble = since(t0);
+  run.seconds_assemble = watch.seconds();
   run.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
   run.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
 

@@ -216,6 +216,12 @@ std::unique_ptr<ScalarFunction> make_expression_function(const std::string& u, i
   return std::make_unique<ExpressionFunction>(u, dim, gradient, laplacian);
 }
 
+std::unique_ptr<ScalarFunction> make_function_or_expression(const std::string& spec, int dim) {
+  for (const auto& e : function_catalogue())
+    if (e.name == spec) return make_function(spec, dim);
+  return make_expression_function(spec, dim);
+}
+
 Field sample(const ScalarFunction& u, const PointCloud& cloud) {
   Field out(cloud.size());
   for (Index i = 0; i < cloud.size(); ++i) {

@@ -6,6 +6,7 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/analysis/operator_study.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -13,23 +14,11 @@
 namespace vrsph {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 Domain problem_domain(const std::string& problem, int dim) {
   if (problem == "qw-trunc") return Domain::symmetric_box(dim, 1.0);
   if (problem == "unit-box") return Domain::unit_box(dim);
   throw ConfigError("unknown operator problem '" + problem + "' (known: qw-trunc, unit-box)");
-}
-
-bool is_catalogue_name(const std::string& s) {
-  for (const auto& e : function_catalogue())
-    if (e.name == s) return true;
-  return false;
-}
-
-std::unique_ptr<ScalarFunction> function_from(const std::string& spec, int dim) {
-  return is_catalogue_name(spec) ? make_function(spec, dim) : make_expression_function(spec, dim);
 }
 
 std::vector<std::string> split_semicolons(const std::string& s) {
@@ -62,9 +51,9 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
   validate_params(p);
   const Domain box = problem_domain(p.problem, p.dim);
   const std::string u_spec = p.u.empty() ? "cos-pi" : p.u;
-  auto u = function_from(u_spec, p.dim);
+  auto u = make_function_or_expression(u_spec, p.dim);
   std::unique_ptr<ScalarFunction> a;
-  if (p.op == OperatorKind::DivAGrad) a = function_from(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
+  if (p.op == OperatorKind::DivAGrad) a = make_function_or_expression(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
   std::vector<Expression> expected;
   if (!p.exact.empty()) {
     for (const auto& e : split_semicolons(p.exact)) expected.emplace_back(e);
@@ -85,7 +74,7 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       OperatorStudyRow row;
       row.method = name;
       row.n = n;
-      auto t0 = Clock::now();
+      Stopwatch watch;
       CloudSpec spec;
       spec.family = p.cloud;
       spec.box = box;
@@ -99,21 +88,21 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       spec.ghost_width = p.ghosts ? h + dx : 0;
       const StudyCloud sc = make_study_cloud(spec);
       const PointCloud& cloud = sc.cloud;
-      row.seconds_cloud = seconds_since(t0);
+      row.seconds_cloud = watch.seconds();
       row.dx = sc.dx;
       row.total = cloud.size();
       row.particles = cloud.size() - cloud.count(Tag::Ghost);
 
-      t0 = Clock::now();
+      watch.restart();
       SmoothingChoice sm = choose_smoothing(cloud, sc.dx, p.h_factor, p.h_mode, p.h_knn);
       row.h = sm.h;
       SearchParams sp;
       sp.radius = sm.h;
       sp.radii = std::move(sm.radii);
       const NeighbourList nl = find_neighbours(cloud, sp);
-      row.seconds_neighbours = seconds_since(t0);
+      row.seconds_neighbours = watch.seconds();
 
-      t0 = Clock::now();
+      watch.restart();
       const Discretisation disc{cloud, nl, p.kernel, cloud.spacing};
       StencilRequest req;
       req.kind = p.op;
@@ -123,12 +112,12 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
         req.coefficient = &a_values;
       }
       const Stencil s = method->build(disc, req);
-      row.seconds_stencil = seconds_since(t0);
+      row.seconds_stencil = watch.seconds();
 
-      t0 = Clock::now();
+      watch.restart();
       const Field uh = sample(*u, cloud);
       const Eigen::MatrixXd approx = apply(s, uh);
-      row.seconds_apply = seconds_since(t0);
+      row.seconds_apply = watch.seconds();
       Eigen::MatrixXd exact(cloud.size(), components(p.op, p.dim));
       if (expected.empty()) {
         exact = sample_exact(p.op, *u, a.get(), cloud);

@@ -1,7 +1,7 @@
 #include <cmath>
-#include <deque>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
+#include "../core/reachability.hpp"
 
 namespace vrsph {
 
@@ -65,19 +65,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   std::vector<std::vector<Index>> reverse(static_cast<std::size_t>(m));
   for (const auto& t : trip)
     if (t.row() != t.col() && t.value() != 0) reverse[static_cast<std::size_t>(t.col())].push_back(t.row());
-  std::deque<Index> queue;
-  for (Index d = 0; d < m; ++d)
-    if (anchored[static_cast<std::size_t>(d)]) queue.push_back(d);
-  std::vector<char> reached(anchored);
-  while (!queue.empty()) {
-    const Index d = queue.front();
-    queue.pop_front();
-    for (Index r : reverse[static_cast<std::size_t>(d)])
-      if (!reached[static_cast<std::size_t>(r)]) {
-        reached[static_cast<std::size_t>(r)] = 1;
-        queue.push_back(r);
-      }
-  }
+  const std::vector<char> reached = detail::reaching(reverse, anchored);
   Index floating = 0, first = -1;
   for (Index d = 0; d < m; ++d)
     if (!reached[static_cast<std::size_t>(d)]) {

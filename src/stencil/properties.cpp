@@ -1,8 +1,8 @@
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <vrsph/core/error.hpp>
 #include <vrsph/stencil/properties.hpp>
+#include "../core/reachability.hpp"
 
 namespace vrsph {
 
@@ -78,19 +78,7 @@ MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Re
         reverse[static_cast<std::size_t>(j)].push_back(i);
     }
   }
-  std::vector<char> reached(strict);
-  std::deque<Index> queue;
-  for (Index i = 0; i < n; ++i)
-    if (strict[static_cast<std::size_t>(i)]) queue.push_back(i);
-  while (!queue.empty()) {
-    const Index j = queue.front();
-    queue.pop_front();
-    for (Index i : reverse[static_cast<std::size_t>(j)])
-      if (!reached[static_cast<std::size_t>(i)]) {
-        reached[static_cast<std::size_t>(i)] = 1;
-        queue.push_back(i);
-      }
-  }
+  const std::vector<char> reached = detail::reaching(reverse, strict);
   for (Index i = 0; i < n; ++i)
     if (unknown[static_cast<std::size_t>(i)] && !reached[static_cast<std::size_t>(i)]) {
       rep.unreachable.push_back(i);

@@ -36,6 +36,19 @@ void set_threads(int threads) {
 #endif
 }
 
+// The benchmark cloud: a perturbed layout-A unit lattice, (n+1)^d particles.
+StudyCloud bench_cloud(const BenchArgs& a) {
+  check<ConfigError>(a.repeat >= 1, "--repeat must be >= 1");
+  check<ConfigError>(a.dim >= 1 && a.dim <= 3, "--dim must be 1, 2 or 3");
+  set_threads(a.threads);
+  CloudSpec spec;
+  spec.family = CloudFamily::Perturbed;
+  spec.box = Domain::unit_box(a.dim);
+  spec.n = a.n;
+  spec.seed = a.seed;
+  return make_study_cloud(spec);
+}
+
 template <class F>
 double best_of(int repeat, F&& f) {
   double best = 1e300;
@@ -64,16 +77,8 @@ void add_volumes_bench(CLI::App& bench) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->callback([a, reference_sample] {
-    check<ConfigError>(a->repeat >= 1, "--repeat must be >= 1");
-    check<ConfigError>(a->dim >= 1 && a->dim <= 3, "--dim must be 1, 2 or 3");
     check<ConfigError>(*reference_sample >= 0, "--reference-sample must be >= 0");
-    set_threads(a->threads);
-    CloudSpec spec;
-    spec.family = CloudFamily::Perturbed;
-    spec.box = Domain::unit_box(a->dim);
-    spec.n = a->n;
-    spec.seed = a->seed;
-    const StudyCloud sc = make_study_cloud(spec);
+    const StudyCloud sc = bench_cloud(*a);
     SearchParams sp;
     sp.radius = a->h_factor * sc.dx;
     const NeighbourList nl = find_neighbours(sc.cloud, sp);
@@ -157,15 +162,7 @@ void add_bench_command(CLI::App& app) {
   nb->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   nb->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   nb->callback([a] {
-    check<ConfigError>(a->repeat >= 1, "--repeat must be >= 1");
-    check<ConfigError>(a->dim >= 1 && a->dim <= 3, "--dim must be 1, 2 or 3");
-    set_threads(a->threads);
-    CloudSpec spec;
-    spec.family = CloudFamily::Perturbed;
-    spec.box = Domain::unit_box(a->dim);
-    spec.n = a->n;
-    spec.seed = a->seed;
-    const StudyCloud sc = make_study_cloud(spec);
+    const StudyCloud sc = bench_cloud(*a);
     SearchParams sp;
     sp.radius = a->h_factor * sc.dx;
     Table t;

@@ -37,6 +37,9 @@ std::unique_ptr<ScalarFunction> make_expression_function(const std::string& u, i
                                                          const std::vector<std::string>& gradient = {},
                                                          const std::string& laplacian = "");
 
+/// A catalogue name if it is one, else a muParser expression in x, y, z.
+std::unique_ptr<ScalarFunction> make_function_or_expression(const std::string& spec, int dim);
+
 /// A single muParser expression f(x, y, z), for right-hand sides and expected values.
 class Expression {
  public:

@@ -11,7 +11,6 @@
 //             Without ghosts ([QW] Example 4): layout A (vertex lattice with boundary
 //             particles), errors over the particles of the open domain (METHODS P14).
 //   unit-box  the same constructions on [0,1]^d (for user expressions).
-#include <chrono>
 #include <functional>
 #include <map>
 #include <string>
