@@ -251,7 +251,7 @@ Table to_table(const BvpStudyResult& r) {
   Table t;
   t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
                "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "neighbours_mean",
-               "nnz_per_row", "solver_residual", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
+               "nnz_per_row", "solver", "solver_iterations", "solver_residual", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
                "seconds_assemble", "seconds_solve"};
   for (const auto& row : r.rows) {
     const BvpRun& f = row.first;
@@ -273,6 +273,8 @@ Table to_table(const BvpStudyResult& r) {
                {"infeasible", static_cast<long long>(row.infeasible_max)},
                {"neighbours_mean", f.neighbours_mean},
                {"nnz_per_row", f.nnz_per_row},
+               {"solver", f.solve.solver},
+               {"solver_iterations", static_cast<long long>(f.solve.iterations)},
                {"solver_residual", f.solve.residual},
                {"seconds_cloud", f.seconds_cloud},
                {"seconds_neighbours", f.seconds_neighbours},

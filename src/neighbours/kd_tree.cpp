@@ -68,12 +68,13 @@ void knn_dim(const PointCloud& cloud, int k, std::vector<Real>& dist_k, std::vec
   const auto want = static_cast<std::size_t>(k) + 1;  // the particle itself comes back too
 #pragma omp parallel
   {
-    std::vector<std::uint32_t> idx(want);
-    std::vector<Real> d2(want);
+    // Plain arrays: GCC 12 reports a false null dereference for vector<uint32_t>(n) here.
+    const auto idx = std::make_unique<std::uint32_t[]>(want);
+    const auto d2 = std::make_unique<Real[]>(want);
 #pragma omp for
     for (Index i = 0; i < n; ++i) {
       nanoflann::KNNResultSet<Real, std::uint32_t> rs(want);
-      rs.init(idx.data(), d2.data());
+      rs.init(idx.get(), d2.get());
       tree.findNeighbors(rs, cloud.positions[static_cast<std::size_t>(i)].data(), nanoflann::SearchParams());
       // Skip the query particle itself (exactly one zero-distance hit with index i).
       int seen = 0;

@@ -178,6 +178,7 @@ class Study(unittest.TestCase):
         cases = [
             (("--u", "sin(pi*x)", "--a", "x-0.5"), 3, "coefficient a must be positive"),
             (("--u", "sin(pi*x", ), 3, "cannot parse expression"),
+            (("--u", "sqrt(x-0.5)"), 3, "is not finite"),
             (("--solver", "magic"), 2, "unknown solver"),
             (("--problem", "nope"), 2, "unknown boundary value problem"),
             (("--on-infeasible", "ignore"), 2, "--on-infeasible must be warn or error"),

@@ -1,30 +1,62 @@
 #pragma once
 // A std::vector whose resize() leaves trivially-constructible elements uninitialised.
-// Large CSR arrays (neighbour indices, distances) are sized once and then filled in
-// parallel; zero-filling them first cost a third of the neighbour-search time.
+// Large CSR arrays (neighbour indices, distances, volumes) are sized once and then
+// filled in parallel; zero-filling them first cost a third of the neighbour-search time.
+// Arrays of 4 MiB or more are also 2 MiB-aligned and advised as transparent huge pages
+// (Linux): the first touch then costs one page fault per 2 MiB instead of per 4 KiB.
+#include <cstdlib>
 #include <memory>
+#include <new>
 #include <vector>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace vrsph {
 
-template <class T, class A = std::allocator<T>>
-class DefaultInitAllocator : public A {
-  using Traits = std::allocator_traits<A>;
-
+template <class T>
+class DefaultInitAllocator {
  public:
+  using value_type = T;
+  DefaultInitAllocator() noexcept = default;
   template <class U>
-  struct rebind {
-    using other = DefaultInitAllocator<U, typename Traits::template rebind_alloc<U>>;
-  };
-  using A::A;
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes >= huge_threshold) {
+      const std::size_t rounded = (bytes + huge_page - 1) / huge_page * huge_page;
+      void* p = std::aligned_alloc(huge_page, rounded);
+      if (!p) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+      ::madvise(p, rounded, MADV_HUGEPAGE);  // advisory: failure only means small pages
+#endif
+      return static_cast<T*>(p);
+    }
+    return std::allocator<T>{}.allocate(n);
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n * sizeof(T) >= huge_threshold)
+      std::free(p);
+    else
+      std::allocator<T>{}.deallocate(p, n);
+  }
   template <class U>
   void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
     ::new (static_cast<void*>(p)) U;  // default-init: no zeroing for trivial types
   }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
-    Traits::construct(static_cast<A&>(*this), p, std::forward<Args>(args)...);
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
+  template <class U>
+  bool operator==(const DefaultInitAllocator<U>&) const noexcept {
+    return true;
+  }
+
+ private:
+  static constexpr std::size_t huge_page = std::size_t{2} << 20;
+  static constexpr std::size_t huge_threshold = std::size_t{4} << 20;
 };
 
 template <class T>
