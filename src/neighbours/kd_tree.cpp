@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+// GCC 12 reports a false -Wnull-dereference inside nanoflann's index construction
+// (std::vector<uint32_t>::resize inlined into our code); nothing of ours is involved.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <nanoflann.hpp>
 #include "two_pass.hpp"
 
@@ -68,13 +72,12 @@ void knn_dim(const PointCloud& cloud, int k, std::vector<Real>& dist_k, std::vec
   const auto want = static_cast<std::size_t>(k) + 1;  // the particle itself comes back too
 #pragma omp parallel
   {
-    // Plain arrays: GCC 12 reports a false null dereference for vector<uint32_t>(n) here.
-    const auto idx = std::make_unique<std::uint32_t[]>(want);
-    const auto d2 = std::make_unique<Real[]>(want);
+    std::vector<std::uint32_t> idx(want);
+    std::vector<Real> d2(want);
 #pragma omp for
     for (Index i = 0; i < n; ++i) {
       nanoflann::KNNResultSet<Real, std::uint32_t> rs(want);
-      rs.init(idx.get(), d2.get());
+      rs.init(idx.data(), d2.data());
       tree.findNeighbors(rs, cloud.positions[static_cast<std::size_t>(i)].data(), nanoflann::SearchParams());
       // Skip the query particle itself (exactly one zero-distance hit with index i).
       int seen = 0;
@@ -174,3 +177,5 @@ ClosestPair closest_pair(const PointCloud& cloud) {
 }
 
 }  // namespace vrsph
+
+#pragma GCC diagnostic pop
