@@ -63,7 +63,6 @@ void NnlsSolver::reserve(int m, int n) {
   z_.resize(M);
   xp_.resize(M);
   r_.resize(M);
-  v_.resize(M);
   w_.resize(N);
   passive_.resize(M);
   in_passive_.resize(N);
@@ -84,9 +83,6 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
   const int max_it = options.max_iterations >= 0 ? options.max_iterations : 3 * std::max(n, 1);
 
   std::fill(x, x + n, 0.0);
-  std::fill(Q, Q + M * M, 0.0);
-  for (std::size_t i = 0; i < M; ++i) Q[i * M + i] = 1;
-  std::copy(b, b + m, qtb);
   std::fill(in_passive_.begin(), in_passive_.begin() + n, 0);
   int k = 0;  // passive count
   NnlsResult res;
@@ -112,16 +108,16 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     qtb[p] = c * a + s * bq;
     qtb[q] = -s * a + c * bq;
   };
-  // w = A^T (b - A_P z) with the residual taken from the orthogonal complement: r = Q[:,k:] qtb[k:].
+  // w = A^T r with r = b - Q1 (Q1^T b), Q1 the k orthonormal columns spanning A_P.
   auto gradient = [&] {
-    std::fill(r_.begin(), r_.begin() + m, 0.0);
-    Real res2 = 0;
-    for (int j = k; j < m; ++j) {
+    for (std::size_t i = 0; i < M; ++i) r_[i] = b[i];
+    for (int j = 0; j < k; ++j) {
       const Real t = qtb[j];
-      res2 += t * t;
       const Real* Qj = Q + static_cast<std::size_t>(j) * M;
-      for (std::size_t i = 0; i < M; ++i) r_[i] += t * Qj[i];
+      for (std::size_t i = 0; i < M; ++i) r_[i] -= t * Qj[i];
     }
+    Real res2 = 0;
+    for (std::size_t i = 0; i < M; ++i) res2 += r_[i] * r_[i];
     for (int j = 0; j < n; ++j) {
       if (in_passive_[static_cast<std::size_t>(j)]) {
         w_[static_cast<std::size_t>(j)] = -std::numeric_limits<Real>::infinity();  // never re-enters directly
@@ -134,30 +130,38 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     }
     return std::sqrt(res2);
   };
-  // Appends column t as passive position k. Returns false (and leaves the factorisation
-  // unchanged in its leading k columns) if t is numerically dependent on the passive set.
+  // Appends column t as passive position k: Gram–Schmidt against the k passive basis
+  // columns, twice ("twice is enough" for orthogonality). Returns false (factorisation
+  // unchanged) if t is numerically dependent on the passive set.
   auto add_column = [&](int t) {
     const Real* a = col(t);
-    Real anorm = 0;
-    for (std::size_t i = 0; i < M; ++i) {
-      Real s = 0;
-      const Real* Qi = Q + i * M;
-      for (std::size_t l = 0; l < M; ++l) s += Qi[l] * a[l];
-      v_[i] = s;
-      anorm += a[i] * a[i];
-    }
-    // Rotate v[k+1..m-1] into v[k], bottom up, updating Q and qtb alike.
-    for (int i = m - 1; i > k; --i) {
-      Real c, s;
-      givens(v_[static_cast<std::size_t>(i) - 1], v_[static_cast<std::size_t>(i)], c, s);
-      if (s == 0) continue;
-      v_[static_cast<std::size_t>(i) - 1] = c * v_[static_cast<std::size_t>(i) - 1] + s * v_[static_cast<std::size_t>(i)];
-      v_[static_cast<std::size_t>(i)] = 0;
-      rotate_q(i - 1, i, c, s);
-    }
-    if (std::abs(v_[static_cast<std::size_t>(k)]) <= 100 * eps * std::sqrt(anorm) * m) return false;
+    Real* qk = Q + static_cast<std::size_t>(k) * M;
     Real* Rk = R + static_cast<std::size_t>(k) * M;
-    for (int i = 0; i <= k; ++i) Rk[i] = v_[static_cast<std::size_t>(i)];
+    Real anorm2 = 0;
+    for (std::size_t i = 0; i < M; ++i) {
+      qk[i] = a[i];
+      anorm2 += a[i] * a[i];
+    }
+    for (int l = 0; l < k; ++l) Rk[l] = 0;
+    for (int pass = 0; pass < 2; ++pass)
+      for (int l = 0; l < k; ++l) {
+        const Real* Ql = Q + static_cast<std::size_t>(l) * M;
+        Real c = 0;
+        for (std::size_t i = 0; i < M; ++i) c += Ql[i] * qk[i];
+        for (std::size_t i = 0; i < M; ++i) qk[i] -= c * Ql[i];
+        Rk[l] += c;
+      }
+    Real vnorm2 = 0;
+    for (std::size_t i = 0; i < M; ++i) vnorm2 += qk[i] * qk[i];
+    const Real vnorm = std::sqrt(vnorm2);
+    if (vnorm <= 100 * eps * std::sqrt(anorm2) * m) return false;
+    Real qb = 0;
+    for (std::size_t i = 0; i < M; ++i) {
+      qk[i] /= vnorm;
+      qb += qk[i] * b[i];
+    }
+    Rk[k] = vnorm;
+    qtb[k] = qb;
     passive_[static_cast<std::size_t>(k)] = t;
     xp_[static_cast<std::size_t>(k)] = 0;  // t comes from the zero set
     in_passive_[static_cast<std::size_t>(t)] = 1;

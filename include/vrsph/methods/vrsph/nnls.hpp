@@ -4,9 +4,9 @@
 //
 // NnlsSolver is the Lawson–Hanson active-set algorithm (the algorithm of MATLAB's
 // lsqnonneg and SciPy's nnls) written for throughput: one workspace per thread, no
-// heap allocation per solve, and the QR factorisation of the passive columns is
-// updated by Givens rotations when a column enters or leaves instead of being
-// recomputed. Written by hand because it is our core (every VRSPH particle solves
+// heap allocation per solve, and the thin QR factorisation of the passive columns is
+// updated instead of recomputed: Gram–Schmidt with reorthogonalisation when a column
+// enters, Givens rotations when one leaves. Written by hand because it is our core (every VRSPH particle solves
 // one) and no Debian library offers a small-problem NNLS without per-call allocation.
 //
 // Tolerance (METHODS §3.0): tol = 10 eps ||A||_1 max(m, n), unless given, for the
@@ -46,7 +46,7 @@ class NnlsSolver {
   void reserve(int m, int n);
   template <int FixedRows>
   NnlsResult solve_impl(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options);
-  std::vector<Real> Q_, R_, qtb_, z_, w_, r_, v_, xp_;
+  std::vector<Real> Q_, R_, qtb_, z_, w_, r_, xp_;
   std::vector<int> passive_;  // column index per passive position
   std::vector<char> in_passive_;
   int cap_m_ = 0, cap_n_ = 0;
