@@ -78,7 +78,18 @@ void add_cloud_command(CLI::App& app) {
     const Real spacing = estimate_spacing(cloud);
     check<InputError>(spacing > 0 && std::isfinite(spacing), "cannot estimate a particle spacing for this cloud");
     const ClosestPair cp = closest_pair(cloud);
+    // Duplicates: particles whose nearest other particle is closer than the search's
+    // duplicate tolerance. They make every method's weights singular: report and fail.
     SearchParams sp;
+    const Real dup_tol = sp.duplicate_tolerance * a->h_factor * spacing;
+    long long duplicates = 0;
+    for (Real d : kth_neighbour_distance(cloud, 1)) duplicates += d <= dup_tol ? 1 : 0;
+    if (duplicates > 0) {
+      const Vec3& x = cloud.positions[static_cast<std::size_t>(cp.i)];
+      throw InputError(detail::concat(duplicates, " particles have a duplicate (distance <= ", dup_tol,
+                                      "); first: duplicate particles ", cp.i, " and ", cp.j, " at (", x[0], ", ", x[1],
+                                      ", ", x[2], ")"));
+    }
     sp.radius = a->h_factor * spacing;
     sp.min_neighbours = 0;  // report, do not fail, on isolated particles
     const NeighbourList nl = find_neighbours(cloud, sp);  // throws on duplicates, naming them
@@ -116,7 +127,7 @@ void add_cloud_command(CLI::App& app) {
     add("spacing", spacing);
     add("min_distance", cp.distance);
     add("min_distance_pair", std::to_string(cp.i) + "," + std::to_string(cp.j));
-    add("duplicates", 0LL);
+    add("duplicates", duplicates);
     add("h", sp.radius);
     add("neighbours_min", static_cast<long long>(counted ? nmin : 0));
     add("neighbours_mean", counted ? static_cast<double>(nsum) / static_cast<double>(counted) : 0.0);
