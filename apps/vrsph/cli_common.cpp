@@ -1,5 +1,6 @@
 #include "cli_common.hpp"
 #include <unistd.h>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -87,6 +88,23 @@ std::vector<std::string> parse_name_list(const std::string& text, const std::str
     out.push_back(item);
   }
   check<ConfigError>(!out.empty(), "option ", option, " needs at least one name");
+  return out;
+}
+
+std::map<std::string, MethodOptions> parse_method_options(const std::vector<std::string>& items,
+                                                          const std::vector<std::string>& methods) {
+  std::map<std::string, MethodOptions> out;
+  for (const auto& item : items) {
+    const auto colon = item.find(':'), eq = item.find('=');
+    const bool scoped = colon != std::string::npos && colon < eq;
+    const std::string target = scoped ? item.substr(0, colon) : "";
+    check<ConfigError>(!scoped || std::find(methods.begin(), methods.end(), target) != methods.end(), "--method-opt ",
+                       item, ": method ", target, " is not in --method");
+    const MethodOptions parsed = MethodOptions::parse({scoped ? item.substr(colon + 1) : item});
+    for (const auto& m : methods)
+      if (!scoped || m == target)
+        for (const auto& [k, v] : parsed.values()) out[m].set(k, v);
+  }
   return out;
 }
 

@@ -3,7 +3,9 @@
 #include <chrono>
 #include <string>
 #include <vector>
+#include <map>
 #include <vrsph/io/table.hpp>
+#include <vrsph/methods/options.hpp>
 
 namespace vrsph::cli {
 
@@ -22,6 +24,11 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
 /// "8,16,32" -> {8,16,32}; throws ConfigError naming the option on bad input.
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);
 std::vector<std::string> parse_name_list(const std::string& text, const std::string& option);
+
+/// --method-opt items: "key=value" applies to every method, "method:key=value" to one
+/// (which must be in `methods`). Throws ConfigError on malformed items.
+std::map<std::string, MethodOptions> parse_method_options(const std::vector<std::string>& items,
+                                                          const std::vector<std::string>& methods);
 
 /// Peak resident memory of this process (VmHWM), in MiB; 0 if unknown.
 double peak_memory_mib();

@@ -85,6 +85,12 @@ class Operator(unittest.TestCase):
         p = run("operator", "--u", "sin(", check=False)
         self.assertEqual(p.returncode, 3)
         self.assertIn("cannot parse expression", p.stderr)
+        p = run("operator", "--method", "sph", "--method-opt", "vrsph:rows=full", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("method vrsph is not in --method", p.stderr)
+        p = run("study", "--method", "vrsph", "--method-opt", "vrsph:rows=diagonal", "--n", "8", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("rows='diagonal' is not one of", p.stderr)
         p = run("operator", "--frobnicate", check=False)
         self.assertNotEqual(p.returncode, 0)
 

@@ -58,22 +58,7 @@ void add_operator_command(CLI::App& app) {
     p.problem = a->problem;
     p.dim = a->dim;
     p.methods = parse_name_list(a->methods, "--method");
-    for (const auto& item : a->method_opts) {
-      // "method:key=value" applies to one method, "key=value" to all.
-      const auto colon = item.find(':'), eq = item.find('=');
-      if (colon != std::string::npos && colon < eq) {
-        const std::string m = item.substr(0, colon);
-        check<ConfigError>(std::find(p.methods.begin(), p.methods.end(), m) != p.methods.end(), "--method-opt ", item,
-                           ": method ", m, " is not in --method");
-        auto& o = p.method_options[m];
-        o = MethodOptions::parse({item.substr(colon + 1)});
-      } else {
-        for (const auto& m : p.methods) {
-          auto parsed = MethodOptions::parse({item});
-          for (const auto& [k, v] : parsed.values()) p.method_options[m].set(k, v);
-        }
-      }
-    }
+    p.method_options = parse_method_options(a->method_opts, p.methods);
     p.op = parse_operator(a->op);
     p.cloud = parse_cloud_family(a->cloud);
     p.n = parse_int_list(a->n, "--n");

@@ -59,15 +59,7 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.problem = (!a.u.empty() && a.problem == "qw-ex5") ? "custom" : a.problem;
   p.dim = a.dim;
   p.methods = methods;
-  for (const auto& item : a.method_opts) {
-    const auto colon = item.find(':'), eq = item.find('=');
-    const bool scoped = colon != std::string::npos && colon < eq;
-    for (const auto& m : methods) {
-      if (scoped && item.substr(0, colon) != m) continue;
-      const MethodOptions parsed = MethodOptions::parse({scoped ? item.substr(colon + 1) : item});
-      for (const auto& [k, v] : parsed.values()) p.method_options[m].set(k, v);
-    }
-  }
+  p.method_options = parse_method_options(a.method_opts, methods);
   p.cloud = parse_cloud_family(a.cloud);
   p.h_factor = a.h_factor;
   p.h_mode = parse_smoothing_mode(a.h_mode);
