@@ -76,8 +76,7 @@ void validate_params(const BvpStudyParams& p) {
   for (const auto& m : p.methods) {
     check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::DivAGrad), "method ", m,
                        " does not provide div-a-grad");
-    auto it = p.method_options.find(m);
-    (void)builtin_methods().create(m, it == p.method_options.end() ? MethodOptions{} : it->second);
+    (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   (void)problem_functions(p);  // parse expressions now
 }
@@ -124,8 +123,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
     if (unknown[static_cast<std::size_t>(i)]) nsum += nl.count(i);
   }
   const Field a = sample(*pf.a, cloud);
-  auto it = p.method_options.find(method_name);
-  const auto method = builtin_methods().create(method_name, it == p.method_options.end() ? MethodOptions{} : it->second);
+  const auto method = builtin_methods().create(method_name, options_for(p.method_options, method_name));
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
   req.coefficient = &a;
@@ -134,30 +132,20 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.seconds_stencil = watch.seconds();
 
   // Local (NNLS) feasibility of the unknowns' rows.
-  const Real bnorm = std::sqrt(static_cast<Real>(p.dim));
-  if (!L.residual.empty()) {
-    std::vector<std::pair<Real, Index>> bad;
-    for (Index i = 0; i < cloud.size(); ++i) {
-      if (!unknown[static_cast<std::size_t>(i)]) continue;
-      const Real r = L.residual[static_cast<std::size_t>(i)] / bnorm;
-      run.max_local_residual = std::max(run.max_local_residual, r);
-      const bool failed = !L.local_failure.empty() && L.local_failure[static_cast<std::size_t>(i)];
-      if (r > p.infeasible_tolerance || failed) bad.emplace_back(failed ? std::numeric_limits<Real>::infinity() : r, i);
-    }
-    run.infeasible = static_cast<Index>(bad.size());
-    std::sort(bad.rbegin(), bad.rend());
+  const LocalResidualSummary local = summarise_local_residuals(L, unknown, p.infeasible_tolerance);
+  run.max_local_residual = local.max_relative;
+  run.infeasible = local.infeasible;
+  if (local.infeasible > 0) {
     std::string list;
-    for (std::size_t k = 0; k < bad.size() && k < 10; ++k) {
-      run.infeasible_particles.push_back(bad[k].second);
-      list += detail::concat(k ? ", " : "", bad[k].second, " (", bad[k].first, ")");
+    for (std::size_t k = 0; k < local.worst.size(); ++k) {
+      run.infeasible_particles.push_back(local.worst[k].second);
+      list += detail::concat(k ? ", " : "", local.worst[k].second, " (", local.worst[k].first, ")");
     }
-    if (!bad.empty()) {
-      const std::string msg = detail::concat(method_name, " n=", n, " seed=", seed, ": ", bad.size(),
-                                             " particle(s) with infeasible moment conditions (relative residual > ",
-                                             p.infeasible_tolerance, "); worst: ", list);
-      if (p.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
-      if (warnings) warnings->push_back(msg);
-    }
+    const std::string msg = detail::concat(method_name, " n=", n, " seed=", seed, ": ", local.infeasible,
+                                           " particle(s) with infeasible moment conditions (relative residual > ",
+                                           p.infeasible_tolerance, "); worst: ", list);
+    if (p.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
+    if (warnings) warnings->push_back(msg);
   }
   if (p.check_m_matrix) {
     const MMatrixReport mm = check_m_matrix(L, unknown);

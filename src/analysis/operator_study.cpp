@@ -10,6 +10,7 @@
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/apply.hpp>
+#include <vrsph/stencil/properties.hpp>
 
 namespace vrsph {
 
@@ -39,8 +40,7 @@ void validate_params(const OperatorStudyParams& p) {
   for (const auto& m : p.methods) {
     const auto& info = builtin_methods().info(m);  // throws for unknown names
     check<ConfigError>(info.supports(p.op), "method ", m, " does not provide operator ", to_string(p.op));
-    auto it = p.method_options.find(m);
-    (void)builtin_methods().create(m, it == p.method_options.end() ? MethodOptions{} : it->second);
+    (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");
   check<ConfigError>(p.cloud != CloudFamily::Disk || !p.ghosts, "the disk cloud has no ghosts: add --no-ghosts");
@@ -67,8 +67,7 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
   const double steps = static_cast<double>(p.methods.size() * p.n.size());
   double done = 0;
   for (const auto& name : p.methods) {
-    auto it = p.method_options.find(name);
-    const auto method = builtin_methods().create(name, it == p.method_options.end() ? MethodOptions{} : it->second);
+    const auto method = builtin_methods().create(name, options_for(p.method_options, name));
     std::vector<OperatorStudyRow> rows;
     for (int n : p.n) {
       OperatorStudyRow row;
@@ -138,13 +137,9 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
         nmax = std::max(nmax, nl.count(i));
       }
       check<GeometryError>(evaluated > 0, "no interior particle to evaluate at n = ", n);
-      if (!s.residual.empty())
-        for (Index i = 0; i < cloud.size(); ++i) {
-          if (!rows_mask[static_cast<std::size_t>(i)]) continue;
-          const Real r = s.residual[static_cast<std::size_t>(i)] / std::sqrt(static_cast<Real>(p.dim));
-          row.max_local_residual = std::max(row.max_local_residual, r);
-          row.infeasible += r > 1e-6 ? 1 : 0;
-        }
+      const LocalResidualSummary local = summarise_local_residuals(s, rows_mask, 1e-6, 0);
+      row.max_local_residual = local.max_relative;
+      row.infeasible = local.infeasible;
       row.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(evaluated);
       row.neighbours_min = nmin;
       row.neighbours_max = nmax;

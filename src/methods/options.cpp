@@ -58,4 +58,10 @@ void MethodOptions::reject_unused(const std::string& method) const {
   check<ConfigError>(unknown.empty(), "method ", method, " has no option(s): ", unknown);
 }
 
+const MethodOptions& options_for(const std::map<std::string, MethodOptions>& per_method, const std::string& method) {
+  static const MethodOptions defaults;
+  const auto it = per_method.find(method);
+  return it == per_method.end() ? defaults : it->second;
+}
+
 }  // namespace vrsph

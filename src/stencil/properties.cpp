@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/stencil/properties.hpp>
 #include "../core/reachability.hpp"
@@ -86,6 +88,28 @@ MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Re
       flag(i);
     }
   return rep;
+}
+
+LocalResidualSummary summarise_local_residuals(const Stencil& s, std::span<const char> rows, Real tolerance,
+                                               std::size_t max_listed) {
+  LocalResidualSummary out;
+  if (s.residual.empty()) return out;
+  check<InputError>(static_cast<Index>(rows.size()) == s.rows(), "local residual summary: mask has ", rows.size(),
+                    " entries for ", s.rows(), " rows (size mismatch)");
+  const Real bnorm = std::sqrt(static_cast<Real>(s.dim));
+  std::vector<std::pair<Real, Index>> bad;
+  for (Index i = 0; i < s.rows(); ++i) {
+    if (!rows[static_cast<std::size_t>(i)]) continue;
+    const Real r = s.residual[static_cast<std::size_t>(i)] / bnorm;
+    const bool failed = !s.local_failure.empty() && s.local_failure[static_cast<std::size_t>(i)];
+    if (!failed) out.max_relative = std::max(out.max_relative, r);
+    if (r > tolerance || failed) bad.emplace_back(failed ? std::numeric_limits<Real>::infinity() : r, i);
+  }
+  out.infeasible = static_cast<Index>(bad.size());
+  const std::size_t keep = std::min(max_listed, bad.size());
+  std::partial_sort(bad.begin(), bad.begin() + static_cast<std::ptrdiff_t>(keep), bad.end(), std::greater<>());
+  out.worst.assign(bad.begin(), bad.begin() + static_cast<std::ptrdiff_t>(keep));
+  return out;
 }
 
 namespace {

@@ -32,4 +32,7 @@ class MethodOptions {
   mutable std::set<std::string> used_;
 };
 
+/// The options given for `method` in a per-method map, or the defaults (empty options).
+const MethodOptions& options_for(const std::map<std::string, MethodOptions>& per_method, const std::string& method);
+
 }  // namespace vrsph

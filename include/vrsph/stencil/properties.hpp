@@ -35,6 +35,18 @@ struct MMatrixReport {
 /// tol is relative to the largest |L_ij| of each row.
 MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol = 1e-12);
 
+/// The method's local problems (Stencil::residual, e.g. VRSPH's NNLS) over selected rows.
+/// Relative residual = ||A v - b|| / sqrt(d) (|b| = sqrt(d)); a row is infeasible when it
+/// exceeds `tolerance` or its local solve failed (then listed with residual +inf).
+struct LocalResidualSummary {
+  Real max_relative = 0;                    ///< over rows whose solve did not fail
+  Index infeasible = 0;
+  std::vector<std::pair<Real, Index>> worst; ///< up to max_listed (relative residual, particle), largest first
+};
+/// Empty summary for methods without local problems.
+LocalResidualSummary summarise_local_residuals(const Stencil& s, std::span<const char> rows, Real tolerance,
+                                               std::size_t max_listed = 10);
+
 /// Residual of the stencil on the monomial (x - x_i)^alpha centred at each row
 /// particle, made dimensionless by the row's support radius s_i:
 ///   max over rows of | sum_j L_ij (x_j - x_i)^alpha - exact_alpha | * s_i^(order - |alpha|),

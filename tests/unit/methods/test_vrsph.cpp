@@ -4,6 +4,7 @@
 #include <vrsph/methods/vrsph/moments.hpp>
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <vrsph/neighbours/search.hpp>
+#include <vrsph/core/error.hpp>
 #include <vrsph/stencil/properties.hpp>
 #include "test_util.hpp"
 
@@ -79,4 +80,15 @@ TEST(Vrsph, OneSidedSupportIsReportedAsInfeasible) {
   EXPECT_GT(v.residual[0], 0.1);   // corner particle (0,0)
   EXPECT_LT(v.residual[60], 1e-9); // centre particle (0.5, 0.5)
   for (Index k = nl.offsets[60]; k < nl.offsets[61]; ++k) EXPECT_GE(v.v[static_cast<std::size_t>(k)], 0.0);
+  // The same verdict through the stencil's summary: the corner is infeasible, listed first
+  // among the worst rows; the centre is not.
+  std::vector<char> rows(static_cast<std::size_t>(c.size()), 1);
+  const Stencil lap = builtin_methods().create("vrsph")->build({c, nl, KernelType::CubicSpline, c.spacing}, {OperatorKind::Laplacian});
+  const LocalResidualSummary sum = summarise_local_residuals(lap, rows, 1e-6, 3);
+  EXPECT_GT(sum.infeasible, 0);
+  ASSERT_EQ(sum.worst.size(), 3u);
+  EXPECT_GE(sum.worst[0].first, sum.worst[2].first);
+  EXPECT_NEAR(sum.max_relative, sum.worst[0].first, 1e-15);
+  for (const auto& [r, i] : sum.worst) EXPECT_NE(i, 60);
+  EXPECT_THROW_MSG(summarise_local_residuals(lap, std::vector<char>(2, 1), 1e-6), InputError, "mask has 2 entries");
 }
