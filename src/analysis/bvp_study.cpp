@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -36,6 +37,18 @@ struct ProblemFunctions {
 
 ProblemFunctions problem_functions(const BvpStudyParams& p) {
   ProblemFunctions pf;
+  if (p.problem == "aar-static") {
+    check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty() && p.g.empty(),
+                       "--u/--a/--f/--g define a custom problem: use them without --problem aar-static");
+    check<ConfigError>(p.dim == 1, "problem aar-static is one-dimensional (--dim 1)");
+    // u = -e^x + e x + 1 with exact derivatives; -u'' = e^x, i.e. div(grad u) = f = -e^x.
+    pf.u = make_expression_function("-exp(x) + e*x + 1", 1, {"-exp(x) + e"}, "-exp(x)");
+    pf.a = make_function("one", 1);
+    pf.f_owned = make_expression_function("-exp(x)", 1);
+    pf.f = pf.f_owned.get();
+    pf.g = pf.u.get();
+    return pf;
+  }
   if (p.problem == "qw-ex5") {
     check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty(),
                        "--u/--a/--f define a custom problem: use them without --problem qw-ex5");
@@ -46,7 +59,7 @@ ProblemFunctions problem_functions(const BvpStudyParams& p) {
     pf.u = make_function_or_expression(p.u, p.dim);
     pf.a = make_function_or_expression(p.a.empty() ? "one" : p.a, p.dim);
   } else {
-    throw ConfigError("unknown boundary value problem '" + p.problem + "' (known: qw-ex5, custom)");
+    throw ConfigError("unknown boundary value problem '" + p.problem + "' (known: qw-ex5, aar-static, custom)");
   }
   if (!p.f.empty()) {
     pf.f_owned = make_function_or_expression(p.f, p.dim);
@@ -61,6 +74,64 @@ ProblemFunctions problem_functions(const BvpStudyParams& p) {
     pf.g = pf.u.get();
   }
   return pf;
+}
+
+std::vector<std::string> neumann_faces(const BvpStudyParams& p) {
+  if (!p.neumann.empty()) return p.neumann;
+  if (p.problem == "aar-static") return {"x1"};
+  return {};
+}
+
+// Face k*2 + side of the box; "all" selects every face.
+std::array<bool, 6> parse_faces(const std::vector<std::string>& faces, int dim) {
+  std::array<bool, 6> on{};
+  for (const auto& f : faces) {
+    if (f == "all") {
+      for (int k = 0; k < 2 * dim; ++k) on[static_cast<std::size_t>(k)] = true;
+      continue;
+    }
+    const bool ok = f.size() == 2 && f[0] >= 'x' && f[0] <= 'z' && (f[1] == '0' || f[1] == '1') && f[0] - 'x' < dim;
+    check<ConfigError>(ok, "unknown Neumann face '", f, "' (known: x0, x1", dim > 1 ? ", y0, y1" : "",
+                       dim > 2 ? ", z0, z1" : "", ", all)");
+    on[static_cast<std::size_t>(2 * (f[0] - 'x') + (f[1] - '0'))] = true;
+  }
+  return on;
+}
+
+// Retags boundary particles whose every face is a Neumann face; returns their count.
+Index apply_neumann_faces(PointCloud& cloud, const std::array<bool, 6>& on, Real dx) {
+  if (std::none_of(on.begin(), on.end(), [](bool b) { return b; })) return 0;
+  const Domain& box = cloud.domain;
+  Index count = 0;
+  if (!cloud.has_normals()) cloud.normals.assign(static_cast<std::size_t>(cloud.size()), Vec3::Zero());
+  const Real tol = 1e-9 * dx;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (cloud.tags[si] != Tag::Dirichlet) continue;
+    const Vec3& x = cloud.positions[si];
+    if (box.shape == Domain::Shape::Ball) {  // a curved boundary has one "face"
+      if (on[0]) {
+        cloud.tags[si] = Tag::Neumann;
+        ++count;
+      }
+      continue;
+    }
+    Vec3 normal = Vec3::Zero();
+    bool all_neumann = true, any = false;
+    for (int k = 0; k < cloud.dim; ++k)
+      for (int side = 0; side < 2; ++side) {
+        const Real face = side == 0 ? box.lo[k] : box.hi[k];
+        if (std::abs(x[k] - face) > tol) continue;
+        any = true;
+        all_neumann = all_neumann && on[static_cast<std::size_t>(2 * k + side)];
+        normal[k] += side == 0 ? -1 : 1;
+      }
+    if (!any || !all_neumann) continue;
+    cloud.tags[si] = Tag::Neumann;
+    cloud.normals[si] = normal.normalized();
+    ++count;
+  }
+  return count;
 }
 
 void validate_params(const BvpStudyParams& p) {
@@ -79,6 +150,14 @@ void validate_params(const BvpStudyParams& p) {
     (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   (void)problem_functions(p);  // parse expressions now
+  (void)parse_faces(neumann_faces(p), p.dim);
+  check<ConfigError>(p.cloud != CloudFamily::Disk || neumann_faces(p).empty() || neumann_faces(p) == std::vector<std::string>{"all"},
+                     "on the disk cloud the only Neumann face is 'all'");
+  if (!p.q.empty()) (void)Expression(p.q);
+  for (const auto& m : p.methods)
+    if (!neumann_faces(p).empty())
+      check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::Gradient), "method ", m,
+                         " has no gradient stencil for Neumann rows");
 }
 }  // namespace
 
@@ -100,6 +179,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   spec.perturb_boundary = p.perturb_boundary;
   spec.regular_layer = p.regular_layer;
   StudyCloud sc = make_study_cloud(spec);
+  run.neumann_particles = apply_neumann_faces(sc.cloud, parse_faces(neumann_faces(p), p.dim), sc.dx);
   const PointCloud& cloud = sc.cloud;
   run.seconds_cloud = watch.seconds();
   run.dx = sc.dx;
@@ -116,23 +196,34 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.seconds_neighbours = watch.seconds();
 
   watch.restart();
-  std::vector<char> unknown(static_cast<std::size_t>(cloud.size()));
+  std::vector<char> unknown(static_cast<std::size_t>(cloud.size())), interior(unknown.size()), flux(unknown.size());
   long long nsum = 0;
   for (Index i = 0; i < cloud.size(); ++i) {
-    unknown[static_cast<std::size_t>(i)] = cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior;
-    if (unknown[static_cast<std::size_t>(i)]) nsum += nl.count(i);
+    const auto si = static_cast<std::size_t>(i);
+    interior[si] = cloud.tags[si] == Tag::Interior;
+    flux[si] = cloud.tags[si] == Tag::Neumann;
+    unknown[si] = interior[si] || flux[si];
+    if (unknown[si]) nsum += nl.count(i);
   }
   const Field a = sample(*pf.a, cloud);
   const auto method = builtin_methods().create(method_name, options_for(p.method_options, method_name));
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
   req.coefficient = &a;
-  req.rows = unknown;
-  const Stencil L = method->build({cloud, nl, p.kernel, cloud.spacing}, req);
+  req.rows = interior;
+  const Discretisation disc{cloud, nl, p.kernel, cloud.spacing};
+  const Stencil L = method->build(disc, req);
+  Stencil G;  // the method's own gradient, for the flux rows
+  if (run.neumann_particles > 0) {
+    StencilRequest greq;
+    greq.kind = OperatorKind::Gradient;
+    greq.rows = flux;
+    G = method->build(disc, greq);
+  }
   run.seconds_stencil = watch.seconds();
 
   // Local (NNLS) feasibility of the unknowns' rows.
-  const LocalResidualSummary local = summarise_local_residuals(L, unknown, p.infeasible_tolerance);
+  const LocalResidualSummary local = summarise_local_residuals(L, interior, p.infeasible_tolerance);
   run.max_local_residual = local.max_relative;
   run.infeasible = local.infeasible;
   if (local.infeasible > 0) {
@@ -148,14 +239,36 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
     if (warnings) warnings->push_back(msg);
   }
   if (p.check_m_matrix) {
-    const MMatrixReport mm = check_m_matrix(L, unknown);
+    const MMatrixReport mm = check_m_matrix(L, run.neumann_particles > 0 ? std::span<const char>(interior) : unknown);
     run.m_matrix = mm.is_m_matrix();
     run.m_matrix_summary = mm.summary();
   }
 
   watch.restart();
   const Field f = sample(*pf.f, cloud), g = sample(*pf.g, cloud), exact = sample(*pf.u, cloud);
-  const LinearSystem sys = assemble(L, cloud, unknown, f, g);
+  BoundaryRows bc;
+  if (run.neumann_particles > 0) {
+    bc.gradient = &G;
+    bc.coefficient = &a;
+    bc.q = Field::Zero(cloud.size());
+    std::unique_ptr<Expression> q_expr = p.q.empty() ? nullptr : std::make_unique<Expression>(p.q);
+    for (Index i = 0; i < cloud.size(); ++i) {
+      if (!flux[static_cast<std::size_t>(i)]) continue;
+      const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+      bc.q[i] = q_expr ? (*q_expr)(x) : a[i] * pf.u->gradient(x).dot(cloud.normals[static_cast<std::size_t>(i)]);
+    }
+  }
+  if (p.fix_constant) {  // pin the unknown nearest the domain centre
+    const Vec3 centre = cloud.domain.shape == Domain::Shape::Ball ? cloud.domain.centre
+                                                                   : Vec3(0.5 * (cloud.domain.lo + cloud.domain.hi));
+    Real best = std::numeric_limits<Real>::infinity();
+    for (Index i = 0; i < cloud.size(); ++i)
+      if (interior[static_cast<std::size_t>(i)] && (cloud.positions[static_cast<std::size_t>(i)] - centre).norm() < best) {
+        best = (cloud.positions[static_cast<std::size_t>(i)] - centre).norm();
+        bc.pinned = i;
+      }
+  }
+  const LinearSystem sys = assemble(L, cloud, unknown, f, g, &bc);
   run.unknowns = sys.size();
   run.seconds_assemble = watch.seconds();
   run.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
@@ -286,6 +399,9 @@ std::string metadata_json(const BvpStudyResult& r) {
   j["seeds"] = p.seeds;
   j["delta"] = p.delta;
   j["regular_layer"] = p.regular_layer;
+  j["neumann_faces"] = neumann_faces(p);
+  if (!p.q.empty()) j["q"] = p.q;
+  j["fix_constant"] = p.fix_constant;
   if (p.problem == "custom") {
     j["u"] = p.u;
     j["a"] = p.a.empty() ? "one" : p.a;

@@ -18,8 +18,8 @@ namespace {
 
 Domain problem_domain(const std::string& problem, int dim) {
   if (problem == "qw-trunc") return Domain::symmetric_box(dim, 1.0);
-  if (problem == "unit-box") return Domain::unit_box(dim);
-  throw ConfigError("unknown operator problem '" + problem + "' (known: qw-trunc, unit-box)");
+  if (problem == "unit-box" || problem == "aar-derivative") return Domain::unit_box(dim);
+  throw ConfigError("unknown operator problem '" + problem + "' (known: qw-trunc, unit-box, aar-derivative)");
 }
 
 std::vector<std::string> split_semicolons(const std::string& s) {
@@ -44,13 +44,20 @@ void validate_params(const OperatorStudyParams& p) {
   }
   check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");
   check<ConfigError>(p.cloud != CloudFamily::Disk || !p.ghosts, "the disk cloud has no ghosts: add --no-ghosts");
+  if (p.problem == "aar-derivative") {
+    check<ConfigError>(p.dim == 1, "problem aar-derivative is one-dimensional (--dim 1)");
+    check<ConfigError>(!p.ghosts, "problem aar-derivative has no ghost particles (truncated sums at the ends, [AAR])");
+  }
 }
+
+// [AAR]'s derivative test measures the error at every particle, the ends included.
+bool evaluates_boundary(const OperatorStudyParams& p) { return p.evaluate_boundary || p.problem == "aar-derivative"; }
 }  // namespace
 
 OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
   validate_params(p);
   const Domain box = problem_domain(p.problem, p.dim);
-  const std::string u_spec = p.u.empty() ? "cos-pi" : p.u;
+  const std::string u_spec = !p.u.empty() ? p.u : p.problem == "aar-derivative" ? "exp-x" : "cos-pi";
   auto u = make_function_or_expression(u_spec, p.dim);
   std::unique_ptr<ScalarFunction> a;
   if (p.op == OperatorKind::DivAGrad) a = make_function_or_expression(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
@@ -84,7 +91,9 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       const Real dx = (box.hi[0] - box.lo[0]) / n;
       const Real h = p.h_factor * dx;
       spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
-      spec.ghost_width = p.ghosts ? h + dx : 0;
+      // Nested (two-ring) stencils need inner derivatives with full support at every
+      // neighbour: the ghost layer grows with the method's reach.
+      spec.ghost_width = p.ghosts ? builtin_methods().info(name).stencil_rings * h + dx : 0;
       const StudyCloud sc = make_study_cloud(spec);
       const PointCloud& cloud = sc.cloud;
       row.seconds_cloud = watch.seconds();
@@ -128,7 +137,8 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       Index evaluated = 0, nmin = std::numeric_limits<Index>::max(), nmax = 0;
       long long nsum = 0;
       for (Index i = 0; i < cloud.size(); ++i) {
-        const bool use = cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior;
+        const Tag tag = cloud.tags[static_cast<std::size_t>(i)];
+        const bool use = tag == Tag::Interior || (evaluates_boundary(p) && tag != Tag::Ghost);
         rows_mask[static_cast<std::size_t>(i)] = use;
         if (!use) continue;
         ++evaluated;
@@ -144,6 +154,9 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       row.neighbours_min = nmin;
       row.neighbours_max = nmax;
       row.nnz_per_row = static_cast<Real>(s.nnz()) / static_cast<Real>(s.rows());
+      for (Index i = 0; i < cloud.size(); ++i)
+        if (!s.condition.empty() && rows_mask[static_cast<std::size_t>(i)])
+          row.condition_max = std::max(row.condition_max, s.condition[static_cast<std::size_t>(i)]);
       const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
       row.errors = error_norms(approx - exact, rows_mask, cloud, row.h, vol);
       rows.push_back(row);
@@ -171,6 +184,7 @@ Table to_table(const OperatorStudyResult& r) {
   Table t;
   t.columns = {"method", "n", "N", "N_total", "dx", "h", "error_inf", "order_inf", "error_l2", "order_l2", "error_rms",
                "error_inf_interior", "error_inf_boundary", "neighbours_mean", "nnz_per_row", "max_local_residual", "infeasible",
+               "condition_max",
                "seconds_neighbours", "seconds_stencil"};
   for (const auto& row : r.rows) {
     t.add_row({{"method", row.method},
@@ -190,6 +204,7 @@ Table to_table(const OperatorStudyResult& r) {
                {"nnz_per_row", row.nnz_per_row},
                {"max_local_residual", row.max_local_residual},
                {"infeasible", static_cast<long long>(row.infeasible)},
+               {"condition_max", row.condition_max > 0 ? row.condition_max : std::nan("")},
                {"seconds_neighbours", row.seconds_neighbours},
                {"seconds_stencil", row.seconds_stencil}});
   }
@@ -210,7 +225,8 @@ std::string metadata_json(const OperatorStudyResult& r) {
   j["seed"] = p.seed;
   j["delta"] = p.delta;
   j["regular_layer"] = p.regular_layer;
-  j["function"] = p.u.empty() ? "cos-pi" : p.u;
+  j["function"] = !p.u.empty() ? p.u : p.problem == "aar-derivative" ? "exp-x" : "cos-pi";
+  j["evaluated"] = evaluates_boundary(p) ? "all particles (boundary included)" : "interior particles";
   nlohmann::ordered_json fit = nlohmann::ordered_json::object();
   for (const auto& [m, o] : r.fitted_order_inf) fit[m] = std::isfinite(o) ? nlohmann::ordered_json(o) : nlohmann::ordered_json();
   j["fitted_order_inf"] = fit;

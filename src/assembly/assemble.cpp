@@ -6,7 +6,7 @@
 namespace vrsph {
 
 LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const char> unknown, const Field& f,
-                      const Field& g) {
+                      const Field& g, const BoundaryRows* boundary) {
   const Index n = cloud.size();
   check<ConfigError>(L.components() == 1, "assemble needs a scalar operator, got ", to_string(L.kind));
   check<InputError>(L.rows() == n && static_cast<Index>(unknown.size()) == n && f.size() == n && g.size() == n,
@@ -14,22 +14,40 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
                     g.size(), ") must all have ", n, " entries");
   LinearSystem sys;
   sys.dof_of_particle.assign(static_cast<std::size_t>(n), -1);
-  Index known_count = 0;
+  Index known_count = 0, neumann_count = 0;
+  const Index pinned = boundary ? boundary->pinned : -1;
+  check<InputError>(pinned < n && (pinned < 0 || unknown[static_cast<std::size_t>(pinned)]), "pinned particle ", pinned,
+                    " is not an unknown particle");
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (unknown[si]) {
-      check<ConfigError>(cloud.tags[si] != Tag::Neumann, "particle ", i,
-                         " is a Neumann particle: Neumann/Robin rows are not supported by this release");
+      const bool flux = cloud.tags[si] == Tag::Neumann && i != pinned;
+      if (flux) {
+        ++neumann_count;
+        check<InputError>(boundary != nullptr && boundary->gradient != nullptr, "particle ", i,
+                          " is a Neumann particle but no flux (gradient) stencil was given");
+        check<InputError>(cloud.has_normals() && cloud.normals[si].norm() > 0, "Neumann particle ", i,
+                          " has no outward normal (a flux condition needs one)");
+        check<InputError>(boundary->q.size() == n && std::isfinite(boundary->q[i]), "Neumann data q missing or not finite at particle ", i);
+      }
       sys.dof_of_particle[si] = static_cast<Index>(sys.particle_of_dof.size());
       sys.particle_of_dof.push_back(i);
-      check<InputError>(std::isfinite(f[i]), "right-hand side f is not finite at particle ", i);
+      check<InputError>(flux || std::isfinite(f[i]), "right-hand side f is not finite at particle ", i);
     } else {
       ++known_count;
     }
   }
   check<InputError>(!sys.particle_of_dof.empty(), "the problem has no unknown (interior) particle");
-  check<InputError>(known_count > 0, "the cloud has no Dirichlet particle: the problem is singular "
-                                     "(a pure Neumann problem needs its constant fixed)");
+  check<InputError>(known_count > 0 || pinned >= 0,
+                    neumann_count > 0 ? "only Neumann data and no Dirichlet particle: the solution is determined only up to "
+                                        "a constant (singular system); fix the constant (vrsph study --fix-constant)"
+                                      : "the cloud has no Dirichlet particle: the problem is singular");
+  const Stencil* G = neumann_count > 0 ? boundary->gradient : nullptr;
+  if (G) {
+    check<InputError>(G->rows() == n && G->components() == cloud.dim && G->kind == OperatorKind::Gradient,
+                      "flux stencil must be a gradient stencil with ", n, " rows and ", cloud.dim, " components");
+    check<InputError>(!boundary->coefficient || boundary->coefficient->size() == n, "flux coefficient size mismatch");
+  }
   const Index m = sys.size();
   sys.known = Field::Zero(n);
   sys.b.resize(m);
@@ -39,10 +57,28 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   std::vector<char> anchored(static_cast<std::size_t>(m), 0);  // row couples to a known particle
   for (Index d = 0; d < m; ++d) {
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
-    Real rhs = f[i];
-    for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
-      const Index j = L.col[static_cast<std::size_t>(k)];
-      const Real lij = v[static_cast<std::size_t>(k)];
+    const auto si = static_cast<std::size_t>(i);
+    if (i == pinned) {  // U_p = g_p
+      check<InputError>(std::isfinite(g[i]), "value g is not finite at the pinned particle ", i);
+      trip.emplace_back(d, d, 1.0);
+      sys.b[d] = g[i];
+      anchored[static_cast<std::size_t>(d)] = 1;
+      continue;
+    }
+    const bool flux = cloud.tags[si] == Tag::Neumann;
+    const Stencil& R = flux ? *G : L;
+    // Flux row: a_i n_i . (G u)_i = q_i, one scalar row from the d gradient components.
+    const Real scale = flux && boundary->coefficient ? (*boundary->coefficient)[i] : 1;
+    Real rhs = flux ? boundary->q[i] : f[i];
+    for (Index k = R.row_begin(i); k < R.row_end(i); ++k) {
+      const Index j = R.col[static_cast<std::size_t>(k)];
+      Real lij = 0;
+      if (flux) {
+        for (int c = 0; c < cloud.dim; ++c)
+          lij += scale * cloud.normals[si][c] * R.values[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)];
+      } else {
+        lij = v[static_cast<std::size_t>(k)];
+      }
       const Index dj = sys.dof_of_particle[static_cast<std::size_t>(j)];
       if (dj >= 0) {
         trip.emplace_back(d, dj, lij);

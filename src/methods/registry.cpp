@@ -1,6 +1,10 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>
+#include <vrsph/methods/aar/modified_fpm.hpp>
+#include <vrsph/methods/aar/nested.hpp>
 #include <vrsph/methods/sph/sph.hpp>
+#include <vrsph/methods/taylor/cspm.hpp>
+#include <vrsph/methods/taylor/fpm.hpp>
 #include <vrsph/methods/vrsph/vrsph.hpp>
 
 namespace vrsph {
@@ -40,6 +44,15 @@ std::vector<MethodInfo> MethodRegistry::list() const {
 void register_builtin_methods(MethodRegistry& r) {
   r.add(sph_info(), make_sph);
   r.add(vrsph_info(), make_vrsph);
+  r.add(fpm_info(), make_fpm);
+  r.add(cspm_info(), make_cspm);
+  r.add(kgf_info(), make_kgf);
+  r.add(aar_sph_info(), make_aar_sph);
+  r.add(chen_beraun_info(), make_chen_beraun);
+  r.add(rkpm1_info(), make_rkpm1);
+  r.add(rkpm2_info(), make_rkpm2);
+  r.add(mfpm_info(), make_mfpm);
+  r.add(fpm2o_info(), make_fpm2o);
 }
 
 const MethodRegistry& builtin_methods() {

@@ -93,14 +93,14 @@ MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Re
 LocalResidualSummary summarise_local_residuals(const Stencil& s, std::span<const char> rows, Real tolerance,
                                                std::size_t max_listed) {
   LocalResidualSummary out;
-  if (s.residual.empty()) return out;
+  if (s.residual.empty() && s.local_failure.empty()) return out;
   check<InputError>(static_cast<Index>(rows.size()) == s.rows(), "local residual summary: mask has ", rows.size(),
                     " entries for ", s.rows(), " rows (size mismatch)");
   const Real bnorm = std::sqrt(static_cast<Real>(s.dim));
   std::vector<std::pair<Real, Index>> bad;
   for (Index i = 0; i < s.rows(); ++i) {
     if (!rows[static_cast<std::size_t>(i)]) continue;
-    const Real r = s.residual[static_cast<std::size_t>(i)] / bnorm;
+    const Real r = s.residual.empty() ? 0 : s.residual[static_cast<std::size_t>(i)] / bnorm;
     const bool failed = !s.local_failure.empty() && s.local_failure[static_cast<std::size_t>(i)];
     if (!failed) out.max_relative = std::max(out.max_relative, r);
     if (r > tolerance || failed) bad.emplace_back(failed ? std::numeric_limits<Real>::infinity() : r, i);

@@ -1,6 +1,7 @@
 // `vrsph operator`: truncation-error study of operator stencils over a refinement list.
 #include <iostream>
 #include <vrsph/analysis/operator_study.hpp>
+#include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include "../cli_common.hpp"
@@ -21,14 +22,19 @@ struct OperatorArgs {
   double regular_layer = 0;
   std::vector<std::string> method_opts;
   OutputOptions out;
+  CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
+              *ghosts_opt = nullptr;
 };
 }  // namespace
 
 void add_operator_command(CLI::App& app) {
   auto a = std::make_shared<OperatorArgs>();
   auto* cmd = app.add_subcommand("operator", "Truncation-error study: method x operator x cloud x refinement list");
-  cmd->add_option("--problem", a->problem, "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d) or unit-box ([0,1]^d)")->capture_default_str();
-  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3")->capture_default_str();
+  cmd->add_option("--problem", a->problem,
+                  "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d), unit-box ([0,1]^d) or aar-derivative ([AAR] e^x on [0,1], "
+                  "all particles)")
+      ->capture_default_str();
+  a->dim_opt = cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3 (aar-derivative: 1)")->capture_default_str();
   cmd->add_option("--method", a->methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value for one method (repeatable)");
   cmd->add_option("--operator", a->op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative")
@@ -36,17 +42,22 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--cloud", a->cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
   cmd->add_option("--n", a->n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed (perturbed, centroids)")->capture_default_str();
-  cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  a->h_factor_opt = cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx (aar-derivative: 6)")
+                        ->capture_default_str();
   cmd->add_option("--h-mode", a->h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
       ->capture_default_str();
   cmd->add_option("--h-knn", a->h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
       ->capture_default_str();
-  cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx")->capture_default_str();
-  cmd->add_option("--kernel", a->kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4")->capture_default_str();
+  a->delta_opt = cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx (aar-derivative: 0.25)")
+                     ->capture_default_str();
+  a->kernel_opt = cmd->add_option("--kernel", a->kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4 "
+                                                         "(aar-derivative: gaussian)")
+                      ->capture_default_str();
   cmd->add_option("--regular-layer", a->regular_layer,
                   "Perturbed clouds: particles within this many dx of a face move only tangentially")
       ->capture_default_str();
-  cmd->add_flag("--no-ghosts", a->no_ghosts, "No ghost particles: layout A with boundary particles ([QW] Example 4)");
+  a->ghosts_opt = cmd->add_flag("--no-ghosts", a->no_ghosts,
+                                "No ghost particles: layout A with boundary particles ([QW] Example 4; implied by aar-derivative)");
   cmd->add_option("--u", a->u, "Test function: catalogue name (cos-pi, sin-pi, exp-x, ...) or expression in x,y,z; default cos-pi");
   cmd->add_option("--exact", a->exact, "Expected operator value as expression(s), ';' between gradient components; default: exact derivatives of --u");
   cmd->add_option("--a", a->a, "Coefficient a(x) for div-a-grad: name or expression; default one-plus-r2");
@@ -56,20 +67,21 @@ void add_operator_command(CLI::App& app) {
   cmd->callback([a] {
     OperatorStudyParams p;
     p.problem = a->problem;
-    p.dim = a->dim;
+    const ProblemDefaults def = problem_defaults(p.problem);
+    p.dim = a->dim_opt->count() ? a->dim : def.dim;
     p.methods = parse_name_list(a->methods, "--method");
     p.method_options = parse_method_options(a->method_opts, p.methods);
     p.op = parse_operator(a->op);
     p.cloud = parse_cloud_family(a->cloud);
     p.n = parse_int_list(a->n, "--n");
     p.seed = a->seed;
-    p.h_factor = a->h_factor;
+    p.h_factor = a->h_factor_opt->count() ? a->h_factor : def.h_factor;
     p.h_mode = parse_smoothing_mode(a->h_mode);
     p.h_knn = a->h_knn;
-    p.delta = a->delta;
-    p.ghosts = !a->no_ghosts;
+    p.delta = a->delta_opt->count() ? a->delta : def.delta;
+    p.ghosts = a->ghosts_opt->count() ? !a->no_ghosts : def.ghosts;
     p.regular_layer = a->regular_layer;
-    p.kernel = parse_kernel(a->kernel);
+    p.kernel = a->kernel_opt->count() ? parse_kernel(a->kernel) : def.kernel;
     p.u = a->u;
     p.exact = a->exact;
     p.a = a->a;
@@ -77,7 +89,7 @@ void add_operator_command(CLI::App& app) {
     p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
     const OperatorStudyResult r = run_operator_study(p);
     emit(to_table(r), a->out, metadata_json(r), "dx", "error_inf", "method",
-         a->problem + " " + a->op + " " + a->cloud + " " + std::to_string(a->dim) + "D");
+         a->problem + " " + a->op + " " + a->cloud + " " + std::to_string(p.dim) + "D");
   });
 }
 

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/vtu.hpp>
 #include "../cli_common.hpp"
@@ -18,31 +19,46 @@ struct StudyArgs {
   std::string h_mode = "fixed";
   std::uint64_t seed = 1;
   double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
-  bool perturb_boundary = false;
+  bool perturb_boundary = false, fix_constant = false;
+  std::string neumann, q;
   std::vector<std::string> method_opts;
   OutputOptions out;
+  // Set by the user (else the problem's default applies, see problem_defaults.hpp).
+  CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr;
 };
 
 void add_common(CLI::App* cmd, StudyArgs& a) {
-  cmd->add_option("--problem", a.problem, "qw-ex5 ([QW] Example 5) or custom (with --u --a --f); --u implies custom")
+  cmd->add_option("--problem", a.problem,
+                  "qw-ex5 ([QW] Example 5), aar-static ([AAR] rod: -u'' = e^x, u(0) = 0, u'(1) = 0) or custom "
+                  "(with --u --a --f); --u implies custom")
       ->capture_default_str();
-  cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (qw-ex5 in 3D: sin sin sin, a = 1 + |x|^2)")->capture_default_str();
+  a.dim_opt = cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (qw-ex5 in 3D: sin sin sin, a = 1 + |x|^2; aar-static: 1)")
+                  ->capture_default_str();
   cmd->add_option("--method", a.methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
   cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value (repeatable)");
   cmd->add_option("--cloud", a.cloud, "uniform, perturbed, centroids or disk")->capture_default_str();
   cmd->add_option("--seed", a.seed, "Random seed (perturbed, centroids)")->capture_default_str();
-  cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  a.h_factor_opt = cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx (default 3; aar-static: 6 = Gaussian with l = dx)")
+                       ->capture_default_str();
   cmd->add_option("--h-mode", a.h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
       ->capture_default_str();
   cmd->add_option("--h-knn", a.h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
       ->capture_default_str();
-  cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx")->capture_default_str();
+  a.delta_opt = cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx (default 0.5; aar-static: 0.25)")
+                    ->capture_default_str();
   cmd->add_flag("--perturb-boundary", a.perturb_boundary, "Also move boundary particles along their faces");
   cmd->add_option("--regular-layer", a.regular_layer,
                   "Perturbed clouds: particles within this many dx of a face move only tangentially")
       ->capture_default_str();
-  cmd->add_option("--kernel", a.kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4")
-      ->capture_default_str();
+  a.kernel_opt = cmd->add_option("--kernel", a.kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4 "
+                                                        "(default cubic; aar-static: gaussian)")
+                     ->capture_default_str();
+  cmd->add_option("--neumann", a.neumann,
+                  "Comma-separated Neumann faces x0,x1,y0,y1,z0,z1 or all (flux rows a du/dn = q from the method's own "
+                  "gradient; default: the problem's, none for qw-ex5)");
+  cmd->add_option("--q", a.q, "Neumann data a du/dn as an expression (default: from the exact solution u)");
+  cmd->add_flag("--fix-constant", a.fix_constant,
+                "Pin the unknown nearest the centre to g (needed when every boundary face is Neumann)");
   cmd->add_option("--solver", a.solver, "Linear solver: sparselu, umfpack, bicgstab")->capture_default_str();
   cmd->add_option("--u", a.u, "Exact solution u(x,y,z): expression or catalogue name (custom problem)");
   cmd->add_option("--a", a.a, "Coefficient a(x,y,z) > 0 (custom problem; default 1)");
@@ -57,17 +73,21 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
 BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& methods) {
   BvpStudyParams p;
   p.problem = (!a.u.empty() && a.problem == "qw-ex5") ? "custom" : a.problem;
-  p.dim = a.dim;
+  const ProblemDefaults def = problem_defaults(p.problem);
+  p.dim = a.dim_opt->count() ? a.dim : def.dim;
   p.methods = methods;
   p.method_options = parse_method_options(a.method_opts, methods);
   p.cloud = parse_cloud_family(a.cloud);
-  p.h_factor = a.h_factor;
+  p.h_factor = a.h_factor_opt->count() ? a.h_factor : def.h_factor;
   p.h_mode = parse_smoothing_mode(a.h_mode);
   p.h_knn = a.h_knn;
-  p.delta = a.delta;
+  p.delta = a.delta_opt->count() ? a.delta : def.delta;
   p.perturb_boundary = a.perturb_boundary;
   p.regular_layer = a.regular_layer;
-  p.kernel = parse_kernel(a.kernel);
+  p.kernel = a.kernel_opt->count() ? parse_kernel(a.kernel) : def.kernel;
+  if (!a.neumann.empty()) p.neumann = parse_name_list(a.neumann, "--neumann");
+  p.q = a.q;
+  p.fix_constant = a.fix_constant;
   p.solver.type = parse_solver(a.solver);
   p.u = a.u;
   p.a = a.a;
@@ -83,14 +103,14 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
 
 void print_warnings(const std::vector<std::string>& warnings) {
   if (warnings.empty()) return;
-  std::cerr << "vrsph: warning: " << warnings.size() << " run(s) had particles with infeasible moment conditions "
+  std::cerr << "vrsph: warning: " << warnings.size() << " run(s) had particles whose local problem failed (infeasible moment conditions or a singular local system) "
             << "(expected next to the boundary on perturbed clouds, METHODS §3.2); first: " << warnings.front() << '\n';
 }
 }  // namespace
 
 void add_study_command(CLI::App& app) {
   auto a = std::make_shared<StudyArgs>();
-  auto* cmd = app.add_subcommand("study", "Convergence of div(a grad u) = f with Dirichlet data over a refinement list");
+  auto* cmd = app.add_subcommand("study", "Convergence of div(a grad u) = f with Dirichlet/Neumann data over a refinement list");
   add_common(cmd, *a);
   cmd->add_option("--n", a->n, "Refinement list: intervals per direction (layout A, dx = 1/n)")->capture_default_str();
   cmd->add_option("--seeds", a->seeds, "Comma-separated seeds: mean and spread over them (overrides --seed)");

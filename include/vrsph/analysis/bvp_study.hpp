@@ -7,7 +7,16 @@
 //   qw-ex5   [QW] Example 5 (seed 000_906375e5ed7c9bb7.txt): [0,1]^d, u = prod sin(pi x_k),
 //            a = 1 + |x|^2, f = a Δu + ∇a·∇u, g = 0; layout A with n intervals (dx = 1/n),
 //            unknowns = interior particles. --dim 3 gives the 3D analogue.
+//   aar-static  [AAR] §5 elastic static test (seed 001_40aebf64e7a981b6.txt): -u'' = e^x on
+//            [0,1], u(0) = 0, u'(1) = 0 (traction-free end: Neumann particle), exact
+//            u = -e^x + e x + 1; defaults: Gaussian kernel with l = dx (support 6 dx),
+//            perturbation U(-dx/4, dx/4).
 //   custom   [0,1]^d with user expressions u, a, f (and optionally g; default g = u).
+// Boundary conditions: boundary particles are Dirichlet (u = g) unless every box face
+// they lie on is listed in `neumann` (faces x0, x1, y0, y1, z0, z1 or all): then they
+// carry a flux row a ∂u/∂n = q built from the method's own gradient stencil (corner
+// normal = normalised sum of the face normals, METHODS §4; Dirichlet–Neumann corners stay
+// Dirichlet). q defaults to a ∇u·n of the exact solution.
 // Cloud families: uniform, perturbed (interior particles U(-delta dx, delta dx)),
 // centroids (CGAL mesh centroids + mesh nodes on the faces as Dirichlet particles), disk
 // (ball inscribed in the box).
@@ -43,6 +52,9 @@ struct BvpStudyParams {
   KernelType kernel = KernelType::CubicSpline;
   SolverOptions solver;
   std::string u, a, f, g;            ///< custom problem: expressions or catalogue names
+  std::vector<std::string> neumann;  ///< Neumann faces (empty: the problem's default)
+  std::string q;                     ///< Neumann data a ∂u/∂n (expression; default from u)
+  bool fix_constant = false;         ///< pin the unknown nearest the centre to g (pure Neumann problems)
   InfeasiblePolicy on_infeasible = InfeasiblePolicy::Warn;
   Real infeasible_tolerance = 1e-6;  ///< local residual / |b| above this = infeasible
   bool check_m_matrix = true;
@@ -54,7 +66,7 @@ struct BvpRun {
   std::string method;
   int n = 0;
   std::uint64_t seed = 0;
-  Index particles = 0, unknowns = 0;
+  Index particles = 0, unknowns = 0, neumann_particles = 0;
   Real dx = 0, h = 0;        ///< h: support radius (mean of per-particle radii in knn mode)
   Real covering_radius = 0;  ///< r_N when h_mode = covering
   ErrorReport errors;        ///< over the unknowns, |U_i - u(x_i)|

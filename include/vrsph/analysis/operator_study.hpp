@@ -11,6 +11,9 @@
 //             Without ghosts ([QW] Example 4): layout A (vertex lattice with boundary
 //             particles), errors over the particles of the open domain (METHODS P14).
 //   unit-box  the same constructions on [0,1]^d (for user expressions).
+//   aar-derivative  [AAR] §5 derivative test (seed 001_40aebf64e7a981b6.txt): f = e^x on
+//             [0,1], layout x_j = (j-1)/n, no ghosts, error at every particle (ends
+//             included); defaults Gaussian l = dx, U(-dx/4, dx/4) (problem_defaults.hpp).
 #include <functional>
 #include <map>
 #include <string>
@@ -38,6 +41,7 @@ struct OperatorStudyParams {
   int h_knn = 0;
   Real delta = 0.5;
   bool ghosts = true;
+  bool evaluate_boundary = false;  ///< errors also at boundary particles (always for aar-derivative)
   Real regular_layer = 0;  ///< see PerturbOptions::regular_layer
   KernelType kernel = KernelType::CubicSpline;
   std::string u;        ///< function name from the catalogue or a muParser expression; empty: problem default
@@ -59,7 +63,8 @@ struct OperatorStudyRow {
   Index neighbours_min = 0, neighbours_max = 0;
   Real nnz_per_row = 0;
   Real max_local_residual = 0;  ///< max over evaluated rows of the method's local residual / sqrt(d)
-  Index infeasible = 0;         ///< evaluated rows with local residual / sqrt(d) > 1e-6
+  Index infeasible = 0;         ///< evaluated rows with local residual / sqrt(d) > 1e-6 (or failed local solve)
+  Real condition_max = 0;       ///< largest local-system condition number over evaluated rows (0: none)
   Real seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_apply = 0;
 };
 

@@ -6,8 +6,14 @@
 // particle is known: its value (Dirichlet data g, or exact values at ghosts) moves to
 // the right-hand side, [QW](4.5):  sum_{j unknown} L_ij U_j = f_i - sum_{j known} L_ij g_j.
 // The diagonal L_ii already contains the weights of boundary neighbours (difference
-// form). Neumann/Robin rows replace a particle's row by a flux row and enter through the
-// same mechanism in a later release; a Neumann-tagged particle is rejected for now.
+// form).
+//
+// Neumann particles (Tag::Neumann, unknown) get the flux row a_i n_i · (G u)_i = q_i built
+// from the method's own gradient stencil G ([AAR] §4 / METHODS §4: "the method's own
+// first-derivative row"; [SPE](100) in 2D/3D), n_i the particle's outward normal. Known
+// neighbours of a flux row move to the right-hand side like any other. A problem without
+// Dirichlet particles is singular (constant null space) unless one unknown is pinned to
+// its value g (BoundaryRows::pinned).
 #include <span>
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -23,12 +29,21 @@ struct LinearSystem {
   Index size() const { return static_cast<Index>(particle_of_dof.size()); }
 };
 
+/// Flux rows of the Neumann particles and the optional pinned particle.
+struct BoundaryRows {
+  const Stencil* gradient = nullptr;  ///< the method's Gradient stencil, rows of the Neumann particles computed
+  Field q;                            ///< flux data a ∂u/∂n at every particle (used at Neumann particles)
+  const Field* coefficient = nullptr; ///< a at every particle (nullptr: a = 1)
+  Index pinned = -1;                  ///< unknown particle whose row becomes U = g (fixes a pure-Neumann constant)
+};
+
 /// f: right-hand side at every particle (used at unknowns); g: values at every particle
-/// (used at known ones). Throws InputError (size mismatch, non-finite data, no known
-/// particle), ConfigError (Neumann particles, vector stencil) or GeometryError (unknowns
-/// not connected through non-zero weights to any known particle: singular system).
+/// (used at known ones and at the pinned particle). Throws InputError (size mismatch,
+/// non-finite data, no known particle, Neumann particle without normal or flux stencil),
+/// ConfigError (vector stencil) or GeometryError (unknowns not connected through non-zero
+/// weights to any known particle: singular system).
 LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const char> unknown, const Field& f,
-                      const Field& g);
+                      const Field& g, const BoundaryRows* boundary = nullptr);
 
 /// Full particle field: solution at unknowns, known values elsewhere.
 Field expand(const LinearSystem& sys, const Eigen::VectorXd& x);

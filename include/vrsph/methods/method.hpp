@@ -23,6 +23,9 @@ struct MethodInfo {
   std::vector<OperatorKind> operators;
   /// Options the method reads: {key, "help (default ...)"}.
   std::vector<std::pair<std::string, std::string>> options;
+  /// Neighbour rings a second-derivative row reaches (2 for D2 = D D): studies size ghost
+  /// layers by it.
+  int stencil_rings = 1;
   bool supports(OperatorKind k) const;
 };
 

@@ -29,8 +29,13 @@ struct Stencil {
   /// Per-row residual of the method's local problem (VRSPH: ||A v - b||_2 of the moment
   /// system, |b| = sqrt(d)); empty for methods without one.
   std::vector<Real> residual;
-  /// Per-row flag: the local solve failed (e.g. NNLS iteration cap); empty if none.
+  /// Per-row flag: the local solve failed (e.g. NNLS iteration cap, a singular Taylor
+  /// system under on_singular=warn; such rows are left zero); empty if none.
   std::vector<char> local_failure;
+  /// Per-row condition number estimate of the method's local square system after
+  /// row/column equilibration (FPM, KGF, CSPM, RKPM, [AAR] FPM variants); empty for
+  /// methods without one.
+  std::vector<Real> condition;
 
   Index rows() const { return static_cast<Index>(row_ptr.size()) - 1; }
   Index nnz() const { return row_ptr.back(); }

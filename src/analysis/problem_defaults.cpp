@@ -1,0 +1,17 @@
+#include <vrsph/analysis/problem_defaults.hpp>
+
+namespace vrsph {
+
+ProblemDefaults problem_defaults(const std::string& problem) {
+  ProblemDefaults d;
+  if (problem == "aar-derivative" || problem == "aar-static") {
+    d.dim = 1;
+    d.kernel = KernelType::Gaussian;
+    d.h_factor = 6;  // Gaussian with l = dx, truncated at 6 l
+    d.delta = 0.25;
+    d.ghosts = false;
+  }
+  return d;
+}
+
+}  // namespace vrsph

@@ -1,0 +1,194 @@
+#include <cmath>
+#include <limits>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/taylor/cspm.hpp>
+#include <vrsph/methods/taylor/local_system.hpp>
+
+namespace vrsph {
+
+namespace {
+
+using taylor::SmallMatrix;
+
+enum class SecondDerivative { KernelHessian /*cspm*/, KernelOnly /*chen-beraun, [AAR](20)*/ };
+
+std::vector<std::pair<std::string, std::string>> options_list() {
+  std::vector<std::pair<std::string, std::string>> o{{"volume", "dx (v_j = dx^d, default) | shepard (v_j = 1/sum_k W_jk)"}};
+  for (auto& p : taylor::singular_policy_options()) o.push_back(p);
+  return o;
+}
+
+class Corrective final : public Method {
+ public:
+  Corrective(MethodInfo info, SecondDerivative second, const MethodOptions& o)
+      : info_(std::move(info)), second_(second), volume_(o.get_choice("volume", "dx", {"dx", "shepard"})),
+        policy_(taylor::read_singular_policy(o)) {}
+  const MethodInfo& info() const override { return info_; }
+
+  Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
+    check_request(info_, disc, req);
+    const auto& cloud = disc.cloud;
+    const int dim = cloud.dim;
+    const auto v = taylor::method_volumes(disc, volume_);
+    Stencil s = make_stencil_pattern(disc.neighbours, req.kind, dim, info_.name);
+    s.condition.assign(static_cast<std::size_t>(cloud.size()), 0);
+    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+    const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
+
+#pragma omp parallel
+    {
+      std::vector<Vec3> g;  // corrected gradient weights of the row
+      SmallMatrix A(dim, dim), Ainv(dim, dim);
+#pragma omp for schedule(dynamic, 128)
+      for (Index i = 0; i < cloud.size(); ++i) {
+        if (!taylor::wants_row(cloud, req, i)) continue;
+        const Kernel ker = disc.kernel_at(i);
+        const auto nbr = disc.neighbours.of(i);
+        const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+        if (req.kind == OperatorKind::Value) {
+          Real sum = v[static_cast<std::size_t>(i)] * ker.W(0);
+          for (Index j : nbr) sum += v[static_cast<std::size_t>(j)] * ker.W((cloud.positions[static_cast<std::size_t>(j)] - xi).norm());
+          const bool ok = sum > 0 && std::isfinite(sum);
+          s.condition[static_cast<std::size_t>(i)] = ok ? 1 : std::numeric_limits<Real>::infinity();
+          if (!ok) continue;
+          for (std::size_t k = 0; k < nbr.size(); ++k) {
+            const auto j = static_cast<std::size_t>(nbr[k]);
+            s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] =
+                v[j] * ker.W((cloud.positions[j] - xi).norm()) / sum;
+          }
+          s.values[0][static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])] = v[static_cast<std::size_t>(i)] * ker.W(0) / sum;
+          continue;
+        }
+        // Correction matrix A_i = sum_j v_j x_ji ⊗ grad_i W_ij.
+        A.setZero(dim, dim);
+        for (Index j : nbr) {
+          const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+          const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;  // grad_i W_ij = W'(r) x_ij / r
+          for (int a = 0; a < dim; ++a)
+            for (int b = 0; b < dim; ++b) A(a, b) += v[static_cast<std::size_t>(j)] * xji[a] * gw[b];
+        }
+        Real cond = taylor::equilibrated_inverse(A, Ainv);
+        if (!std::isfinite(cond)) {
+          s.condition[static_cast<std::size_t>(i)] = cond;
+          continue;
+        }
+        g.assign(nbr.size(), Vec3::Zero());
+        for (std::size_t k = 0; k < nbr.size(); ++k) {
+          const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
+          const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;
+          for (int a = 0; a < dim; ++a) {
+            Real acc = 0;
+            for (int b = 0; b < dim; ++b) acc += Ainv(b, a) * gw[b];  // A^{-T} grad W
+            g[k][a] = v[static_cast<std::size_t>(nbr[k])] * acc;
+          }
+        }
+        if (!second) {
+          s.condition[static_cast<std::size_t>(i)] = cond;
+          for (std::size_t k = 0; k < nbr.size(); ++k) {
+            const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
+            if (req.kind == OperatorKind::Gradient)
+              for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[k][c];
+            else
+              s.values[0][slot] = g[k][axis];
+          }
+          continue;
+        }
+        // Second derivative: per direction (cspm) or isotropic (chen-beraun).
+        const int directions = second_ == SecondDerivative::KernelHessian ? dim : 1;
+        Vec3 D = Vec3::Zero(), Dabs = Vec3::Zero();
+        std::array<Vec3, 3> S{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+        for (Index j : nbr) {
+          const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+          const Real r = xji.norm();
+          const Real vj = v[static_cast<std::size_t>(j)];
+          for (int a = 0; a < directions; ++a) {
+            const Real q = weight_function(ker, xji, r, a);
+            const Real moment = second_ == SecondDerivative::KernelHessian ? xji[a] * xji[a] : xji.squaredNorm();
+            D[a] += 0.5 * vj * moment * q;
+            Dabs[a] += 0.5 * vj * moment * std::abs(q);
+            S[static_cast<std::size_t>(a)] += vj * q * xji;
+          }
+        }
+        for (int a = 0; a < directions; ++a) {
+          const Real c = std::abs(D[a]) > 0 ? Dabs[a] / std::abs(D[a]) : std::numeric_limits<Real>::infinity();
+          cond = std::max(cond, c);
+        }
+        s.condition[static_cast<std::size_t>(i)] = cond;
+        if (!std::isfinite(cond)) continue;
+        Vec3 grad_a = Vec3::Zero();
+        if (req.kind == OperatorKind::DivAGrad) {
+          if (req.coefficient_gradient) {
+            for (int c = 0; c < dim; ++c) grad_a[c] = (*req.coefficient_gradient)(i, c);
+          } else {
+            for (std::size_t k = 0; k < nbr.size(); ++k) grad_a += g[k] * ((*req.coefficient)[nbr[k]] - (*req.coefficient)[i]);
+          }
+        }
+        const Real iso = second_ == SecondDerivative::KernelOnly ? static_cast<Real>(dim) : 1;
+        for (std::size_t k = 0; k < nbr.size(); ++k) {
+          const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
+          const Real r = xji.norm();
+          Real w = 0;
+          for (int a = 0; a < directions; ++a)
+            w += iso * (v[static_cast<std::size_t>(nbr[k])] * weight_function(ker, xji, r, a) -
+                        S[static_cast<std::size_t>(a)].dot(g[k])) / D[a];
+          if (req.kind == OperatorKind::DivAGrad) w = (*req.coefficient)[i] * w + grad_a.dot(g[k]);
+          s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = w;
+        }
+      }
+    }
+    if (req.kind != OperatorKind::Value) set_difference_diagonal(s);
+    taylor::enforce_condition(s, policy_, cloud);
+    return s;
+  }
+
+ private:
+  // cspm: d2W/dx_a^2 at x_ij; chen-beraun: W itself.
+  Real weight_function(const Kernel& ker, const Vec3& xji, Real r, int a) const {
+    if (second_ == SecondDerivative::KernelOnly) return ker.W(r);
+    std::array<int, 3> alpha{0, 0, 0};
+    alpha[static_cast<std::size_t>(a)] = 2;
+    return taylor::kernel_derivative(ker, -xji, r, alpha);
+  }
+
+  MethodInfo info_;
+  SecondDerivative second_;
+  std::string volume_;
+  taylor::SingularPolicy policy_;
+};
+
+const std::vector<OperatorKind> operators{OperatorKind::Value,    OperatorKind::Dx,       OperatorKind::Dy,
+                                           OperatorKind::Dz,       OperatorKind::Gradient, OperatorKind::Laplacian,
+                                           OperatorKind::DivAGrad};
+
+}  // namespace
+
+MethodInfo cspm_info() {
+  return {"cspm",
+          "000_906375e5ed7c9bb7.txt ([QW] §2.2, \"CSPH\"); Chen, Beraun & Carney, IJNME 46 (1999)",
+          "corrective SPH: full-matrix corrected kernel gradient, Laplacian from second kernel derivatives "
+          "(diagonal Hessian approximation)",
+          "gradient exact for linear fields, O(h) on perturbed particles; Laplacian below first order on perturbed "
+          "particles ([QW] Fig. 4)",
+          operators,
+          options_list()};
+}
+
+MethodInfo chen_beraun_info() {
+  return {"chen-beraun",
+          "001_40aebf64e7a981b6.txt ([AAR](16), (20)); Chen & Beraun, CMAME 190 (2000)",
+          "Chen–Beraun corrective SPH: corrected first derivative (16), kernel-only second derivative (20) "
+          "(isotropic extension in 2D/3D)",
+          "O(h^2) inside; first derivative O(h), second derivative O(1) at the boundary (no max-norm convergence in "
+          "the derivative test, first order for the rod, [AAR] §5)",
+          operators,
+          options_list()};
+}
+
+std::unique_ptr<Method> make_cspm(const MethodOptions& o) {
+  return std::make_unique<Corrective>(cspm_info(), SecondDerivative::KernelHessian, o);
+}
+std::unique_ptr<Method> make_chen_beraun(const MethodOptions& o) {
+  return std::make_unique<Corrective>(chen_beraun_info(), SecondDerivative::KernelOnly, o);
+}
+
+}  // namespace vrsph

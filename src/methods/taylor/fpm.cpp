@@ -1,0 +1,189 @@
+#include <cmath>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/taylor/fpm.hpp>
+#include <vrsph/methods/taylor/local_system.hpp>
+
+namespace vrsph {
+
+namespace {
+
+using taylor::SmallMatrix;
+using taylor::SmallVector;
+
+const std::vector<OperatorKind> all_operators{OperatorKind::Value,    OperatorKind::Dx,       OperatorKind::Dy,
+                                               OperatorKind::Dz,       OperatorKind::Gradient, OperatorKind::Laplacian,
+                                               OperatorKind::DivAGrad};
+
+std::vector<std::pair<std::string, std::string>> common_options(bool with_variant) {
+  std::vector<std::pair<std::string, std::string>> o{
+      {"volume", "dx (v_j = dx^d, default) | shepard (v_j = 1/sum_k W_jk)"}};
+  if (with_variant)
+    o.emplace_back("variant", "liu (default: Hessian of W as test functions) | qw ([QW](2.18), 1D only: Y_ij instead of W'')");
+  for (auto& p : taylor::singular_policy_options()) o.push_back(p);
+  return o;
+}
+
+enum class TestFunctions { KernelDerivatives, KernelDerivativesQw, KernelTimesMonomials };
+
+class TaylorProjection final : public Method {
+ public:
+  TaylorProjection(MethodInfo info, TestFunctions tests, const MethodOptions& o) : info_(std::move(info)), tests_(tests) {
+    volume_ = o.get_choice("volume", "dx", {"dx", "shepard"});
+    if (tests_ != TestFunctions::KernelTimesMonomials &&
+        o.get_choice("variant", "liu", {"liu", "qw"}) == "qw")
+      tests_ = TestFunctions::KernelDerivativesQw;
+    policy_ = taylor::read_singular_policy(o);
+  }
+  const MethodInfo& info() const override { return info_; }
+
+  Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
+    check_request(info_, disc, req);
+    const auto& cloud = disc.cloud;
+    const int dim = cloud.dim;
+    check<ConfigError>(tests_ != TestFunctions::KernelDerivativesQw || dim == 1,
+                       "fpm variant=qw ([QW](2.18)) is defined in 1D only");
+    const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
+    const auto basis = taylor::multi_indices(dim, second ? 2 : 1, true);
+    const auto m = static_cast<Eigen::Index>(basis.size());
+    std::vector<int> grad_pos(static_cast<std::size_t>(dim)), hess_pos(static_cast<std::size_t>(dim));
+    for (int k = 0; k < dim; ++k) {
+      std::array<int, 3> e{0, 0, 0};
+      e[static_cast<std::size_t>(k)] = 1;
+      grad_pos[static_cast<std::size_t>(k)] = taylor::position_of(basis, e);
+      if (second) {
+        e[static_cast<std::size_t>(k)] = 2;
+        hess_pos[static_cast<std::size_t>(k)] = taylor::position_of(basis, e);
+      }
+    }
+    const auto v = taylor::method_volumes(disc, volume_);
+    Stencil s = make_stencil_pattern(disc.neighbours, req.kind, dim, info_.name);
+    s.condition.assign(static_cast<std::size_t>(cloud.size()), 0);
+    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+
+#pragma omp parallel
+    {
+      std::vector<Real> psi;  // test functions of every neighbour, m per neighbour (self last)
+      SmallMatrix M(m, m), Minv(m, m);
+#pragma omp for schedule(dynamic, 128)
+      for (Index i = 0; i < cloud.size(); ++i) {
+        if (!taylor::wants_row(cloud, req, i)) continue;
+        const Kernel ker = disc.kernel_at(i);
+        const auto nbr = disc.neighbours.of(i);
+        const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+        const std::size_t count = nbr.size() + 1;
+        psi.resize(count * static_cast<std::size_t>(m));
+        M.setZero(m, m);
+        for (std::size_t k = 0; k < count; ++k) {
+          const Index j = k < nbr.size() ? nbr[k] : i;
+          const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+          const Real r = xji.norm();
+          Real* ps = psi.data() + k * static_cast<std::size_t>(m);
+          for (Eigen::Index a = 0; a < m; ++a) ps[a] = test_function(ker, xji, r, basis[static_cast<std::size_t>(a)]);
+          const Real vj = v[static_cast<std::size_t>(j)];
+          for (Eigen::Index b = 0; b < m; ++b) {
+            const Real pb = vj * taylor::monomial(xji, basis[static_cast<std::size_t>(b)], true);
+            if (pb == 0) continue;
+            for (Eigen::Index a = 0; a < m; ++a) M(a, b) += ps[a] * pb;
+          }
+        }
+        const Real cond = taylor::equilibrated_inverse(M, Minv);
+        s.condition[static_cast<std::size_t>(i)] = cond;
+        if (!std::isfinite(cond)) continue;
+        // (grad a)_i for div(a grad u): analytic or from the same fit.
+        Vec3 grad_a = Vec3::Zero();
+        if (req.kind == OperatorKind::DivAGrad) {
+          if (req.coefficient_gradient) {
+            for (int c = 0; c < dim; ++c) grad_a[c] = (*req.coefficient_gradient)(i, c);
+          } else {
+            const Field& a = *req.coefficient;
+            for (std::size_t k = 0; k < nbr.size(); ++k) {
+              const SmallVector w = Minv * Eigen::Map<const SmallVector>(psi.data() + k * static_cast<std::size_t>(m), m);
+              for (int c = 0; c < dim; ++c)
+                grad_a[c] += v[static_cast<std::size_t>(nbr[k])] * w[grad_pos[static_cast<std::size_t>(c)]] * (a[nbr[k]] - a[i]);
+            }
+          }
+        }
+        for (std::size_t k = 0; k < count; ++k) {
+          const Index j = k < nbr.size() ? nbr[k] : i;
+          const bool self = k == nbr.size();
+          if (self && req.kind != OperatorKind::Value) continue;  // difference form: diagonal set below
+          const SmallVector w = v[static_cast<std::size_t>(j)] *
+                                (Minv * Eigen::Map<const SmallVector>(psi.data() + k * static_cast<std::size_t>(m), m));
+          const auto slot = static_cast<std::size_t>(self ? s.diag[static_cast<std::size_t>(i)]
+                                                          : neighbour_slot(s, i, static_cast<Index>(k)));
+          switch (req.kind) {
+            case OperatorKind::Value: s.values[0][slot] = w[0]; break;
+            case OperatorKind::Dx:
+            case OperatorKind::Dy:
+            case OperatorKind::Dz: s.values[0][slot] = w[grad_pos[static_cast<std::size_t>(axis)]]; break;
+            case OperatorKind::Gradient:
+              for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = w[grad_pos[static_cast<std::size_t>(c)]];
+              break;
+            case OperatorKind::Laplacian:
+            case OperatorKind::DivAGrad: {
+              Real lap = 0, adv = 0;
+              for (int c = 0; c < dim; ++c) {
+                lap += w[hess_pos[static_cast<std::size_t>(c)]];
+                adv += grad_a[c] * w[grad_pos[static_cast<std::size_t>(c)]];
+              }
+              s.values[0][slot] = req.kind == OperatorKind::Laplacian ? lap : (*req.coefficient)[i] * lap + adv;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (req.kind != OperatorKind::Value) set_difference_diagonal(s);
+    taylor::enforce_condition(s, policy_, cloud);
+    return s;
+  }
+
+ private:
+  Real test_function(const Kernel& ker, const Vec3& xji, Real r, const std::array<int, 3>& alpha) const {
+    const Vec3 xij = -xji;
+    switch (tests_) {
+      case TestFunctions::KernelDerivatives: return taylor::kernel_derivative(ker, xij, r, alpha);
+      case TestFunctions::KernelDerivativesQw:
+        // [QW](2.18): Y_ij = -2 W'(r)/r replaces W'' in the third (degree-2) test function.
+        return alpha[0] == 2 ? -2 * ker.dW_over_r(r) : taylor::kernel_derivative(ker, xij, r, alpha);
+      case TestFunctions::KernelTimesMonomials: return ker.W(r) * taylor::monomial(xji, alpha, false);
+    }
+    return 0;
+  }
+
+  MethodInfo info_;
+  TestFunctions tests_;
+  std::string volume_;
+  taylor::SingularPolicy policy_;
+};
+
+}  // namespace
+
+MethodInfo fpm_info() {
+  return {"fpm",
+          "000_906375e5ed7c9bb7.txt ([QW](2.13)-(2.19)); 001_40aebf64e7a981b6.txt ([AAR](27)-(30)); Liu & Liu 2006",
+          "finite particle method: Taylor expansion projected on W and its derivatives (per-particle 1+d or "
+          "(d+1)(d+2)/2 system)",
+          "exact for linear (gradient) / quadratic (Laplacian) fields; O(h) gradient and Laplacian on irregular "
+          "particles and at boundaries ([QW] Figs. 3, 4, 6); [AAR]: first derivative O(h^2) inside, O(h) at the boundary",
+          all_operators,
+          common_options(true)};
+}
+
+MethodInfo kgf_info() {
+  return {"kgf",
+          "000_906375e5ed7c9bb7.txt ([QW] §2.2); Huang, Lei, Liu & Peng, IJNMF 78 (2015)",
+          "kernel-gradient-free SPH: FPM with test functions W_ij (x_j - x_i)^alpha (weighted least squares)",
+          "exact for linear/quadratic fields; gradient and Laplacian O(h) on perturbed particles ([QW] Figs. 3, 4)",
+          all_operators,
+          common_options(false)};
+}
+
+std::unique_ptr<Method> make_fpm(const MethodOptions& o) {
+  return std::make_unique<TaylorProjection>(fpm_info(), TestFunctions::KernelDerivatives, o);
+}
+std::unique_ptr<Method> make_kgf(const MethodOptions& o) {
+  return std::make_unique<TaylorProjection>(kgf_info(), TestFunctions::KernelTimesMonomials, o);
+}
+
+}  // namespace vrsph
