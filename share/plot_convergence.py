@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Log-log convergence plot of a vrsph JSON table (rows[] grouped by a column).
+"""Plot of a vrsph JSON table (rows[] grouped by a column).
 
-Usage: plot_convergence.py TABLE.json OUT.png --x dx --y error_inf --group method [--title T]
-Draws one line per group and a reference slope-2 (and slope-1) triangle.
+Usage: plot_convergence.py TABLE.json OUT.png --x dx --y error_inf --group method [--title T] [--linear]
+Log-log (default): one line per group and reference slopes 1 and 2 (convergence).
+--linear: linear axes, no reference slopes (e.g. normalised vibration spectra).
 """
 import argparse
 import json
@@ -22,12 +23,13 @@ def main() -> int:
     ap.add_argument("--y", default="error_inf")
     ap.add_argument("--group", default="method")
     ap.add_argument("--title", default="")
+    ap.add_argument("--linear", action="store_true")
     args = ap.parse_args()
     with open(args.table, encoding="utf-8") as f:
         rows = json.load(f)["rows"]
     groups = {}
     for r in rows:
-        if r.get(args.x) is None or r.get(args.y) is None or r[args.y] <= 0:
+        if r.get(args.x) is None or r.get(args.y) is None or (not args.linear and r[args.y] <= 0):
             continue
         groups.setdefault(str(r.get(args.group, "")), []).append((r[args.x], r[args.y]))
     if not groups:
@@ -40,13 +42,17 @@ def main() -> int:
         pts.sort()
         xs, ys = zip(*pts)
         xs_all += xs
-        ax.loglog(xs, ys, marker=markers[k % len(markers)], label=name)
-    # Reference slopes anchored at the smallest x of the first group.
-    x0, x1 = min(xs_all), max(xs_all)
-    first = sorted(groups.values())[0]
-    y0 = min(y for _, y in first)
-    for p, style in ((1, ":"), (2, "--")):
-        ax.loglog([x0, x1], [y0, y0 * (x1 / x0) ** p], "k" + style, linewidth=0.8, label=f"order {p}")
+        if args.linear:
+            ax.plot(xs, ys, marker=markers[k % len(markers)], markersize=3, label=name)
+        else:
+            ax.loglog(xs, ys, marker=markers[k % len(markers)], label=name)
+    if not args.linear:
+        # Reference slopes anchored at the smallest x of the first group.
+        x0, x1 = min(xs_all), max(xs_all)
+        first = sorted(groups.values())[0]
+        y0 = min(y for _, y in first)
+        for p, style in ((1, ":"), (2, "--")):
+            ax.loglog([x0, x1], [y0, y0 * (x1 / x0) ** p], "k" + style, linewidth=0.8, label=f"order {p}")
     ax.set_xlabel(args.x)
     ax.set_ylabel(args.y)
     ax.set_title(args.title)

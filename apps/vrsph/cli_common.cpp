@@ -38,7 +38,7 @@ std::string shell_quote(const std::string& s) {
 }  // namespace
 
 void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
-          const std::string& plot_y, const std::string& plot_group, const std::string& plot_title) {
+          const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   const TableFormat fmt = parse_table_format(out.format);
   const std::string text = format_table(table, fmt, extra_json);
   if (out.output.empty()) {
@@ -57,7 +57,7 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
   }
   const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(find_plot_script()) + " " + shell_quote(json_path.string()) + " " +
                           shell_quote(out.plot) + " --x " + plot_x + " --y " + plot_y + " --group " + plot_group +
-                          " --title " + shell_quote(plot_title);
+                          " --title " + shell_quote(plot_title) + (loglog ? "" : " --linear");
   const int rc = std::system(cmd.c_str());
   std::filesystem::remove(json_path);
   check<InputError>(rc == 0, "plotting failed (", cmd, " exited with status ", rc,

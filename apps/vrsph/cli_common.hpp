@@ -19,7 +19,7 @@ struct OutputOptions {
 /// Writes the table in the chosen format to stdout or the output file, and the plot if asked.
 /// plot_x/plot_y name the columns to plot (log-log), grouped by plot_group.
 void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
-          const std::string& plot_y, const std::string& plot_group, const std::string& plot_title);
+          const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog = true);
 
 /// "8,16,32" -> {8,16,32}; throws ConfigError naming the option on bad input.
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);

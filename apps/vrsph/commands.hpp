@@ -12,5 +12,6 @@ void add_operator_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_study_command(CLI::App& app);
 void add_solve_command(CLI::App& app);
+void add_spectrum_command(CLI::App& app);
 
 }  // namespace vrsph::cli
