@@ -49,7 +49,7 @@ Stencil nested_second_derivative(const Stencil& g, const Field* c, std::span<con
   SparseMatrix sum(n, n);
   for (int a = 0; a < g.components(); ++a) {
     const SparseView ga = as_eigen(g, a);
-    SparseMatrix term = c ? SparseMatrix(ga * c->asDiagonal()) : SparseMatrix(ga);
+    SparseMatrix term = c ? SparseMatrix(c->asDiagonal() * ga) : SparseMatrix(ga);  // diag(c) D_a
     term = SparseMatrix(ga * term);  // D_a (c D_a)
     sum = a == 0 ? term : SparseMatrix(sum + term);
   }

@@ -1,0 +1,73 @@
+// [QW] (seed 000_906375e5ed7c9bb7.txt) Examples 1–4 with the Taylor-corrected comparators
+// FPM, CSPM ("CSPH") and KGF beside SPH and VRSPH: the orders METHODS §5.1 states.
+// Bands (least-squares order over n = 16..128, one seed): gradient of FPM/CSPM/KGF on
+// perturbed particles in [0.7, 1.4] (order 1); FPM Laplacian "about 1 or worse"
+// (<= 1.4) but convergent (>= 0.5); CSPM Laplacian below first order (<= 0.5);
+// SPH non-convergent; VRSPH >= 1.8; on uniform lattices with ghosts FPM/KGF are exact for
+// quadratics, so order 2 (>= 1.8).
+#include <iostream>
+#include <vrsph/analysis/operator_study.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+OperatorStudyResult compare(int dim, OperatorKind op, CloudFamily cloud, bool ghosts, double kappa, std::vector<int> n) {
+  OperatorStudyParams p;
+  p.dim = dim;
+  p.methods = {"sph", "fpm", "cspm", "kgf", "vrsph"};
+  p.op = op;
+  p.cloud = cloud;
+  p.ghosts = ghosts;
+  p.h_factor = kappa;
+  p.n = std::move(n);
+  p.seed = 1;
+  const auto r = run_operator_study(p);
+  std::cout << to_markdown(to_table(r));
+  return r;
+}
+}  // namespace
+
+TEST(QwComparators, Example1UniformWithGhostsFpmKgfSecondOrder) {
+  for (OperatorKind op : {OperatorKind::Gradient, OperatorKind::Laplacian}) {
+    const auto r = compare(2, op, CloudFamily::Uniform, true, 3, {16, 32, 64, 128});
+    EXPECT_GE(r.fitted_order_inf.at("fpm"), 1.8) << to_string(op);
+    EXPECT_GE(r.fitted_order_inf.at("kgf"), 1.8) << to_string(op);
+    EXPECT_GE(r.fitted_order_inf.at("vrsph"), 1.8) << to_string(op);
+  }
+}
+
+TEST(QwComparators, Example2PerturbedGradientFirstOrder2D) {
+  const auto r = compare(2, OperatorKind::Gradient, CloudFamily::Perturbed, true, 3, {16, 32, 64, 128});
+  for (const auto* m : {"fpm", "cspm", "kgf"}) {
+    EXPECT_GE(r.fitted_order_inf.at(m), 0.7) << m;
+    EXPECT_LE(r.fitted_order_inf.at(m), 1.4) << m;
+  }
+  EXPECT_LE(std::abs(r.fitted_order_inf.at("sph")), 0.5);
+  EXPECT_GE(r.fitted_order_inf.at("vrsph"), 1.8);
+}
+
+TEST(QwComparators, Example2PerturbedGradientFirstOrder1D) {
+  const auto r = compare(1, OperatorKind::Gradient, CloudFamily::Perturbed, true, 3, {32, 64, 128, 256, 512});
+  for (const auto* m : {"fpm", "cspm", "kgf"}) {
+    EXPECT_GE(r.fitted_order_inf.at(m), 0.7) << m;
+    EXPECT_LE(r.fitted_order_inf.at(m), 1.4) << m;
+  }
+}
+
+TEST(QwComparators, Example2PerturbedLaplacian2D) {
+  const auto r = compare(2, OperatorKind::Laplacian, CloudFamily::Perturbed, true, 3, {16, 32, 64, 128});
+  EXPECT_GE(r.fitted_order_inf.at("fpm"), 0.5);
+  EXPECT_LE(r.fitted_order_inf.at("fpm"), 1.4);
+  EXPECT_LE(r.fitted_order_inf.at("kgf"), 1.5);
+  EXPECT_LE(r.fitted_order_inf.at("cspm"), 0.5);  // the neglected off-diagonal Hessian terms: O(1)
+  EXPECT_LE(r.fitted_order_inf.at("sph"), -0.7);  // diverges
+  EXPECT_GE(r.fitted_order_inf.at("vrsph"), 1.8);
+}
+
+TEST(QwComparators, Example4NoGhostsGradientNearBoundary) {
+  // Without ghosts the one-sided supports next to the boundary cost FPM/CSPM/KGF an order.
+  const auto r = compare(2, OperatorKind::Gradient, CloudFamily::Uniform, false, 3, {16, 32, 64, 128});
+  for (const auto* m : {"fpm", "cspm", "kgf"}) EXPECT_LE(r.fitted_order_inf.at(m), 1.4) << m;
+  EXPECT_GE(r.fitted_order_inf.at("vrsph"), 1.8);
+}
