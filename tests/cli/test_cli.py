@@ -225,6 +225,60 @@ class Bench(unittest.TestCase):
         self.assertEqual(rows[0]["pairs"], rows[1]["pairs"])
 
 
+    def test_stencils_bench_json(self):
+        out = run_json("bench", "stencils", "--dim", "2", "--n", "32", "--h-factor", "3", "--repeat", "2")
+        for m in ("sph", "vrsph", "fpm", "cspm", "kgf"):
+            self.assertIn(m, out["methods"])
+            self.assertGreater(out["methods"][m]["seconds"], 0)
+        self.assertEqual(out["methods"]["sph"]["ratio_to_sph"], 1.0)
+        self.assertIn("volumes m/rho", out["methods"])
+
+
+class AarFamily(unittest.TestCase):
+    def test_derivative_operator_all_particles(self):
+        out = run_json("operator", "--problem", "aar-derivative", "--method", "fpm2o", "--operator",
+                       "second-derivative", "--n", "20,40,80")
+        self.assertEqual([r["N"] for r in out["rows"]], [21, 41, 81])
+        self.assertEqual(out["kernel"], "gaussian")
+        self.assertAlmostEqual(out["rows"][0]["error_inf"], 5.92e-3, delta=1e-4)  # METHODS §5.2
+        self.assertGreater(out["fitted_order_inf"]["fpm2o"], 1.85)
+
+    def test_static_study_with_neumann_end(self):
+        out = run_json("study", "--problem", "aar-static", "--method", "mfpm,chen-beraun", "--cloud", "uniform",
+                       "--n", "20,40,80")
+        self.assertEqual(out["neumann_faces"], ["x1"])
+        self.assertAlmostEqual(out["fitted_order_inf"]["mfpm"], 2.0, delta=0.15)
+        self.assertAlmostEqual(out["fitted_order_inf"]["chen-beraun"], 1.0, delta=0.15)
+
+    def test_spectrum_json_and_plot(self):
+        with tempfile.TemporaryDirectory() as d:
+            png = os.path.join(d, "spectrum.png")
+            out = run_json("spectrum", "--method", "fpm2o,aar-sph", "--n", "101", "--plot", png)
+            self.assertEqual(len(out["omega_ratio"]), 100)
+            self.assertAlmostEqual(out["omega_ratio"][0], 0.9999, delta=0.01)
+            self.assertAlmostEqual(out["spectra"]["aar-sph"][0], 0.664, delta=0.007)
+            self.assertAlmostEqual(out["fem_ratio"][99], 0.643, delta=0.007)
+            self.assertGreater(os.path.getsize(png), 1000)
+
+    def test_bad_boundary_and_spectrum_input(self):
+        p = run("study", "--problem", "custom", "--u", "x + y", "--method", "fpm", "--neumann", "all", "--n", "8",
+                check=False)
+        self.assertEqual(p.returncode, 3)
+        self.assertIn("up to a constant", p.stderr)
+        p = run("study", "--problem", "custom", "--u", "x + y", "--method", "fpm", "--neumann", "all",
+                "--fix-constant", "--n", "8", "--format", "json")
+        self.assertLess(json.loads(p.stdout)["rows"][0]["error_inf"], 1e-9)
+        p = run("study", "--problem", "aar-static", "--method", "fpm2o", "--neumann", "q7", "--n", "8", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("unknown Neumann face", p.stderr)
+        p = run("spectrum", "--method", "fpm2o", "--n", "2", check=False)
+        self.assertEqual(p.returncode, 2)
+        p = run("operator", "--problem", "unit-box", "--dim", "2", "--method", "mfpm", "--n", "8", "--no-ghosts",
+                check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("1D only", p.stderr)
+
+
 if __name__ == "__main__":
     VRSPH = os.path.abspath(sys.argv.pop(1))
     unittest.main(verbosity=2)

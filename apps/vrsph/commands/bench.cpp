@@ -2,12 +2,17 @@
 // measured in the same run (the machine is shared and noisy; absolute seconds are
 // for orientation only).
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <fstream>
 #include <sstream>
 #include <iostream>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/methods/registry.hpp>
+#include <vrsph/methods/sph/sph.hpp>
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -148,6 +153,84 @@ void add_volumes_bench(CLI::App& bench) {
   });
 }
 
+// [QW] Table 1: time to build the Laplacian stencil of each method, repeated, as ratios to
+// SPH in the same run; separately the summation-density volumes m/rho the others need.
+void add_stencils_bench(CLI::App& bench) {
+  auto a = std::make_shared<BenchArgs>();
+  a->n = 128;
+  a->repeat = 10;
+  auto methods = std::make_shared<std::string>("sph,vrsph,fpm,cspm,kgf");
+  auto factors = std::make_shared<std::string>("3");
+  auto* cmd = bench.add_subcommand("stencils", "[QW] Table 1: Laplacian stencil build time per method, ratio to SPH");
+  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3")->capture_default_str();
+  cmd->add_option("--n", a->n, "Intervals per direction of the perturbed unit lattice ([QW]: 2^7)")->capture_default_str();
+  cmd->add_option("--h-factor", *factors, "Comma-separated h/dx values ([QW]: 3,4,5)")->capture_default_str();
+  cmd->add_option("--repeat", a->repeat, "Builds per method; seconds = their total ([QW]: 10)")->capture_default_str();
+  cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--method", *methods, "Comma-separated methods (sph is always timed as the baseline)")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->capture_default_str();
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->callback([a, methods, factors] {
+    auto names = parse_name_list(*methods, "--method");
+    if (std::find(names.begin(), names.end(), "sph") == names.end()) names.insert(names.begin(), "sph");
+    std::vector<double> kappas;
+    for (const auto& f : parse_name_list(*factors, "--h-factor")) {
+      char* end = nullptr;
+      kappas.push_back(std::strtod(f.c_str(), &end));
+      check<ConfigError>(end && *end == '\0' && kappas.back() > 0, "--h-factor: '", f, "' is not a positive number");
+    }
+    // [QW] Table 1 seconds (h/dx = 3, 4, 5), for the comparison column.
+    const std::map<std::string, std::array<double, 3>> paper{{"vrsph", {28.2344, 42.4219, 55.9844}},
+                                                             {"sph", {9.5312, 17.6094, 26.75}},
+                                                             {"fpm", {25.5625, 44.2188, 65.9219}},
+                                                             {"cspm", {19.9688, 35.3438, 47.0625}},
+                                                             {"kgf", {26.75, 44.5156, 65.5312}},
+                                                             {"volumes m/rho", {4.4219, 7.1719, 10.6094}}};
+    const StudyCloud sc = bench_cloud(*a);
+    Table t;
+    t.columns = {"method", "h_factor", "particles", "repeat", "threads", "seconds", "seconds_per_build", "ratio_to_sph",
+                 "paper_seconds", "paper_ratio_to_sph"};
+    nlohmann::ordered_json per_method = nlohmann::ordered_json::object();
+    for (double kappa : kappas) {
+      SearchParams sp;
+      sp.radius = kappa * sc.dx;
+      const NeighbourList nl = find_neighbours(sc.cloud, sp);
+      const Discretisation disc{sc.cloud, nl, KernelType::CubicSpline, sc.cloud.spacing};
+      std::map<std::string, double> seconds;
+      for (const auto& m : names) {
+        const auto method = builtin_methods().create(m);
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int r = 0; r < a->repeat; ++r) (void)method->build(disc, {OperatorKind::Laplacian});
+        seconds[m] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int r = 0; r < a->repeat; ++r) (void)sph_volumes(disc, SphVolume::Shepard);
+        seconds["volumes m/rho"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+      const int col = kappa == 3 ? 0 : kappa == 4 ? 1 : kappa == 5 ? 2 : -1;
+      auto order = names;
+      order.push_back("volumes m/rho");
+      for (const auto& m : order) {
+        const auto it = paper.find(m);
+        const double ps = col >= 0 && it != paper.end() ? it->second[static_cast<std::size_t>(col)] : std::nan("");
+        const double pr = col >= 0 && it != paper.end() ? ps / paper.at("sph")[static_cast<std::size_t>(col)] : std::nan("");
+        t.add_row({{"method", m}, {"h_factor", kappa}, {"particles", static_cast<long long>(sc.cloud.size())},
+                   {"repeat", static_cast<long long>(a->repeat)}, {"threads", static_cast<long long>(a->threads)},
+                   {"seconds", seconds[m]}, {"seconds_per_build", seconds[m] / a->repeat},
+                   {"ratio_to_sph", seconds[m] / seconds["sph"]}, {"paper_seconds", ps}, {"paper_ratio_to_sph", pr}});
+        if (kappa == kappas.front()) per_method[m] = {{"seconds", seconds[m]}, {"ratio_to_sph", seconds[m] / seconds["sph"]}};
+      }
+    }
+    nlohmann::ordered_json extra;
+    extra["benchmark"] = "stencils";
+    extra["methods"] = per_method;
+    extra["peak_memory_mib"] = peak_memory_mib();
+    emit(t, a->out, extra.dump(), "", "", "", "");
+  });
+}
+
 void add_bench_command(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Throughput benchmarks (ratios against an in-run baseline)");
   bench->require_subcommand(1);
@@ -185,6 +268,7 @@ void add_bench_command(CLI::App& app) {
          "", "");
   });
   add_volumes_bench(*bench);
+  add_stencils_bench(*bench);
 }
 
 }  // namespace vrsph::cli
