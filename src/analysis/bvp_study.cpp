@@ -231,21 +231,24 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.seconds_stencil = watch.seconds();
 
   // Local (NNLS) feasibility of the unknowns' rows.
-  const LocalResidualSummary local = summarise_local_residuals(L, interior, p.infeasible_tolerance);
-  run.max_local_residual = local.max_relative;
-  run.infeasible = local.infeasible;
-  if (local.infeasible > 0) {
+  // Local feasibility of the interior rows and of the flux rows (the method's gradient there).
+  const auto report = [&](const LocalResidualSummary& local, const char* what) {
+    run.max_local_residual = std::max(run.max_local_residual, local.max_relative);
+    run.infeasible += local.infeasible;
+    if (local.infeasible == 0) return;
     std::string list;
     for (std::size_t k = 0; k < local.worst.size(); ++k) {
       run.infeasible_particles.push_back(local.worst[k].second);
       list += detail::concat(k ? ", " : "", local.worst[k].second, " (", local.worst[k].first, ")");
     }
-    const std::string msg = detail::concat(method_name, " n=", n, " seed=", seed, ": ", local.infeasible,
-                                           " particle(s) with infeasible moment conditions (relative residual > ",
+    const std::string msg = detail::concat(method_name, " n=", n, " seed=", seed, ": ", local.infeasible, " ", what,
+                                           " particle(s) with infeasible moment conditions or a singular local system (relative residual > ",
                                            p.infeasible_tolerance, "); worst: ", list);
     if (p.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
     if (warnings) warnings->push_back(msg);
-  }
+  };
+  report(summarise_local_residuals(L, interior, p.infeasible_tolerance), "interior");
+  if (run.neumann_particles > 0) report(summarise_local_residuals(G, flux, p.infeasible_tolerance), "Neumann");
   if (p.check_m_matrix) {
     const MMatrixReport mm = check_m_matrix(L, run.neumann_particles > 0 ? std::span<const char>(interior) : unknown);
     run.m_matrix = mm.is_m_matrix();
