@@ -248,6 +248,11 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
     if (warnings) warnings->push_back(msg);
   };
   report(summarise_local_residuals(L, interior, p.infeasible_tolerance), "interior");
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (interior[si] && !L.condition.empty()) run.condition_max = std::max(run.condition_max, L.condition[si]);
+    if (flux[si] && !G.condition.empty()) run.condition_max = std::max(run.condition_max, G.condition[si]);
+  }
   if (run.neumann_particles > 0) report(summarise_local_residuals(G, flux, p.infeasible_tolerance), "Neumann");
   if (p.check_m_matrix) {
     const MMatrixReport mm = check_m_matrix(L, run.neumann_particles > 0 ? std::span<const char>(interior) : unknown);
@@ -362,7 +367,7 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
 Table to_table(const BvpStudyResult& r) {
   Table t;
   t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
-               "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "neighbours_mean",
+               "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "condition_max", "neighbours_mean",
                "nnz_per_row", "solver", "solver_iterations", "solver_residual", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
                "seconds_assemble", "seconds_solve"};
   for (const auto& row : r.rows) {
@@ -383,6 +388,7 @@ Table to_table(const BvpStudyResult& r) {
                {"error_inf_boundary", row.error_inf_boundary},
                {"mmatrix", row.m_matrix_all},
                {"infeasible", static_cast<long long>(row.infeasible_max)},
+               {"condition_max", f.condition_max > 0 ? f.condition_max : std::nan("")},
                {"neighbours_mean", f.neighbours_mean},
                {"nnz_per_row", f.nnz_per_row},
                {"solver", f.solve.solver},

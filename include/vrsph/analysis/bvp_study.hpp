@@ -75,6 +75,7 @@ struct BvpRun {
   Real neighbours_mean = 0, nnz_per_row = 0;
   Index infeasible = 0;      ///< rows whose local residual exceeds the tolerance (or failed)
   Real max_local_residual = 0;
+  Real condition_max = 0;    ///< largest local-system condition number (Taylor-type methods; 0: none)
   std::vector<Index> infeasible_particles;  ///< first few, for messages
   SolveReport solve;
   double seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
