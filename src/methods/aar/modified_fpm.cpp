@@ -116,12 +116,6 @@ class ModifiedFpm final : public Method {
   taylor::SingularPolicy policy_;
 };
 
-std::vector<std::pair<std::string, std::string>> options_list() {
-  std::vector<std::pair<std::string, std::string>> o{{"volume", "dx (dOmega_j = dx, default) | shepard"}};
-  for (auto& p : taylor::singular_policy_options()) o.push_back(p);
-  return o;
-}
-
 }  // namespace
 
 MethodInfo mfpm_info() {
@@ -130,7 +124,7 @@ MethodInfo mfpm_info() {
           "modified FPM (1D): 2x2 Taylor projection on W and DW giving first and second derivative together",
           "second derivative O(h^2) inside, O(h) at the boundary (derivative test order 1; rod order 2)",
           operators,
-          options_list()};
+          taylor::corrected_method_options()};
 }
 MethodInfo fpm2o_info() {
   return {"fpm2o",
@@ -138,7 +132,7 @@ MethodInfo fpm2o_info() {
           "second-order FPM (1D): modified FPM with the kernel corrected by (a s^3 + b s + c) near the boundary",
           "O(h^2) everywhere, boundary included (derivative and rod tests order 2, also on perturbed particles)",
           operators,
-          options_list()};
+          taylor::corrected_method_options()};
 }
 
 std::unique_ptr<Method> make_mfpm(const MethodOptions& o) { return std::make_unique<ModifiedFpm>(mfpm_info(), false, o); }

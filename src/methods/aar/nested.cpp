@@ -11,10 +11,6 @@ namespace {
 using taylor::SmallMatrix;
 using taylor::SmallVector;
 
-const std::vector<OperatorKind> operators{OperatorKind::Value,    OperatorKind::Dx,       OperatorKind::Dy,
-                                           OperatorKind::Dz,       OperatorKind::Gradient, OperatorKind::Laplacian,
-                                           OperatorKind::DivAGrad};
-
 class NestedKernelMethod final : public Method {
  public:
   /// correction_degree: 0 = plain kernel (original SPH), 1 or 2 = RKPM order.
@@ -131,13 +127,6 @@ class NestedKernelMethod final : public Method {
   taylor::SingularPolicy policy_;
 };
 
-std::vector<std::pair<std::string, std::string>> options_list(bool corrected) {
-  std::vector<std::pair<std::string, std::string>> o{{"volume", "dx (dOmega_j = dx^d, default) | shepard"}};
-  if (corrected)
-    for (auto& p : taylor::singular_policy_options()) o.push_back(p);
-  return o;
-}
-
 MethodInfo with_rings(MethodInfo info) {
   info.stencil_rings = 2;
   return info;
@@ -151,24 +140,24 @@ MethodInfo aar_sph_info() {
                      "original SPH as in [AAR]: kernel first derivative, second derivative by applying it twice",
                      "O(h^2) inside; not convergent at the boundary (derivative test order -1; rod: apparent order "
                      "1 decaying; spectrum strongly underestimated)",
-                     operators,
-                     options_list(false)});
+                     taylor::every_operator(),
+                     taylor::corrected_method_options(false)});
 }
 MethodInfo rkpm1_info() {
   return with_rings({"rkpm1",
                      "001_40aebf64e7a981b6.txt ([AAR](21)-(26))",
                      "first-order RKPM: kernel corrected by a linear polynomial per particle, D2 = D D",
                      "as original SPH: O(h^2) inside, not convergent at the boundary",
-                     operators,
-                     options_list(true)});
+                     taylor::every_operator(),
+                     taylor::corrected_method_options(true)});
 }
 MethodInfo rkpm2_info() {
   return with_rings({"rkpm2",
                      "001_40aebf64e7a981b6.txt ([AAR](21)-(26))",
                      "second-order RKPM: kernel corrected by a quadratic polynomial per particle, D2 = D D",
                      "O(h^2) inside, not convergent at the boundary",
-                     operators,
-                     options_list(true)});
+                     taylor::every_operator(),
+                     taylor::corrected_method_options(true)});
 }
 
 std::unique_ptr<Method> make_aar_sph(const MethodOptions& o) {

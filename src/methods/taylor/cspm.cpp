@@ -12,12 +12,6 @@ using taylor::SmallMatrix;
 
 enum class SecondDerivative { KernelHessian /*cspm*/, KernelOnly /*chen-beraun, [AAR](20)*/ };
 
-std::vector<std::pair<std::string, std::string>> options_list() {
-  std::vector<std::pair<std::string, std::string>> o{{"volume", "dx (v_j = dx^d, default) | shepard (v_j = 1/sum_k W_jk)"}};
-  for (auto& p : taylor::singular_policy_options()) o.push_back(p);
-  return o;
-}
-
 class Corrective final : public Method {
  public:
   Corrective(MethodInfo info, SecondDerivative second, const MethodOptions& o)
@@ -156,10 +150,6 @@ class Corrective final : public Method {
   taylor::SingularPolicy policy_;
 };
 
-const std::vector<OperatorKind> operators{OperatorKind::Value,    OperatorKind::Dx,       OperatorKind::Dy,
-                                           OperatorKind::Dz,       OperatorKind::Gradient, OperatorKind::Laplacian,
-                                           OperatorKind::DivAGrad};
-
 }  // namespace
 
 MethodInfo cspm_info() {
@@ -169,8 +159,8 @@ MethodInfo cspm_info() {
           "(diagonal Hessian approximation)",
           "gradient exact for linear fields, O(h) on perturbed particles; Laplacian below first order on perturbed "
           "particles ([QW] Fig. 4)",
-          operators,
-          options_list()};
+          taylor::every_operator(),
+          taylor::corrected_method_options()};
 }
 
 MethodInfo chen_beraun_info() {
@@ -180,8 +170,8 @@ MethodInfo chen_beraun_info() {
           "(isotropic extension in 2D/3D)",
           "O(h^2) inside; first derivative O(h), second derivative O(1) at the boundary (no max-norm convergence in "
           "the derivative test, first order for the rod, [AAR] §5)",
-          operators,
-          options_list()};
+          taylor::every_operator(),
+          taylor::corrected_method_options()};
 }
 
 std::unique_ptr<Method> make_cspm(const MethodOptions& o) {

@@ -10,16 +10,10 @@ namespace {
 using taylor::SmallMatrix;
 using taylor::SmallVector;
 
-const std::vector<OperatorKind> all_operators{OperatorKind::Value,    OperatorKind::Dx,       OperatorKind::Dy,
-                                               OperatorKind::Dz,       OperatorKind::Gradient, OperatorKind::Laplacian,
-                                               OperatorKind::DivAGrad};
-
 std::vector<std::pair<std::string, std::string>> common_options(bool with_variant) {
-  std::vector<std::pair<std::string, std::string>> o{
-      {"volume", "dx (v_j = dx^d, default) | shepard (v_j = 1/sum_k W_jk)"}};
+  auto o = taylor::corrected_method_options();
   if (with_variant)
     o.emplace_back("variant", "liu (default: Hessian of W as test functions) | qw ([QW](2.18), 1D only: Y_ij instead of W'')");
-  for (auto& p : taylor::singular_policy_options()) o.push_back(p);
   return o;
 }
 
@@ -166,7 +160,7 @@ MethodInfo fpm_info() {
           "(d+1)(d+2)/2 system)",
           "exact for linear (gradient) / quadratic (Laplacian) fields; O(h) gradient and Laplacian on irregular "
           "particles and at boundaries ([QW] Figs. 3, 4, 6); [AAR]: first derivative O(h^2) inside, O(h) at the boundary",
-          all_operators,
+          taylor::every_operator(),
           common_options(true)};
 }
 
@@ -175,7 +169,7 @@ MethodInfo kgf_info() {
           "000_906375e5ed7c9bb7.txt ([QW] §2.2); Huang, Lei, Liu & Peng, IJNMF 78 (2015)",
           "kernel-gradient-free SPH: FPM with test functions W_ij (x_j - x_i)^alpha (weighted least squares)",
           "exact for linear/quadratic fields; gradient and Laplacian O(h) on perturbed particles ([QW] Figs. 3, 4)",
-          all_operators,
+          taylor::every_operator(),
           common_options(false)};
 }
 

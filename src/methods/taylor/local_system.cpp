@@ -16,9 +16,20 @@ SingularPolicy read_singular_policy(const MethodOptions& o) {
   return p;
 }
 
-std::vector<std::pair<std::string, std::string>> singular_policy_options() {
-  return {{"max_condition", "largest accepted condition number of a local system (default 1e12, METHODS §3.0)"},
-          {"on_singular", "error (default: name the particle and stop) | warn (leave the row zero and flag it)"}};
+std::vector<std::pair<std::string, std::string>> corrected_method_options(bool with_policy) {
+  std::vector<std::pair<std::string, std::string>> o{{"volume", "dx (v_j = dx^d, default) | shepard (v_j = 1/sum_k W_jk)"}};
+  if (with_policy) {
+    o.emplace_back("max_condition", "largest accepted condition number of a local system (default 1e12, METHODS §3.0)");
+    o.emplace_back("on_singular", "error (default: name the particle and stop) | warn (leave the row zero and flag it)");
+  }
+  return o;
+}
+
+const std::vector<OperatorKind>& every_operator() {
+  static const std::vector<OperatorKind> ops{OperatorKind::Value,    OperatorKind::Dx,       OperatorKind::Dy,
+                                             OperatorKind::Dz,       OperatorKind::Gradient, OperatorKind::Laplacian,
+                                             OperatorKind::DivAGrad};
+  return ops;
 }
 
 Real equilibrated_inverse(const SmallMatrix& M, SmallMatrix& inverse) {

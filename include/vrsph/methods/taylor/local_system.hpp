@@ -30,8 +30,11 @@ struct SingularPolicy {
   bool warn = false;
 };
 SingularPolicy read_singular_policy(const MethodOptions& options);
-/// Option descriptions for MethodInfo::options.
-std::vector<std::pair<std::string, std::string>> singular_policy_options();
+/// Option descriptions for MethodInfo::options: volume=dx|shepard, then (with_policy) the
+/// singular-system policy.
+std::vector<std::pair<std::string, std::string>> corrected_method_options(bool with_policy = true);
+/// value, dx, dy, dz, gradient, laplacian, div-a-grad.
+const std::vector<OperatorKind>& every_operator();
 
 /// inverse = M^-1 computed on the equilibrated matrix (rows, then columns scaled to unit
 /// max-norm); returns the 1-norm condition estimate of the equilibrated matrix, +inf if
