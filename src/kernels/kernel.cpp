@@ -114,6 +114,21 @@ Real Kernel::dW(Real r) const { return sigma_ * inv_h_d_ / h_ * detail::kernel_p
 Real Kernel::d2W(Real r) const {
   return sigma_ * inv_h_d_ / (h_ * h_) * detail::kernel_profile(type_, dim_, r / h_).d2w;
 }
+void Kernel::dW_over_r(const Real* r, Real* out, int n) const {
+  const Real inv_h = 1 / h_, scale = sigma_ * inv_h_d_ * inv_h * inv_h;
+  if (type_ != KernelType::CubicSpline) {
+    for (int k = 0; k < n; ++k) out[k] = dW_over_r(r[k]);
+    return;
+  }
+  // [QW](2.4): w'(R)/R = -12 + 18 R (R < 1/2), -6 (1 - R)^2 / R (R < 1), 0 beyond.
+  for (int k = 0; k < n; ++k) {
+    const Real R = r[k] * inv_h;
+    const Real s = 1 - R;
+    const Real ratio = R < 0.5 ? -12 + 18 * R : R < 1 ? -6 * s * s / R : 0.0;
+    out[k] = scale * ratio;
+  }
+}
+
 Real Kernel::dW_over_r(Real r) const {
   const Real R = r / h_;
   const auto p = detail::kernel_profile(type_, dim_, R);

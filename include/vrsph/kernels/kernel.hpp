@@ -54,6 +54,9 @@ class Kernel {
   Real d2W(Real r) const;  ///< d^2W/dr^2
   /// W'(r)/r, with its finite limit W''(0) at r = 0. This is [QW]'s -Y/2 = F_ij.
   Real dW_over_r(Real r) const;
+  /// out[k] = W'(r[k])/r[k] for k < n: the per-neighbour loop of the stencil builders,
+  /// with the kernel type dispatched once (the cubic spline inline) instead of per call.
+  void dW_over_r(const Real* r, Real* out, int n) const;
 
  private:
   KernelType type_;

@@ -66,6 +66,7 @@ void NnlsSolver::reserve(int m, int n) {
   r_.resize(M);
   w_.resize(N);
   at_.resize(M * N);
+  gs_.resize(M);
   passive_.resize(M);
   in_passive_.resize(N);
 }
@@ -138,9 +139,11 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     for (int p = 0; p < k; ++p) w[passive_[static_cast<std::size_t>(p)]] = -std::numeric_limits<Real>::infinity();  // never re-enters directly
     return std::sqrt(res2);
   };
-  // Appends column t as passive position k: Gram–Schmidt against the k passive basis
-  // columns, twice ("twice is enough" for orthogonality). Returns false (factorisation
-  // unchanged) if t is numerically dependent on the passive set.
+  // Appends column t as passive position k: classical Gram–Schmidt against the k passive
+  // basis columns (the k dot products are independent, unlike modified GS's chain), with a
+  // second pass only when the first cancelled more than half the norm (DGKS criterion;
+  // "twice is enough"). Returns false (factorisation unchanged) if t is numerically
+  // dependent on the passive set.
   auto add_column = [&](int t) {
     const Real* a = col(t);
     Real* qk = Q + static_cast<std::size_t>(k) * M;
@@ -151,14 +154,25 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
       anorm2 += a[i] * a[i];
     }
     for (int l = 0; l < k; ++l) Rk[l] = 0;
-    for (int pass = 0; pass < 2; ++pass)
+    Real before2 = anorm2;
+    for (int pass = 0; pass < 2; ++pass) {
+      Real* c = gs_.data();  // projections onto the passive basis
       for (int l = 0; l < k; ++l) {
         const Real* Ql = Q + static_cast<std::size_t>(l) * M;
-        Real c = 0;
-        for (std::size_t i = 0; i < M; ++i) c += Ql[i] * qk[i];
-        for (std::size_t i = 0; i < M; ++i) qk[i] -= c * Ql[i];
-        Rk[l] += c;
+        Real d = 0;
+        for (std::size_t i = 0; i < M; ++i) d += Ql[i] * qk[i];
+        c[l] = d;
       }
+      for (int l = 0; l < k; ++l) {
+        const Real* Ql = Q + static_cast<std::size_t>(l) * M;
+        for (std::size_t i = 0; i < M; ++i) qk[i] -= c[l] * Ql[i];
+        Rk[l] += c[l];
+      }
+      Real after2 = 0;
+      for (std::size_t i = 0; i < M; ++i) after2 += qk[i] * qk[i];
+      if (k == 0 || after2 > 0.5 * before2) break;  // ||q|| > ||a||/sqrt(2): orthogonal to working accuracy
+      before2 = after2;
+    }
     Real vnorm2 = 0;
     for (std::size_t i = 0; i < M; ++i) vnorm2 += qk[i] * qk[i];
     const Real vnorm = std::sqrt(vnorm2);

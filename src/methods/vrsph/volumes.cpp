@@ -42,9 +42,10 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
       const Kernel ker = disc.kernel_at(i);
       const auto nbr = nl.of(i);
       const auto dist = nl.distances_of(i);
+      ker.dW_over_r(dist.data(), half_y.data(), cnt);
       for (int k = 0; k < cnt; ++k) {
         xji[static_cast<std::size_t>(k)] = cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - cloud.positions[si];
-        half_y[static_cast<std::size_t>(k)] = -ker.dW_over_r(dist[static_cast<std::size_t>(k)]);
+        half_y[static_cast<std::size_t>(k)] = -half_y[static_cast<std::size_t>(k)];
       }
       build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout);
       const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, nnls);

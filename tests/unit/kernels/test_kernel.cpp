@@ -115,3 +115,15 @@ TEST(Kernel, RejectsBadParameters) {
   EXPECT_THROW_MSG(Kernel::from_smoothing_length(KernelType::Quintic, 2, std::nan("")), InputError, "smoothing length");
   EXPECT_THROW_MSG(parse_kernel("cubix"), ConfigError, "unknown kernel 'cubix'");
 }
+
+TEST(Kernel, BatchedDerivativeEqualsScalarForEveryKernel) {
+  for (const auto& info : kernel_catalogue())
+    for (int dim = 1; dim <= 3; ++dim) {
+      const Kernel k(info.type, dim, 0.37);
+      std::vector<double> r, out(41);
+      for (int i = 0; i <= 40; ++i) r.push_back(0.37 * 1.05 * i / 40.0);  // includes r = 0, r = h and beyond
+      k.dW_over_r(r.data(), out.data(), static_cast<int>(r.size()));
+      for (std::size_t i = 0; i < r.size(); ++i)
+        EXPECT_NEAR(out[i], k.dW_over_r(r[i]), 1e-12 * std::abs(k.dW_over_r(0)) + 1e-300) << info.name << " r=" << r[i];
+    }
+}
