@@ -5,7 +5,7 @@
 // NnlsSolver is the Lawson–Hanson active-set algorithm (the algorithm of MATLAB's
 // lsqnonneg and SciPy's nnls) written for throughput: one workspace per thread, no
 // heap allocation per solve, and the thin QR factorisation of the passive columns is
-// updated instead of recomputed: Gram–Schmidt with reorthogonalisation when a column
+// updated instead of recomputed: classical Gram–Schmidt (second pass by the DGKS test) when a column
 // enters, Givens rotations when one leaves. Written by hand because it is our core (every VRSPH particle solves
 // one) and no Debian library offers a small-problem NNLS without per-call allocation.
 //
