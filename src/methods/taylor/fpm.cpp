@@ -12,6 +12,9 @@ using taylor::SmallVector;
 
 std::vector<std::pair<std::string, std::string>> common_options(bool with_variant) {
   auto o = taylor::corrected_method_options();
+  o.emplace_back("gradient_order",
+                 "1 (default: gradient from the linear fit, [QW](2.15)) | 2 (from the quadratic fit: exact for quadratics, "
+                 "second-order one-sided gradients, e.g. for Neumann rows)");
   if (with_variant)
     o.emplace_back("variant", "liu (default: Hessian of W as test functions) | qw ([QW](2.18), 1D only: Y_ij instead of W'')");
   return o;
@@ -23,6 +26,7 @@ class TaylorProjection final : public Method {
  public:
   TaylorProjection(MethodInfo info, TestFunctions tests, const MethodOptions& o) : info_(std::move(info)), tests_(tests) {
     volume_ = o.get_choice("volume", "dx", {"dx", "shepard"});
+    quadratic_gradient_ = o.get_choice("gradient_order", "1", {"1", "2"}) == "2";
     if (tests_ != TestFunctions::KernelTimesMonomials &&
         o.get_choice("variant", "liu", {"liu", "qw"}) == "qw")
       tests_ = TestFunctions::KernelDerivativesQw;
@@ -36,7 +40,7 @@ class TaylorProjection final : public Method {
     const int dim = cloud.dim;
     check<ConfigError>(tests_ != TestFunctions::KernelDerivativesQw || dim == 1,
                        "fpm variant=qw ([QW](2.18)) is defined in 1D only");
-    const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
+    const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad || quadratic_gradient_;
     const auto basis = taylor::multi_indices(dim, second ? 2 : 1, true);
     const auto m = static_cast<Eigen::Index>(basis.size());
     std::vector<int> grad_pos(static_cast<std::size_t>(dim)), hess_pos(static_cast<std::size_t>(dim));
@@ -148,6 +152,7 @@ class TaylorProjection final : public Method {
   MethodInfo info_;
   TestFunctions tests_;
   std::string volume_;
+  bool quadratic_gradient_ = false;  ///< value/gradient from the second-order (quadratic) fit
   taylor::SingularPolicy policy_;
 };
 

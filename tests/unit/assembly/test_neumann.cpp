@@ -76,3 +76,21 @@ TEST(Neumann, ParticleWithoutNormalIsAnError) {
   EXPECT_THROW_MSG((void)assemble(L, c, unknown, zero, zero, &bc), InputError, "has no outward normal");
   EXPECT_THROW_MSG((void)assemble(L, c, unknown, zero, zero), InputError, "no flux (gradient) stencil");
 }
+
+TEST(Neumann, QuadraticFitFluxRowsGiveSecondOrderMixedProblems) {
+  // fpm gradient_order=2: flux rows from the quadratic fit are second-order one-sided
+  // gradients, so the mixed problem converges at order 2 (order 1 with the linear fit).
+  BvpStudyParams p;
+  p.problem = "custom";
+  p.u = "x*y + exp(x)";
+  p.methods = {"fpm"};
+  p.method_options["fpm"].set("gradient_order", "2");
+  p.cloud = CloudFamily::Uniform;
+  p.neumann = {"x1", "y1"};
+  p.n = {16, 32, 64};
+  p.check_m_matrix = false;
+  EXPECT_GE(run_bvp_study(p).fitted_order_inf.at("fpm"), 1.8);
+  p.method_options.clear();
+  const double linear = run_bvp_study(p).fitted_order_inf.at("fpm");
+  EXPECT_NEAR(linear, 1.0, 0.2);
+}
