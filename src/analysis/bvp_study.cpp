@@ -210,14 +210,18 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
   req.coefficient = &a;
-  // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0).
-  Eigen::MatrixXd grad_a(cloud.size(), p.dim);
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const Vec3 ga = pf.a->gradient(cloud.positions[static_cast<std::size_t>(i)]);
-    for (int c = 0; c < p.dim; ++c) grad_a(i, c) = ga[c];
+  // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0);
+  // sampled only for them (an expression's gradient costs 4d evaluations per particle).
+  Eigen::MatrixXd grad_a;
+  if (method->info().uses_coefficient_gradient) {
+    grad_a.resize(cloud.size(), p.dim);
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const Vec3 ga = pf.a->gradient(cloud.positions[static_cast<std::size_t>(i)]);
+      for (int c = 0; c < p.dim; ++c) grad_a(i, c) = ga[c];
+    }
+    check<InputError>(grad_a.allFinite(), "the gradient of the coefficient a is not finite");
+    req.coefficient_gradient = &grad_a;
   }
-  check<InputError>(grad_a.allFinite(), "the gradient of the coefficient a is not finite");
-  req.coefficient_gradient = &grad_a;
   req.rows = interior;
   const Discretisation disc{cloud, nl, p.kernel, cloud.spacing};
   const Stencil L = method->build(disc, req);

@@ -52,13 +52,17 @@ void validate_params(const OperatorStudyParams& p) {
 
 // [AAR]'s derivative test measures the error at every particle, the ends included.
 bool evaluates_boundary(const OperatorStudyParams& p) { return p.evaluate_boundary || p.problem == "aar-derivative"; }
+
+// The user's --u, else the problem's test function ([AAR]: e^x, [QW]: cos).
+std::string test_function_of(const OperatorStudyParams& p) {
+  return !p.u.empty() ? p.u : p.problem == "aar-derivative" ? "exp-x" : "cos-pi";
+}
 }  // namespace
 
 OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
   validate_params(p);
   const Domain box = problem_domain(p.problem, p.dim);
-  const std::string u_spec = !p.u.empty() ? p.u : p.problem == "aar-derivative" ? "exp-x" : "cos-pi";
-  auto u = make_function_or_expression(u_spec, p.dim);
+  auto u = make_function_or_expression(test_function_of(p), p.dim);
   std::unique_ptr<ScalarFunction> a;
   if (p.op == OperatorKind::DivAGrad) a = make_function_or_expression(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
   std::vector<Expression> expected;
@@ -225,7 +229,7 @@ std::string metadata_json(const OperatorStudyResult& r) {
   j["seed"] = p.seed;
   j["delta"] = p.delta;
   j["regular_layer"] = p.regular_layer;
-  j["function"] = !p.u.empty() ? p.u : p.problem == "aar-derivative" ? "exp-x" : "cos-pi";
+  j["function"] = test_function_of(p);
   j["evaluated"] = evaluates_boundary(p) ? "all particles (boundary included)" : "interior particles";
   nlohmann::ordered_json fit = nlohmann::ordered_json::object();
   for (const auto& [m, o] : r.fitted_order_inf) fit[m] = std::isfinite(o) ? nlohmann::ordered_json(o) : nlohmann::ordered_json();

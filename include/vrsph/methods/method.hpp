@@ -26,6 +26,9 @@ struct MethodInfo {
   /// Neighbour rings a second-derivative row reaches (2 for D2 = D D): studies size ghost
   /// layers by it.
   int stencil_rings = 1;
+  /// div(a grad u) = a Δu + ∇a·∇u (no flux form, METHODS §3.0): the method reads
+  /// StencilRequest::coefficient_gradient when given, so callers sample ∇a only for these.
+  bool uses_coefficient_gradient = false;
   bool supports(OperatorKind k) const;
 };
 

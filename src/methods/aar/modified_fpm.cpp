@@ -84,16 +84,12 @@ class ModifiedFpm final : public Method {
         }
         s.condition[static_cast<std::size_t>(i)] = cond;
         if (!std::isfinite(cond)) continue;
-        Real grad_a = 0;
-        if (req.kind == OperatorKind::DivAGrad) {
-          if (req.coefficient_gradient) {
-            grad_a = (*req.coefficient_gradient)(i, 0);
-          } else {
-            for (std::size_t k = 0; k < nbr.size(); ++k)
-              grad_a += v[static_cast<std::size_t>(nbr[k])] * (Ainv(0, 0) * K[k] + Ainv(0, 1) * DK[k]) *
-                        ((*req.coefficient)[nbr[k]] - (*req.coefficient)[i]);
-          }
-        }
+        const Real grad_a =
+            req.kind != OperatorKind::DivAGrad
+                ? 0.0
+                : taylor::coefficient_gradient(req, i, nbr, 1, [&](std::size_t k) {
+                    return Vec3(v[static_cast<std::size_t>(nbr[k])] * (Ainv(0, 0) * K[k] + Ainv(0, 1) * DK[k]), 0, 0);
+                  })[0];
         for (std::size_t k = 0; k < nbr.size(); ++k) {
           const Real vj = v[static_cast<std::size_t>(nbr[k])];
           const Real wd = vj * (Ainv(0, 0) * K[k] + Ainv(0, 1) * DK[k]);
@@ -119,20 +115,20 @@ class ModifiedFpm final : public Method {
 }  // namespace
 
 MethodInfo mfpm_info() {
-  return {"mfpm",
+  return taylor::with_coefficient_gradient({"mfpm",
           "001_40aebf64e7a981b6.txt ([AAR](33)-(37))",
           "modified FPM (1D): 2x2 Taylor projection on W and DW giving first and second derivative together",
           "second derivative O(h^2) inside, O(h) at the boundary (derivative test order 1; rod order 2)",
           operators,
-          taylor::corrected_method_options()};
+          taylor::corrected_method_options()});
 }
 MethodInfo fpm2o_info() {
-  return {"fpm2o",
+  return taylor::with_coefficient_gradient({"fpm2o",
           "001_40aebf64e7a981b6.txt ([AAR](39)-(44))",
           "second-order FPM (1D): modified FPM with the kernel corrected by (a s^3 + b s + c) near the boundary",
           "O(h^2) everywhere, boundary included (derivative and rod tests order 2, also on perturbed particles)",
           operators,
-          taylor::corrected_method_options()};
+          taylor::corrected_method_options()});
 }
 
 std::unique_ptr<Method> make_mfpm(const MethodOptions& o) { return std::make_unique<ModifiedFpm>(mfpm_info(), false, o); }

@@ -109,14 +109,9 @@ class Corrective final : public Method {
         }
         s.condition[static_cast<std::size_t>(i)] = cond;
         if (!std::isfinite(cond)) continue;
-        Vec3 grad_a = Vec3::Zero();
-        if (req.kind == OperatorKind::DivAGrad) {
-          if (req.coefficient_gradient) {
-            for (int c = 0; c < dim; ++c) grad_a[c] = (*req.coefficient_gradient)(i, c);
-          } else {
-            for (std::size_t k = 0; k < nbr.size(); ++k) grad_a += g[k] * ((*req.coefficient)[nbr[k]] - (*req.coefficient)[i]);
-          }
-        }
+        const Vec3 grad_a = req.kind != OperatorKind::DivAGrad
+                                ? Vec3::Zero()
+                                : taylor::coefficient_gradient(req, i, nbr, dim, [&](std::size_t k) { return g[k]; });
         const Real iso = second_ == SecondDerivative::KernelOnly ? static_cast<Real>(dim) : 1;
         for (std::size_t k = 0; k < nbr.size(); ++k) {
           const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
@@ -153,25 +148,25 @@ class Corrective final : public Method {
 }  // namespace
 
 MethodInfo cspm_info() {
-  return {"cspm",
+  return taylor::with_coefficient_gradient({"cspm",
           "000_906375e5ed7c9bb7.txt ([QW] §2.2, \"CSPH\"); Chen, Beraun & Carney, IJNME 46 (1999)",
           "corrective SPH: full-matrix corrected kernel gradient, Laplacian from second kernel derivatives "
           "(diagonal Hessian approximation)",
           "gradient exact for linear fields, O(h) on perturbed particles; Laplacian below first order on perturbed "
           "particles ([QW] Fig. 4)",
           taylor::every_operator(),
-          taylor::corrected_method_options()};
+          taylor::corrected_method_options()});
 }
 
 MethodInfo chen_beraun_info() {
-  return {"chen-beraun",
+  return taylor::with_coefficient_gradient({"chen-beraun",
           "001_40aebf64e7a981b6.txt ([AAR](16), (20)); Chen & Beraun, CMAME 190 (2000)",
           "Chen–Beraun corrective SPH: corrected first derivative (16), kernel-only second derivative (20) "
           "(isotropic extension in 2D/3D)",
           "O(h^2) inside; first derivative O(h), second derivative O(1) at the boundary (no max-norm convergence in "
           "the derivative test, first order for the rod, [AAR] §5)",
           taylor::every_operator(),
-          taylor::corrected_method_options()};
+          taylor::corrected_method_options()});
 }
 
 std::unique_ptr<Method> make_cspm(const MethodOptions& o) {

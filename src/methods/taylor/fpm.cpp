@@ -88,19 +88,15 @@ class TaylorProjection final : public Method {
         s.condition[static_cast<std::size_t>(i)] = cond;
         if (!std::isfinite(cond)) continue;
         // (grad a)_i for div(a grad u): analytic or from the same fit.
-        Vec3 grad_a = Vec3::Zero();
-        if (req.kind == OperatorKind::DivAGrad) {
-          if (req.coefficient_gradient) {
-            for (int c = 0; c < dim; ++c) grad_a[c] = (*req.coefficient_gradient)(i, c);
-          } else {
-            const Field& a = *req.coefficient;
-            for (std::size_t k = 0; k < nbr.size(); ++k) {
-              const SmallVector w = Minv * Eigen::Map<const SmallVector>(psi.data() + k * static_cast<std::size_t>(m), m);
-              for (int c = 0; c < dim; ++c)
-                grad_a[c] += v[static_cast<std::size_t>(nbr[k])] * w[grad_pos[static_cast<std::size_t>(c)]] * (a[nbr[k]] - a[i]);
-            }
-          }
-        }
+        const Vec3 grad_a =
+            req.kind != OperatorKind::DivAGrad
+                ? Vec3::Zero()
+                : taylor::coefficient_gradient(req, i, nbr, dim, [&](std::size_t k) {
+                    const SmallVector w = Minv * Eigen::Map<const SmallVector>(psi.data() + k * static_cast<std::size_t>(m), m);
+                    Vec3 g = Vec3::Zero();
+                    for (int c = 0; c < dim; ++c) g[c] = v[static_cast<std::size_t>(nbr[k])] * w[grad_pos[static_cast<std::size_t>(c)]];
+                    return g;
+                  });
         for (std::size_t k = 0; k < count; ++k) {
           const Index j = k < nbr.size() ? nbr[k] : i;
           const bool self = k == nbr.size();
@@ -159,23 +155,23 @@ class TaylorProjection final : public Method {
 }  // namespace
 
 MethodInfo fpm_info() {
-  return {"fpm",
+  return taylor::with_coefficient_gradient({"fpm",
           "000_906375e5ed7c9bb7.txt ([QW](2.13)-(2.19)); 001_40aebf64e7a981b6.txt ([AAR](27)-(30)); Liu & Liu 2006",
           "finite particle method: Taylor expansion projected on W and its derivatives (per-particle 1+d or "
           "(d+1)(d+2)/2 system)",
           "exact for linear (gradient) / quadratic (Laplacian) fields; O(h) gradient and Laplacian on irregular "
           "particles and at boundaries ([QW] Figs. 3, 4, 6); [AAR]: first derivative O(h^2) inside, O(h) at the boundary",
           taylor::every_operator(),
-          common_options(true)};
+          common_options(true)});
 }
 
 MethodInfo kgf_info() {
-  return {"kgf",
+  return taylor::with_coefficient_gradient({"kgf",
           "000_906375e5ed7c9bb7.txt ([QW] §2.2); Huang, Lei, Liu & Peng, IJNMF 78 (2015)",
           "kernel-gradient-free SPH: FPM with test functions W_ij (x_j - x_i)^alpha (weighted least squares)",
           "exact for linear/quadratic fields; gradient and Laplacian O(h) on perturbed particles ([QW] Figs. 3, 4)",
           taylor::every_operator(),
-          common_options(false)};
+          common_options(false)});
 }
 
 std::unique_ptr<Method> make_fpm(const MethodOptions& o) {

@@ -64,6 +64,28 @@ inline bool wants_row(const PointCloud& cloud, const StencilRequest& req, Index 
                           : req.rows[static_cast<std::size_t>(i)] != 0;
 }
 
+/// The info of a method without a flux form: marks it as reading coefficient_gradient.
+inline MethodInfo with_coefficient_gradient(MethodInfo info) {
+  info.uses_coefficient_gradient = true;
+  return info;
+}
+
+/// (∇a)_i for the rule a_i Δ_h u + (∇a)_i·∇_h u (METHODS §3.0): the analytic gradient when
+/// the request carries one, else the method's own gradient of a, sum over the neighbours of
+/// weight(k) (a_j - a_i), where weight(k) is the Vec3 gradient weight of neighbour k.
+template <class GradientWeight>
+Vec3 coefficient_gradient(const StencilRequest& req, Index i, std::span<const Index> nbr, int dim,
+                          GradientWeight&& weight) {
+  Vec3 g = Vec3::Zero();
+  if (req.coefficient_gradient) {
+    for (int c = 0; c < dim; ++c) g[c] = (*req.coefficient_gradient)(i, c);
+    return g;
+  }
+  const Field& a = *req.coefficient;
+  for (std::size_t k = 0; k < nbr.size(); ++k) g += weight(k) * (a[nbr[k]] - a[i]);
+  return g;
+}
+
 /// Index of the multi-index 2 e_k in a list from multi_indices(), or of e_k.
 int position_of(const std::vector<std::array<int, 3>>& list, const std::array<int, 3>& alpha);
 
