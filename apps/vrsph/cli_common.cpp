@@ -1,4 +1,7 @@
 #include "cli_common.hpp"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <unistd.h>
 #include <algorithm>
 #include <cstdio>
@@ -8,6 +11,8 @@
 #include <iostream>
 #include <sstream>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
+#include <vrsph/io/output_file.hpp>
 
 namespace vrsph::cli {
 
@@ -37,31 +42,51 @@ std::string shell_quote(const std::string& s) {
 }
 }  // namespace
 
+void validate_output(const OutputOptions& out) {
+  (void)parse_table_format(out.format);  // ConfigError on an unknown format
+  std::error_code ec;
+  check<ConfigError>(out.output.empty() || !std::filesystem::is_directory(out.output, ec), "--output '", out.output,
+                     "' is a directory: give a file name");
+  if (out.plot.empty()) return;
+  check<ConfigError>(!std::filesystem::is_directory(out.plot, ec) && out.plot.back() != '/', "--plot '", out.plot,
+                     "' is a directory: give a file name ending in .png");
+  std::string ext = std::filesystem::path(out.plot).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  check<ConfigError>(ext == ".png", "--plot '", out.plot, "' must end in .png (the plot is a PNG image)");
+}
+
 void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
           const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
+  validate_output(out);
   const TableFormat fmt = parse_table_format(out.format);
   const std::string text = format_table(table, fmt, extra_json);
   if (out.output.empty()) {
-    std::cout << text << std::flush;
+    std::cout << text;
+    check_stream(std::cout, "the table to standard output");
   } else {
-    std::ofstream f(out.output);
-    check<InputError>(static_cast<bool>(f), "cannot write output file '", out.output, "'");
-    f << text;
+    write_file(out.output, "output file", [&](std::ostream& f) { f << text; });
   }
   if (out.plot.empty()) return;
-  const auto json_path = std::filesystem::temp_directory_path() / ("vrsph-plot-" + std::to_string(::getpid()) + ".json");
-  {
-    std::ofstream f(json_path);
-    check<InputError>(static_cast<bool>(f), "cannot write temporary file ", json_path.string());
-    f << to_json(table, extra_json);
-  }
-  const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(find_plot_script()) + " " + shell_quote(json_path.string()) + " " +
-                          shell_quote(out.plot) + " --x " + plot_x + " --y " + plot_y + " --group " + plot_group +
-                          " --title " + shell_quote(plot_title) + (loglog ? "" : " --linear");
+  const auto tmp = std::filesystem::temp_directory_path();
+  const std::string stem = "vrsph-plot-" + std::to_string(::getpid());
+  const auto json_path = tmp / (stem + ".json"), log_path = tmp / (stem + ".log");
+  write_file(json_path.string(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra_json); });
+  const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(find_plot_script()) + " " +
+                          shell_quote(json_path.string()) + " " + shell_quote(out.plot) + " --x " + plot_x + " --y " +
+                          plot_y + " --group " + plot_group + " --title " + shell_quote(plot_title) +
+                          (loglog ? "" : " --linear") + " 2>" + shell_quote(log_path.string());
   const int rc = std::system(cmd.c_str());
   std::filesystem::remove(json_path);
-  check<InputError>(rc == 0, "plotting failed (", cmd, " exited with status ", rc,
-                    "); is python3-matplotlib installed?");
+  // Our message first; of Python's traceback only its last line (the actual reason).
+  std::string last, line;
+  {
+    std::ifstream log(log_path);
+    while (std::getline(log, line))
+      if (!line.empty()) last = line;
+  }
+  std::filesystem::remove(log_path);
+  check<IoError>(rc == 0, "plotting to '", out.plot, "' failed", last.empty() ? "" : ": " + last,
+                 " (needs python3 with matplotlib: Debian's python3-matplotlib; VRSPH_PYTHON selects the interpreter)");
 }
 
 std::vector<int> parse_int_list(const std::string& text, const std::string& option) {
@@ -69,11 +94,10 @@ std::vector<int> parse_int_list(const std::string& text, const std::string& opti
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    const long v = std::strtol(item.c_str(), &end, 10);
-    check<ConfigError>(!item.empty() && end && *end == '\0', "option ", option, ": '", item, "' is not an integer");
-    check<ConfigError>(v >= 1 && v <= 100000000, "option ", option, ": ", v, " is out of range");
-    out.push_back(static_cast<int>(v));
+    const auto v = parse_integer(item);
+    check<ConfigError>(v.has_value(), "option ", option, ": '", printable(item), "' is not an integer");
+    check<ConfigError>(*v >= 1 && *v <= 100000000, "option ", option, ": ", *v, " is out of range (1 to 100000000)");
+    out.push_back(static_cast<int>(*v));
   }
   check<ConfigError>(!out.empty(), "option ", option, " needs at least one value");
   return out;
@@ -106,6 +130,36 @@ std::map<std::string, MethodOptions> parse_method_options(const std::vector<std:
         for (const auto& [k, v] : parsed.values()) out[m].set(k, v);
   }
   return out;
+}
+
+void reject_empty_values(const CLI::App& command) {
+  for (const CLI::Option* opt : command.get_options())
+    for (const std::string& value : opt->results())
+      check<ConfigError>(!value.empty() || opt->get_type_size() == 0, "option ", opt->get_name(),
+                         " was given an empty value");
+  for (const CLI::App* sub : command.get_subcommands()) reject_empty_values(*sub);
+}
+
+CLI::Validator seed_validator() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const auto v = parse_integer(text);
+        return v && *v >= 0 ? std::string() : "a seed is a non-negative integer, got '" + printable(text) + "'";
+      },
+      "SEED");
+}
+
+void set_thread_count(int threads) {
+  check<ConfigError>(threads >= 0, "--threads must be >= 0 (0 = one per core), got ", threads);
+#ifdef _OPENMP
+  const int cores = omp_get_num_procs();
+  if (threads > cores)
+    std::cerr << "vrsph: warning: --threads " << threads << " is more than the " << cores
+              << " cores of this machine; using " << cores << '\n';
+  omp_set_num_threads(threads == 0 || threads > cores ? cores : threads);
+#else
+  check<ConfigError>(threads <= 1, "this build has no OpenMP: --threads must be 0 or 1, got ", threads);
+#endif
 }
 
 double peak_memory_mib() {

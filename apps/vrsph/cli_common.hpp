@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 #include <map>
+#include <CLI/CLI.hpp>
 #include <vrsph/io/table.hpp>
 #include <vrsph/methods/options.hpp>
 
@@ -15,6 +16,10 @@ struct OutputOptions {
   std::string output;  ///< file, empty = stdout
   std::string plot;    ///< PNG file, empty = no plot
 };
+
+/// Checks the output options before a long run: a known format, --output not a
+/// directory, --plot a file name ending in .png. Throws ConfigError.
+void validate_output(const OutputOptions& out);
 
 /// Writes the table in the chosen format to stdout or the output file, and the plot if asked.
 /// plot_x/plot_y name the columns to plot (log-log), grouped by plot_group.
@@ -29,6 +34,19 @@ std::vector<std::string> parse_name_list(const std::string& text, const std::str
 /// (which must be in `methods`). Throws ConfigError on malformed items.
 std::map<std::string, MethodOptions> parse_method_options(const std::vector<std::string>& items,
                                                           const std::vector<std::string>& methods);
+
+/// An option given with an empty value (--u "", --method "") is a ConfigError naming
+/// it, in this command and the subcommands it ran: an empty value is never a
+/// silent "use the default".
+void reject_empty_values(const CLI::App& command);
+
+/// --seed: digits only. CLI11 would read "-1" into an unsigned seed as 2^64 - 1.
+CLI::Validator seed_validator();
+
+/// --threads: 0 = one per core; more threads than cores are capped to the core count
+/// with a warning (oversubscription only slows the run, and the OpenMP runtime fails
+/// on absurd counts). Throws ConfigError for a negative count.
+void set_thread_count(int threads);
 
 /// Peak resident memory of this process (VmHWM), in MiB; 0 if unknown.
 double peak_memory_mib();

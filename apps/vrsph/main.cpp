@@ -1,15 +1,63 @@
 // vrsph command-line tool. The only place in vrsph that prints errors and decides
-// exit codes:
-//   0 success · 1 command-line usage (CLI11) · 2 ConfigError (unknown method/option/...)
-//   3 InputError (bad data) · 4 GeometryError · 5 NumericalError · 70 internal error
+// exit codes (docs/errors.md lists every bad-input class with its code and message):
+//   0 success (the result was delivered)
+//   1 command-line usage: unknown option or subcommand, missing argument (CLI11)
+//   2 configuration: a bad option value, unknown method/operator/option, an option
+//     that does not apply, or a run larger than the memory limit (ResourceError)
+//   3 input data: a bad cloud file or expression, inconsistent boundary data, and any
+//     file that cannot be read or written (IoError: missing, a directory, disk full)
+//   4 geometry: the cloud does not support the discretisation (isolated particles)
+//   5 numerical: a failed local problem (with --on-infeasible error) or linear solve
+//  70 internal error: a bug in vrsph (please report it with the command line)
+#include <unistd.h>
+#include <cstdlib>
 #include <iostream>
+#include <new>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
+#include <vrsph/io/output_file.hpp>
+#include "cli_common.hpp"
 #include "commands.hpp"
 
+namespace {
+
+// libgomp reads its wait policy when it is loaded, before main(): by default idle
+// worker threads spin for a while before sleeping, which on a loaded machine steals
+// the cores the other threads need. Unless the user chose a policy, run ourselves
+// again with the passive one (threads sleep at once). VRSPH_NO_REEXEC disables this.
+void prefer_passive_openmp_threads(char** argv) {
+#ifdef _OPENMP
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT") || std::getenv("VRSPH_NO_REEXEC")) return;
+  ::setenv("OMP_WAIT_POLICY", "passive", 1);
+  ::setenv("VRSPH_NO_REEXEC", "1", 1);
+  ::execv("/proc/self/exe", argv);  // returns only on failure: then go on as we are
+#else
+  (void)argv;
+#endif
+}
+
+int report(const char* kind, const std::exception& e, int code) {
+  std::cerr << "vrsph: " << kind << ": " << e.what() << '\n';
+  return code;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  prefer_passive_openmp_threads(argv);
   CLI::App app{"vrsph — particle discretisations of elliptic operators on irregular point clouds"};
   app.set_version_flag("--version", std::string("vrsph ") + VRSPH_VERSION);
   app.require_subcommand(1);
+  app.fallthrough();  // global options may also follow the subcommand
+  std::string max_memory;
+  app.add_option("--max-memory", max_memory,
+                 "Refuse runs whose estimated memory exceeds this (e.g. 8G, 512M; 0 = no limit; default: the memory "
+                 "available when the run starts)");
+  // Runs after parsing, before the subcommand's callback.
+  app.parse_complete_callback([&] {
+    vrsph::cli::reject_empty_values(app);
+    if (app.count("--max-memory")) vrsph::set_memory_limit_bytes(vrsph::parse_memory_size(max_memory));
+  });
   vrsph::cli::add_methods_command(app);
   vrsph::cli::add_kernels_command(app);
   vrsph::cli::add_cloud_command(app);
@@ -20,22 +68,34 @@ int main(int argc, char** argv) {
   vrsph::cli::add_bench_command(app);
   try {
     app.parse(argc, argv);
+    // Whatever a command printed must have reached stdout (a full disk, a closed pipe).
+    vrsph::check_stream(std::cout, "to standard output");
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 1;
+    const int rc = app.exit(e);
+    if (rc == 0) return 0;  // --help, --version
+    // A value that does not convert or validate is a configuration error like any
+    // other bad option value; only the shape of the command line is a usage error.
+    const bool bad_value = dynamic_cast<const CLI::ConversionError*>(&e) || dynamic_cast<const CLI::ValidationError*>(&e);
+    return bad_value ? 2 : 1;
+  } catch (const vrsph::ResourceError& e) {
+    return report("resource limit", e, 2);
   } catch (const vrsph::ConfigError& e) {
-    std::cerr << "vrsph: configuration error: " << e.what() << '\n';
-    return 2;
+    return report("configuration error", e, 2);
+  } catch (const vrsph::IoError& e) {
+    return report("I/O error", e, 3);
   } catch (const vrsph::InputError& e) {
-    std::cerr << "vrsph: input error: " << e.what() << '\n';
-    return 3;
+    return report("input error", e, 3);
   } catch (const vrsph::GeometryError& e) {
-    std::cerr << "vrsph: geometry error: " << e.what() << '\n';
-    return 4;
+    return report("geometry error", e, 4);
   } catch (const vrsph::NumericalError& e) {
-    std::cerr << "vrsph: numerical error: " << e.what() << '\n';
-    return 5;
+    return report("numerical error", e, 5);
+  } catch (const std::bad_alloc& e) {
+    // Our estimates refuse oversized runs before allocating; this is the backstop.
+    std::cerr << "vrsph: resource limit: out of memory (" << e.what()
+              << "); reduce --n or --h-factor, or run on a machine with more memory\n";
+    return 2;
   } catch (const std::exception& e) {
-    std::cerr << "vrsph: internal error: " << e.what() << '\n';
+    std::cerr << "vrsph: internal error (a bug in vrsph: please report the command line): " << e.what() << '\n';
     return 70;
   }
   return 0;

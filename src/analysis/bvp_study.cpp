@@ -4,6 +4,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/compatibility.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/assembly/assemble.hpp>
@@ -142,7 +143,8 @@ void validate_params(const BvpStudyParams& p) {
   for (int n : p.n) check<ConfigError>(n >= 2 && n <= 20000, "refinement level n = ", n, " outside 2..20000");
   check<InputError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive, got ", p.h_factor);
   check<InputError>(p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ", p.delta);
-  check<InputError>(p.infeasible_tolerance > 0, "infeasible tolerance must be positive");
+  check<ConfigError>(std::isfinite(p.infeasible_tolerance) && p.infeasible_tolerance > 0,
+                     "infeasible tolerance must be positive and finite, got ", p.infeasible_tolerance);
   check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");
   for (const auto& m : p.methods) {
     check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::DivAGrad), "method ", m,
@@ -154,15 +156,34 @@ void validate_params(const BvpStudyParams& p) {
   check<ConfigError>(p.cloud != CloudFamily::Disk || neumann_faces(p).empty() || neumann_faces(p) == std::vector<std::string>{"all"},
                      "on the disk cloud the only Neumann face is 'all'");
   if (!p.q.empty()) (void)Expression(p.q);
+  check<ConfigError>(p.q.empty() || !neumann_faces(p).empty(),
+                     "--q gives Neumann data, but no face is Neumann: add --neumann FACES (or drop --q)");
   for (const auto& m : p.methods)
     if (!neumann_faces(p).empty())
       check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::Gradient), "method ", m,
                          " has no gradient stencil for Neumann rows");
 }
+// div(a grad u) = f with a du/dn = q everywhere has a solution only if the flux
+// balances the source; otherwise the pinned solve returns a meaningless field.
+void check_neumann_compatibility(const BvpStudyParams& p, const ProblemFunctions& pf, const Domain& domain) {
+  if (domain.shape == Domain::Shape::None) return;
+  std::unique_ptr<Expression> q_expr = p.q.empty() ? nullptr : std::make_unique<Expression>(p.q);
+  const NeumannBalance nb = neumann_balance(
+      domain, [&](const Vec3& x) { return pf.f->value(x); },
+      [&](const Vec3& x, const Vec3& normal) {
+        return q_expr ? (*q_expr)(x) : pf.a->value(x) * pf.u->gradient(x).dot(normal);
+      });
+  check<InputError>(std::isfinite(nb.flux) && std::isfinite(nb.source), "the Neumann data q or the source f is not "
+                    "finite somewhere on the domain (integral of q = ", nb.flux, ", of f = ", nb.source, ")");
+  check<InputError>(nb.compatible(), "the pure-Neumann problem has no solution: the boundary flux (integral of q over "
+                    "the boundary) = ", nb.flux, " must equal the source (integral of f over the domain) = ", nb.source,
+                    " (divergence theorem); check --q", p.q.empty() ? "" : " '" + p.q + "'", " and --f");
+}
 }  // namespace
 
 BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed, bool keep_fields,
                std::vector<std::string>* warnings, PointCloud* cloud_out) {
+  validate_params(p);
   const ProblemFunctions pf = problem_functions(p);
   BvpRun run;
   run.method = method_name;
@@ -205,6 +226,9 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
     unknown[si] = interior[si] || flux[si];
     if (unknown[si]) nsum += nl.count(i);
   }
+  // u first: a u that is not finite must be named as the user wrote it, not through
+  // the derived f = div(a grad u).
+  const Field exact = sample(*pf.u, cloud);
   const Field a = sample(*pf.a, cloud);
   const auto method = builtin_methods().create(method_name, options_for(p.method_options, method_name));
   StencilRequest req;
@@ -265,7 +289,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   }
 
   watch.restart();
-  const Field f = sample(*pf.f, cloud), g = sample(*pf.g, cloud), exact = sample(*pf.u, cloud);
+  const Field f = sample(*pf.f, cloud), g = sample(*pf.g, cloud);
   BoundaryRows bc;
   if (run.neumann_particles > 0) {
     bc.gradient = &G;
@@ -288,6 +312,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
         bc.pinned = i;
       }
   }
+  if (run.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0) check_neumann_compatibility(p, pf, cloud.domain);
   const LinearSystem sys = assemble(L, cloud, unknown, f, g, &bc);
   run.unknowns = sys.size();
   run.seconds_assemble = watch.seconds();

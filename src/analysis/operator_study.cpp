@@ -94,6 +94,9 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       spec.regular_layer = p.regular_layer;
       const Real dx = (box.hi[0] - box.lo[0]) / n;
       const Real h = p.h_factor * dx;
+      check<ConfigError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive and finite, got ",
+                         p.h_factor);
+      check_support_is_local(h, (box.hi - box.lo).norm(), p.h_factor);  // before the ghost layer grows with h
       spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
       // Nested (two-ring) stencils need inner derivatives with full support at every
       // neighbour: the ghost layer grows with the method's reach.

@@ -3,11 +3,15 @@
 #include <numbers>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include "random.hpp"
 
 namespace vrsph {
 
 namespace {
+
+// Position, normal and tag of one particle.
+constexpr double bytes_per_particle = 2 * sizeof(Vec3) + sizeof(Tag);
 
 void check_box(const Domain& box, int n) {
   check<InputError>(box.shape == Domain::Shape::Box, "lattice generators need a box domain");
@@ -23,8 +27,11 @@ PointCloud tensor_cloud(const Domain& box, const std::vector<std::vector<Real>>&
   c.spacing = spacing;
   c.normals.reserve(1);
   c.normals.clear();
-  std::size_t total = 1;
-  for (int k = 0; k < box.dim; ++k) total *= axes[static_cast<std::size_t>(k)].size();
+  double total_estimate = 1;
+  for (int k = 0; k < box.dim; ++k) total_estimate *= static_cast<double>(axes[static_cast<std::size_t>(k)].size());
+  check_memory_estimate(total_estimate * bytes_per_particle, detail::concat("the point cloud (", total_estimate, " particles)"),
+                        "reduce --n (intervals per direction) or the dimension");
+  const auto total = static_cast<std::size_t>(total_estimate);
   c.positions.reserve(total);
   c.tags.reserve(total);
   c.normals.reserve(total);
@@ -63,7 +70,10 @@ Real box_spacing(const Domain& box, int n) {
 
 int ghost_layers_for(Real support_radius, Real dx) {
   check<InputError>(dx > 0 && support_radius > 0, "ghost layers need positive h and dx");
-  return static_cast<int>(std::ceil((support_radius + dx) / dx - 1e-9));
+  const Real layers = std::ceil((support_radius + dx) / dx - 1e-9);
+  check<ConfigError>(layers <= 100000, "a ghost layer of ", layers, " particle layers (support radius ", support_radius,
+                     ", spacing ", dx, ") is unreasonable: reduce the smoothing radius");
+  return static_cast<int>(layers);
 }
 
 PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers) {
@@ -155,6 +165,9 @@ PointCloud ball_cloud(int dim, Real radius, int n) {
   c.domain = Domain::ball(dim, Vec3::Zero(), radius);
   const Real dx = 2 * radius / n;
   c.spacing = dx;
+  check_memory_estimate(std::pow(n + 3.0, dim) * bytes_per_particle,
+                        detail::concat("the ball cloud (about ", std::pow(n + 3.0, dim), " particles)"),
+                        "reduce --n (intervals per diameter) or the dimension");
   c.normals.clear();
   c.normals.reserve(16);
   auto add = [&](const Vec3& x, Tag t, const Vec3& nrm) {

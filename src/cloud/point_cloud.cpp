@@ -52,6 +52,8 @@ void validate(const PointCloud& cloud) {
     const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
     for (int k = 0; k < 3; ++k) {
       check<InputError>(std::isfinite(x[k]), "particle ", i, " has a non-finite coordinate ", "xyz"[k], " = ", x[k]);
+      check<InputError>(std::abs(x[k]) <= max_coordinate, "particle ", i, " has coordinate ", "xyz"[k], " = ", x[k],
+                        " beyond +-", max_coordinate, ": squared distances would overflow; rescale the cloud");
       check<InputError>(k < cloud.dim || x[k] == 0, "particle ", i, " has a non-zero coordinate ", "xyz"[k], " = ",
                         x[k], " in a ", cloud.dim, "D cloud (dimension mismatch)");
     }
@@ -71,13 +73,24 @@ void validate(const PointCloud& cloud) {
 
 Real estimate_spacing(const PointCloud& cloud) {
   if (cloud.spacing > 0) return cloud.spacing;
+  check<GeometryError>(cloud.size() >= 2, "the cloud has only ", cloud.size(),
+                       " particle: no spacing, no neighbours, no operator (at least 2 distinct particles are needed)");
   const Real measure = cloud.domain.measure();
   if (measure > 0) {
     // Count only the particles that discretise the domain (ghosts lie outside it).
     const Index inside = cloud.size() - cloud.count(Tag::Ghost);
     return std::pow(measure / static_cast<Real>(std::max<Index>(inside, 1)), 1.0 / cloud.dim);
   }
-  return mean_nearest_neighbour_distance(cloud);
+  const Real mean = mean_nearest_neighbour_distance(cloud);
+  if (!(mean > 0)) {
+    const Vec3& x = cloud.positions.front();
+    const bool all_same = std::all_of(cloud.positions.begin(), cloud.positions.end(), [&](const Vec3& y) { return y == x; });
+    check<GeometryError>(!all_same, "all ", cloud.size(), " particles are at the same position (", x[0], ", ", x[1], ", ",
+                         x[2], "): the cloud has no extent");
+    throw InputError(detail::concat("every particle has a duplicate at distance 0 (each position occurs more than once): "
+                            "remove the duplicate particles"));
+  }
+  return mean;
 }
 
 }  // namespace vrsph

@@ -5,8 +5,11 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <filesystem>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/io/csv.hpp>
+#include <vrsph/io/output_file.hpp>
 
 namespace vrsph {
 
@@ -33,9 +36,17 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
   check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
   std::string line;
   std::size_t lineno = 0;
-  // Header: first non-blank line.
+  // A NUL byte would make strtod stop early and read "0.5<NUL>7" as 0.5: binary
+  // data is refused line by line, naming the line.
+  const auto refuse_nul = [&] {
+    check<InputError>(line.find('\0') == std::string::npos, name, ":", lineno,
+                      ": contains a NUL byte (binary data, not a text CSV file): '", printable(line), "'");
+  };
+  // Header: first non-blank line. A UTF-8 byte-order mark (spreadsheet exports) is skipped.
   while (std::getline(in, line)) {
     ++lineno;
+    if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    refuse_nul();
     if (!trim_lower(line).empty()) break;
   }
   check<InputError>(!trim_lower(line).empty(), name, ": empty file (expected a header line x,y,z,tag[,nx,ny,nz])");
@@ -45,12 +56,12 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
   for (std::size_t k = 0; k < header.size(); ++k) {
     const std::string h = trim_lower(header[k]);
     check<InputError>(std::find(known.begin(), known.end(), h) != known.end(), name, ":", lineno, ": unknown column '",
-                      header[k], "' in header (expected x,y,z,tag[,nx,ny,nz])");
+                      printable(header[k]), "' in header (expected x,y,z,tag[,nx,ny,nz])");
     check<InputError>(!col.count(h), name, ":", lineno, ": column '", h, "' appears twice in the header");
     col[h] = k;
   }
   check<InputError>(col.count("x") && col.count("tag"), name, ":", lineno,
-                    ": header must contain at least the columns x and tag (got '", line, "')");
+                    ": header must contain at least the columns x and tag (got '", printable(line), "')");
   int coord_cols = 1;
   if (col.count("y")) coord_cols = 2;
   if (col.count("z")) {
@@ -66,6 +77,7 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
   Vec3 any_nonzero = Vec3::Zero();
   while (std::getline(in, line)) {
     ++lineno;
+    refuse_nul();
     if (trim_lower(line).empty()) continue;
     const auto f = split(line);
     check<InputError>(f.size() == header.size(), name, ":", lineno, ": expected ", header.size(), " fields, found ",
@@ -73,13 +85,12 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
     auto number = [&](const char* key) -> Real {
       const auto it = col.find(key);
       if (it == col.end()) return 0;
-      const std::string s = trim_lower(f[it->second]);
-      char* end = nullptr;
-      const Real v = std::strtod(s.c_str(), &end);
-      check<InputError>(!s.empty() && end && *end == '\0', name, ":", lineno, ": column ", key, ": '", f[it->second],
+      const auto v = parse_real(f[it->second]);
+      check<InputError>(v.has_value(), name, ":", lineno, ": column ", key, ": '", printable(f[it->second]),
                         "' is not a number");
-      check<InputError>(std::isfinite(v), name, ":", lineno, ": column ", key, " is not finite (", s, ")");
-      return v;
+      check<InputError>(std::isfinite(*v), name, ":", lineno, ": column ", key, " is not finite (",
+                        printable(f[it->second]), ")");
+      return *v;
     };
     Vec3 x(number("x"), number("y"), number("z"));
     for (int k = 0; k < 3; ++k)
@@ -115,8 +126,12 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
 }
 
 PointCloud read_csv(const std::string& path, int dim) {
+  std::error_code ec;
+  check<IoError>(!std::filesystem::is_directory(path, ec), "point cloud file '", path,
+                 "' is a directory, not a file");
   std::ifstream in(path);
-  check<InputError>(static_cast<bool>(in), "cannot open point cloud file '", path, "'");
+  check<IoError>(static_cast<bool>(in), "cannot open point cloud file '", path, "'",
+                 std::filesystem::exists(path, ec) ? " (permission denied?)" : " (no such file)");
   return read_csv(in, path, dim);
 }
 
@@ -134,10 +149,8 @@ void write_csv(std::ostream& out, const PointCloud& c) {
 }
 
 void write_csv(const std::string& path, const PointCloud& cloud) {
-  std::ofstream out(path);
-  check<InputError>(static_cast<bool>(out), "cannot write point cloud file '", path, "'");
-  write_csv(out, cloud);
-  check<InputError>(static_cast<bool>(out), "error while writing '", path, "'");
+  validate(cloud);
+  write_file(path, "point cloud file", [&](std::ostream& out) { write_csv(out, cloud); });
 }
 
 }  // namespace vrsph

@@ -1,19 +1,12 @@
-#include <fstream>
+#include <ostream>
+#include <vrsph/io/output_file.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/vtu.hpp>
 
 namespace vrsph {
 
-void write_vtu(const std::string& path, const PointCloud& c, const std::vector<PointField>& fields) {
-  validate(c);
-  for (const auto& f : fields) {
-    check<InputError>(f.values.rows() == c.size(), "VTU field '", f.name, "' has ", f.values.rows(), " rows for ",
-                      c.size(), " particles (size mismatch)");
-    check<InputError>(f.values.cols() >= 1 && f.values.cols() <= 3, "VTU field '", f.name, "' has ", f.values.cols(),
-                      " components (1..3 supported)");
-  }
-  std::ofstream out(path);
-  check<InputError>(static_cast<bool>(out), "cannot write VTU file '", path, "'");
+namespace {
+void write_vtu_body(std::ostream& out, const PointCloud& c, const std::vector<PointField>& fields) {
   out.precision(17);
   const Index n = c.size();
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -45,7 +38,19 @@ void write_vtu(const std::string& path, const PointCloud& c, const std::vector<P
     out << "</DataArray>\n";
   }
   out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  check<InputError>(static_cast<bool>(out), "error while writing '", path, "'");
+}
+}  // namespace
+
+
+void write_vtu(const std::string& path, const PointCloud& c, const std::vector<PointField>& fields) {
+  validate(c);
+  for (const auto& f : fields) {
+    check<InputError>(f.values.rows() == c.size(), "VTU field '", f.name, "' has ", f.values.rows(), " rows for ",
+                      c.size(), " particles (size mismatch)");
+    check<InputError>(f.values.cols() >= 1 && f.values.cols() <= 3, "VTU field '", f.name, "' has ", f.values.cols(),
+                      " components (1..3 supported)");
+  }
+  write_file(path, "VTU file", [&](std::ostream& out) { write_vtu_body(out, c, fields); });
 }
 
 }  // namespace vrsph

@@ -1,5 +1,7 @@
+#include <cmath>
 #include <cstdlib>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/methods/options.hpp>
 
 namespace vrsph {
@@ -8,9 +10,10 @@ MethodOptions MethodOptions::parse(const std::vector<std::string>& items) {
   MethodOptions o;
   for (const auto& item : items) {
     const auto eq = item.find('=');
-    check<ConfigError>(eq != std::string::npos && eq > 0, "method option '", item, "' is not of the form key=value");
+    check<ConfigError>(eq != std::string::npos && eq > 0, "method option '", printable(item),
+                       "' is not of the form key=value");
     const std::string key = item.substr(0, eq);
-    check<ConfigError>(!o.values_.count(key), "method option '", key, "' given twice");
+    check<ConfigError>(!o.values_.count(key), "method option '", printable(key), "' given twice");
     o.values_[key] = item.substr(eq + 1);
   }
   return o;
@@ -28,7 +31,7 @@ std::string MethodOptions::get_choice(const std::string& key, const std::string&
   if (!allowed.count(v)) {
     std::string list;
     for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    throw ConfigError(detail::concat("method option ", key, "='", v, "' is not one of: ", list));
+    throw ConfigError(detail::concat("method option ", key, "='", printable(v), "' is not one of: ", list));
   }
   return v;
 }
@@ -37,25 +40,36 @@ Real MethodOptions::get_real(const std::string& key, Real fallback) const {
   const auto it = values_.find(key);
   used_.insert(key);
   if (it == values_.end()) return fallback;
-  char* end = nullptr;
-  const Real v = std::strtod(it->second.c_str(), &end);
-  check<ConfigError>(end && *end == '\0' && !it->second.empty(), "method option ", key, "='", it->second,
-                     "' is not a number");
-  return v;
+  const auto v = parse_real(it->second);
+  check<ConfigError>(v.has_value(), "method option ", key, "='", printable(it->second), "' is not a number");
+  check<ConfigError>(std::isfinite(*v), "method option ", key, "='", printable(it->second), "' is not finite");
+  return *v;
+}
+
+long long MethodOptions::get_int(const std::string& key, long long fallback, long long min, long long max) const {
+  const auto it = values_.find(key);
+  used_.insert(key);
+  if (it == values_.end()) return fallback;
+  const auto v = parse_integer(it->second);
+  check<ConfigError>(v.has_value(), "method option ", key, "='", printable(it->second),
+                     "' is not an integer (digits only, e.g. ", min, ")");
+  check<ConfigError>(*v >= min && *v <= max, "method option ", key, "=", *v, " is out of range (", min, " to ", max,
+                     ")");
+  return *v;
 }
 
 bool MethodOptions::get_bool(const std::string& key, bool fallback) const {
   const std::string v = get_string(key, fallback ? "true" : "false");
   if (v == "true" || v == "1" || v == "yes" || v == "on") return true;
   if (v == "false" || v == "0" || v == "no" || v == "off") return false;
-  throw ConfigError(detail::concat("method option ", key, "='", v, "' is not a boolean"));
+  throw ConfigError(detail::concat("method option ", key, "='", printable(v), "' is not a boolean"));
 }
 
 void MethodOptions::reject_unused(const std::string& method) const {
   std::string unknown;
   for (const auto& [k, v] : values_)
     if (!used_.count(k)) unknown += (unknown.empty() ? "" : ", ") + k;
-  check<ConfigError>(unknown.empty(), "method ", method, " has no option(s): ", unknown);
+  check<ConfigError>(unknown.empty(), "method ", method, " has no option(s): ", printable(unknown));
 }
 
 const MethodOptions& options_for(const std::map<std::string, MethodOptions>& per_method, const std::string& method) {

@@ -27,28 +27,29 @@ struct CellGrid {
   long long linear(const std::array<long long, 3>& c) const { return (c[2] * cells[1] + c[1]) * cells[0] + c[0]; }
 };
 
-CellGrid build_grid(const PointCloud& cloud, Real max_radius) {
-  CellGrid g;
-  g.dim = cloud.dim;
-  Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+// A dense grid of cells of side max_radius pays off when it has not many more cells
+// than particles. Counted in floating point: the extent over the radius may be 1e300
+// (one far-away particle, or a tiny radius), far beyond any integer type.
+bool dense_grid_fits(const PointCloud& cloud, Real max_radius, Vec3& lo, Vec3& hi) {
+  lo = Vec3::Constant(std::numeric_limits<Real>::infinity());
+  hi = -lo;
   for (const Vec3& x : cloud.positions) {
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
   }
+  double total = 1;
+  for (int k = 0; k < cloud.dim; ++k) total *= std::floor((hi[k] - lo[k]) / max_radius) + 1;
+  return std::isfinite(total) && total <= 8.0 * static_cast<double>(cloud.size()) + 1024;
+}
+
+CellGrid build_grid(const PointCloud& cloud, Real max_radius, const Vec3& lo, const Vec3& hi) {
+  CellGrid g;
+  g.dim = cloud.dim;
   g.lo = lo;
   g.cell = max_radius;
   const auto n = static_cast<long long>(cloud.size());
-  // Cells at least as large as the radius; grow them for very sparse clouds so the
-  // grid never has many more cells than particles.
-  for (;;) {
-    long long total = 1;
-    for (int k = 0; k < g.dim; ++k) {
-      g.cells[static_cast<std::size_t>(k)] = static_cast<long long>(std::floor((hi[k] - lo[k]) / g.cell)) + 1;
-      total *= g.cells[static_cast<std::size_t>(k)];
-    }
-    if (total <= 8 * n + 1024) break;
-    g.cell *= 1.5;
-  }
+  for (int k = 0; k < g.dim; ++k)
+    g.cells[static_cast<std::size_t>(k)] = static_cast<long long>(std::floor((hi[k] - lo[k]) / g.cell)) + 1;
   const long long ncells = g.cells[0] * g.cells[1] * g.cells[2];
   g.start.assign(static_cast<std::size_t>(ncells) + 1, 0);
   std::vector<long long> cell_of(static_cast<std::size_t>(n));
@@ -68,9 +69,16 @@ CellGrid build_grid(const PointCloud& cloud, Real max_radius) {
 }
 }  // namespace
 
+NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
+
 NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params) {
   const Real max_radius = *std::max_element(radii.begin(), radii.end());
-  const CellGrid g = build_grid(cloud, max_radius);
+  Vec3 lo, hi;
+  // Clouds with far-away outliers or radii tiny against their extent would need a
+  // grid of mostly empty cells (or more cells than any integer counts): the k-d tree
+  // handles any finite extent in O(N log N) with memory O(N).
+  if (!dense_grid_fits(cloud, max_radius, lo, hi)) return kd_tree_search(cloud, std::move(radii), params);
+  const CellGrid g = build_grid(cloud, max_radius, lo, hi);
   auto visit = [&](Index i, auto&& emit) {
     const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
     const auto c = g.coord(xi);

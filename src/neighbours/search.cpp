@@ -8,6 +8,33 @@ namespace detail {
 NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
 NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
 
+namespace {
+// A radius that covers much of the cloud makes the search itself O(N^2) in time
+// before its exact count can refuse it. On large clouds, count the neighbours of a
+// few evenly spread particles by brute force (cost 64 N) and refuse early when the
+// extrapolated list would not fit.
+void estimate_pairs_before_search(const PointCloud& cloud, const std::vector<Real>& radii, const SearchParams& params) {
+  const Index n = cloud.size();
+  constexpr Index exact_below = 20000, samples = 64;
+  if (n < exact_below) return;  // the exact count pass is cheap enough
+  double found = 0;
+  for (Index s = 0; s < samples; ++s) {
+    const auto i = static_cast<std::size_t>(static_cast<long long>(s) * n / samples);
+    const Real r2 = radii[i] * radii[i];
+    const Vec3& xi = cloud.positions[i];
+    for (const Vec3& xj : cloud.positions) found += (xj - xi).squaredNorm() < r2 ? 1 : 0;
+  }
+  const double pairs = found / samples * static_cast<double>(n);
+  check<ResourceError>(pairs <= static_cast<double>(std::numeric_limits<Index>::max()), "the neighbour list would have about ",
+                       static_cast<long long>(pairs), " pairs (", found / samples, " neighbours per particle, estimated from ", samples,
+                       " particles), more than the ", std::numeric_limits<Index>::max(),
+                       " an index can count: reduce the smoothing radius (--h-factor) or the number of particles");
+  check_memory_estimate(pairs * neighbour_pair_bytes(params),
+                        concat("the neighbour list (about ", static_cast<long long>(pairs), " pairs, estimated from ", samples, " particles)"),
+                        "reduce the smoothing radius (--h-factor) or the number of particles");
+}
+}  // namespace
+
 std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& params) {
   validate(cloud);
   std::vector<Real> radii;
@@ -24,6 +51,7 @@ std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& par
     radii = params.radii;
   }
   check<InputError>(params.duplicate_tolerance >= 0, "duplicate tolerance must be >= 0");
+  estimate_pairs_before_search(cloud, radii, params);
   return radii;
 }
 

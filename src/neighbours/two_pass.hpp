@@ -8,11 +8,17 @@
 #include <limits>
 #include <utility>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/neighbours/search.hpp>
 
 namespace vrsph::detail {
 
 std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& params);
+
+/// Bytes per stored pair: the neighbour index and, if cached, the distance.
+inline double neighbour_pair_bytes(const SearchParams& params) {
+  return static_cast<double>(sizeof(Index) + (params.cache_distances ? sizeof(Real) : 0));
+}
 
 template <class Visit>
 NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
@@ -54,10 +60,15 @@ NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, 
   long long total = 0;
   for (Index i = 0; i < n; ++i) {
     total += list.offsets[static_cast<std::size_t>(i) + 1];
-    check<InputError>(total <= std::numeric_limits<Index>::max(), "neighbour list too large: more than ",
-                      std::numeric_limits<Index>::max(), " pairs");
+    check<ResourceError>(total <= std::numeric_limits<Index>::max(), "the neighbour list has more than ",
+                         std::numeric_limits<Index>::max(), " pairs (", n, " particles): reduce the smoothing radius "
+                         "(--h-factor) or the number of particles");
     list.offsets[static_cast<std::size_t>(i) + 1] = static_cast<Index>(total);
   }
+  // The exact size is known now, before the big arrays are allocated.
+  check_memory_estimate(static_cast<double>(total) * neighbour_pair_bytes(params),
+                        concat("the neighbour list (", total, " pairs, ", total / std::max(n, 1), " per particle)"),
+                        "reduce the smoothing radius (--h-factor) or the number of particles");
   // Too few neighbours: reported before filling, naming the first offender.
   for (Index i = 0; i < n; ++i) {
     if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/stencil/apply.hpp>
 #include <vrsph/stencil/stencil.hpp>
 
@@ -21,6 +22,11 @@ Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim
     const bool self_listed = std::binary_search(row.begin(), row.end(), i);
     s.row_ptr[static_cast<std::size_t>(i) + 1] = s.row_ptr[static_cast<std::size_t>(i)] + nl.count(i) + (self_listed ? 0 : 1);
   }
+  // Column indices plus one value array per component: refused up front if too large.
+  const auto ncomp = static_cast<std::size_t>(components(kind, dim));
+  check_memory_estimate(static_cast<double>(s.nnz()) * static_cast<double>(sizeof(Index) + ncomp * sizeof(Real)),
+                        detail::concat("the ", to_string(kind), " stencil (", s.nnz(), " nonzeros)"),
+                        "reduce the number of particles or the smoothing radius (--n, --h-factor)");
   s.col.resize(static_cast<std::size_t>(s.nnz()));
   for (Index i = 0; i < n; ++i) {
     const auto row = nl.of(i);

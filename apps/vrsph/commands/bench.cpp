@@ -32,20 +32,11 @@ struct BenchArgs {
   OutputOptions out;
 };
 
-void set_threads(int threads) {
-  check<ConfigError>(threads >= 0, "--threads must be >= 0 (0 = all cores)");
-#ifdef _OPENMP
-  omp_set_num_threads(threads == 0 ? omp_get_num_procs() : threads);
-#else
-  check<ConfigError>(threads <= 1, "this build has no OpenMP: --threads must be 1");
-#endif
-}
-
 // The benchmark cloud: a perturbed layout-A unit lattice, (n+1)^d particles.
 StudyCloud bench_cloud(const BenchArgs& a) {
   check<ConfigError>(a.repeat >= 1, "--repeat must be >= 1");
   check<ConfigError>(a.dim >= 1 && a.dim <= 3, "--dim must be 1, 2 or 3");
-  set_threads(a.threads);
+  set_thread_count(a.threads);
   CloudSpec spec;
   spec.family = CloudFamily::Perturbed;
   spec.box = Domain::unit_box(a.dim);
@@ -77,7 +68,7 @@ void add_volumes_bench(CLI::App& bench) {
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
   cmd->add_option("--repeat", a->repeat, "Repetitions; the best time is reported")->capture_default_str();
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--reference-sample", *reference_sample, "Particles timed with the textbook NNLS (it is slow)")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
@@ -168,7 +159,7 @@ void add_stencils_bench(CLI::App& bench) {
   cmd->add_option("--repeat", a->repeat, "Builds per method; seconds = their total ([QW]: 10)")->capture_default_str();
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--method", *methods, "Comma-separated methods (sph is always timed as the baseline)")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->callback([a, methods, factors] {
@@ -241,7 +232,7 @@ void add_bench_command(CLI::App& app) {
   nb->add_option("--h-factor", a->h_factor, "Search radius h = h_factor * dx")->capture_default_str();
   nb->add_option("--repeat", a->repeat, "Repetitions; the best time is reported")->capture_default_str();
   nb->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
-  nb->add_option("--seed", a->seed, "Random seed of the perturbation")->capture_default_str();
+  nb->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   nb->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   nb->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   nb->callback([a] {

@@ -62,7 +62,7 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--n", a->n, "Intervals per direction (dx = side/n)")->capture_default_str();
   cmd->add_option("--ghost-layers", a->ghost_layers, "Lattice layers of ghost particles outside the box")->capture_default_str();
   cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx (perturbed family)")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed")->check(seed_validator())->capture_default_str();
   cmd->add_flag("--perturb-boundary", a->perturb_boundary, "Also move boundary particles along their faces");
   cmd->add_option("--h-factor", a->h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
   cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");

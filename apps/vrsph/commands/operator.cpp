@@ -23,7 +23,7 @@ struct OperatorArgs {
   std::vector<std::string> method_opts;
   OutputOptions out;
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
-              *ghosts_opt = nullptr;
+              *ghosts_opt = nullptr, *h_knn_opt = nullptr;
 };
 }  // namespace
 
@@ -41,12 +41,12 @@ void add_operator_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--cloud", a->cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
   cmd->add_option("--n", a->n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed (perturbed, centroids)")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed (perturbed, centroids)")->check(seed_validator())->capture_default_str();
   a->h_factor_opt = cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx (aar-derivative: 6)")
                         ->capture_default_str();
   cmd->add_option("--h-mode", a->h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
       ->capture_default_str();
-  cmd->add_option("--h-knn", a->h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
+  a->h_knn_opt = cmd->add_option("--h-knn", a->h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
       ->capture_default_str();
   a->delta_opt = cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx (aar-derivative: 0.25)")
                      ->capture_default_str();
@@ -65,6 +65,7 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against dx (log-log) into this PNG file");
   cmd->callback([a] {
+    validate_output(a->out);
     OperatorStudyParams p;
     p.problem = a->problem;
     const ProblemDefaults def = problem_defaults(p.problem);
@@ -78,6 +79,8 @@ void add_operator_command(CLI::App& app) {
     p.h_factor = a->h_factor_opt->count() ? a->h_factor : def.h_factor;
     p.h_mode = parse_smoothing_mode(a->h_mode);
     p.h_knn = a->h_knn;
+    check<ConfigError>(!a->h_knn_opt->count() || p.h_mode == SmoothingMode::Knn,
+                       "--h-knn applies only with --h-mode knn (got --h-mode ", a->h_mode, ")");
     p.delta = a->delta_opt->count() ? a->delta : def.delta;
     p.ghosts = a->ghosts_opt->count() ? !a->no_ghosts : def.ghosts;
     p.regular_layer = a->regular_layer;

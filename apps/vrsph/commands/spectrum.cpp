@@ -38,13 +38,14 @@ void add_spectrum_command(CLI::App& app) {
   cmd->add_option("--h-factor", a->h_factor, "Support radius / dx (Gaussian: 6 = truncation at 6 l)")->capture_default_str();
   cmd->add_option("--cloud", a->cloud, "uniform or perturbed (interior particles U(-delta dx, delta dx))")->capture_default_str();
   cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed (perturbed)")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed (perturbed)")->check(seed_validator())->capture_default_str();
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json (json: omega_ratio[] of the first method, "
                                              "spectra{} of all, fem_ratio[])")
       ->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Plot omega_h/omega against n/N (PNG)");
   cmd->callback([a] {
+    validate_output(a->out);
     const auto methods = parse_name_list(a->methods, "--method");
     const auto options = parse_method_options(a->method_opts, methods);
     const CloudFamily family = parse_cloud_family(a->cloud);

@@ -24,7 +24,8 @@ struct StudyArgs {
   std::vector<std::string> method_opts;
   OutputOptions out;
   // Set by the user (else the problem's default applies, see problem_defaults.hpp).
-  CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr;
+  CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
+              *h_knn_opt = nullptr;
 };
 
 void add_common(CLI::App* cmd, StudyArgs& a) {
@@ -37,12 +38,12 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   cmd->add_option("--method", a.methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
   cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value (repeatable)");
   cmd->add_option("--cloud", a.cloud, "uniform, perturbed, centroids or disk")->capture_default_str();
-  cmd->add_option("--seed", a.seed, "Random seed (perturbed, centroids)")->capture_default_str();
+  cmd->add_option("--seed", a.seed, "Random seed (perturbed, centroids)")->check(seed_validator())->capture_default_str();
   a.h_factor_opt = cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx (default 3; aar-static: 6 = Gaussian with l = dx)")
                        ->capture_default_str();
   cmd->add_option("--h-mode", a.h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
       ->capture_default_str();
-  cmd->add_option("--h-knn", a.h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
+  a.h_knn_opt = cmd->add_option("--h-knn", a.h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
       ->capture_default_str();
   a.delta_opt = cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx (default 0.5; aar-static: 0.25)")
                     ->capture_default_str();
@@ -81,6 +82,8 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.h_factor = a.h_factor_opt->count() ? a.h_factor : def.h_factor;
   p.h_mode = parse_smoothing_mode(a.h_mode);
   p.h_knn = a.h_knn;
+  check<ConfigError>(!a.h_knn_opt->count() || p.h_mode == SmoothingMode::Knn,
+                     "--h-knn applies only with --h-mode knn (got --h-mode ", a.h_mode, ")");
   p.delta = a.delta_opt->count() ? a.delta : def.delta;
   p.perturb_boundary = a.perturb_boundary;
   p.regular_layer = a.regular_layer;
@@ -118,6 +121,7 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against h (log-log) into this PNG file");
   cmd->callback([a] {
+    validate_output(a->out);
     BvpStudyParams p = to_params(*a, parse_name_list(a->methods, "--method"));
     p.n = parse_int_list(a->n, "--n");
     if (!a->seeds.empty()) {

@@ -20,7 +20,14 @@ struct SmoothingChoice {
   Real covering_radius = 0;  ///< r_N if it was computed (Covering), else 0
 };
 
-/// knn <= 0 selects k = 2 d.
+/// A support wider than the whole cloud (its diameter `extent`, ghosts excluded) makes
+/// every particle a neighbour of every other: the operator is no longer local, kernel
+/// sums are constants, the result is meaningless (100 % error) and the cost grows as
+/// N^2. Throws ConfigError naming h and the h-factor.
+void check_support_is_local(Real h, Real extent, Real kappa);
+
+/// knn <= 0 selects k = 2 d; knn < 0 and kappa <= 0 are ConfigErrors, and so is a
+/// support wider than the cloud (check_support_is_local).
 SmoothingChoice choose_smoothing(const PointCloud& cloud, Real dx, Real kappa, SmoothingMode mode, int knn = 0);
 
 }  // namespace vrsph

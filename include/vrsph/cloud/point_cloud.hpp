@@ -35,8 +35,12 @@ struct PointCloud {
   void add(const Vec3& x, Tag tag, const Vec3& normal = Vec3::Zero());
 };
 
+/// Largest |coordinate| accepted: beyond it the squared distance of two particles
+/// (up to 3 (2 max)^2) would overflow a double, and every search would find nothing.
+inline constexpr Real max_coordinate = 1e150;
+
 /// Checks the invariants that do not need a neighbour search: dimension in 1..3,
-/// array sizes agree, every coordinate finite, unused coordinates zero, normals
+/// array sizes agree, every coordinate finite, |coordinates| <= max_coordinate, unused coordinates zero, normals
 /// of Neumann particles non-zero, at least one particle. Throws InputError naming
 /// the first offending particle. (Duplicate points are reported by the neighbour
 /// search, which sees every close pair anyway.)

@@ -34,6 +34,19 @@ class ConfigError : public Error {
  public:
   using Error::Error;
 };
+/// A file or stream could not be read or written (missing, a directory, disk full).
+/// An InputError: the path the user gave does not work.
+class IoError : public InputError {
+ public:
+  using InputError::InputError;
+};
+/// The requested run needs more memory (or pairs, or threads) than the configured
+/// limit allows; raised from an estimate *before* allocating, never after. A
+/// ConfigError: the settings (size, smoothing radius, --max-memory) ask for too much.
+class ResourceError : public ConfigError {
+ public:
+  using ConfigError::ConfigError;
+};
 
 namespace detail {
 template <class... Parts>

@@ -20,7 +20,10 @@ class MethodOptions {
   std::string get_string(const std::string& key, const std::string& fallback) const;
   /// Value must be one of `allowed`; throws ConfigError otherwise.
   std::string get_choice(const std::string& key, const std::string& fallback, const std::set<std::string>& allowed) const;
+  /// A finite number; throws ConfigError for text that is not one, NaN or infinity.
   Real get_real(const std::string& key, Real fallback) const;
+  /// An integer in [min, max] written in digits; throws ConfigError otherwise ("1e30" too).
+  long long get_int(const std::string& key, long long fallback, long long min, long long max) const;
   bool get_bool(const std::string& key, bool fallback) const;
 
   /// Throws ConfigError naming every key no getter has read (call after construction).

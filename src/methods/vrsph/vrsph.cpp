@@ -23,7 +23,14 @@ class Vrsph final : public Method {
  public:
   explicit Vrsph(const MethodOptions& o) : info_(vrsph_info()) {
     nnls_.tolerance = o.get_real("nnls_tolerance", -1);
-    nnls_.max_iterations = static_cast<int>(o.get_real("nnls_max_iterations", -1));
+    check<ConfigError>(nnls_.tolerance == -1 || nnls_.tolerance >= 0, "method option nnls_tolerance=", nnls_.tolerance,
+                       " must be >= 0 (0: the tightest test; omit it for the default 10 eps ||A||_1 max(m, n))");
+    // 0 iterations would stop every particle before its first volume: each row would be
+    // empty and the solve would fail far away with a misleading connectivity error.
+    nnls_.max_iterations = static_cast<int>(o.get_int("nnls_max_iterations", -1, 0, 1000000));
+    check<ConfigError>(nnls_.max_iterations != 0,
+                       "method option nnls_max_iterations=0 would stop the NNLS before it computes any volume "
+                       "(every row empty); give >= 1, or omit it for the default 3 x neighbours");
     rows_ = o.get_choice("rows", "merged", {"merged", "full"}) == "merged" ? MomentRows::Merged : MomentRows::Full;
   }
   const MethodInfo& info() const override { return info_; }

@@ -88,5 +88,5 @@ TEST(Smoothing, RulesGiveTheDocumentedRadii) {
   ASSERT_EQ(knn.radii.size(), 121u);
   EXPECT_NEAR(knn.radii[60], 0.3, 1e-12);
   EXPECT_THROW_MSG(parse_smoothing_mode("adaptive"), ConfigError, "unknown smoothing-radius mode 'adaptive'");
-  EXPECT_THROW_MSG(choose_smoothing(lattice, 0.1, -1, SmoothingMode::Fixed), InputError, "h-factor must be positive");
+  EXPECT_THROW_MSG(choose_smoothing(lattice, 0.1, -1, SmoothingMode::Fixed), ConfigError, "h-factor must be positive");
 }

@@ -1,0 +1,23 @@
+#pragma once
+// Strict text-to-number conversion shared by every reader and option parser: the
+// whole text must be the number (no trailing characters, no embedded NUL byte, no
+// empty string), so "0.5\0junk" or "3abc" are errors rather than 0.5 or 3.
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vrsph/core/types.hpp>
+
+namespace vrsph {
+
+/// The value of `text` (surrounding blanks allowed) as a double, or nullopt if any
+/// character is not part of the number. Accepts "nan"/"inf" (callers decide).
+std::optional<Real> parse_real(std::string_view text);
+/// The value of `text` as a base-10 integer, or nullopt (also on overflow of int64).
+/// "1e3" is not an integer.
+std::optional<std::int64_t> parse_integer(std::string_view text);
+
+/// Printable form of a text for error messages: control bytes (NUL, tab, ...) and
+/// non-ASCII bytes become \\xNN, and long texts are cut at `max_length` characters.
+std::string printable(std::string_view text, std::size_t max_length = 80);
+
+}  // namespace vrsph

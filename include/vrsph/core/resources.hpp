@@ -1,0 +1,31 @@
+#pragma once
+// Memory budget. Large allocations (neighbour lists, stencils, dense matrices) are
+// estimated from the problem size *before* they are made and checked against one
+// process-wide limit, so an oversized run is refused at once with the estimate and
+// the limit (ResourceError) instead of failing with std::bad_alloc after minutes,
+// or being killed by the kernel, with the machine swapping in between.
+#include <cstddef>
+#include <string>
+
+namespace vrsph {
+
+/// Memory the system can still give this process (MemAvailable of /proc/meminfo),
+/// in bytes; 0 if unknown.
+std::size_t available_memory_bytes();
+
+/// The process-wide limit in bytes; 0 = no limit. Default: available_memory_bytes()
+/// at the first call (so a run never plans to use more than the machine has free).
+std::size_t memory_limit_bytes();
+void set_memory_limit_bytes(std::size_t bytes);
+
+/// "8G", "512M", "1.5GiB", "100000" (bytes), "0" (no limit) -> bytes. Throws
+/// ConfigError on anything else.
+std::size_t parse_memory_size(const std::string& text);
+/// 1536 MiB -> "1.5 GiB".
+std::string format_bytes(double bytes);
+
+/// Throws ResourceError if `bytes` (an estimate for `what`) exceeds the limit; the
+/// message gives both numbers and `advice` (what to change).
+void check_memory_estimate(double bytes, const std::string& what, const std::string& advice);
+
+}  // namespace vrsph

@@ -1,0 +1,56 @@
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vrsph/core/parse.hpp>
+
+namespace vrsph {
+
+namespace {
+std::string_view trim(std::string_view s) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
+  while (!s.empty() && blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+}  // namespace
+
+std::optional<Real> parse_real(std::string_view text) {
+  const std::string s(trim(text));  // a copy: strtod needs a NUL-terminated buffer
+  if (s.empty() || s.find('\0') != std::string::npos) return std::nullopt;
+  char* end = nullptr;
+  const Real v = std::strtod(s.c_str(), &end);
+  if (end != s.c_str() + s.size()) return std::nullopt;
+  return v;
+}
+
+std::optional<std::int64_t> parse_integer(std::string_view text) {
+  const std::string s(trim(text));
+  if (s.empty() || s.find('\0') != std::string::npos) return std::nullopt;
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(s.c_str(), &end, 10);
+  if (end != s.c_str() + s.size() || errno == ERANGE) return std::nullopt;
+  return static_cast<std::int64_t>(v);
+}
+
+std::string printable(std::string_view text, std::size_t max_length) {
+  std::string out;
+  for (const char c : text) {
+    if (out.size() >= max_length) {
+      out += "...";
+      break;
+    }
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u < 0x7f) {
+      out += c;
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", u);
+      out += buf;
+    }
+  }
+  return out;
+}
+
+}  // namespace vrsph
