@@ -4,6 +4,9 @@
 #endif
 #include <unistd.h>
 #include <algorithm>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -185,6 +188,35 @@ void Progress::update(const std::string& label, double fraction) {
   std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
             << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << static_cast<int>(100 * fraction)
             << "% " << label << " (" << static_cast<int>(elapsed) << " s)\033[K" << std::flush;
+}
+
+struct EstimatedProgress::State {
+  std::mutex mutex;
+  std::condition_variable stop_cv;
+  bool stop = false;
+  std::thread thread;
+};
+
+EstimatedProgress::EstimatedProgress(Progress& progress, std::string label, double from, double to,
+                                     double estimated_seconds)
+    : state_(std::make_unique<State>()) {
+  const auto start = std::chrono::steady_clock::now();
+  state_->thread = std::thread([this, &progress, label = std::move(label), from, to, estimated_seconds, start] {
+    std::unique_lock lock(state_->mutex);
+    while (!state_->stop_cv.wait_for(lock, std::chrono::milliseconds(250), [this] { return state_->stop; })) {
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      progress.update(label, from + (to - from) * std::min(0.99, t / std::max(estimated_seconds, 1e-3)));
+    }
+  });
+}
+
+EstimatedProgress::~EstimatedProgress() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->stop = true;
+  }
+  state_->stop_cv.notify_all();
+  state_->thread.join();
 }
 
 }  // namespace vrsph::cli

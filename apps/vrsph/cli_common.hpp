@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the vrsph subcommands: output, plotting, progress, list parsing.
 #include <chrono>
+#include <memory>
 #include <string>
 #include <vector>
 #include <map>
@@ -63,6 +64,21 @@ class Progress {
   bool enabled_;
   bool shown_ = false;
   std::chrono::steady_clock::time_point start_;
+};
+
+/// For a long step that reports no progress of its own (a dense eigensolver): while it
+/// lives, a thread moves `progress` from `from` towards `to` as the elapsed time
+/// approaches the step's up-front estimate (never past 99 % of the span).
+class EstimatedProgress {
+ public:
+  EstimatedProgress(Progress& progress, std::string label, double from, double to, double estimated_seconds);
+  ~EstimatedProgress();
+  EstimatedProgress(const EstimatedProgress&) = delete;
+  EstimatedProgress& operator=(const EstimatedProgress&) = delete;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
 };
 
 }  // namespace vrsph::cli

@@ -71,6 +71,13 @@ int main(int argc, char** argv) {
     // Whatever a command printed must have reached stdout (a full disk, a closed pipe).
     vrsph::check_stream(std::cout, "to standard output");
   } catch (const CLI::ParseError& e) {
+    // "vrsph frobnicate": CLI11 only says a subcommand is required; name what was given.
+    if (dynamic_cast<const CLI::RequiredError*>(&e) && argc > 1 && argv[1][0] != '-' && app.get_subcommands().empty()) {
+      std::string known;
+      for (const CLI::App* sub : app.get_subcommands({})) known += (known.empty() ? "" : ", ") + sub->get_name();
+      std::cerr << "vrsph: unknown command '" << argv[1] << "' (known: " << known << "; vrsph --help)\n";
+      return 1;
+    }
     const int rc = app.exit(e);
     if (rc == 0) return 0;  // --help, --version
     // A value that does not convert or validate is a configuration error like any

@@ -141,7 +141,8 @@ void validate_params(const BvpStudyParams& p) {
   check<ConfigError>(!p.n.empty(), "empty refinement list --n");
   check<ConfigError>(!p.seeds.empty(), "empty seed list");
   for (int n : p.n) check<ConfigError>(n >= 2 && n <= 20000, "refinement level n = ", n, " outside 2..20000");
-  check<InputError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive, got ", p.h_factor);
+  check<ConfigError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive and finite, got ",
+                     p.h_factor);
   check<InputError>(p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ", p.delta);
   check<ConfigError>(std::isfinite(p.infeasible_tolerance) && p.infeasible_tolerance > 0,
                      "infeasible tolerance must be positive and finite, got ", p.infeasible_tolerance);

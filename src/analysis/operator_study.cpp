@@ -35,7 +35,8 @@ void validate_params(const OperatorStudyParams& p) {
   check<ConfigError>(!p.methods.empty(), "no method given");
   check<ConfigError>(!p.n.empty(), "empty refinement list --n");
   for (int n : p.n) check<ConfigError>(n >= 1 && n <= 20000, "refinement level n = ", n, " outside 1..20000");
-  check<InputError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive, got ", p.h_factor);
+  check<ConfigError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive and finite, got ",
+                     p.h_factor);
   check<InputError>(p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ", p.delta);
   for (const auto& m : p.methods) {
     const auto& info = builtin_methods().info(m);  // throws for unknown names
@@ -94,8 +95,6 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       spec.regular_layer = p.regular_layer;
       const Real dx = (box.hi[0] - box.lo[0]) / n;
       const Real h = p.h_factor * dx;
-      check<ConfigError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive and finite, got ",
-                         p.h_factor);
       check_support_is_local(h, (box.hi - box.lo).norm(), p.h_factor);  // before the ghost layer grows with h
       spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
       // Nested (two-ring) stencils need inner derivatives with full support at every

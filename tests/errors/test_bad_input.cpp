@@ -33,7 +33,7 @@ TEST(BadInput, UnknownNames) {
 TEST(BadInput, NonPositiveSmoothingLengthAndRefinement) {
   auto p = small();
   p.h_factor = 0;
-  EXPECT_THROW_MSG(run_operator_study(p), InputError, "h-factor must be positive, got 0");
+  EXPECT_THROW_MSG(run_operator_study(p), ConfigError, "h-factor must be positive and finite, got 0");
   p = small();
   p.n = {8, 0};
   EXPECT_THROW_MSG(run_operator_study(p), ConfigError, "refinement level n = 0");

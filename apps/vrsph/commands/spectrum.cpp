@@ -62,6 +62,15 @@ void add_spectrum_command(CLI::App& app) {
                    {"omega_ratio", ratio[k]}});
     };
     std::vector<std::string> warnings;
+    // Dense O(n^3) eigenproblems: refuse what does not fit, say how long the rest takes.
+    check_spectrum_size(a->n);
+    const double each = dense_spectrum_seconds(a->n), total = each * static_cast<double>(methods.size() + 1);
+    if (total > 10)
+      std::cerr << "vrsph: spectrum: " << methods.size() + 1 << " dense eigenvalue problems of " << a->n - 1
+                << " unknowns, about " << static_cast<long long>(std::ceil(total)) << " s in all (O(n^3))\n";
+    Progress progress;
+    double done = 0;
+    const double steps = static_cast<double>(methods.size() + 1);
     for (const auto& m : methods) {
       SpectrumParams p;
       p.method = m;
@@ -72,7 +81,12 @@ void add_spectrum_command(CLI::App& app) {
       p.cloud = family;
       p.delta = a->delta;
       p.seed = a->seed;
-      const Spectrum s = vibration_spectrum(p);
+      Spectrum s;
+      {
+        const EstimatedProgress ticker(progress, m, done / steps, (done + 1) / steps, each);
+        s = vibration_spectrum(p);
+      }
+      ++done;
       if (meta.find("omega_ratio") == meta.end()) meta["omega_ratio"] = finite_or_null(s.omega_ratio);
       spectra[m] = finite_or_null(s.omega_ratio);
       imag[m] = s.max_imag_relative;
@@ -84,7 +98,11 @@ void add_spectrum_command(CLI::App& app) {
                                           " (sorted by real part, METHODS Q5)"));
       add_rows(m, s.omega_ratio);
     }
-    const Spectrum fem = fem_lumped_spectrum(a->n);
+    Spectrum fem;
+    {
+      const EstimatedProgress ticker(progress, "fem-lumped", done / steps, 1.0, each);
+      fem = fem_lumped_spectrum(a->n);
+    }
     add_rows("fem-lumped", fem.omega_ratio);
     meta["fem_ratio"] = finite_or_null(fem.omega_ratio);
     meta["spectra"] = spectra;

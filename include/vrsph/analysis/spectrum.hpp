@@ -35,6 +35,16 @@ struct Spectrum {
 /// Throws ConfigError (method without a Laplacian, n < 3) or NumericalError (eigensolver
 /// did not converge).
 Spectrum vibration_spectrum(const SpectrumParams& params);
+/// Memory (bytes) and time (seconds, one core) of one dense eigenvalue problem with n
+/// intervals, estimated before it starts: O(n^2) and O(n^3). vibration_spectrum refuses
+/// a problem above the memory limit (ResourceError); the CLI prints the time estimate.
+double dense_spectrum_bytes(int n);
+double dense_spectrum_seconds(int n);
+/// Calibration of dense_spectrum_seconds (measured on the 2-core CI machine).
+inline constexpr double dense_spectrum_flops_per_second = 8e9;
+/// Throws ConfigError for n outside 3..5000 and ResourceError above the memory limit.
+void check_spectrum_size(int n);
+
 /// Lumped-mass linear FEM on the same particles: eigenvalues of tridiag(-1, 2, -1)/dx².
 Spectrum fem_lumped_spectrum(int n);
 /// The same in closed form, sin(kπ dx/2)/(kπ dx/2), k = 1..n-1.
