@@ -37,7 +37,10 @@ void validate_params(const OperatorStudyParams& p) {
   for (int n : p.n) check<ConfigError>(n >= 1 && n <= 20000, "refinement level n = ", n, " outside 1..20000");
   check<ConfigError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive and finite, got ",
                      p.h_factor);
-  check<InputError>(p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ", p.delta);
+  check<ConfigError>(std::isfinite(p.delta) && p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ",
+                     p.delta);
+  check<ConfigError>(std::isfinite(p.regular_layer) && p.regular_layer >= 0, "regular layer width must be >= 0, got ",
+                     p.regular_layer);
   for (const auto& m : p.methods) {
     const auto& info = builtin_methods().info(m);  // throws for unknown names
     check<ConfigError>(info.supports(p.op), "method ", m, " does not provide operator ", to_string(p.op));

@@ -24,7 +24,7 @@ std::string to_string(CloudFamily f) {
 
 StudyCloud make_study_cloud(const CloudSpec& spec) {
   check<InputError>(spec.box.shape == Domain::Shape::Box, "study clouds need a box domain");
-  check<InputError>(spec.n >= 1, "number of intervals n must be >= 1, got ", spec.n);
+  check<ConfigError>(spec.n >= 1, "number of intervals n must be >= 1, got ", spec.n);
   const Real side = spec.box.hi[0] - spec.box.lo[0];
   const Real dx = side / spec.n;
   StudyCloud out;
@@ -48,7 +48,7 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
       out.cloud = mesh_centroids(spec.box, dx, spec.seed, spec.ghost_width, spec.ghost_width <= 0, &out.max_edge);
       break;
     case CloudFamily::Disk: {
-      check<InputError>(spec.ghost_width <= 0, "the disk cloud has no ghost particles (use --no-ghosts)");
+      check<ConfigError>(spec.ghost_width <= 0, "the disk cloud has no ghost particles (use --no-ghosts)");
       out.cloud = ball_cloud(spec.box.dim, 0.5 * side, spec.n);
       const Vec3 centre = 0.5 * (spec.box.lo + spec.box.hi);
       for (auto& x : out.cloud.positions) x += centre;

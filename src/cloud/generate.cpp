@@ -15,8 +15,8 @@ constexpr double bytes_per_particle = 2 * sizeof(Vec3) + sizeof(Tag);
 
 void check_box(const Domain& box, int n) {
   check<InputError>(box.shape == Domain::Shape::Box, "lattice generators need a box domain");
-  check<InputError>(n >= 1, "number of intervals per direction must be >= 1, got ", n);
-  check<InputError>(n <= 100000, "number of intervals per direction ", n, " is unreasonably large");
+  check<ConfigError>(n >= 1, "number of intervals per direction must be >= 1, got ", n);
+  check<ConfigError>(n <= 100000, "number of intervals per direction ", n, " is unreasonably large");
 }
 
 // Tensor product of per-axis coordinate lists; tag by position relative to the box.
@@ -78,7 +78,7 @@ int ghost_layers_for(Real support_radius, Real dx) {
 
 PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers) {
   check_box(box, n);
-  check<InputError>(ghost_layers >= 0, "ghost layers must be >= 0");
+  check<ConfigError>(ghost_layers >= 0, "ghost layers must be >= 0");
   std::vector<std::vector<Real>> axes(3);
   for (int k = 0; k < box.dim; ++k) {
     const Real dx = (box.hi[k] - box.lo[k]) / n;
@@ -90,7 +90,7 @@ PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers) {
 
 PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particles, int ghost_layers) {
   check_box(box, n);
-  check<InputError>(ghost_layers >= 0, "ghost layers must be >= 0");
+  check<ConfigError>(ghost_layers >= 0, "ghost layers must be >= 0");
   std::vector<std::vector<Real>> axes(3);
   for (int k = 0; k < box.dim; ++k) {
     const Real dx = (box.hi[k] - box.lo[k]) / n;
@@ -107,10 +107,10 @@ PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particle
 
 void perturb(PointCloud& cloud, const PerturbOptions& o) {
   validate(cloud);
-  check<InputError>(std::isfinite(o.delta) && o.delta >= 0 && o.delta < 1,
+  check<ConfigError>(std::isfinite(o.delta) && o.delta >= 0 && o.delta < 1,
                     "perturbation amplitude delta must be in [0, 1), got ", o.delta);
   check<InputError>(cloud.spacing > 0, "perturbation needs the cloud spacing dx");
-  check<InputError>(std::isfinite(o.regular_layer) && o.regular_layer >= 0, "regular layer width must be >= 0, got ",
+  check<ConfigError>(std::isfinite(o.regular_layer) && o.regular_layer >= 0, "regular layer width must be >= 0, got ",
                     o.regular_layer);
   const bool bounded = cloud.count(Tag::Dirichlet) + cloud.count(Tag::Neumann) > 0;
   const Real amp = o.delta * cloud.spacing;
@@ -159,7 +159,7 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
 PointCloud ball_cloud(int dim, Real radius, int n) {
   check<InputError>(dim >= 1 && dim <= 3, "ball cloud dimension must be 1, 2 or 3, got ", dim);
   check<InputError>(radius > 0 && std::isfinite(radius), "ball radius must be positive, got ", radius);
-  check<InputError>(n >= 2 && n <= 100000, "ball cloud needs n in 2..100000 intervals per diameter, got ", n);
+  check<ConfigError>(n >= 2 && n <= 100000, "ball cloud needs n in 2..100000 intervals per diameter, got ", n);
   PointCloud c;
   c.dim = dim;
   c.domain = Domain::ball(dim, Vec3::Zero(), radius);

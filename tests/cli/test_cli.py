@@ -80,7 +80,7 @@ class Operator(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("unknown method 'nope'", p.stderr)
         p = run("operator", "--h-factor", "-1", check=False)
-        self.assertEqual(p.returncode, 3)
+        self.assertEqual(p.returncode, 2)
         self.assertIn("h-factor must be positive", p.stderr)
         p = run("operator", "--u", "sin(", check=False)
         self.assertEqual(p.returncode, 3)

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/csv.hpp>
@@ -90,7 +91,17 @@ void add_cloud_command(CLI::App& app) {
                                       "); first: duplicate particles ", cp.i, " and ", cp.j, " at (", x[0], ", ", x[1],
                                       ", ", x[2], ")"));
     }
+    check<ConfigError>(std::isfinite(a->h_factor) && a->h_factor > 0, "--h-factor must be positive and finite, got ",
+                       a->h_factor);
     sp.radius = a->h_factor * spacing;
+    {
+      Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+      for (const auto& x : cloud.positions) {
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+      }
+      check_support_is_local(sp.radius, (hi - lo).norm(), a->h_factor);
+    }
     sp.min_neighbours = 0;  // report, do not fail, on isolated particles
     const NeighbourList nl = find_neighbours(cloud, sp);  // throws on duplicates, naming them
     if (a->check_brute) {

@@ -66,7 +66,7 @@ TEST(Generate, PerturbationIsSeededBoundedAndKeepsBoundaryFixed) {
     moved += (t.positions[si] - base.positions[si]).norm() > 0;
   }
   EXPECT_GT(moved, 20);
-  EXPECT_THROW_MSG(perturb(t, {1.5, 1, false}), InputError, "delta must be in [0, 1)");
+  EXPECT_THROW_MSG(perturb(t, {1.5, 1, false}), ConfigError, "delta must be in [0, 1)");
 }
 
 TEST(Generate, BallCloud) {
@@ -106,7 +106,7 @@ TEST(Generate, MeshCentroidsHaveShortEdgesAndLieInTheMesh) {
 }
 
 TEST(Generate, RejectsBadArguments) {
-  EXPECT_THROW_MSG(vertex_lattice(Domain::unit_box(2), 0), InputError, "must be >= 1, got 0");
+  EXPECT_THROW_MSG(vertex_lattice(Domain::unit_box(2), 0), ConfigError, "must be >= 1, got 0");
   EXPECT_THROW_MSG(Domain::box(2, Vec3(0, 0, 0), Vec3(1, -1, 0)), InputError, "must exceed lower bound");
   EXPECT_THROW_MSG(ball_cloud(2, -1, 10), InputError, "radius must be positive");
   EXPECT_THROW_MSG(parse_tag("wall"), InputError, "unknown particle tag 'wall'");
