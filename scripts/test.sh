@@ -7,9 +7,9 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 jobs=$(nproc)
 cmake --preset asan-ubsan >/dev/null
-# Only what the sanitizer stage runs (unit, errors, cli); convergence and published
+# Only what the sanitizer stage runs (unit, errors, cli, fuzz-replay); convergence and published
 # studies run in the Release build below.
-cmake --build --preset asan-ubsan -j "$jobs" --target test_unit test_errors vrsph_cli
+cmake --build --preset asan-ubsan -j "$jobs" --target test_unit test_errors vrsph_cli fuzz_replay
 ctest --preset asan-ubsan -j "$jobs"
 cmake --preset release >/dev/null
 cmake --build --preset release -j "$jobs"

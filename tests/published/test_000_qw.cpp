@@ -1,7 +1,8 @@
 // Reproduction of [QW] (seed 000_906375e5ed7c9bb7.txt): Tables 2 and 3 (Example 5,
 // Poisson with variable coefficient) and the orders claimed in Examples 1–4.
-// Bands: Table 3 VRSPH to 3 significant digits, SPH within 5 %; Table 2 VRSPH mean over
-// 5 seeds within x1.5 and order >= 1.9 at every step; Examples: VRSPH gradient and
+// Bands: Table 3 VRSPH to every printed digit (5 significant), SPH within 1.4 % of the
+// published column; Table 2 VRSPH mean over 5 seeds within 3 % of the published values
+// and equal to the README's figures to their printed digits, order >= 1.9 at every step; Examples: VRSPH gradient and
 // Laplacian orders >= 1.8 (least squares over n = 16..128 and every step from n = 32).
 #include <cmath>
 #include <iostream>
@@ -28,9 +29,10 @@ std::vector<const BvpStudyRow*> rows_of(const BvpStudyResult& r, const std::stri
     if (row.first.method == m) out.push_back(&row);
   return out;
 }
-double round3(double v) {
+// v rounded to `digits` significant digits.
+double round_sig(double v, int digits) {
   const double e = std::floor(std::log10(std::abs(v)));
-  return std::round(v / std::pow(10, e - 2)) * std::pow(10, e - 2);
+  return std::round(v / std::pow(10, e - digits + 1)) * std::pow(10, e - digits + 1);
 }
 
 OperatorStudyResult example(int dim, OperatorKind op, CloudFamily cloud, bool ghosts, double kappa,
@@ -67,9 +69,10 @@ TEST(QwTable3, UniformParticles) {
   const double sph[] = {3.8755e-02, 1.9578e-02, 9.9280e-03, 5.0103e-03};
   const auto v = rows_of(r, "vrsph"), s = rows_of(r, "sph");
   ASSERT_EQ(v.size(), 4u);
+  ASSERT_EQ(s.size(), 4u);
   for (std::size_t k = 0; k < 4; ++k) {
-    EXPECT_DOUBLE_EQ(round3(v[k]->error_inf), round3(vrsph[k])) << "n=" << v[k]->first.n << ": " << v[k]->error_inf;
-    EXPECT_NEAR(s[k]->error_inf / sph[k], 1.0, 0.05) << "n=" << s[k]->first.n;
+    EXPECT_DOUBLE_EQ(round_sig(v[k]->error_inf, 5), vrsph[k]) << "n=" << v[k]->first.n << ": " << v[k]->error_inf;
+    EXPECT_NEAR(s[k]->error_inf / sph[k], 1.0, 0.014) << "n=" << s[k]->first.n;
     EXPECT_TRUE(v[k]->m_matrix_all);
     EXPECT_TRUE(s[k]->m_matrix_all);
   }
@@ -82,14 +85,23 @@ TEST(QwTable3, UniformParticles) {
 TEST(QwTable2, PerturbedParticlesFiveSeeds) {
   const auto r = example5(CloudFamily::Perturbed, {1, 2, 3, 4, 5});
   const double vrsph[] = {5.7539e-03, 1.3800e-03, 3.4862e-04, 8.7993e-05};
+  // Our means as the README states them (the seeds differ from the paper's, so the
+  // published values are matched within 3 %, ours to their printed digits).
+  const double ours[] = {5.61e-3, 1.379e-3, 3.516e-4, 8.796e-5};
+  const int ours_digits[] = {3, 4, 4, 4};
   const auto v = rows_of(r, "vrsph"), s = rows_of(r, "sph");
+  ASSERT_EQ(v.size(), 4u);
+  ASSERT_EQ(s.size(), 4u);
   for (std::size_t k = 0; k < 4; ++k) {
     EXPECT_EQ(v[k]->seeds, 5);
-    EXPECT_LT(v[k]->error_inf / vrsph[k], 1.5) << "n=" << v[k]->first.n;
-    EXPECT_GT(v[k]->error_inf / vrsph[k], 1 / 1.5) << "n=" << v[k]->first.n;
+    EXPECT_NEAR(v[k]->error_inf / vrsph[k], 1.0, 0.03) << "n=" << v[k]->first.n;
+    EXPECT_DOUBLE_EQ(round_sig(v[k]->error_inf, ours_digits[k]), ours[k]) << "n=" << v[k]->first.n << ": "
+                                                                          << v[k]->error_inf;
     EXPECT_TRUE(v[k]->m_matrix_all);
     if (k > 0) {
       EXPECT_GE(v[k]->order_inf, 1.9) << "n=" << v[k]->first.n;
+      const double readme_orders[] = {0, 2.02, 1.97, 2.00};  // as printed in the README
+      EXPECT_NEAR(v[k]->order_inf, readme_orders[k], 0.005) << "n=" << v[k]->first.n;
     }
   }
   // SPH does not converge on perturbed particles: order -> 0, error stays O(0.1).

@@ -59,8 +59,12 @@ TEST(QwComparators, Example2PerturbedLaplacian2D) {
   const auto r = compare(2, OperatorKind::Laplacian, CloudFamily::Perturbed, true, 3, {16, 32, 64, 128});
   EXPECT_GE(r.fitted_order_inf.at("fpm"), 0.5);
   EXPECT_LE(r.fitted_order_inf.at("fpm"), 1.4);
+  // Two-sided: KGF must converge at first order and not more; CSPM's error stays O(1)
+  // (the neglected off-diagonal Hessian terms) without diverging. Measured: 1.0 and -0.1.
+  EXPECT_GE(r.fitted_order_inf.at("kgf"), 0.6);
   EXPECT_LE(r.fitted_order_inf.at("kgf"), 1.5);
-  EXPECT_LE(r.fitted_order_inf.at("cspm"), 0.5);  // the neglected off-diagonal Hessian terms: O(1)
+  EXPECT_GE(r.fitted_order_inf.at("cspm"), -0.5);
+  EXPECT_LE(r.fitted_order_inf.at("cspm"), 0.5);
   EXPECT_LE(r.fitted_order_inf.at("sph"), -0.7);  // diverges
   EXPECT_GE(r.fitted_order_inf.at("vrsph"), 1.8);
 }
@@ -68,7 +72,10 @@ TEST(QwComparators, Example2PerturbedLaplacian2D) {
 TEST(QwComparators, Example4NoGhostsGradientNearBoundary) {
   // Without ghosts the one-sided supports next to the boundary cost FPM/CSPM/KGF an order.
   const auto r = compare(2, OperatorKind::Gradient, CloudFamily::Uniform, false, 3, {16, 32, 64, 128});
-  for (const auto* m : {"fpm", "cspm", "kgf"}) EXPECT_LE(r.fitted_order_inf.at(m), 1.4) << m;
+  for (const auto* m : {"fpm", "cspm", "kgf"}) {  // measured 0.97, 0.84, 1.02
+    EXPECT_GE(r.fitted_order_inf.at(m), 0.7) << m;
+    EXPECT_LE(r.fitted_order_inf.at(m), 1.4) << m;
+  }
   EXPECT_GE(r.fitted_order_inf.at("vrsph"), 1.8);
 }
 
@@ -81,6 +88,9 @@ TEST(QwComparators, Example3TriangleCentroids) {
   for (const auto* m : {"fpm", "cspm", "kgf"}) EXPECT_GE(g.fitted_order_inf.at(m), 0.7) << m;
   EXPECT_GE(g.fitted_order_inf.at("vrsph"), 1.8);
   const auto l = compare(2, OperatorKind::Laplacian, CloudFamily::Centroids, true, 4, {16, 32, 64});
-  EXPECT_LT(l.rows[2].order_inf, 0.5);  // sph at n = 64 (rows: sph first)
+  ASSERT_EQ(l.rows.size(), 15u);  // 5 methods x 3 levels, sph first
+  ASSERT_EQ(l.rows[2].method, "sph");
+  ASSERT_EQ(l.rows[2].n, 64);
+  EXPECT_LT(l.rows[2].order_inf, 0.5);
   EXPECT_GE(l.fitted_order_inf.at("vrsph"), 1.8);
 }
