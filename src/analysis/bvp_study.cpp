@@ -324,7 +324,9 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
 
   Eigen::VectorXd x;
-  run.solve = solve(sys, x, p.solver);
+  SolverOptions solver = p.solver;
+  solver.dimension = p.dim;
+  run.solve = solve(sys, x, solver);
   run.seconds_solve = run.solve.seconds;
   if (!run.solve.success)
     throw NumericalError(detail::concat("solver ", run.solve.solver, " failed for ", method_name, " n=", n, " seed=",

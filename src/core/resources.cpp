@@ -1,3 +1,4 @@
+#include <unistd.h>
 #include <atomic>
 #include <cctype>
 #include <cmath>
@@ -69,12 +70,24 @@ std::string format_bytes(double bytes) {
   return buf;
 }
 
+std::size_t resident_memory_bytes() {
+  std::ifstream f("/proc/self/statm");
+  std::size_t size = 0, resident = 0;
+  if (!(f >> size >> resident)) return 0;
+  return resident * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+}
+
 void check_memory_estimate(double bytes, const std::string& what, const std::string& advice) {
   const std::size_t lim = memory_limit_bytes();
-  if (lim == 0 || bytes <= static_cast<double>(lim)) return;
-  throw ResourceError(detail::concat(what, " needs about ", format_bytes(bytes), ", more than the memory limit of ",
-                                     format_bytes(static_cast<double>(lim)),
-                                     " (default: the memory available now; --max-memory to change it); ", advice));
+  if (lim == 0) return;
+  // What the process already holds counts against the same limit.
+  const auto in_use = static_cast<double>(resident_memory_bytes());
+  if (bytes + in_use <= static_cast<double>(lim)) return;
+  throw ResourceError(detail::concat(what, " needs about ", format_bytes(bytes), in_use > 0 ? " on top of the " : "",
+                                     in_use > 0 ? format_bytes(in_use) + " in use" : std::string(),
+                                     ", more than the memory limit of ", format_bytes(static_cast<double>(lim)),
+                                     " (default: the memory available when the run started; --max-memory to "
+                                     "change it); ", advice));
 }
 
 }  // namespace vrsph

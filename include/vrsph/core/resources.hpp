@@ -24,8 +24,11 @@ std::size_t parse_memory_size(const std::string& text);
 /// 1536 MiB -> "1.5 GiB".
 std::string format_bytes(double bytes);
 
-/// Throws ResourceError if `bytes` (an estimate for `what`) exceeds the limit; the
-/// message gives both numbers and `advice` (what to change).
+/// Resident memory of this process now (VmRSS), in bytes; 0 if unknown.
+std::size_t resident_memory_bytes();
+
+/// Throws ResourceError if `bytes` (an estimate for `what`) plus the memory the process
+/// already holds exceeds the limit; the message gives the numbers and `advice`.
 void check_memory_estimate(double bytes, const std::string& what, const std::string& advice);
 
 }  // namespace vrsph
