@@ -161,7 +161,8 @@ void set_thread_count(int threads) {
               << " cores of this machine; using " << cores << '\n';
   omp_set_num_threads(threads == 0 || threads > cores ? cores : threads);
 #else
-  check<ConfigError>(threads <= 1, "this build has no OpenMP: --threads must be 0 or 1, got ", threads);
+  if (threads > 1)
+    std::cerr << "vrsph: warning: --threads " << threads << " is more than the 1 thread of this build (no OpenMP); using 1\n";
 #endif
 }
 
