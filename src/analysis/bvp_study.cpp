@@ -6,6 +6,7 @@
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/compatibility.hpp>
 #include <vrsph/analysis/convergence.hpp>
+#include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
@@ -194,6 +195,14 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.n = n;
   run.seed = seed;
   Stopwatch watch;
+  {
+    const double per_side = p.cloud == CloudFamily::Disk ? n / 2.0 : n + 1.0;
+    const double particles = p.cloud == CloudFamily::Disk
+                                 ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
+                                                                           : 4.2 * per_side * per_side * per_side)
+                                 : std::pow(per_side, p.dim);
+    check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, 1, true), detail::concat("n = ", n));
+  }
   CloudSpec spec;
   spec.family = p.cloud;
   spec.box = Domain::unit_box(p.dim);

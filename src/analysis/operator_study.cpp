@@ -4,6 +4,7 @@
 #include <sstream>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/functions.hpp>
+#include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/operator_study.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
@@ -99,6 +100,12 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       const Real dx = (box.hi[0] - box.lo[0]) / n;
       const Real h = p.h_factor * dx;
       check_support_is_local(h, (box.hi - box.lo).norm(), p.h_factor);  // before the ghost layer grows with h
+      {
+        const double ghost_layers = p.ghosts ? std::ceil(builtin_methods().info(name).stencil_rings * p.h_factor + 1) : 0;
+        const double particles = std::pow(n + 1.0 + 2 * ghost_layers, p.dim);
+        check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, components(p.op, p.dim), false),
+                            detail::concat("n = ", n));
+      }
       spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
       // Nested (two-ring) stencils need inner derivatives with full support at every
       // neighbour: the ghost layer grows with the method's reach.
