@@ -7,7 +7,7 @@ limit. A finding is a signal (crash), exit 70 (internal error), an exit code out
 documented set, exit 0 with an error message, a Python traceback, or a run exceeding the
 limit on a command line that is small by construction.
 
-Usage: cli_argv.py PATH_TO_VRSPH [--seconds S] [--seed K] [--jobs J]
+Usage: cli_argv.py PATH_TO_VRSPH [--seconds S | --runs N] [--seed K] [--jobs J] [--timeout T]
 Reproducers of findings are printed as shell command lines; the exit status is 1 if any.
 """
 import argparse
@@ -123,13 +123,14 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=60)
+    ap.add_argument("--runs", type=int, default=0, help="stop after this many command lines (0: by --seconds)")
     a = ap.parse_args()
     fixtures = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "errors", "fixtures")
     r = random.Random(a.seed)
     findings, runs, codes = [], 0, {}
     deadline = time.time() + a.seconds
     with tempfile.TemporaryDirectory() as tmp, ThreadPoolExecutor(a.jobs) as pool:
-        while time.time() < deadline:
+        while (runs < a.runs) if a.runs else (time.time() < deadline):
             batch = [draw(r, os.path.normpath(fixtures), tmp) for _ in range(4 * a.jobs)]
             for args, (rc, problem) in zip(batch, pool.map(lambda x: check(a.vrsph, x, a.timeout), batch)):
                 runs += 1

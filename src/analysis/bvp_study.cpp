@@ -196,6 +196,7 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.seed = seed;
   Stopwatch watch;
   {
+    check_support_is_local(p.h_factor / n, std::sqrt(static_cast<Real>(p.dim)), p.h_factor);  // [0,1]^d's diameter
     const double per_side = p.cloud == CloudFamily::Disk ? n / 2.0 : n + 1.0;
     const double particles = p.cloud == CloudFamily::Disk
                                  ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side

@@ -4,6 +4,7 @@
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/neighbours/search.hpp>
 
 namespace vrsph {
@@ -25,7 +26,7 @@ Tag parse_tag(std::string_view text) {
   if (t == "dirichlet" || t == "1") return Tag::Dirichlet;
   if (t == "neumann" || t == "2") return Tag::Neumann;
   if (t == "ghost" || t == "3") return Tag::Ghost;
-  throw InputError("unknown particle tag '" + std::string(text) +
+  throw InputError("unknown particle tag '" + printable(text) +
                    "' (expected interior, dirichlet, neumann, ghost or 0..3)");
 }
 

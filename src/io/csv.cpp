@@ -50,6 +50,9 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
     if (!trim_lower(line).empty()) break;
   }
   check<InputError>(!trim_lower(line).empty(), name, ": empty file (expected a header line x,y,z,tag[,nx,ny,nz])");
+  check<InputError>(trim_lower(line).rfind('<', 0) != 0, name,
+                    ": looks like an XML file (VTU/VTP?), not a CSV point cloud; clouds are read from CSV with a header "
+                    "line x,y,z,tag[,nx,ny,nz] (vrsph cloud --input c.csv --output c.vtu converts the other way)");
   const auto header = split(line);
   std::map<std::string, std::size_t> col;
   static const std::vector<std::string> known = {"x", "y", "z", "tag", "nx", "ny", "nz"};

@@ -40,6 +40,9 @@ PointCloud generate(const CloudArgs& a) {
   check<ConfigError>(a.layout == "vertex" || a.layout == "cells", "--layout must be vertex (layout A) or cells (layout B), got '",
                      a.layout, "'");
   spec.layout = a.layout == "vertex" ? Layout::Vertex : Layout::CellCentred;
+  check<ConfigError>(spec.layout == Layout::Vertex || spec.family == CloudFamily::Uniform ||
+                         spec.family == CloudFamily::Perturbed,
+                     "--layout cells applies to the uniform and perturbed lattices, not to --family ", a.family);
   check<ConfigError>(a.ghost_layers >= 0, "--ghost-layers must be >= 0");
   const Real dx = (spec.box.hi[0] - spec.box.lo[0]) / a.n;
   spec.ghost_width = a.ghost_layers > 0 ? a.ghost_layers * dx : 0;

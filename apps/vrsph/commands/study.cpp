@@ -25,11 +25,11 @@ struct StudyArgs {
   OutputOptions out;
   // Set by the user (else the problem's default applies, see problem_defaults.hpp).
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
-              *h_knn_opt = nullptr;
+              *h_knn_opt = nullptr, *problem_opt = nullptr;
 };
 
 void add_common(CLI::App* cmd, StudyArgs& a) {
-  cmd->add_option("--problem", a.problem,
+  a.problem_opt = cmd->add_option("--problem", a.problem,
                   "qw-ex5 ([QW] Example 5), aar-static ([AAR] rod: -u'' = e^x, u(0) = 0, u'(1) = 0) or custom "
                   "(with --u --a --f); --u implies custom")
       ->capture_default_str();
@@ -73,7 +73,10 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
 
 BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& methods) {
   BvpStudyParams p;
-  p.problem = (!a.u.empty() && a.problem == "qw-ex5") ? "custom" : a.problem;
+  // Any of --u/--a/--f implies a custom problem unless --problem says otherwise (then the
+  // problem's own check names the conflict); a custom problem without --u says it needs u.
+  const bool custom_data = !a.u.empty() || !a.a.empty() || !a.f.empty();
+  p.problem = (custom_data && !a.problem_opt->count()) ? "custom" : a.problem;
   const ProblemDefaults def = problem_defaults(p.problem);
   p.dim = a.dim_opt->count() ? a.dim : def.dim;
   p.methods = methods;
