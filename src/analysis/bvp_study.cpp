@@ -137,17 +137,11 @@ Index apply_neumann_faces(PointCloud& cloud, const std::array<bool, 6>& on, Real
 }
 
 void validate_params(const BvpStudyParams& p) {
-  check<ConfigError>(p.dim >= 1 && p.dim <= 3, "--dim must be 1, 2 or 3, got ", p.dim);
+  check_study_settings(p.dim, p.h_factor, p.delta, p.regular_layer);
   check<ConfigError>(!p.methods.empty(), "no method given");
   check<ConfigError>(!p.n.empty(), "empty refinement list --n");
   check<ConfigError>(!p.seeds.empty(), "empty seed list");
   for (int n : p.n) check<ConfigError>(n >= 2 && n <= 20000, "refinement level n = ", n, " outside 2..20000");
-  check<ConfigError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive and finite, got ",
-                     p.h_factor);
-  check<ConfigError>(std::isfinite(p.delta) && p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ",
-                     p.delta);
-  check<ConfigError>(std::isfinite(p.regular_layer) && p.regular_layer >= 0, "regular layer width must be >= 0, got ",
-                     p.regular_layer);
   check<ConfigError>(std::isfinite(p.infeasible_tolerance) && p.infeasible_tolerance > 0,
                      "infeasible tolerance must be positive and finite, got ", p.infeasible_tolerance);
   check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");

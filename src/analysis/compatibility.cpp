@@ -3,6 +3,7 @@
 #include <vector>
 #include <vrsph/analysis/compatibility.hpp>
 #include <vrsph/core/error.hpp>
+#include "../core/quadrature.hpp"
 
 namespace vrsph {
 
@@ -11,25 +12,12 @@ struct Rule {
   std::vector<Real> x, w;  // on [0, 1]
 };
 
-// Gauss–Legendre nodes by Newton iteration on P_n (Golub–Welsch is not needed at these orders).
-Rule gauss_legendre(int n) {
+Rule gauss_legendre_unit(int n) {
+  const detail::QuadratureRule g = detail::gauss_legendre(n);
   Rule r;
-  for (int i = 1; i <= n; ++i) {
-    Real t = std::cos(std::numbers::pi * (i - 0.25) / (n + 0.5)), dp = 0;
-    for (int it = 0; it < 100; ++it) {
-      Real p0 = 1, p1 = t;
-      for (int k = 2; k <= n; ++k) {
-        const Real p2 = ((2 * k - 1) * t * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (t * p1 - p0) / (t * t - 1);
-      const Real dt = p1 / dp;
-      t -= dt;
-      if (std::abs(dt) < 1e-15) break;
-    }
-    r.x.push_back(0.5 * (1 - t));
-    r.w.push_back(1.0 / ((1 - t * t) * dp * dp));  // = w_i / 2 on [0, 1]
+  for (std::size_t i = 0; i < g.x.size(); ++i) {
+    r.x.push_back(0.5 * (1 + g.x[i]));
+    r.w.push_back(0.5 * g.w[i]);
   }
   return r;
 }
@@ -133,7 +121,7 @@ Sums ball_sums(const Domain& d, const Rule& g, const std::function<Real(const Ve
 
 Sums sums(const Domain& d, int order, const std::function<Real(const Vec3&)>& f,
           const std::function<Real(const Vec3&, const Vec3&)>& q) {
-  const Rule g = gauss_legendre(order);
+  const Rule g = gauss_legendre_unit(order);
   if (d.shape == Domain::Shape::Box) return box_sums(d, g, f, q);
   return ball_sums(d, g, f, q);
 }

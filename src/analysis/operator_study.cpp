@@ -32,16 +32,10 @@ std::vector<std::string> split_semicolons(const std::string& s) {
 }
 
 void validate_params(const OperatorStudyParams& p) {
-  check<ConfigError>(p.dim >= 1 && p.dim <= 3, "--dim must be 1, 2 or 3, got ", p.dim);
+  check_study_settings(p.dim, p.h_factor, p.delta, p.regular_layer);
   check<ConfigError>(!p.methods.empty(), "no method given");
   check<ConfigError>(!p.n.empty(), "empty refinement list --n");
   for (int n : p.n) check<ConfigError>(n >= 1 && n <= 20000, "refinement level n = ", n, " outside 1..20000");
-  check<ConfigError>(std::isfinite(p.h_factor) && p.h_factor > 0, "h-factor must be positive and finite, got ",
-                     p.h_factor);
-  check<ConfigError>(std::isfinite(p.delta) && p.delta >= 0 && p.delta < 1, "perturbation delta must be in [0,1), got ",
-                     p.delta);
-  check<ConfigError>(std::isfinite(p.regular_layer) && p.regular_layer >= 0, "regular layer width must be >= 0, got ",
-                     p.regular_layer);
   for (const auto& m : p.methods) {
     const auto& info = builtin_methods().info(m);  // throws for unknown names
     check<ConfigError>(info.supports(p.op), "method ", m, " does not provide operator ", to_string(p.op));

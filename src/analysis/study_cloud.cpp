@@ -22,6 +22,14 @@ std::string to_string(CloudFamily f) {
   return "?";
 }
 
+void check_study_settings(int dim, Real h_factor, Real delta, Real regular_layer) {
+  check<ConfigError>(dim >= 1 && dim <= 3, "--dim must be 1, 2 or 3, got ", dim);
+  check<ConfigError>(std::isfinite(h_factor) && h_factor > 0, "h-factor must be positive and finite, got ", h_factor);
+  check<ConfigError>(std::isfinite(delta) && delta >= 0 && delta < 1, "perturbation delta must be in [0,1), got ", delta);
+  check<ConfigError>(std::isfinite(regular_layer) && regular_layer >= 0, "regular layer width must be >= 0, got ",
+                     regular_layer);
+}
+
 StudyCloud make_study_cloud(const CloudSpec& spec) {
   check<InputError>(spec.box.shape == Domain::Shape::Box, "study clouds need a box domain");
   check<ConfigError>(spec.n >= 1, "number of intervals n must be >= 1, got ", spec.n);

@@ -3,6 +3,7 @@
 #include <numbers>
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/kernel.hpp>
+#include "../core/quadrature.hpp"
 
 namespace vrsph {
 
@@ -35,38 +36,11 @@ KernelType parse_kernel(std::string_view name) {
 
 namespace detail {
 
-// Gauss–Legendre nodes/weights on [-1, 1] by Newton iteration on P_n.
-template <std::size_t N>
-struct GaussLegendre {
-  std::array<Real, N> x{}, w{};
-  GaussLegendre() {
-    constexpr Real n = static_cast<Real>(N);
-    for (std::size_t i = 0; i < N; ++i) {
-      Real z = std::cos(std::numbers::pi * (static_cast<Real>(i) + 0.75) / (n + 0.5)), dp = 0;
-      for (int it = 0; it < 100; ++it) {
-        Real p0 = 1, p1 = z;
-        for (std::size_t kk = 2; kk <= N; ++kk) {
-          const Real k = static_cast<Real>(kk);
-          const Real p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1);
-        const Real dz = p1 / dp;
-        z -= dz;
-        if (std::abs(dz) < 1e-16) break;
-      }
-      x[i] = z;
-      w[i] = 2 / ((1 - z * z) * dp * dp);
-    }
-  }
-};
-
 namespace {
 Real integrate_normalisation(KernelType type, int dim) {
   // 12 equal panels put panel edges at every breakpoint (1/3, 1/2, 2/3); 20 points
   // per panel integrate the polynomial pieces exactly and the Gaussian to round-off.
-  static const GaussLegendre<20> gl;
+  static const detail::QuadratureRule gl = detail::gauss_legendre(20);
   constexpr int panels = 12;
   Real integral = 0;
   for (int p = 0; p < panels; ++p) {

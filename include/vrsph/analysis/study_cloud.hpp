@@ -37,4 +37,8 @@ struct StudyCloud {
 
 StudyCloud make_study_cloud(const CloudSpec& spec);
 
+/// The settings every study shares: dimension 1..3, a positive finite h-factor, a
+/// perturbation delta in [0, 1) and a regular-layer width >= 0. Throws ConfigError.
+void check_study_settings(int dim, Real h_factor, Real delta, Real regular_layer);
+
 }  // namespace vrsph
