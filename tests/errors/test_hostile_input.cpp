@@ -4,6 +4,9 @@
 #include <cmath>
 #include <sstream>
 #include <vrsph/analysis/compatibility.hpp>
+#include <vrsph/analysis/footprint.hpp>
+#include <vrsph/analysis/spectrum.hpp>
+#include <vrsph/solve/solver.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
@@ -152,4 +155,23 @@ TEST(HostileInput, NeumannCompatibilityByQuadrature) {
       EXPECT_FALSE(bad.compatible()) << "dim " << dim;
     }
   }
+}
+
+// Whole-run and solver estimates: refused before anything is generated or factorised.
+TEST(HostileInput, RunFootprintAndSolverEstimates) {
+  const RunFootprint f2 = estimate_run_footprint(2, 1e6, 3, 1, true);
+  EXPECT_NEAR(f2.neighbours_per_particle, 28.27, 0.01);  // pi 3^2 lattice points in the support
+  EXPECT_GT(f2.bytes, 1e9);
+  EXPECT_LT(estimate_run_footprint(3, 1e6, 3, 1, false).bytes, estimate_run_footprint(3, 1e6, 3, 1, true).bytes);
+  {
+    const MemoryLimit limit(64u << 20);
+    EXPECT_THROW_MSG(check_run_footprint(f2, "n = 1000"), ResourceError, "the run at n = 1000 (about 1000000 particles");
+    EXPECT_THROW_MSG(check_spectrum_size(4000), ResourceError, "the dense eigenvalue problem (3999 unknowns)");
+  }
+  EXPECT_THROW_MSG(check_spectrum_size(2), ConfigError, "outside 3..5000");
+  // LU fill grows faster than the matrix: 2D N^(1/3), 3D N^(2/3) per nonzero.
+  Eigen::SparseMatrix<Real> a(1000000, 1000000);
+  a.setIdentity();
+  EXPECT_GT(direct_solver_bytes(a, 3), direct_solver_bytes(a, 2));
+  EXPECT_GT(direct_solver_bytes(a, 2), direct_solver_bytes(a, 1));
 }
