@@ -162,6 +162,15 @@ void validate_params(const BvpStudyParams& p) {
       check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::Gradient), "method ", m,
                          " has no gradient stencil for Neumann rows");
 }
+// A value that is not finite is named by its role and as the user wrote it.
+Field sample_as(const ScalarFunction& fn, const PointCloud& cloud, const std::string& role) {
+  try {
+    return sample(fn, cloud);
+  } catch (const InputError& e) {
+    throw InputError(role + ": " + e.what());
+  }
+}
+
 // div(a grad u) = f with a du/dn = q everywhere has a solution only if the flux
 // balances the source; otherwise the pinned solve returns a meaningless field.
 void check_neumann_compatibility(const BvpStudyParams& p, const ProblemFunctions& pf, const Domain& domain) {
@@ -236,8 +245,8 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   }
   // u first: a u that is not finite must be named as the user wrote it, not through
   // the derived f = div(a grad u).
-  const Field exact = sample(*pf.u, cloud);
-  const Field a = sample(*pf.a, cloud);
+  const Field exact = sample_as(*pf.u, cloud, "the exact solution u (--u)");
+  const Field a = sample_as(*pf.a, cloud, "the coefficient a (--a)");
   const auto method = builtin_methods().create(method_name, options_for(p.method_options, method_name));
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
@@ -297,7 +306,8 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   }
 
   watch.restart();
-  const Field f = sample(*pf.f, cloud), g = sample(*pf.g, cloud);
+  const Field f = sample_as(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
+  const Field g = sample_as(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
   BoundaryRows bc;
   if (run.neumann_particles > 0) {
     bc.gradient = &G;
