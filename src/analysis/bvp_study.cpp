@@ -218,145 +218,84 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   spec.regular_layer = p.regular_layer;
   StudyCloud sc = make_study_cloud(spec);
   run.neumann_particles = apply_neumann_faces(sc.cloud, parse_faces(neumann_faces(p), p.dim), sc.dx);
-  const PointCloud& cloud = sc.cloud;
+  const PointCloud& cloud = sc.cloud;  // moved into the problem below
   run.seconds_cloud = watch.seconds();
   run.dx = sc.dx;
   run.particles = cloud.size();
 
-  watch.restart();
-  SmoothingChoice sm = choose_smoothing(cloud, sc.dx, p.h_factor, p.h_mode, p.h_knn);
-  run.h = sm.h;
-  run.covering_radius = sm.covering_radius;
-  SearchParams sp;
-  sp.radius = sm.h;
-  sp.radii = std::move(sm.radii);
-  const NeighbourList nl = find_neighbours(cloud, sp);
-  run.seconds_neighbours = watch.seconds();
-
-  watch.restart();
-  std::vector<char> unknown(static_cast<std::size_t>(cloud.size())), interior(unknown.size()), flux(unknown.size());
-  long long nsum = 0;
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const auto si = static_cast<std::size_t>(i);
-    interior[si] = cloud.tags[si] == Tag::Interior;
-    flux[si] = cloud.tags[si] == Tag::Neumann;
-    unknown[si] = interior[si] || flux[si];
-    if (unknown[si]) nsum += nl.count(i);
-  }
   // u first: a u that is not finite must be named as the user wrote it, not through
   // the derived f = div(a grad u).
+  BoundaryValueProblem bvp;
   const Field exact = sample_as(*pf.u, cloud, "the exact solution u (--u)");
-  const Field a = sample_as(*pf.a, cloud, "the coefficient a (--a)");
-  const auto method = builtin_methods().create(method_name, options_for(p.method_options, method_name));
-  StencilRequest req;
-  req.kind = OperatorKind::DivAGrad;
-  req.coefficient = &a;
+  bvp.a = sample_as(*pf.a, cloud, "the coefficient a (--a)");
   // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0);
   // sampled only for them (an expression's gradient costs 4d evaluations per particle).
-  Eigen::MatrixXd grad_a;
-  if (method->info().uses_coefficient_gradient) {
-    grad_a.resize(cloud.size(), p.dim);
+  if (builtin_methods().info(method_name).uses_coefficient_gradient) {
+    bvp.grad_a.resize(cloud.size(), p.dim);
     for (Index i = 0; i < cloud.size(); ++i) {
       const Vec3 ga = pf.a->gradient(cloud.positions[static_cast<std::size_t>(i)]);
-      for (int c = 0; c < p.dim; ++c) grad_a(i, c) = ga[c];
+      for (int c = 0; c < p.dim; ++c) bvp.grad_a(i, c) = ga[c];
     }
-    check<InputError>(grad_a.allFinite(), "the gradient of the coefficient a is not finite");
-    req.coefficient_gradient = &grad_a;
   }
-  req.rows = interior;
-  const Discretisation disc{cloud, nl, p.kernel, cloud.spacing};
-  const Stencil L = method->build(disc, req);
-  Stencil G;  // the method's own gradient, for the flux rows
+  bvp.f = sample_as(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
+  bvp.g = sample_as(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
   if (run.neumann_particles > 0) {
-    StencilRequest greq;
-    greq.kind = OperatorKind::Gradient;
-    greq.rows = flux;
-    G = method->build(disc, greq);
-  }
-  run.seconds_stencil = watch.seconds();
-
-  // Local (NNLS) feasibility of the unknowns' rows.
-  // Local feasibility of the interior rows and of the flux rows (the method's gradient there).
-  const auto report = [&](const LocalResidualSummary& local, const char* what) {
-    run.max_local_residual = std::max(run.max_local_residual, local.max_relative);
-    run.infeasible += local.infeasible;
-    if (local.infeasible == 0) return;
-    std::string list;
-    for (std::size_t k = 0; k < local.worst.size(); ++k) {
-      run.infeasible_particles.push_back(local.worst[k].second);
-      list += detail::concat(k ? ", " : "", local.worst[k].second, " (", local.worst[k].first, ")");
-    }
-    const std::string msg = detail::concat(method_name, " n=", n, " seed=", seed, ": ", local.infeasible, " ", what,
-                                           " particle(s) with infeasible moment conditions or a singular local system (relative residual > ",
-                                           p.infeasible_tolerance, "); worst: ", list);
-    if (p.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
-    if (warnings) warnings->push_back(msg);
-  };
-  report(summarise_local_residuals(L, interior, p.infeasible_tolerance), "interior");
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const auto si = static_cast<std::size_t>(i);
-    if (interior[si] && !L.condition.empty()) run.condition_max = std::max(run.condition_max, L.condition[si]);
-    if (flux[si] && !G.condition.empty()) run.condition_max = std::max(run.condition_max, G.condition[si]);
-  }
-  if (run.neumann_particles > 0) report(summarise_local_residuals(G, flux, p.infeasible_tolerance), "Neumann");
-  if (p.check_m_matrix) {
-    const MMatrixReport mm = check_m_matrix(L, run.neumann_particles > 0 ? std::span<const char>(interior) : unknown);
-    run.m_matrix = mm.is_m_matrix();
-    run.m_matrix_summary = mm.summary();
-  }
-
-  watch.restart();
-  const Field f = sample_as(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
-  const Field g = sample_as(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
-  BoundaryRows bc;
-  if (run.neumann_particles > 0) {
-    bc.gradient = &G;
-    bc.coefficient = &a;
-    bc.q = Field::Zero(cloud.size());
+    bvp.q = Field::Zero(cloud.size());
     std::unique_ptr<Expression> q_expr = p.q.empty() ? nullptr : std::make_unique<Expression>(p.q);
     for (Index i = 0; i < cloud.size(); ++i) {
-      if (!flux[static_cast<std::size_t>(i)]) continue;
+      if (cloud.tags[static_cast<std::size_t>(i)] != Tag::Neumann) continue;
       const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-      bc.q[i] = q_expr ? (*q_expr)(x) : a[i] * pf.u->gradient(x).dot(cloud.normals[static_cast<std::size_t>(i)]);
+      bvp.q[i] = q_expr ? (*q_expr)(x) : bvp.a[i] * pf.u->gradient(x).dot(cloud.normals[static_cast<std::size_t>(i)]);
     }
+    if (cloud.count(Tag::Dirichlet) == 0) check_neumann_compatibility(p, pf, cloud.domain);
   }
-  if (p.fix_constant) {  // pin the unknown nearest the domain centre
-    const Vec3 centre = cloud.domain.shape == Domain::Shape::Ball ? cloud.domain.centre
-                                                                   : Vec3(0.5 * (cloud.domain.lo + cloud.domain.hi));
-    Real best = std::numeric_limits<Real>::infinity();
-    for (Index i = 0; i < cloud.size(); ++i)
-      if (interior[static_cast<std::size_t>(i)] && (cloud.positions[static_cast<std::size_t>(i)] - centre).norm() < best) {
-        best = (cloud.positions[static_cast<std::size_t>(i)] - centre).norm();
-        bc.pinned = i;
-      }
-  }
-  if (run.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0) check_neumann_compatibility(p, pf, cloud.domain);
-  const LinearSystem sys = assemble(L, cloud, unknown, f, g, &bc);
-  run.unknowns = sys.size();
-  run.seconds_assemble = watch.seconds();
-  run.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
-  run.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(run.unknowns, 1));
+  bvp.fix_constant = p.fix_constant;
+  bvp.cloud = std::move(sc.cloud);
 
-  Eigen::VectorXd x;
-  SolverOptions solver = p.solver;
-  solver.dimension = p.dim;
-  run.solve = solve(sys, x, solver);
-  run.seconds_solve = run.solve.seconds;
-  if (!run.solve.success)
-    throw NumericalError(detail::concat("solver ", run.solve.solver, " failed for ", method_name, " n=", n, " seed=",
-                                        seed, ": ", run.solve.message, " (relative residual ", run.solve.residual, ")"));
-  const Field U = expand(sys, x);
-  Eigen::MatrixXd err(cloud.size(), 1);
+  BvpSolveOptions so;
+  so.method = method_name;
+  so.method_options = options_for(p.method_options, method_name);
+  so.kernel = p.kernel;
+  so.h_factor = p.h_factor;
+  so.h_mode = p.h_mode;
+  so.h_knn = p.h_knn;
+  so.spacing = sc.dx;
+  so.solver = p.solver;
+  so.solver.dimension = p.dim;
+  so.on_infeasible = p.on_infeasible;
+  so.infeasible_tolerance = p.infeasible_tolerance;
+  so.check_m_matrix = p.check_m_matrix;
+  so.label = detail::concat(method_name, " n=", n, " seed=", seed);
+  BvpSolution sol = solve(bvp, so);
+  if (warnings) warnings->insert(warnings->end(), sol.warnings.begin(), sol.warnings.end());
+  run.h = sol.h;
+  run.covering_radius = sol.covering_radius;
+  run.unknowns = sol.unknowns;
+  run.neighbours_mean = sol.neighbours_mean;
+  run.nnz_per_row = sol.nnz_per_row;
+  run.infeasible = sol.infeasible;
+  run.infeasible_particles = sol.infeasible_particles;
+  run.max_local_residual = sol.max_local_residual;
+  run.condition_max = sol.condition_max;
+  run.m_matrix = sol.m_matrix;
+  run.m_matrix_summary = sol.m_matrix_summary;
+  run.solve = sol.solve;
+  run.seconds_neighbours = sol.seconds_neighbours;
+  run.seconds_stencil = sol.seconds_stencil;
+  run.seconds_assemble = sol.seconds_assemble;
+  run.seconds_solve = sol.seconds_solve;
+  const PointCloud& solved = bvp.cloud;
+  const Field& U = sol.u;
+  Eigen::MatrixXd err(solved.size(), 1);
   err.col(0) = U - exact;
-  const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
-  run.errors = error_norms(err, unknown, cloud, run.h, vol);
+  const std::vector<Real> vol(static_cast<std::size_t>(solved.size()), std::pow(solved.spacing, p.dim));
+  run.errors = error_norms(err, unknown_mask(solved), solved, run.h, vol);
   if (keep_fields) {
     run.U = U;
     run.exact = exact;
-    run.local_residual = L.residual.empty() ? Field::Zero(cloud.size())
-                                            : Field(Eigen::Map<const Field>(L.residual.data(), cloud.size()));
+    run.local_residual = sol.local_residual;
   }
-  if (cloud_out) *cloud_out = cloud;
+  if (cloud_out) *cloud_out = solved;
   return run;
 }
 

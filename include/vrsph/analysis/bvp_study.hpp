@@ -29,11 +29,11 @@
 #include <vrsph/io/table.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/problem/boundary_value_problem.hpp>
 #include <vrsph/solve/solver.hpp>
 
 namespace vrsph {
 
-enum class InfeasiblePolicy { Warn, Error };
 
 struct BvpStudyParams {
   std::string problem = "qw-ex5";  ///< qw-ex5 | custom

@@ -1,0 +1,93 @@
+#pragma once
+// One call from a point cloud to the solution of div(a grad u) = f:
+//
+//   BoundaryValueProblem p{cloud};            // tags: interior / dirichlet / neumann / ghost
+//   p.f = ...; p.g = ...; p.q = ...;          // values at every particle (Field)
+//   BvpSolution s = solve(p, {.method = "vrsph"});
+//   s.u                                       // the solution at every particle
+//
+// The pipeline: smoothing radius -> neighbours -> the method's div(a grad) stencil on
+// the interior rows and its gradient on the Neumann rows -> flux rows -> assembly ->
+// linear solve, with every diagnostic the studies report. The studies are loops over
+// this call.
+//
+// Sign convention: the PDE is div(a grad u) = f (for the Poisson equation -Δu = s give
+// f = -s). Neumann data are the outward flux q = a ∂u/∂n at Neumann particles, whose
+// `normals` must be outward unit normals. Dirichlet particles carry u = g. Ghost
+// particles are neither unknowns nor data.
+#include <string>
+#include <vector>
+#include <vrsph/analysis/smoothing.hpp>
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/options.hpp>
+#include <vrsph/solve/solver.hpp>
+#include <vrsph/stencil/properties.hpp>
+
+namespace vrsph {
+
+enum class InfeasiblePolicy { Warn, Error };
+
+struct BoundaryValueProblem {
+  PointCloud cloud;
+  Field a;                 ///< coefficient a > 0 at every particle (empty: a = 1)
+  Eigen::MatrixXd grad_a;  ///< optional exact grad a (N x dim) for the Taylor-type methods
+  Field f;                 ///< right-hand side at every particle (read at interior particles)
+  Field g;                 ///< Dirichlet values (read at Dirichlet particles and at the pinned one)
+  Field q;                 ///< Neumann flux a ∂u/∂n (read at Neumann particles; empty if none)
+  /// Only Neumann data: the solution is fixed up to a constant; pin this unknown to g
+  /// (-1: none; fix_constant picks the interior particle nearest the centroid).
+  Index pinned = -1;
+  bool fix_constant = false;
+};
+
+struct BvpSolveOptions {
+  std::string method = "vrsph";
+  MethodOptions method_options;
+  KernelType kernel = KernelType::CubicSpline;
+  /// Support radius: h > 0 is used as given; otherwise h_factor x spacing by h_mode
+  /// (fixed: kappa dx; covering: kappa max(dx, r_N); knn: per particle).
+  Real h = 0;
+  Real h_factor = 3;
+  SmoothingMode h_mode = SmoothingMode::Fixed;
+  int h_knn = 0;
+  /// Particle spacing dx (0: cloud.spacing, else estimate_spacing(cloud)).
+  Real spacing = 0;
+  SolverOptions solver;
+  InfeasiblePolicy on_infeasible = InfeasiblePolicy::Warn;
+  Real infeasible_tolerance = 1e-6;  ///< local residual / |b| above this = infeasible
+  bool check_m_matrix = true;
+  std::string label;                 ///< prefix of warning messages (e.g. "vrsph n=40 seed=1")
+};
+
+struct BvpSolution {
+  Field u;                         ///< at every particle (data values at known particles)
+  Index particles = 0, unknowns = 0, neumann_particles = 0;
+  Real spacing = 0, h = 0;         ///< h: support radius (mean of per-particle radii in knn mode)
+  Real covering_radius = 0;        ///< r_N when h_mode = covering
+  Real neighbours_mean = 0, nnz_per_row = 0;
+  Index infeasible = 0;            ///< rows whose local problem failed or exceeds the tolerance
+  std::vector<Index> infeasible_particles;  ///< the worst few
+  Real max_local_residual = 0;
+  Real condition_max = 0;          ///< largest local-system condition number (0: none)
+  bool m_matrix = false;           ///< -L is an M-matrix on the unknowns' rows
+  std::string m_matrix_summary;
+  SolveReport solve;
+  Field local_residual;            ///< per particle (interior rows), zeros for methods without one
+  std::vector<std::string> warnings;
+  double seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
+};
+
+/// Masks over the particles: 1 where the tag is one of `tags`.
+std::vector<char> tag_mask(const PointCloud& cloud, std::initializer_list<Tag> tags);
+/// The unknowns of a boundary value problem: interior and Neumann particles.
+std::vector<char> unknown_mask(const PointCloud& cloud);
+
+/// Throws InputError (sizes, non-finite or non-positive data, Neumann particles without
+/// normals, only Neumann data and nothing pinned), ConfigError (unknown method, method
+/// without div-a-grad or, with Neumann particles, without a gradient), GeometryError
+/// (particles without neighbours, unknowns not connected to data) and NumericalError
+/// (a failed solve; infeasible local problems with InfeasiblePolicy::Error).
+BvpSolution solve(const BoundaryValueProblem& problem, const BvpSolveOptions& options = {});
+
+}  // namespace vrsph

@@ -1,0 +1,173 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vrsph/assembly/assemble.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/problem/boundary_value_problem.hpp>
+
+namespace vrsph {
+
+std::vector<char> tag_mask(const PointCloud& cloud, std::initializer_list<Tag> tags) {
+  std::vector<char> mask(static_cast<std::size_t>(cloud.size()));
+  for (std::size_t i = 0; i < mask.size(); ++i)
+    mask[i] = std::find(tags.begin(), tags.end(), cloud.tags[i]) != tags.end();
+  return mask;
+}
+
+std::vector<char> unknown_mask(const PointCloud& cloud) { return tag_mask(cloud, {Tag::Interior, Tag::Neumann}); }
+
+namespace {
+void check_field(const Field& v, Index n, const char* name, bool required) {
+  if (v.size() == 0 && !required) return;
+  check<InputError>(v.size() == n, "boundary value problem: ", name, " has ", v.size(), " values for ", n,
+                    " particles (size mismatch)");
+}
+
+// The interior particle nearest the centroid of the unknowns: pins a pure-Neumann constant.
+Index centre_particle(const PointCloud& cloud, const std::vector<char>& interior) {
+  Vec3 centre = Vec3::Zero();
+  Index count = 0;
+  for (Index i = 0; i < cloud.size(); ++i)
+    if (interior[static_cast<std::size_t>(i)]) {
+      centre += cloud.positions[static_cast<std::size_t>(i)];
+      ++count;
+    }
+  if (cloud.domain.shape == Domain::Shape::Ball) centre = cloud.domain.centre;
+  else if (cloud.domain.shape == Domain::Shape::Box) centre = 0.5 * (cloud.domain.lo + cloud.domain.hi);
+  else if (count > 0) centre /= static_cast<Real>(count);
+  Index best = -1;
+  Real best_d = std::numeric_limits<Real>::infinity();
+  for (Index i = 0; i < cloud.size(); ++i)
+    if (interior[static_cast<std::size_t>(i)] && (cloud.positions[static_cast<std::size_t>(i)] - centre).norm() < best_d) {
+      best_d = (cloud.positions[static_cast<std::size_t>(i)] - centre).norm();
+      best = i;
+    }
+  return best;
+}
+}  // namespace
+
+BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
+  const PointCloud& cloud = p.cloud;
+  validate(cloud);
+  const Index n = cloud.size();
+  check_field(p.a, n, "a", false);
+  check_field(p.f, n, "f", true);
+  check_field(p.g, n, "g", true);
+  check<ConfigError>(std::isfinite(o.infeasible_tolerance) && o.infeasible_tolerance > 0,
+                     "infeasible tolerance must be positive and finite, got ", o.infeasible_tolerance);
+  check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "support radius h must be >= 0 (0: from the h-factor), got ", o.h);
+  BvpSolution s;
+  s.particles = n;
+  const std::vector<char> interior = tag_mask(cloud, {Tag::Interior}), flux = tag_mask(cloud, {Tag::Neumann}),
+                          unknown = unknown_mask(cloud);
+  s.neumann_particles = static_cast<Index>(std::count(flux.begin(), flux.end(), 1));
+  if (s.neumann_particles > 0) check_field(p.q, n, "q", true);
+  const Field a = p.a.size() ? p.a : Field(Field::Ones(n));
+
+  // Smoothing radius and neighbours.
+  Stopwatch watch;
+  s.spacing = o.spacing > 0 ? o.spacing : estimate_spacing(cloud);
+  SearchParams sp;
+  if (o.h > 0) {
+    sp.radius = s.h = o.h;
+  } else {
+    SmoothingChoice sm = choose_smoothing(cloud, s.spacing, o.h_factor, o.h_mode, o.h_knn);
+    s.h = sm.h;
+    s.covering_radius = sm.covering_radius;
+    sp.radius = sm.h;
+    sp.radii = std::move(sm.radii);
+  }
+  const NeighbourList nl = find_neighbours(cloud, sp);
+  s.seconds_neighbours = watch.seconds();
+
+  // Stencils: div(a grad) on the interior rows, the method's gradient on the flux rows.
+  watch.restart();
+  const auto method = builtin_methods().create(o.method, o.method_options);
+  check<ConfigError>(method->info().supports(OperatorKind::DivAGrad), "method ", o.method, " does not provide div-a-grad");
+  check<ConfigError>(s.neumann_particles == 0 || method->info().supports(OperatorKind::Gradient), "method ", o.method,
+                     " has no gradient stencil for Neumann rows");
+  StencilRequest req;
+  req.kind = OperatorKind::DivAGrad;
+  req.coefficient = &a;
+  if (p.grad_a.size()) {
+    check<InputError>(p.grad_a.rows() == n && p.grad_a.cols() == cloud.dim, "grad_a must be ", n, " x ", cloud.dim,
+                      ", got ", p.grad_a.rows(), " x ", p.grad_a.cols());
+    check<InputError>(p.grad_a.allFinite(), "the gradient of the coefficient a is not finite");
+    req.coefficient_gradient = &p.grad_a;
+  }
+  req.rows = interior;
+  const Discretisation disc{cloud, nl, o.kernel, s.spacing};
+  const Stencil L = method->build(disc, req);
+  Stencil G;
+  if (s.neumann_particles > 0) {
+    StencilRequest greq;
+    greq.kind = OperatorKind::Gradient;
+    greq.rows = flux;
+    G = method->build(disc, greq);
+  }
+  s.seconds_stencil = watch.seconds();
+
+  // Diagnostics of the local problems (feasibility, conditioning) and of the matrix.
+  const auto report = [&](const LocalResidualSummary& local, const char* what) {
+    s.max_local_residual = std::max(s.max_local_residual, local.max_relative);
+    s.infeasible += local.infeasible;
+    if (local.infeasible == 0) return;
+    std::string list;
+    for (std::size_t k = 0; k < local.worst.size(); ++k) {
+      s.infeasible_particles.push_back(local.worst[k].second);
+      list += detail::concat(k ? ", " : "", local.worst[k].second, " (", local.worst[k].first, ")");
+    }
+    const std::string msg =
+        detail::concat(o.label.empty() ? o.method : o.label, ": ", local.infeasible, " ", what,
+                       " particle(s) with infeasible moment conditions or a singular local system (relative residual > ",
+                       o.infeasible_tolerance, "); worst: ", list);
+    if (o.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
+    s.warnings.push_back(msg);
+  };
+  report(summarise_local_residuals(L, interior, o.infeasible_tolerance), "interior");
+  if (s.neumann_particles > 0) report(summarise_local_residuals(G, flux, o.infeasible_tolerance), "Neumann");
+  for (Index i = 0; i < n; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (interior[si] && !L.condition.empty()) s.condition_max = std::max(s.condition_max, L.condition[si]);
+    if (flux[si] && !G.condition.empty()) s.condition_max = std::max(s.condition_max, G.condition[si]);
+  }
+  if (o.check_m_matrix) {
+    const MMatrixReport mm = check_m_matrix(L, s.neumann_particles > 0 ? std::span<const char>(interior) : unknown);
+    s.m_matrix = mm.is_m_matrix();
+    s.m_matrix_summary = mm.summary();
+  }
+
+  // Assembly with Dirichlet data, flux rows and the pinned constant; then the solve.
+  watch.restart();
+  BoundaryRows bc;
+  if (s.neumann_particles > 0) {
+    bc.gradient = &G;
+    bc.coefficient = &a;
+    bc.q = p.q;
+  }
+  bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(cloud, interior) : -1;
+  const LinearSystem sys = assemble(L, cloud, unknown, p.f, p.g, &bc);
+  s.unknowns = sys.size();
+  s.seconds_assemble = watch.seconds();
+  long long nsum = 0;
+  for (Index i = 0; i < n; ++i) nsum += unknown[static_cast<std::size_t>(i)] ? nl.count(i) : 0;
+  s.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<Index>(s.unknowns, 1));
+  s.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(s.unknowns, 1));
+
+  Eigen::VectorXd x;
+  SolverOptions solver = o.solver;
+  if (solver.dimension == 0) solver.dimension = cloud.dim;
+  s.solve = solve(sys, x, solver);
+  s.seconds_solve = s.solve.seconds;
+  if (!s.solve.success)
+    throw NumericalError(detail::concat("solver ", s.solve.solver, " failed for ", o.label.empty() ? o.method : o.label,
+                                        ": ", s.solve.message, " (relative residual ", s.solve.residual, ")"));
+  s.u = expand(sys, x);
+  s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
+  return s;
+}
+
+}  // namespace vrsph
