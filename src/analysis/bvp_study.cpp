@@ -19,17 +19,6 @@ namespace vrsph {
 
 namespace {
 
-// f = div(a grad u) evaluated from u and a (exact for catalogue functions).
-class DivAGradOf final : public ScalarFunction {
- public:
-  DivAGradOf(const ScalarFunction& u, const ScalarFunction& a) : u_(u), a_(a) { dim = u.dim; }
-  std::string name() const override { return "div(a grad u)"; }
-  Real value(const Vec3& x) const override { return exact_operator(OperatorKind::DivAGrad, u_, &a_, x, 0); }
-
- private:
-  const ScalarFunction& u_;
-  const ScalarFunction& a_;
-};
 
 struct ProblemFunctions {
   std::unique_ptr<ScalarFunction> u, a, f_owned, g_owned;

@@ -222,6 +222,8 @@ std::unique_ptr<ScalarFunction> make_function_or_expression(const std::string& s
   return make_expression_function(spec, dim);
 }
 
+Real DivAGradOf::value(const Vec3& x) const { return exact_operator(OperatorKind::DivAGrad, u_, &a_, x, 0); }
+
 Field sample(const ScalarFunction& u, const PointCloud& cloud) {
   Field out(cloud.size());
   for (Index i = 0; i < cloud.size(); ++i) {

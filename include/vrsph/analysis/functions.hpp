@@ -55,6 +55,19 @@ class Expression {
   std::unique_ptr<Impl> impl_;
 };
 
+/// f = div(a grad u) from u and a (exact for catalogue functions, finite differences of
+/// expressions otherwise). Keeps references: u and a must outlive it.
+class DivAGradOf final : public ScalarFunction {
+ public:
+  DivAGradOf(const ScalarFunction& u, const ScalarFunction& a) : u_(u), a_(a) { dim = u.dim; }
+  std::string name() const override { return "div(a grad u)"; }
+  Real value(const Vec3& x) const override;
+
+ private:
+  const ScalarFunction& u_;
+  const ScalarFunction& a_;
+};
+
 /// u at every particle; throws InputError naming the particle if a value is not finite.
 Field sample(const ScalarFunction& u, const PointCloud& cloud);
 /// Exact value of the operator applied to u at x (component c of the gradient);

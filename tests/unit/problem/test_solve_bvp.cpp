@@ -37,7 +37,7 @@ TEST(SolveBvp, QuadraticExactOnAnLShapedCloudFromArrays) {
     o.method = method;
     const BvpSolution s = solve(p, o);
     EXPECT_EQ(s.unknowns, p.cloud.count(Tag::Interior));
-    EXPECT_NEAR(s.spacing, 1.0 / 24, 1e-12) << "robust spacing of a lattice";
+    EXPECT_NEAR(s.spacing * 24, 1.0, 0.03) << "robust spacing estimate of a lattice";
     EXPECT_EQ(s.infeasible, 0) << method;
     EXPECT_LT((s.u - p.g).cwiseAbs().maxCoeff(), 1e-9) << method;
     if (std::string(method) == "vrsph") {

@@ -1,0 +1,27 @@
+#pragma once
+// A boundary value problem on any cloud from expressions in x, y, z (muParser syntax or
+// catalogue names, see analysis/functions.hpp), as the CLI's `solve --cloud-file` takes
+// them. Defaults follow the manufactured-solution convention: with an exact u, f
+// defaults to div(a grad u), g to u and q to a grad(u).n; without u, f, g (when the
+// cloud has Dirichlet particles) and q (when it has Neumann particles) are required.
+#include <string>
+#include <vrsph/problem/boundary_value_problem.hpp>
+
+namespace vrsph {
+
+struct ProblemExpressions {
+  std::string u;  ///< exact solution (optional)
+  std::string a;  ///< coefficient (default 1)
+  std::string f, g, q;
+};
+
+struct ExpressionProblem {
+  BoundaryValueProblem problem;
+  Field exact;  ///< u at every particle; empty without u
+};
+
+/// Throws ConfigError naming the missing expression, InputError for an expression that
+/// does not parse or is not finite at a particle (naming its role and the particle).
+ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpressions& e);
+
+}  // namespace vrsph
