@@ -24,8 +24,19 @@ std::string to_string(SmoothingMode m) {
   return "?";
 }
 
+Real cloud_extent(const PointCloud& cloud) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+    lo = lo.cwiseMin(cloud.positions[static_cast<std::size_t>(i)]);
+    hi = hi.cwiseMax(cloud.positions[static_cast<std::size_t>(i)]);
+  }
+  return lo.allFinite() ? (hi - lo).norm() : std::numeric_limits<Real>::infinity();
+}
+
 void check_support_is_local(Real h, Real extent, Real kappa) {
-  check<ConfigError>(!(h > extent), "support radius h = ", h, " (h-factor ", kappa, ") exceeds the extent ", extent,
+  check<ConfigError>(!(h > extent), "support radius h = ", h, kappa > 0 ? detail::concat(" (h-factor ", kappa, ")") : "",
+                     " exceeds the extent ", extent,
                      " of the whole cloud: every particle would see every other, so the operator is not local and "
                      "its result meaningless; use an h-factor of a few particle spacings (typically 2 to 4)");
 }
@@ -51,15 +62,8 @@ SmoothingChoice choose_smoothing(const PointCloud& cloud, Real dx, Real kappa, S
       break;
     }
   }
-  // Ghosts lie outside the domain (their layer grows with h): measure the rest.
-  Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
-  for (Index i = 0; i < cloud.size(); ++i) {
-    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
-    lo = lo.cwiseMin(cloud.positions[static_cast<std::size_t>(i)]);
-    hi = hi.cwiseMax(cloud.positions[static_cast<std::size_t>(i)]);
-  }
   const Real h_max = c.radii.empty() ? c.h : *std::max_element(c.radii.begin(), c.radii.end());
-  if (lo.allFinite()) check_support_is_local(h_max, (hi - lo).norm(), kappa);
+  check_support_is_local(h_max, cloud_extent(cloud), kappa);
   return c;
 }
 

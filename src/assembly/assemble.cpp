@@ -40,7 +40,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   check<InputError>(!sys.particle_of_dof.empty(), "the problem has no unknown (interior) particle");
   check<InputError>(known_count > 0 || pinned >= 0,
                     neumann_count > 0 ? "only Neumann data and no Dirichlet particle: the solution is determined only up to "
-                                        "a constant (singular system); fix the constant (vrsph study --fix-constant)"
+                                        "a constant (singular system); fix the constant (--fix-constant, or BoundaryValueProblem::pinned)"
                                       : "the cloud has no Dirichlet particle: the problem is singular");
   const Stencil* G = neumann_count > 0 ? boundary->gradient : nullptr;
   if (G) {

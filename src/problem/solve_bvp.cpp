@@ -47,6 +47,33 @@ Index centre_particle(const PointCloud& cloud, const std::vector<char>& interior
     }
   return best;
 }
+// With only Neumann data a solution exists only if the boundary flux equals the source
+// (divergence theorem). Without a domain description the two integrals are estimated
+// by particle quadrature: volume dx^d per interior particle (half at Neumann
+// particles, which sit on the boundary) and area dx^(d-1) per Neumann particle. That
+// is first-order accurate, so only a clear imbalance is reported (> 20 % of the scale).
+void check_neumann_balance(const PointCloud& cloud, const Field& f, const Field& q, Real dx, BvpSolution& s) {
+  const Real volume = std::pow(dx, cloud.dim), area = std::pow(dx, cloud.dim - 1);
+  Real source = 0, flux = 0, scale = 0;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Tag t = cloud.tags[static_cast<std::size_t>(i)];
+    if (t == Tag::Interior || t == Tag::Neumann) {
+      const Real v = t == Tag::Interior ? volume : 0.5 * volume;
+      source += v * f[i];
+      scale += v * std::abs(f[i]);
+    }
+    if (t == Tag::Neumann) {
+      flux += area * q[i];
+      scale += area * std::abs(q[i]);
+    }
+  }
+  s.neumann_imbalance = std::abs(flux - source) / std::max(scale, std::numeric_limits<Real>::min());
+  if (s.neumann_imbalance > 0.2)
+    s.warnings.push_back(detail::concat(
+        "only Neumann data, and they do not balance the source: boundary flux ~ ", flux, " but integral of f ~ ", source,
+        " (particle quadrature; ", s.neumann_imbalance, " of their size); a solution exists only if they are equal, so "
+        "this one is not meaningful: check q and f"));
+}
 }  // namespace
 
 BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
@@ -72,6 +99,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   s.spacing = o.spacing > 0 ? o.spacing : estimate_spacing(cloud);
   SearchParams sp;
   if (o.h > 0) {
+    check_support_is_local(o.h, cloud_extent(cloud), 0);
     sp.radius = s.h = o.h;
   } else {
     SmoothingChoice sm = choose_smoothing(cloud, s.spacing, o.h_factor, o.h_mode, o.h_knn);
@@ -166,6 +194,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     throw NumericalError(detail::concat("solver ", s.solve.solver, " failed for ", o.label.empty() ? o.method : o.label,
                                         ": ", s.solve.message, " (relative residual ", s.solve.residual, ")"));
   s.u = expand(sys, x);
+  if (s.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0) check_neumann_balance(cloud, p.f, p.q, s.spacing, s);
   s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
   return s;
 }

@@ -4,6 +4,7 @@
 Usage: test_cli.py PATH_TO_VRSPH
 """
 import json
+import math
 import os
 import subprocess
 import sys
@@ -277,6 +278,53 @@ class AarFamily(unittest.TestCase):
                 check=False)
         self.assertEqual(p.returncode, 2)
         self.assertIn("1D only", p.stderr)
+
+
+class CloudFile(unittest.TestCase):
+    """vrsph solve --cloud-file: the user's cloud, data from expressions, --u optional."""
+
+    U = "sin(pi*x)*sin(pi*y)"
+    A = "1+x^2+y^2"
+
+    def cloud(self, d, n):
+        path = os.path.join(d, f"c{n}.csv")
+        run("cloud", "--family", "perturbed", "--n", str(n), "--seed", "3", "--output", path)
+        return path
+
+    def test_keys_with_and_without_exact_solution(self):
+        with tempfile.TemporaryDirectory() as d:
+            c = self.cloud(d, 32)
+            vtu, csv = os.path.join(d, "s.vtu"), os.path.join(d, "s.csv")
+            row = run_json("solve", "--cloud-file", c, "--method", "vrsph", "--u", self.U, "--a", self.A,
+                           "--vtu", vtu, "--csv", csv)["rows"][0]
+            for key in ("particles", "unknowns", "solver", "solver_iterations", "mmatrix", "infeasible", "error_inf"):
+                self.assertIn(key, row)
+            self.assertEqual(row["particles"], 33 * 33)
+            self.assertEqual(row["unknowns"], 31 * 31)
+            self.assertTrue(row["mmatrix"])
+            self.assertLess(row["error_inf"], 5e-3)
+            self.assertAlmostEqual(row["spacing"], 1 / 32, delta=0.03 / 32)  # robust estimate of dx
+            with open(csv, encoding="utf-8") as f:
+                self.assertEqual(f.readline().strip(), "x,y,z,tag,u,local_residual,u_exact,error")
+                self.assertEqual(sum(1 for _ in f), 33 * 33)
+            # Without --u: f and g given, no error columns.
+            f = "(1+x^2+y^2)*(-2*pi^2*sin(pi*x)*sin(pi*y)) + 2*x*pi*cos(pi*x)*sin(pi*y) + 2*y*pi*sin(pi*x)*cos(pi*y)"
+            row2 = run_json("solve", "--cloud-file", c, "--method", "vrsph", "--f", f, "--g", "0", "--a", self.A,
+                            "--vtu", vtu)["rows"][0]
+            self.assertNotIn("error_inf", row2)
+            self.assertEqual(row2["unknowns"], row["unknowns"])
+
+    def test_second_order_on_file_clouds(self):
+        errors = []
+        with tempfile.TemporaryDirectory() as d:
+            for n in (16, 32, 64):
+                row = run_json("solve", "--cloud-file", self.cloud(d, n), "--method", "vrsph", "--u", self.U,
+                               "--a", self.A, "--vtu", os.path.join(d, "s.vtu"))["rows"][0]
+                errors.append(row["error_inf"])
+        orders = [math.log2(errors[k] / errors[k + 1]) for k in range(2)]
+        for o in orders:
+            self.assertGreater(o, 1.7, msg=f"errors {errors}")
+            self.assertLess(o, 2.5, msg=f"errors {errors}")
 
 
 if __name__ == "__main__":

@@ -97,14 +97,7 @@ void add_cloud_command(CLI::App& app) {
     check<ConfigError>(std::isfinite(a->h_factor) && a->h_factor > 0, "--h-factor must be positive and finite, got ",
                        a->h_factor);
     sp.radius = a->h_factor * spacing;
-    {
-      Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
-      for (const auto& x : cloud.positions) {
-        lo = lo.cwiseMin(x);
-        hi = hi.cwiseMax(x);
-      }
-      check_support_is_local(sp.radius, (hi - lo).norm(), a->h_factor);
-    }
+    check_support_is_local(sp.radius, cloud_extent(cloud), a->h_factor);
     sp.min_neighbours = 0;  // report, do not fail, on isolated particles
     const NeighbourList nl = find_neighbours(cloud, sp);  // throws on duplicates, naming them
     if (a->check_brute) {

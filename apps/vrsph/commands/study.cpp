@@ -148,7 +148,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   o.label = a.methods + " on " + file.path;
   Stopwatch watch;
   const BvpSolution s = solve(ep.problem, o);
-  print_warnings(s.warnings);
+  for (const auto& w : s.warnings) std::cerr << "vrsph: warning: " << w << '\n';
   const PointCloud& c = ep.problem.cloud;
   const bool exact = ep.exact.size() > 0;
   std::vector<PointField> fields{{"U", s.u}, {"local_residual", s.local_residual}};
@@ -176,7 +176,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
     });
   Table t;
   t.columns = {"method", "particles", "unknowns", "dim", "spacing", "h", "mmatrix", "infeasible", "condition_max",
-               "solver", "solver_iterations", "solver_residual"};
+               "solver", "solver_iterations", "solver_residual", "neumann_imbalance"};
   if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2"});
   t.columns.insert(t.columns.end(), {"seconds_total", "vtu"});
   std::vector<std::pair<std::string, TableCell>> row{
@@ -185,7 +185,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
       {"h", s.h}, {"mmatrix", s.m_matrix}, {"infeasible", static_cast<long long>(s.infeasible)},
       {"condition_max", s.condition_max}, {"solver", s.solve.solver},
       {"solver_iterations", static_cast<long long>(s.solve.iterations)}, {"solver_residual", s.solve.residual},
-      {"seconds_total", watch.seconds()}, {"vtu", a.vtu}};
+      {"neumann_imbalance", s.neumann_imbalance}, {"seconds_total", watch.seconds()}, {"vtu", a.vtu}};
   if (exact) {
     row.emplace_back("error_inf", errors.all.linf);
     row.emplace_back("error_l2", errors.all.l2);

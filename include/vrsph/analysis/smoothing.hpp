@@ -24,7 +24,10 @@ struct SmoothingChoice {
 /// every particle a neighbour of every other: the operator is no longer local, kernel
 /// sums are constants, the result is meaningless (100 % error) and the cost grows as
 /// N^2. Throws ConfigError naming h and the h-factor.
+/// kappa <= 0: h was given directly (no h-factor to name).
 void check_support_is_local(Real h, Real extent, Real kappa);
+/// Diameter of the bounding box of the non-ghost particles.
+Real cloud_extent(const PointCloud& cloud);
 
 /// knn <= 0 selects k = 2 d; knn < 0 and kappa <= 0 are ConfigErrors, and so is a
 /// support wider than the cloud (check_support_is_local).

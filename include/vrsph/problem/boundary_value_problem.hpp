@@ -74,6 +74,10 @@ struct BvpSolution {
   std::string m_matrix_summary;
   SolveReport solve;
   Field local_residual;            ///< per particle (interior rows), zeros for methods without one
+  /// Only Neumann data: |boundary flux - integral of f| relative to their size, by particle
+  /// quadrature (first order; > 0.2 means the data violate the solvability condition,
+  /// and a warning says so). The studies, which know the domain, check it exactly.
+  Real neumann_imbalance = 0;
   std::vector<std::string> warnings;
   double seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
 };
