@@ -1,6 +1,8 @@
 #pragma once
 // Umbrella header: the whole public surface of vrsph.
 #include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/compatibility.hpp>
+#include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/assembly/assemble.hpp>
@@ -14,8 +16,11 @@
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/core/types.hpp>
 #include <vrsph/io/csv.hpp>
+#include <vrsph/io/output_file.hpp>
 #include <vrsph/io/table.hpp>
 #include <vrsph/io/vtu.hpp>
 #include <vrsph/kernels/kernel.hpp>
@@ -30,6 +35,8 @@
 #include <vrsph/neighbours/brute_force.hpp>
 #include <vrsph/neighbours/neighbour_list.hpp>
 #include <vrsph/neighbours/search.hpp>
+#include <vrsph/problem/boundary_value_problem.hpp>
+#include <vrsph/problem/from_expressions.hpp>
 #include <vrsph/stencil/apply.hpp>
 #include <vrsph/stencil/operator_kind.hpp>
 #include <vrsph/stencil/properties.hpp>
