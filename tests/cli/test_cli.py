@@ -322,9 +322,24 @@ class CloudFile(unittest.TestCase):
                                "--a", self.A, "--vtu", os.path.join(d, "s.vtu"))["rows"][0]
                 errors.append(row["error_inf"])
         orders = [math.log2(errors[k] / errors[k + 1]) for k in range(2)]
+        self.assertEqual(len(errors), 3)
         for o in orders:
             self.assertGreater(o, 1.7, msg=f"errors {errors}")
             self.assertLess(o, 2.5, msg=f"errors {errors}")
+
+    def test_study_over_a_pattern_of_files(self):
+        with tempfile.TemporaryDirectory() as d:
+            for n in (16, 32, 64):
+                self.cloud(d, n)
+            out = run_json("study", "--cloud-file-pattern", os.path.join(d, "c{n}.csv"), "--n", "16,32,64",
+                           "--method", "vrsph,sph", "--u", self.U, "--a", self.A)
+        rows = out["rows"]
+        self.assertEqual([(r["method"], r["n"]) for r in rows],
+                         [("vrsph", 16), ("vrsph", 32), ("vrsph", 64), ("sph", 16), ("sph", 32), ("sph", 64)])
+        self.assertGreater(out["fitted_order_inf"]["vrsph"], 1.8)
+        self.assertLess(out["fitted_order_inf"]["vrsph"], 2.4)
+        self.assertLess(out["fitted_order_inf"]["sph"], 0.8)  # SPH does not converge on perturbed particles
+        self.assertIsNone(rows[0]["order_inf"])
 
 
 if __name__ == "__main__":

@@ -13,25 +13,11 @@
 #include <cmath>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
+#include "study_args.hpp"
 
 namespace vrsph::cli {
 
 namespace {
-struct StudyArgs {
-  std::string problem = "qw-ex5", methods = "vrsph", cloud = "uniform", n = "20,40,80,160", seeds, kernel = "cubic",
-              solver = "sparselu", on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
-  int dim = 2, h_knn = 0;
-  std::string h_mode = "fixed";
-  std::uint64_t seed = 1;
-  double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
-  bool perturb_boundary = false, fix_constant = false;
-  std::string neumann, q;
-  std::vector<std::string> method_opts;
-  OutputOptions out;
-  // Set by the user (else the problem's default applies, see problem_defaults.hpp).
-  CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
-              *h_knn_opt = nullptr, *problem_opt = nullptr;
-};
 
 void add_common(CLI::App* cmd, StudyArgs& a) {
   a.problem_opt = cmd->add_option("--problem", a.problem,
@@ -112,88 +98,6 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   return p;
 }
 
-struct CloudFileArgs {
-  std::string path, csv;
-  double h = 0;
-};
-
-void print_warnings(const std::vector<std::string>& warnings);
-
-// `vrsph solve --cloud-file`: the user's cloud, expressions for the data, one library call.
-void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {
-  for (const char* opt : {"--n", "--cloud", "--problem", "--seed", "--delta", "--perturb-boundary", "--regular-layer",
-                          "--neumann"})
-    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --cloud-file (the cloud, its tags and normals "
-                                             "come from the file)");
-  check<ConfigError>(a.methods.find(',') == std::string::npos, "vrsph solve takes exactly one --method");
-  check<ConfigError>(std::isfinite(file.h) && file.h >= 0, "--h must be >= 0, got ", file.h);
-  const PointCloud cloud = read_csv(file.path, a.dim_opt->count() ? a.dim : 0);
-  ExpressionProblem ep = problem_from_expressions(cloud, {a.u, a.a, a.f, a.g, a.q});
-  ep.problem.fix_constant = a.fix_constant;
-  BvpSolveOptions o;
-  o.method = a.methods;
-  o.method_options = options_for(parse_method_options(a.method_opts, {a.methods}), a.methods);
-  o.kernel = parse_kernel(a.kernel);
-  o.h = file.h;
-  o.h_factor = a.h_factor;
-  o.h_mode = parse_smoothing_mode(a.h_mode);
-  o.h_knn = a.h_knn;
-  check<ConfigError>(!a.h_knn_opt->count() || o.h_mode == SmoothingMode::Knn,
-                     "--h-knn applies only with --h-mode knn (got --h-mode ", a.h_mode, ")");
-  o.solver.type = parse_solver(a.solver);
-  check<ConfigError>(a.on_infeasible == "warn" || a.on_infeasible == "error", "--on-infeasible must be warn or error, got '",
-                     a.on_infeasible, "'");
-  o.on_infeasible = a.on_infeasible == "warn" ? InfeasiblePolicy::Warn : InfeasiblePolicy::Error;
-  o.infeasible_tolerance = a.infeasible_tol;
-  o.label = a.methods + " on " + file.path;
-  Stopwatch watch;
-  const BvpSolution s = solve(ep.problem, o);
-  for (const auto& w : s.warnings) std::cerr << "vrsph: warning: " << w << '\n';
-  const PointCloud& c = ep.problem.cloud;
-  const bool exact = ep.exact.size() > 0;
-  std::vector<PointField> fields{{"U", s.u}, {"local_residual", s.local_residual}};
-  ErrorReport errors;
-  if (exact) {
-    fields.push_back({"u_exact", ep.exact});
-    fields.push_back({"error", s.u - ep.exact});
-    Eigen::MatrixXd err(c.size(), 1);
-    err.col(0) = s.u - ep.exact;
-    const std::vector<Real> vol(static_cast<std::size_t>(c.size()), std::pow(s.spacing, c.dim));
-    errors = error_norms(err, unknown_mask(c), c, s.h, vol);
-  }
-  write_vtu(a.vtu, c, fields);
-  if (!file.csv.empty())
-    write_file(file.csv, "CSV field file", [&](std::ostream& out) {
-      out.precision(17);
-      out << "x,y,z,tag,u,local_residual" << (exact ? ",u_exact,error" : "") << '\n';
-      for (Index i = 0; i < c.size(); ++i) {
-        const Vec3& x = c.positions[static_cast<std::size_t>(i)];
-        out << x[0] << ',' << x[1] << ',' << x[2] << ',' << to_string(c.tags[static_cast<std::size_t>(i)]) << ','
-            << s.u[i] << ',' << s.local_residual[i];
-        if (exact) out << ',' << ep.exact[i] << ',' << s.u[i] - ep.exact[i];
-        out << '\n';
-      }
-    });
-  Table t;
-  t.columns = {"method", "particles", "unknowns", "dim", "spacing", "h", "mmatrix", "infeasible", "condition_max",
-               "solver", "solver_iterations", "solver_residual", "neumann_imbalance"};
-  if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2"});
-  t.columns.insert(t.columns.end(), {"seconds_total", "vtu"});
-  std::vector<std::pair<std::string, TableCell>> row{
-      {"method", a.methods}, {"particles", static_cast<long long>(s.particles)},
-      {"unknowns", static_cast<long long>(s.unknowns)}, {"dim", static_cast<long long>(c.dim)}, {"spacing", s.spacing},
-      {"h", s.h}, {"mmatrix", s.m_matrix}, {"infeasible", static_cast<long long>(s.infeasible)},
-      {"condition_max", s.condition_max}, {"solver", s.solve.solver},
-      {"solver_iterations", static_cast<long long>(s.solve.iterations)}, {"solver_residual", s.solve.residual},
-      {"neumann_imbalance", s.neumann_imbalance}, {"seconds_total", watch.seconds()}, {"vtu", a.vtu}};
-  if (exact) {
-    row.emplace_back("error_inf", errors.all.linf);
-    row.emplace_back("error_l2", errors.all.l2);
-  }
-  t.add_row(row);
-  std::cout << format_table(t, parse_table_format(a.out.format));
-}
-
 void print_warnings(const std::vector<std::string>& warnings) {
   if (warnings.empty()) return;
   std::cerr << "vrsph: warning: " << warnings.size() << " run(s) had particles whose local problem failed (infeasible moment conditions or a singular local system) "
@@ -210,8 +114,15 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against h (log-log) into this PNG file");
-  cmd->callback([a] {
+  auto file = std::make_shared<CloudFileArgs>();
+  cmd->add_option("--cloud-file-pattern", file->pattern,
+                  "Study on the user's clouds: a CSV file name with {n}, replaced by each --n (e.g. cloud_{n}.csv); "
+                  "--u required, --f/--g/--q default from it");
+  cmd->add_option("--h", file->h, "With --cloud-file-pattern: absolute support radius (default: --h-factor x the "
+                                  "robust spacing of each file)");
+  cmd->callback([a, file, cmd] {
     validate_output(a->out);
+    if (!file->pattern.empty()) return study_cloud_files(*a, *file, *cmd);
     BvpStudyParams p = to_params(*a, parse_name_list(a->methods, "--method"));
     p.n = parse_int_list(a->n, "--n");
     if (!a->seeds.empty()) {

@@ -1,0 +1,187 @@
+// `vrsph solve --cloud-file` and `vrsph study --cloud-file-pattern`: boundary value
+// problems on the user's own clouds (CSV with tags and normals), data from expressions
+// evaluated at the file's points, each solve one library call (problem/).
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <vrsph/analysis/convergence.hpp>
+#include <vrsph/analysis/errors.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/io/csv.hpp>
+#include <vrsph/io/output_file.hpp>
+#include <vrsph/io/vtu.hpp>
+#include <vrsph/problem/from_expressions.hpp>
+#include <vrsph/solve/solver.hpp>
+#include "study_args.hpp"
+
+namespace vrsph::cli {
+
+namespace {
+// The cloud comes from the file: the generators' options would be silently ignored.
+void reject_generator_options(const CLI::App& cmd, const char* source) {
+  for (const char* opt : {"--cloud", "--problem", "--seed", "--delta", "--perturb-boundary", "--regular-layer",
+                          "--neumann"})
+    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with ", source,
+                       " (the cloud, its tags and normals come from the file)");
+}
+
+BvpSolveOptions solve_options(const StudyArgs& a, const std::string& method, double h) {
+  check<ConfigError>(std::isfinite(h) && h >= 0, "--h must be >= 0, got ", h);
+  BvpSolveOptions o;
+  o.method = method;
+  o.method_options = options_for(parse_method_options(a.method_opts, {method}), method);
+  o.kernel = parse_kernel(a.kernel);
+  o.h = h;
+  o.h_factor = a.h_factor;
+  o.h_mode = parse_smoothing_mode(a.h_mode);
+  check<ConfigError>(o.h_mode != SmoothingMode::Covering,
+                     "--h-mode covering needs a known domain (box or ball) for the covering radius; a cloud file has "
+                     "none: use fixed or knn");
+  o.h_knn = a.h_knn;
+  check<ConfigError>(!a.h_knn_opt->count() || o.h_mode == SmoothingMode::Knn,
+                     "--h-knn applies only with --h-mode knn (got --h-mode ", a.h_mode, ")");
+  o.solver.type = parse_solver(a.solver);
+  check<ConfigError>(a.on_infeasible == "warn" || a.on_infeasible == "error", "--on-infeasible must be warn or error, got '",
+                     a.on_infeasible, "'");
+  o.on_infeasible = a.on_infeasible == "warn" ? InfeasiblePolicy::Warn : InfeasiblePolicy::Error;
+  o.infeasible_tolerance = a.infeasible_tol;
+  return o;
+}
+
+struct FileRun {
+  ExpressionProblem ep;
+  BvpSolution s;
+  ErrorReport errors;  // only with an exact solution
+  double seconds = 0;
+};
+
+FileRun run_on_file(const StudyArgs& a, const std::string& path, const std::string& method, double h) {
+  Stopwatch watch;
+  FileRun r;
+  r.ep = problem_from_expressions(read_csv(path, a.dim_opt->count() ? a.dim : 0), {a.u, a.a, a.f, a.g, a.q});
+  r.ep.problem.fix_constant = a.fix_constant;
+  BvpSolveOptions o = solve_options(a, method, h);
+  o.label = method + " on " + path;
+  r.s = solve(r.ep.problem, o);
+  for (const auto& w : r.s.warnings) std::cerr << "vrsph: warning: " << w << '\n';
+  if (r.ep.exact.size()) {
+    const PointCloud& c = r.ep.problem.cloud;
+    Eigen::MatrixXd err(c.size(), 1);
+    err.col(0) = r.s.u - r.ep.exact;
+    const std::vector<Real> vol(static_cast<std::size_t>(c.size()), std::pow(r.s.spacing, c.dim));
+    r.errors = error_norms(err, unknown_mask(c), c, r.s.h, vol);
+  }
+  r.seconds = watch.seconds();
+  return r;
+}
+
+void write_field_csv(const std::string& path, const FileRun& r) {
+  const PointCloud& c = r.ep.problem.cloud;
+  const bool exact = r.ep.exact.size() > 0;
+  write_file(path, "CSV field file", [&](std::ostream& out) {
+    out.precision(17);
+    out << "x,y,z,tag,u,local_residual" << (exact ? ",u_exact,error" : "") << '\n';
+    for (Index i = 0; i < c.size(); ++i) {
+      const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+      out << x[0] << ',' << x[1] << ',' << x[2] << ',' << to_string(c.tags[static_cast<std::size_t>(i)]) << ','
+          << r.s.u[i] << ',' << r.s.local_residual[i];
+      if (exact) out << ',' << r.ep.exact[i] << ',' << r.s.u[i] - r.ep.exact[i];
+      out << '\n';
+    }
+  });
+}
+
+// One row: sizes, diagnostics, and errors only when an exact solution was given.
+std::vector<std::pair<std::string, TableCell>> row_of(const std::string& method, const FileRun& r) {
+  const BvpSolution& s = r.s;
+  std::vector<std::pair<std::string, TableCell>> row{
+      {"method", method}, {"particles", static_cast<long long>(s.particles)},
+      {"unknowns", static_cast<long long>(s.unknowns)}, {"dim", static_cast<long long>(r.ep.problem.cloud.dim)},
+      {"spacing", s.spacing}, {"h", s.h}, {"mmatrix", s.m_matrix}, {"infeasible", static_cast<long long>(s.infeasible)},
+      {"condition_max", s.condition_max}, {"solver", s.solve.solver},
+      {"solver_iterations", static_cast<long long>(s.solve.iterations)}, {"solver_residual", s.solve.residual},
+      {"neumann_imbalance", s.neumann_imbalance}, {"seconds_total", r.seconds}};
+  if (r.ep.exact.size()) {
+    row.emplace_back("error_inf", r.errors.all.linf);
+    row.emplace_back("error_l2", r.errors.all.l2);
+  }
+  return row;
+}
+
+const std::vector<std::string> base_columns = {
+    "method", "particles", "unknowns", "dim", "spacing", "h", "mmatrix", "infeasible", "condition_max", "solver",
+    "solver_iterations", "solver_residual", "neumann_imbalance"};
+}  // namespace
+
+void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {
+  reject_generator_options(cmd, "--cloud-file");
+  check<ConfigError>(cmd.count("--n") == 0, "--n does not apply with --cloud-file (the cloud comes from the file)");
+  const auto methods = parse_name_list(a.methods, "--method");
+  check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
+  const FileRun r = run_on_file(a, file.path, methods.front(), file.h);
+  const bool exact = r.ep.exact.size() > 0;
+  std::vector<PointField> fields{{"U", r.s.u}, {"local_residual", r.s.local_residual}};
+  if (exact) {
+    fields.push_back({"u_exact", r.ep.exact});
+    fields.push_back({"error", r.s.u - r.ep.exact});
+  }
+  write_vtu(a.vtu, r.ep.problem.cloud, fields);
+  if (!file.csv.empty()) write_field_csv(file.csv, r);
+  Table t;
+  t.columns = base_columns;
+  if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2"});
+  t.columns.insert(t.columns.end(), {"seconds_total", "vtu"});
+  auto row = row_of(methods.front(), r);
+  row.emplace_back("vtu", a.vtu);
+  t.add_row(row);
+  std::cout << format_table(t, parse_table_format(a.out.format));
+}
+
+void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {
+  reject_generator_options(cmd, "--cloud-file-pattern");
+  check<ConfigError>(file.pattern.find("{n}") != std::string::npos, "--cloud-file-pattern '", file.pattern,
+                     "' must contain {n}, replaced by each value of --n (e.g. cloud_{n}.csv)");
+  check<ConfigError>(!a.u.empty(), "a convergence study needs the exact solution --u");
+  const auto methods = parse_name_list(a.methods, "--method");
+  const auto levels = parse_int_list(a.n, "--n");
+  Table t;
+  t.columns = {"n", "file"};
+  t.columns.insert(t.columns.end(), base_columns.begin(), base_columns.end());
+  t.columns.insert(t.columns.end(), {"error_inf", "order_inf", "error_l2", "order_l2", "seconds_total"});
+  nlohmann::ordered_json fitted = nlohmann::ordered_json::object();
+  Progress progress;
+  double done = 0;
+  for (const auto& m : methods) {
+    std::vector<Real> sizes, einf, el2;
+    for (int n : levels) {
+      std::string path = file.pattern;
+      path.replace(path.find("{n}"), 3, std::to_string(n));
+      progress.update(m + " " + path, done / static_cast<double>(methods.size() * levels.size()));
+      const FileRun r = run_on_file(a, path, m, file.h);
+      sizes.push_back(r.s.spacing);
+      einf.push_back(r.errors.all.linf);
+      el2.push_back(r.errors.all.l2);
+      auto row = row_of(m, r);
+      row.emplace_back("n", static_cast<long long>(n));
+      row.emplace_back("file", path);
+      const auto k = sizes.size();
+      if (k > 1) {  // observed order against the estimated spacing of each file
+        const Real ratio = std::log(sizes[k - 2] / sizes[k - 1]);
+        row.emplace_back("order_inf", std::log(einf[k - 2] / einf[k - 1]) / ratio);
+        row.emplace_back("order_l2", std::log(el2[k - 2] / el2[k - 1]) / ratio);
+      }
+      t.add_row(row);
+      done += 1;
+    }
+    if (sizes.size() > 1) fitted[m] = least_squares_order(sizes, einf);
+  }
+  OutputOptions out = a.out;
+  nlohmann::ordered_json meta;
+  meta["cloud_file_pattern"] = file.pattern;
+  meta["fitted_order_inf"] = fitted;
+  meta["u"] = a.u;
+  emit(t, out, meta.dump(), "spacing", "error_inf", "method", "cloud files " + file.pattern);
+}
+
+}  // namespace vrsph::cli

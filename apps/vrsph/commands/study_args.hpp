@@ -1,0 +1,38 @@
+#pragma once
+// Options shared by `vrsph study` and `vrsph solve` (built-in clouds and --cloud-file).
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+#include "../cli_common.hpp"
+
+namespace vrsph::cli {
+
+struct StudyArgs {
+  std::string problem = "qw-ex5", methods = "vrsph", cloud = "uniform", n = "20,40,80,160", seeds, kernel = "cubic",
+              solver = "sparselu", on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
+  int dim = 2, h_knn = 0;
+  std::string h_mode = "fixed";
+  std::uint64_t seed = 1;
+  double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
+  bool perturb_boundary = false, fix_constant = false;
+  std::string neumann, q;
+  std::vector<std::string> method_opts;
+  OutputOptions out;
+  // Set by the user (else the problem's default applies, see problem_defaults.hpp).
+  CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
+              *h_knn_opt = nullptr, *problem_opt = nullptr;
+};
+
+/// --cloud-file options (solve) and --cloud-file-pattern (study).
+struct CloudFileArgs {
+  std::string path, pattern, csv;
+  double h = 0;
+};
+
+/// `vrsph solve --cloud-file`: one solve on the user's cloud.
+void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd);
+/// `vrsph study --cloud-file-pattern "c_{n}.csv" --n 16,32,64`: a refinement study over user clouds.
+void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd);
+
+}  // namespace vrsph::cli
