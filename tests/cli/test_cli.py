@@ -327,6 +327,17 @@ class CloudFile(unittest.TestCase):
             self.assertGreater(o, 1.7, msg=f"errors {errors}")
             self.assertLess(o, 2.5, msg=f"errors {errors}")
 
+    def test_operator_on_a_file_cloud(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = run_json("operator", "--cloud-file", self.cloud(d, 32), "--method", "sph,vrsph", "--operator",
+                           "laplacian", "--u", self.U)
+        rows = {r["method"]: r for r in out["rows"]}
+        self.assertEqual(rows["vrsph"]["particles"], 33 * 33)
+        self.assertEqual(rows["vrsph"]["interior"], 31 * 31)
+        # Perturbed, no ghosts: SPH's Laplacian is O(1/h) wrong, VRSPH's is O(1) accurate in the interior.
+        self.assertGreater(rows["sph"]["error_inf"], 20)
+        self.assertLess(rows["vrsph"]["error_inf"], 1.0)
+
     def test_study_over_a_pattern_of_files(self):
         with tempfile.TemporaryDirectory() as d:
             for n in (16, 32, 64):

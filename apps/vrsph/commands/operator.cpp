@@ -3,7 +3,13 @@
 #include <vrsph/analysis/operator_study.hpp>
 #include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/analysis/functions.hpp>
+#include <vrsph/io/csv.hpp>
 #include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/problem/boundary_value_problem.hpp>
+#include <vrsph/stencil/apply.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 
@@ -21,10 +27,58 @@ struct OperatorArgs {
   int h_knn = 0;
   double regular_layer = 0;
   std::vector<std::string> method_opts;
+  std::string cloud_file;
   OutputOptions out;
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
               *ghosts_opt = nullptr, *h_knn_opt = nullptr;
 };
+// `vrsph operator --cloud-file`: the operator's error on the user's cloud, interior
+// particles (full supports) apart from the tagged boundary ones (truncated supports).
+void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
+  for (const char* opt : {"--problem", "--cloud", "--n", "--seed", "--delta", "--regular-layer", "--no-ghosts", "--exact"})
+    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --cloud-file (the cloud comes from the file; "
+                                             "the expected values are the exact derivatives of --u)");
+  const PointCloud cloud = read_csv(a.cloud_file, a.dim_opt->count() ? a.dim : 0);
+  const OperatorKind op = parse_operator(a.op);
+  const auto methods = parse_name_list(a.methods, "--method");
+  const auto options = parse_method_options(a.method_opts, methods);
+  const auto u = make_function_or_expression(a.u.empty() ? "cos-pi" : a.u, cloud.dim);
+  const auto coef = make_function_or_expression(a.a.empty() ? "one-plus-r2" : a.a, cloud.dim);
+  const Field values = sample(*u, cloud);
+  const Field coefficient = sample(*coef, cloud);
+  const Eigen::MatrixXd exact = sample_exact(op, *u, coef.get(), cloud);
+  const Real dx = estimate_spacing(cloud);
+  const SmoothingChoice sm = choose_smoothing(cloud, dx, a.h_factor, parse_smoothing_mode(a.h_mode), a.h_knn);
+  SearchParams sp;
+  sp.radius = sm.h;
+  sp.radii = sm.radii;
+  const NeighbourList nl = find_neighbours(cloud, sp);
+  const std::vector<char> interior = tag_mask(cloud, {Tag::Interior}),
+                          boundary = tag_mask(cloud, {Tag::Dirichlet, Tag::Neumann});
+  Table t;
+  t.columns = {"method", "particles", "interior", "spacing", "h", "error_inf", "error_inf_boundary", "max_local_residual",
+               "infeasible"};
+  for (const auto& m : methods) {
+    const auto method = builtin_methods().create(m, options_for(options, m));
+    StencilRequest req;
+    req.kind = op;
+    if (op == OperatorKind::DivAGrad) req.coefficient = &coefficient;
+    const Stencil s = method->build({cloud, nl, parse_kernel(a.kernel), dx}, req);
+    const Eigen::MatrixXd err = apply(s, values) - exact;
+    Real e_in = 0, e_b = 0;
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const Real e = err.row(i).cwiseAbs().maxCoeff();
+      if (interior[static_cast<std::size_t>(i)]) e_in = std::max(e_in, e);
+      if (boundary[static_cast<std::size_t>(i)]) e_b = std::max(e_b, e);
+    }
+    const LocalResidualSummary local = summarise_local_residuals(s, interior, 1e-6);
+    t.add_row({{"method", m}, {"particles", static_cast<long long>(cloud.size())},
+               {"interior", static_cast<long long>(cloud.count(Tag::Interior))}, {"spacing", dx}, {"h", sm.h},
+               {"error_inf", e_in}, {"error_inf_boundary", e_b}, {"max_local_residual", local.max_relative},
+               {"infeasible", static_cast<long long>(local.infeasible)}});
+  }
+  emit(t, a.out, "{}", "h", "error_inf", "method", "operator on " + a.cloud_file);
+}
 }  // namespace
 
 void add_operator_command(CLI::App& app) {
@@ -64,8 +118,12 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against dx (log-log) into this PNG file");
-  cmd->callback([a] {
+  cmd->add_option("--cloud-file", a->cloud_file,
+                  "Evaluate the operator on this CSV cloud (x,y,z,tag,...) against the exact derivatives of --u: "
+                  "error over interior particles, and over the tagged boundary particles apart");
+  cmd->callback([a, cmd] {
     validate_output(a->out);
+    if (!a->cloud_file.empty()) return operator_on_cloud_file(*a, *cmd);
     OperatorStudyParams p;
     p.problem = a->problem;
     const ProblemDefaults def = problem_defaults(p.problem);
