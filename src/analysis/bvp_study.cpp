@@ -151,14 +151,6 @@ void validate_params(const BvpStudyParams& p) {
       check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::Gradient), "method ", m,
                          " has no gradient stencil for Neumann rows");
 }
-// A value that is not finite is named by its role and as the user wrote it.
-Field sample_as(const ScalarFunction& fn, const PointCloud& cloud, const std::string& role) {
-  try {
-    return sample(fn, cloud);
-  } catch (const InputError& e) {
-    throw InputError(role + ": " + e.what());
-  }
-}
 
 // div(a grad u) = f with a du/dn = q everywhere has a solution only if the flux
 // balances the source; otherwise the pinned solve returns a meaningless field.
@@ -178,9 +170,9 @@ void check_neumann_compatibility(const BvpStudyParams& p, const ProblemFunctions
 }
 }  // namespace
 
-BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed, bool keep_fields,
-               std::vector<std::string>* warnings, PointCloud* cloud_out) {
-  validate_params(p);
+namespace {
+BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed,
+                     bool keep_fields, std::vector<std::string>* warnings, PointCloud* cloud_out) {
   const ProblemFunctions pf = problem_functions(p);
   BvpRun run;
   run.method = method_name;
@@ -207,16 +199,17 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   spec.regular_layer = p.regular_layer;
   StudyCloud sc = make_study_cloud(spec);
   run.neumann_particles = apply_neumann_faces(sc.cloud, parse_faces(neumann_faces(p), p.dim), sc.dx);
-  const PointCloud& cloud = sc.cloud;  // moved into the problem below
+  BoundaryValueProblem bvp;
+  bvp.cloud = std::move(sc.cloud);
+  const PointCloud& cloud = bvp.cloud;
   run.seconds_cloud = watch.seconds();
   run.dx = sc.dx;
   run.particles = cloud.size();
 
   // u first: a u that is not finite must be named as the user wrote it, not through
   // the derived f = div(a grad u).
-  BoundaryValueProblem bvp;
-  const Field exact = sample_as(*pf.u, cloud, "the exact solution u (--u)");
-  bvp.a = sample_as(*pf.a, cloud, "the coefficient a (--a)");
+  const Field exact = sample(*pf.u, cloud, "the exact solution u (--u)");
+  bvp.a = sample(*pf.a, cloud, "the coefficient a (--a)");
   // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0);
   // sampled only for them (an expression's gradient costs 4d evaluations per particle).
   if (builtin_methods().info(method_name).uses_coefficient_gradient) {
@@ -226,8 +219,8 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
       for (int c = 0; c < p.dim; ++c) bvp.grad_a(i, c) = ga[c];
     }
   }
-  bvp.f = sample_as(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
-  bvp.g = sample_as(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
+  bvp.f = sample(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
+  bvp.g = sample(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
   if (run.neumann_particles > 0) {
     bvp.q = Field::Zero(cloud.size());
     std::unique_ptr<Expression> q_expr = p.q.empty() ? nullptr : std::make_unique<Expression>(p.q);
@@ -239,7 +232,6 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
     if (cloud.count(Tag::Dirichlet) == 0) check_neumann_compatibility(p, pf, cloud.domain);
   }
   bvp.fix_constant = p.fix_constant;
-  bvp.cloud = std::move(sc.cloud);
 
   BvpSolveOptions so;
   so.method = method_name;
@@ -273,19 +265,25 @@ BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, s
   run.seconds_stencil = sol.seconds_stencil;
   run.seconds_assemble = sol.seconds_assemble;
   run.seconds_solve = sol.seconds_solve;
-  const PointCloud& solved = bvp.cloud;
   const Field& U = sol.u;
-  Eigen::MatrixXd err(solved.size(), 1);
+  Eigen::MatrixXd err(cloud.size(), 1);
   err.col(0) = U - exact;
-  const std::vector<Real> vol(static_cast<std::size_t>(solved.size()), std::pow(solved.spacing, p.dim));
-  run.errors = error_norms(err, unknown_mask(solved), solved, run.h, vol);
+  const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
+  run.errors = error_norms(err, unknown_mask(cloud), cloud, run.h, vol);
   if (keep_fields) {
     run.U = U;
     run.exact = exact;
     run.local_residual = sol.local_residual;
   }
-  if (cloud_out) *cloud_out = solved;
+  if (cloud_out) *cloud_out = cloud;
   return run;
+}
+}  // namespace
+
+BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed, bool keep_fields,
+               std::vector<std::string>* warnings, PointCloud* cloud_out) {
+  validate_params(p);
+  return run_validated(p, method_name, n, seed, keep_fields, warnings, cloud_out);
 }
 
 BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
@@ -303,7 +301,7 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
       std::vector<Real> einf;
       Real el2 = 0, ein = 0, ebd = 0;
       for (std::size_t s = 0; s < seeds.size(); ++s) {
-        BvpRun r = run_bvp(p, m, n, seeds[s], false, &result.warnings);
+        BvpRun r = run_validated(p, m, n, seeds[s], false, &result.warnings, nullptr);
         einf.push_back(r.errors.all.linf);
         el2 += r.errors.all.l2;
         ein += r.errors.interior.count ? r.errors.interior.linf : 0;

@@ -235,6 +235,14 @@ Field sample(const ScalarFunction& u, const PointCloud& cloud) {
   return out;
 }
 
+Field sample(const ScalarFunction& u, const PointCloud& cloud, const std::string& role) {
+  try {
+    return sample(u, cloud);
+  } catch (const InputError& e) {
+    throw InputError(role + ": " + e.what());
+  }
+}
+
 Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const Vec3& x, int component) {
   switch (kind) {
     case OperatorKind::Value: return u.value(x);

@@ -85,8 +85,8 @@ double dense_spectrum_bytes(int n) {
 }
 
 double dense_spectrum_seconds(int n) {
-  // Real Schur form without vectors: about 10 m^3 flops; ~1 Gflop/s for Eigen's
-  // QR iteration on one core here (measured: m = 999 in 1.1 s).
+  // Real Schur form without vectors: about 10 m^3 flops at the calibrated rate
+  // (measured here: m = 999 in 1.1 s on one core).
   const double m = n - 1.0;
   return 10.0 * m * m * m / dense_spectrum_flops_per_second;
 }

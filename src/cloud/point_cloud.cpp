@@ -85,9 +85,9 @@ Real median(std::vector<Real> v) {
 // of volume omega_d r_k^d. k = 12 (2D) and 32 (3D) put r_k beyond the lattice shells
 // that bias smaller k; measured: 0.98 dx on a square lattice, 0.99 dx on a lattice
 // perturbed by U(-dx/2, dx/2), where the mean nearest-neighbour distance gives 0.66 dx.
-// 1D: the median gap between consecutive particles. Clouds too small for k fall back
-// to the mean nearest-neighbour distance.
-Real robust_spacing(const PointCloud& cloud, Real nearest) {
+// 1D: the median gap between consecutive particles. Clouds too small for k use the mean
+// nearest-neighbour distance. 0 means every particle has a duplicate.
+Real robust_spacing(const PointCloud& cloud) {
   if (cloud.dim == 1) {
     std::vector<Real> x;
     for (const Vec3& p : cloud.positions) x.push_back(p[0]);
@@ -95,10 +95,10 @@ Real robust_spacing(const PointCloud& cloud, Real nearest) {
     std::vector<Real> gaps;
     for (std::size_t i = 1; i < x.size(); ++i)
       if (x[i] > x[i - 1]) gaps.push_back(x[i] - x[i - 1]);
-    return gaps.empty() ? nearest : median(gaps);
+    return gaps.empty() ? 0 : median(gaps);
   }
   const int k = cloud.dim == 2 ? 12 : 32;
-  if (cloud.size() <= 4 * k) return nearest;
+  if (cloud.size() <= 4 * k) return mean_nearest_neighbour_distance(cloud);
   const Real ball = cloud.dim == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
   return median(kth_neighbour_distance(cloud, k)) * std::pow(ball / (k + 1), 1.0 / cloud.dim);
 }
@@ -114,8 +114,8 @@ Real estimate_spacing(const PointCloud& cloud) {
     const Index inside = cloud.size() - cloud.count(Tag::Ghost);
     return std::pow(measure / static_cast<Real>(std::max<Index>(inside, 1)), 1.0 / cloud.dim);
   }
-  const Real nearest = mean_nearest_neighbour_distance(cloud);
-  if (!(nearest > 0)) {
+  const Real spacing = robust_spacing(cloud);
+  if (!(spacing > 0)) {
     const Vec3& x = cloud.positions.front();
     const bool all_same = std::all_of(cloud.positions.begin(), cloud.positions.end(), [&](const Vec3& y) { return y == x; });
     check<GeometryError>(!all_same, "all ", cloud.size(), " particles are at the same position (", x[0], ", ", x[1], ", ",
@@ -123,7 +123,7 @@ Real estimate_spacing(const PointCloud& cloud) {
     throw InputError(detail::concat("every particle has a duplicate at distance 0 (each position occurs more than once): "
                                     "remove the duplicate particles"));
   }
-  return robust_spacing(cloud, nearest);
+  return spacing;
 }
 
 }  // namespace vrsph

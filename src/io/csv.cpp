@@ -138,8 +138,8 @@ PointCloud read_csv(const std::string& path, int dim) {
   return read_csv(in, path, dim);
 }
 
-void write_csv(std::ostream& out, const PointCloud& c) {
-  validate(c);
+namespace {
+void write_rows(std::ostream& out, const PointCloud& c) {
   out.precision(17);
   out << "x,y,z,tag" << (c.has_normals() ? ",nx,ny,nz" : "") << '\n';
   for (Index i = 0; i < c.size(); ++i) {
@@ -150,10 +150,16 @@ void write_csv(std::ostream& out, const PointCloud& c) {
     out << '\n';
   }
 }
+}  // namespace
+
+void write_csv(std::ostream& out, const PointCloud& c) {
+  validate(c);
+  write_rows(out, c);
+}
 
 void write_csv(const std::string& path, const PointCloud& cloud) {
-  validate(cloud);
-  write_file(path, "point cloud file", [&](std::ostream& out) { write_csv(out, cloud); });
+  validate(cloud);  // before the file is opened (and an existing one truncated)
+  write_file(path, "point cloud file", [&](std::ostream& out) { write_rows(out, cloud); });
 }
 
 }  // namespace vrsph

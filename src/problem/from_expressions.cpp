@@ -6,16 +6,6 @@
 
 namespace vrsph {
 
-namespace {
-Field sample_as(const ScalarFunction& fn, const PointCloud& cloud, const std::string& role) {
-  try {
-    return sample(fn, cloud);
-  } catch (const InputError& e) {
-    throw InputError(role + ": " + e.what());
-  }
-}
-}  // namespace
-
 ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpressions& e) {
   validate(cloud);
   const int dim = cloud.dim;
@@ -30,12 +20,12 @@ ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpres
   const auto a = make_function_or_expression(e.a.empty() ? "one" : e.a, dim);
   ExpressionProblem out;
   BoundaryValueProblem& p = out.problem;
-  if (u) out.exact = sample_as(*u, cloud, "the exact solution u (--u)");
-  p.a = sample_as(*a, cloud, "the coefficient a (--a)");
+  if (u) out.exact = sample(*u, cloud, "the exact solution u (--u)");
+  p.a = sample(*a, cloud, "the coefficient a (--a)");
   const auto f = e.f.empty() ? std::unique_ptr<ScalarFunction>(std::make_unique<DivAGradOf>(*u, *a))
                              : make_function_or_expression(e.f, dim);
-  p.f = sample_as(*f, cloud, e.f.empty() ? "the right-hand side f = div(a grad u)" : "the right-hand side f (--f)");
-  if (!e.g.empty()) p.g = sample_as(*make_function_or_expression(e.g, dim), cloud, "the Dirichlet data g (--g)");
+  p.f = sample(*f, cloud, e.f.empty() ? "the right-hand side f = div(a grad u)" : "the right-hand side f (--f)");
+  if (!e.g.empty()) p.g = sample(*make_function_or_expression(e.g, dim), cloud, "the Dirichlet data g (--g)");
   else if (u) p.g = out.exact;
   else p.g = Field::Zero(cloud.size());  // no Dirichlet particle reads it
   if (neumann) {

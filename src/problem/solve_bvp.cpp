@@ -10,6 +10,11 @@
 
 namespace vrsph {
 
+InfeasiblePolicy parse_infeasible_policy(const std::string& name) {
+  check<ConfigError>(name == "warn" || name == "error", "--on-infeasible must be warn or error, got '", name, "'");
+  return name == "warn" ? InfeasiblePolicy::Warn : InfeasiblePolicy::Error;
+}
+
 std::vector<char> tag_mask(const PointCloud& cloud, std::initializer_list<Tag> tags) {
   std::vector<char> mask(static_cast<std::size_t>(cloud.size()));
   for (std::size_t i = 0; i < mask.size(); ++i)

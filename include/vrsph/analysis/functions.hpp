@@ -70,6 +70,9 @@ class DivAGradOf final : public ScalarFunction {
 
 /// u at every particle; throws InputError naming the particle if a value is not finite.
 Field sample(const ScalarFunction& u, const PointCloud& cloud);
+/// The same, with the function's role in the problem first in the message (e.g. "the
+/// exact solution u (--u)"), so a value that is not finite is named as the user gave it.
+Field sample(const ScalarFunction& u, const PointCloud& cloud, const std::string& role);
 /// Exact value of the operator applied to u at x (component c of the gradient);
 /// DivAGrad needs a: a Δu + ∇a·∇u.
 Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const Vec3& x, int component);

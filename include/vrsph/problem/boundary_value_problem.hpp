@@ -27,6 +27,8 @@
 namespace vrsph {
 
 enum class InfeasiblePolicy { Warn, Error };
+/// "warn" or "error"; throws ConfigError otherwise.
+InfeasiblePolicy parse_infeasible_policy(const std::string& name);
 
 struct BoundaryValueProblem {
   PointCloud cloud;
