@@ -143,6 +143,11 @@ void reject_empty_values(const CLI::App& command) {
   for (const CLI::App* sub : command.get_subcommands()) reject_empty_values(*sub);
 }
 
+void check_h_knn_applies(const CLI::Option* h_knn, const std::string& h_mode) {
+  check<ConfigError>(h_knn->count() == 0 || h_mode == "knn", "--h-knn applies only with --h-mode knn (got --h-mode ",
+                     h_mode, ")");
+}
+
 CLI::Validator seed_validator() {
   return CLI::Validator(
       [](std::string& text) -> std::string {

@@ -41,6 +41,10 @@ std::map<std::string, MethodOptions> parse_method_options(const std::vector<std:
 /// silent "use the default".
 void reject_empty_values(const CLI::App& command);
 
+/// --h-knn only means something with --h-mode knn: given with another mode it would be
+/// silently ignored, so it is a ConfigError.
+void check_h_knn_applies(const CLI::Option* h_knn, const std::string& h_mode);
+
 /// --seed: digits only. CLI11 would read "-1" into an unsigned seed as 2^64 - 1.
 CLI::Validator seed_validator();
 

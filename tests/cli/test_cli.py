@@ -342,8 +342,9 @@ class CloudFile(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             for n in (16, 32, 64):
                 self.cloud(d, n)
+            # A method-scoped option must reach its method and not be rejected for the others.
             out = run_json("study", "--cloud-file-pattern", os.path.join(d, "c{n}.csv"), "--n", "16,32,64",
-                           "--method", "vrsph,sph", "--u", self.U, "--a", self.A)
+                           "--method", "vrsph,sph", "--method-opt", "vrsph:rows=full", "--u", self.U, "--a", self.A)
         rows = out["rows"]
         self.assertEqual([(r["method"], r["n"]) for r in rows],
                          [("vrsph", 16), ("vrsph", 32), ("vrsph", 64), ("sph", 16), ("sph", 32), ("sph", 64)])

@@ -26,25 +26,20 @@ void reject_generator_options(const CLI::App& cmd, const char* source) {
                        " (the cloud, its tags and normals come from the file)");
 }
 
-BvpSolveOptions solve_options(const StudyArgs& a, const std::string& method, double h) {
+BvpSolveOptions solve_options(const StudyArgs& a, const std::string& method, const MethodOptions& method_options,
+                              double h) {
   check<ConfigError>(std::isfinite(h) && h >= 0, "--h must be >= 0, got ", h);
   BvpSolveOptions o;
   o.method = method;
-  o.method_options = options_for(parse_method_options(a.method_opts, {method}), method);
+  o.method_options = method_options;
   o.kernel = parse_kernel(a.kernel);
   o.h = h;
   o.h_factor = a.h_factor;
   o.h_mode = parse_smoothing_mode(a.h_mode);
-  check<ConfigError>(o.h_mode != SmoothingMode::Covering,
-                     "--h-mode covering needs a known domain (box or ball) for the covering radius; a cloud file has "
-                     "none: use fixed or knn");
   o.h_knn = a.h_knn;
-  check<ConfigError>(!a.h_knn_opt->count() || o.h_mode == SmoothingMode::Knn,
-                     "--h-knn applies only with --h-mode knn (got --h-mode ", a.h_mode, ")");
+  check_h_knn_applies(a.h_knn_opt, a.h_mode);
   o.solver.type = parse_solver(a.solver);
-  check<ConfigError>(a.on_infeasible == "warn" || a.on_infeasible == "error", "--on-infeasible must be warn or error, got '",
-                     a.on_infeasible, "'");
-  o.on_infeasible = a.on_infeasible == "warn" ? InfeasiblePolicy::Warn : InfeasiblePolicy::Error;
+  o.on_infeasible = parse_infeasible_policy(a.on_infeasible);
   o.infeasible_tolerance = a.infeasible_tol;
   return o;
 }
@@ -56,12 +51,13 @@ struct FileRun {
   double seconds = 0;
 };
 
-FileRun run_on_file(const StudyArgs& a, const std::string& path, const std::string& method, double h) {
+FileRun run_on_file(const StudyArgs& a, const std::string& path, const std::string& method,
+                    const MethodOptions& method_options, double h) {
   Stopwatch watch;
   FileRun r;
   r.ep = problem_from_expressions(read_csv(path, a.dim_opt->count() ? a.dim : 0), {a.u, a.a, a.f, a.g, a.q});
   r.ep.problem.fix_constant = a.fix_constant;
-  BvpSolveOptions o = solve_options(a, method, h);
+  BvpSolveOptions o = solve_options(a, method, method_options, h);
   o.label = method + " on " + path;
   r.s = solve(r.ep.problem, o);
   for (const auto& w : r.s.warnings) std::cerr << "vrsph: warning: " << w << '\n';
@@ -119,7 +115,8 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   check<ConfigError>(cmd.count("--n") == 0, "--n does not apply with --cloud-file (the cloud comes from the file)");
   const auto methods = parse_name_list(a.methods, "--method");
   check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
-  const FileRun r = run_on_file(a, file.path, methods.front(), file.h);
+  const auto options = parse_method_options(a.method_opts, methods);
+  const FileRun r = run_on_file(a, file.path, methods.front(), options_for(options, methods.front()), file.h);
   const bool exact = r.ep.exact.size() > 0;
   std::vector<PointField> fields{{"U", r.s.u}, {"local_residual", r.s.local_residual}};
   if (exact) {
@@ -145,6 +142,7 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
   check<ConfigError>(!a.u.empty(), "a convergence study needs the exact solution --u");
   const auto methods = parse_name_list(a.methods, "--method");
   const auto levels = parse_int_list(a.n, "--n");
+  const auto options = parse_method_options(a.method_opts, methods);
   Table t;
   t.columns = {"n", "file"};
   t.columns.insert(t.columns.end(), base_columns.begin(), base_columns.end());
@@ -158,7 +156,7 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
       std::string path = file.pattern;
       path.replace(path.find("{n}"), 3, std::to_string(n));
       progress.update(m + " " + path, done / static_cast<double>(methods.size() * levels.size()));
-      const FileRun r = run_on_file(a, path, m, file.h);
+      const FileRun r = run_on_file(a, path, m, options_for(options, m), file.h);
       sizes.push_back(r.s.spacing);
       einf.push_back(r.errors.all.linf);
       el2.push_back(r.errors.all.l2);
@@ -176,12 +174,11 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
     }
     if (sizes.size() > 1) fitted[m] = least_squares_order(sizes, einf);
   }
-  OutputOptions out = a.out;
   nlohmann::ordered_json meta;
   meta["cloud_file_pattern"] = file.pattern;
   meta["fitted_order_inf"] = fitted;
   meta["u"] = a.u;
-  emit(t, out, meta.dump(), "spacing", "error_inf", "method", "cloud files " + file.pattern);
+  emit(t, a.out, meta.dump(), "spacing", "error_inf", "method", "cloud files " + file.pattern);
 }
 
 }  // namespace vrsph::cli

@@ -38,6 +38,7 @@ void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
   for (const char* opt : {"--problem", "--cloud", "--n", "--seed", "--delta", "--regular-layer", "--no-ghosts", "--exact"})
     check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --cloud-file (the cloud comes from the file; "
                                              "the expected values are the exact derivatives of --u)");
+  check_h_knn_applies(a.h_knn_opt, a.h_mode);
   const PointCloud cloud = read_csv(a.cloud_file, a.dim_opt->count() ? a.dim : 0);
   const OperatorKind op = parse_operator(a.op);
   const auto methods = parse_name_list(a.methods, "--method");
@@ -137,8 +138,7 @@ void add_operator_command(CLI::App& app) {
     p.h_factor = a->h_factor_opt->count() ? a->h_factor : def.h_factor;
     p.h_mode = parse_smoothing_mode(a->h_mode);
     p.h_knn = a->h_knn;
-    check<ConfigError>(!a->h_knn_opt->count() || p.h_mode == SmoothingMode::Knn,
-                       "--h-knn applies only with --h-mode knn (got --h-mode ", a->h_mode, ")");
+    check_h_knn_applies(a->h_knn_opt, a->h_mode);
     p.delta = a->delta_opt->count() ? a->delta : def.delta;
     p.ghosts = a->ghosts_opt->count() ? !a->no_ghosts : def.ghosts;
     p.regular_layer = a->regular_layer;

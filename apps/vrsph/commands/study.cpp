@@ -6,11 +6,6 @@
 #include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/vtu.hpp>
-#include <vrsph/io/csv.hpp>
-#include <vrsph/io/output_file.hpp>
-#include <vrsph/core/stopwatch.hpp>
-#include <vrsph/problem/from_expressions.hpp>
-#include <cmath>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "study_args.hpp"
@@ -76,8 +71,7 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.h_factor = a.h_factor_opt->count() ? a.h_factor : def.h_factor;
   p.h_mode = parse_smoothing_mode(a.h_mode);
   p.h_knn = a.h_knn;
-  check<ConfigError>(!a.h_knn_opt->count() || p.h_mode == SmoothingMode::Knn,
-                     "--h-knn applies only with --h-mode knn (got --h-mode ", a.h_mode, ")");
+  check_h_knn_applies(a.h_knn_opt, a.h_mode);
   p.delta = a.delta_opt->count() ? a.delta : def.delta;
   p.perturb_boundary = a.perturb_boundary;
   p.regular_layer = a.regular_layer;
@@ -90,9 +84,7 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.a = a.a;
   p.f = a.f;
   p.g = a.g;
-  check<ConfigError>(a.on_infeasible == "warn" || a.on_infeasible == "error", "--on-infeasible must be warn or error, got '",
-                     a.on_infeasible, "'");
-  p.on_infeasible = a.on_infeasible == "warn" ? InfeasiblePolicy::Warn : InfeasiblePolicy::Error;
+  p.on_infeasible = parse_infeasible_policy(a.on_infeasible);
   p.infeasible_tolerance = a.infeasible_tol;
   p.seeds = {a.seed};
   return p;
@@ -150,8 +142,8 @@ void add_solve_command(CLI::App& app) {
   cmd->add_option("--cloud-file", file->path,
                   "Solve on this CSV cloud (x,y,z,tag[,nx,ny,nz]) instead of a built-in one: tags and normals from the "
                   "file, --f/--g/--q/--a evaluated at its points, --u optional (errors only with it)");
-  cmd->add_option("--h", file->h, "With --cloud-file: absolute support radius (default: --h-factor x the median "
-                                  "nearest-neighbour distance)");
+  cmd->add_option("--h", file->h, "With --cloud-file: absolute support radius (default: --h-factor x the cloud's "
+                                  "robust spacing, see README)");
   cmd->add_option("--csv", file->csv, "With --cloud-file: also write the fields as CSV (x,y,z,tag,u,...)");
   cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
