@@ -100,11 +100,12 @@ def draw(r, fixtures, tmp):
     return args
 
 
-def check(vrsph, args, timeout):
-    """(exit code or None, problem or None)."""
+def check(vrsph, args, timeout, cwd):
+    """(exit code or None, problem or None). Runs in cwd (a scratch directory): a drawn value
+    such as `--vtu nan` writes a file of that name."""
     try:
         p = subprocess.run([vrsph, *args], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                           errors="replace", timeout=timeout, stdin=subprocess.DEVNULL)
+                           errors="replace", timeout=timeout, stdin=subprocess.DEVNULL, cwd=cwd)
     except subprocess.TimeoutExpired:
         return None, f"no answer within {timeout} s"
     rc, err = p.returncode, p.stderr
@@ -128,6 +129,7 @@ def main():
     ap.add_argument("--timeout", type=float, default=60)
     ap.add_argument("--runs", type=int, default=0, help="stop after this many command lines (0: by --seconds)")
     a = ap.parse_args()
+    vrsph = os.path.abspath(a.vrsph)  # the runs happen in a scratch directory
     fixtures = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "errors", "fixtures")
     r = random.Random(a.seed)
     findings, runs, codes = [], 0, {}
@@ -135,7 +137,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp, ThreadPoolExecutor(a.jobs) as pool:
         while (runs < a.runs) if a.runs else (time.time() < deadline):
             batch = [draw(r, os.path.normpath(fixtures), tmp) for _ in range(4 * a.jobs)]
-            for args, (rc, problem) in zip(batch, pool.map(lambda x: check(a.vrsph, x, a.timeout), batch)):
+            for args, (rc, problem) in zip(batch, pool.map(lambda x: check(vrsph, x, a.timeout, tmp), batch)):
                 runs += 1
                 codes[rc] = codes.get(rc, 0) + 1
                 if problem:
