@@ -1,9 +1,29 @@
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
 #include "../core/reachability.hpp"
 
 namespace vrsph {
+
+namespace {
+// Insertion sort of one row by column (rows are short: tens of entries, mostly in
+// neighbour-search order).
+void sort_row(Index* col, Real* val, Index len) {
+  for (Index a = 1; a < len; ++a) {
+    const Index c = col[a];
+    const Real x = val[a];
+    Index b = a;
+    for (; b > 0 && col[b - 1] > c; --b) {
+      col[b] = col[b - 1];
+      val[b] = val[b - 1];
+    }
+    col[b] = c;
+    val[b] = x;
+  }
+}
+}  // namespace
 
 LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const char> unknown, const Field& f,
                       const Field& g, const BoundaryRows* boundary) {
@@ -18,6 +38,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   const Index pinned = boundary ? boundary->pinned : -1;
   check<InputError>(pinned < n && (pinned < 0 || unknown[static_cast<std::size_t>(pinned)]), "pinned particle ", pinned,
                     " is not an unknown particle");
+  check<InputError>(pinned < 0 || std::isfinite(g[pinned]), "value g is not finite at the pinned particle ", pinned);
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (unknown[si]) {
@@ -51,22 +72,50 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   const Index m = sys.size();
   sys.known = Field::Zero(n);
   sys.b.resize(m);
-  std::vector<Eigen::Triplet<Real, Index>> trip;
-  trip.reserve(static_cast<std::size_t>(L.nnz()));
-  const auto& v = L.values[0];
+  const auto row_of = [&](Index d) -> const Stencil& {
+    const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
+    return cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann && i != pinned ? *G : L;
+  };
+
+  // Compressed rows, filled directly and in parallel: pass 1 counts each row's unknown
+  // columns, pass 2 writes them (sorted, as PETSc needs) with the known columns moved to b.
+  std::vector<Index> row_ptr(static_cast<std::size_t>(m) + 1, 0);
+#pragma omp parallel for schedule(static)
+  for (Index d = 0; d < m; ++d) {
+    const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
+    Index count = 1;  // the pinned row
+    if (i != pinned) {
+      const Stencil& R = row_of(d);
+      count = 0;
+      for (Index k = R.row_begin(i); k < R.row_end(i); ++k)
+        count += sys.dof_of_particle[static_cast<std::size_t>(R.col[static_cast<std::size_t>(k)])] >= 0;
+    }
+    row_ptr[static_cast<std::size_t>(d) + 1] = count;
+  }
+  for (std::size_t d = 0; d < static_cast<std::size_t>(m); ++d) row_ptr[d + 1] += row_ptr[d];
+  sys.A.resize(m, m);
+  sys.A.resizeNonZeros(row_ptr.back());
+  std::copy(row_ptr.begin(), row_ptr.end(), sys.A.outerIndexPtr());
+  Index* const col = sys.A.innerIndexPtr();
+  Real* const val = sys.A.valuePtr();
+
   std::vector<char> anchored(static_cast<std::size_t>(m), 0);  // row couples to a known particle
+  std::atomic<Index> bad_g{n};                                 // smallest known particle with g not finite
+  const auto& v = L.values[0];
+#pragma omp parallel for schedule(static)
   for (Index d = 0; d < m; ++d) {
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
     const auto si = static_cast<std::size_t>(i);
-    if (i == pinned) {  // U_p = g_p
-      check<InputError>(std::isfinite(g[i]), "value g is not finite at the pinned particle ", i);
-      trip.emplace_back(d, d, 1.0);
+    Index out = row_ptr[static_cast<std::size_t>(d)];
+    if (i == pinned) {  // U_p = g_p (finiteness checked above)
+      col[out] = d;
+      val[out] = 1.0;
       sys.b[d] = g[i];
       anchored[static_cast<std::size_t>(d)] = 1;
       continue;
     }
     const bool flux = cloud.tags[si] == Tag::Neumann;
-    const Stencil& R = flux ? *G : L;
+    const Stencil& R = row_of(d);
     // Flux row: a_i n_i . (G u)_i = q_i, one scalar row from the d gradient components.
     const Real scale = flux && boundary->coefficient ? (*boundary->coefficient)[i] : 1;
     Real rhs = flux ? boundary->q[i] : f[i];
@@ -81,26 +130,33 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
       }
       const Index dj = sys.dof_of_particle[static_cast<std::size_t>(j)];
       if (dj >= 0) {
-        trip.emplace_back(d, dj, lij);
+        col[out] = dj;
+        val[out++] = lij;
       } else if (lij != 0) {
-        check<InputError>(std::isfinite(g[j]), "boundary value g is not finite at particle ", j);
+        if (!std::isfinite(g[j])) {
+          Index seen = bad_g.load();
+          while (j < seen && !bad_g.compare_exchange_weak(seen, j)) {
+          }
+        }
         rhs -= lij * g[j];
         anchored[static_cast<std::size_t>(d)] = 1;
       }
     }
     sys.b[d] = rhs;
+    sort_row(col + row_ptr[static_cast<std::size_t>(d)], val + row_ptr[static_cast<std::size_t>(d)],
+             out - row_ptr[static_cast<std::size_t>(d)]);
   }
+  check<InputError>(bad_g.load() == n, "boundary value g is not finite at particle ", bad_g.load());
   for (Index i = 0; i < n; ++i)
     if (!unknown[static_cast<std::size_t>(i)]) sys.known[i] = g[i];
-  sys.A.resize(m, m);
-  sys.A.setFromTriplets(trip.begin(), trip.end());
-  sys.A.makeCompressed();
 
   // Connectivity: every unknown must reach an anchored row through non-zero entries,
   // otherwise the system is singular (a floating cluster of particles).
-  std::vector<std::vector<Index>> reverse(static_cast<std::size_t>(m));
-  for (const auto& t : trip)
-    if (t.row() != t.col() && t.value() != 0) reverse[static_cast<std::size_t>(t.col())].push_back(t.row());
+  const auto reverse = detail::reverse_graph(m, [&](auto&& emit) {
+    for (Index d = 0; d < m; ++d)
+      for (Index k = row_ptr[static_cast<std::size_t>(d)]; k < row_ptr[static_cast<std::size_t>(d) + 1]; ++k)
+        if (col[k] != d && val[k] != 0) emit(d, col[k]);
+  });
   const std::vector<char> reached = detail::reaching(reverse, anchored);
   Index floating = 0, first = -1;
   for (Index d = 0; d < m; ++d)

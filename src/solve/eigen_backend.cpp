@@ -26,7 +26,7 @@ std::string to_string(SolverType t) {
   return "?";
 }
 
-double direct_solver_bytes(const Eigen::SparseMatrix<Real>& A, int dimension) {
+double direct_solver_bytes(const CsrMatrix& A, int dimension) {
   const auto n = static_cast<double>(A.rows()), nnz = static_cast<double>(A.nonZeros());
   if (dimension <= 0) {
     const double per_row = nnz / std::max(n, 1.0);
@@ -42,8 +42,11 @@ double direct_solver_bytes(const Eigen::SparseMatrix<Real>& A, int dimension) {
 namespace {
 template <class Direct>
 void direct(const LinearSystem& sys, Eigen::VectorXd& x, SolveReport& rep) {
+  // The factorisations want compressed columns; UMFPACK keeps pointers into the matrix
+  // until the solve, so the copy lives as long as the factorisation.
+  const Eigen::SparseMatrix<Real> columns(sys.A);
   Direct lu;
-  lu.compute(sys.A);
+  lu.compute(columns);
   if (lu.info() != Eigen::Success) {
     rep.message = "factorisation failed (singular or ill-conditioned matrix)";
     return;

@@ -71,15 +71,15 @@ MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Re
   }
   // Reachability: row i "reaches" j if L_ij != 0. Breadth-first search backwards from
   // the strictly dominant rows over the reversed edges.
-  std::vector<std::vector<Index>> reverse(static_cast<std::size_t>(n));
-  for (Index i = 0; i < n; ++i) {
-    if (!unknown[static_cast<std::size_t>(i)]) continue;
-    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
-      const Index j = s.col[static_cast<std::size_t>(k)];
-      if (j != i && unknown[static_cast<std::size_t>(j)] && v[static_cast<std::size_t>(k)] != 0)
-        reverse[static_cast<std::size_t>(j)].push_back(i);
+  const auto reverse = detail::reverse_graph(n, [&](auto&& emit) {
+    for (Index i = 0; i < n; ++i) {
+      if (!unknown[static_cast<std::size_t>(i)]) continue;
+      for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+        const Index j = s.col[static_cast<std::size_t>(k)];
+        if (j != i && unknown[static_cast<std::size_t>(j)] && v[static_cast<std::size_t>(k)] != 0) emit(i, j);
+      }
     }
-  }
+  });
   const std::vector<char> reached = detail::reaching(reverse, strict);
   for (Index i = 0; i < n; ++i)
     if (unknown[static_cast<std::size_t>(i)] && !reached[static_cast<std::size_t>(i)]) {

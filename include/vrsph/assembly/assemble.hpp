@@ -20,8 +20,12 @@
 
 namespace vrsph {
 
+/// Compressed sparse rows with sorted column indices: the layout the assembly fills row by
+/// row in parallel and that PETSc's AIJ matrices use as they are (no copy).
+using CsrMatrix = Eigen::SparseMatrix<Real, Eigen::RowMajor, Index>;
+
 struct LinearSystem {
-  Eigen::SparseMatrix<Real> A;       ///< unknowns x unknowns, column-major (solver format)
+  CsrMatrix A;                         ///< unknowns x unknowns
   Eigen::VectorXd b;
   std::vector<Index> dof_of_particle;  ///< -1 for known particles
   std::vector<Index> particle_of_dof;

@@ -32,7 +32,7 @@ struct SolverOptions {
 /// need, in bytes: c nnz(A) N^((d-1)/d), the nested-dissection growth of the fill-in,
 /// with c fitted to peak-memory measurements of both solvers on our matrices (2D:
 /// N = 40k and 160k; 3D: N = 24k and 59k; within a factor 2 above the measurements).
-double direct_solver_bytes(const Eigen::SparseMatrix<Real>& A, int dimension);
+double direct_solver_bytes(const CsrMatrix& A, int dimension);
 
 struct SolveReport {
   bool success = false;
