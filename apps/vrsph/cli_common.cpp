@@ -15,6 +15,7 @@
 #include <sstream>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/io/output_file.hpp>
 
 namespace vrsph::cli {
@@ -171,13 +172,7 @@ void set_thread_count(int threads) {
 #endif
 }
 
-double peak_memory_mib() {
-  std::ifstream f("/proc/self/status");
-  std::string line;
-  while (std::getline(f, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  return 0;
-}
+double peak_memory_mib() { return static_cast<double>(peak_resident_memory_bytes()) / (1024.0 * 1024.0); }
 
 Progress::Progress() : enabled_(::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
 

@@ -10,6 +10,7 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -276,6 +277,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     run.local_residual = sol.local_residual;
   }
   if (cloud_out) *cloud_out = cloud;
+  run.peak_memory_mib = static_cast<double>(peak_resident_memory_bytes()) / (1024.0 * 1024.0);
   return run;
 }
 }  // namespace
@@ -343,8 +345,8 @@ Table to_table(const BvpStudyResult& r) {
   Table t;
   t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
                "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "condition_max", "neighbours_mean",
-               "nnz_per_row", "solver", "solver_iterations", "solver_residual", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
-               "seconds_assemble", "seconds_solve"};
+               "nnz_per_row", "solver", "solver_iterations", "solver_residual", "solver_reason", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
+               "seconds_assemble", "seconds_setup", "seconds_solve", "peak_memory_mib"};
   for (const auto& row : r.rows) {
     const BvpRun& f = row.first;
     t.add_row({{"method", f.method},
@@ -369,11 +371,14 @@ Table to_table(const BvpStudyResult& r) {
                {"solver", f.solve.solver},
                {"solver_iterations", static_cast<long long>(f.solve.iterations)},
                {"solver_residual", f.solve.residual},
+               {"solver_reason", f.solve.reason},
                {"seconds_cloud", f.seconds_cloud},
                {"seconds_neighbours", f.seconds_neighbours},
                {"seconds_stencil", f.seconds_stencil},
                {"seconds_assemble", f.seconds_assemble},
-               {"seconds_solve", f.seconds_solve}});
+               {"seconds_setup", f.solve.seconds_setup},
+               {"seconds_solve", f.seconds_solve},
+               {"peak_memory_mib", f.peak_memory_mib}});
   }
   return t;
 }

@@ -76,9 +76,22 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
     return cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann && i != pinned ? *G : L;
   };
+  // Entry k of row d's stencil R. A flux row a_i n_i . (G u)_i = q_i is one scalar row
+  // from the d gradient components.
+  const auto weight = [&](Index d, const Stencil& R, Index k) -> Real {
+    const auto sk = static_cast<std::size_t>(k);
+    if (&R == &L) return L.values[0][sk];
+    const auto si = static_cast<std::size_t>(sys.particle_of_dof[static_cast<std::size_t>(d)]);
+    const Real scale = boundary->coefficient ? (*boundary->coefficient)[static_cast<Index>(si)] : 1;
+    Real w = 0;
+    for (int c = 0; c < cloud.dim; ++c) w += scale * cloud.normals[si][c] * R.values[static_cast<std::size_t>(c)][sk];
+    return w;
+  };
 
   // Compressed rows, filled directly and in parallel: pass 1 counts each row's unknown
   // columns, pass 2 writes them (sorted, as PETSc needs) with the known columns moved to b.
+  // Exact zeros are left out (the diagonal always stays): VRSPH's non-negative least
+  // squares leaves most volumes at zero, so its rows keep ~10 of ~28 neighbours in 2D.
   std::vector<Index> row_ptr(static_cast<std::size_t>(m) + 1, 0);
 #pragma omp parallel for schedule(static)
   for (Index d = 0; d < m; ++d) {
@@ -87,8 +100,10 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     if (i != pinned) {
       const Stencil& R = row_of(d);
       count = 0;
-      for (Index k = R.row_begin(i); k < R.row_end(i); ++k)
-        count += sys.dof_of_particle[static_cast<std::size_t>(R.col[static_cast<std::size_t>(k)])] >= 0;
+      for (Index k = R.row_begin(i); k < R.row_end(i); ++k) {
+        const Index j = R.col[static_cast<std::size_t>(k)];
+        count += sys.dof_of_particle[static_cast<std::size_t>(j)] >= 0 && (j == i || weight(d, R, k) != 0);
+      }
     }
     row_ptr[static_cast<std::size_t>(d) + 1] = count;
   }
@@ -101,7 +116,6 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
 
   std::vector<char> anchored(static_cast<std::size_t>(m), 0);  // row couples to a known particle
   std::atomic<Index> bad_g{n};                                 // smallest known particle with g not finite
-  const auto& v = L.values[0];
 #pragma omp parallel for schedule(static)
   for (Index d = 0; d < m; ++d) {
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
@@ -116,20 +130,12 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     }
     const bool flux = cloud.tags[si] == Tag::Neumann;
     const Stencil& R = row_of(d);
-    // Flux row: a_i n_i . (G u)_i = q_i, one scalar row from the d gradient components.
-    const Real scale = flux && boundary->coefficient ? (*boundary->coefficient)[i] : 1;
     Real rhs = flux ? boundary->q[i] : f[i];
     for (Index k = R.row_begin(i); k < R.row_end(i); ++k) {
       const Index j = R.col[static_cast<std::size_t>(k)];
-      Real lij = 0;
-      if (flux) {
-        for (int c = 0; c < cloud.dim; ++c)
-          lij += scale * cloud.normals[si][c] * R.values[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)];
-      } else {
-        lij = v[static_cast<std::size_t>(k)];
-      }
+      const Real lij = weight(d, R, k);
       const Index dj = sys.dof_of_particle[static_cast<std::size_t>(j)];
-      if (dj >= 0) {
+      if (dj >= 0 && (j == i || lij != 0)) {
         col[out] = dj;
         val[out++] = lij;
       } else if (lij != 0) {

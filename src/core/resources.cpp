@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
@@ -68,6 +69,25 @@ std::string format_bytes(double bytes) {
   char buf[64];
   std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.3g %s", bytes, units[u]);
   return buf;
+}
+
+std::size_t peak_resident_memory_bytes() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmHWM:", 0) == 0) {
+      std::size_t kib = 0;
+      std::istringstream(line.substr(6)) >> kib;
+      return kib * 1024;
+    }
+  return 0;
+}
+
+bool reset_peak_resident_memory() {
+  std::ofstream f("/proc/self/clear_refs");
+  f << "5";  // resets the peak resident set size to the current one
+  f.flush();
+  return static_cast<bool>(f);
 }
 
 std::size_t resident_memory_bytes() {

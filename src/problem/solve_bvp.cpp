@@ -195,6 +195,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   if (solver.dimension == 0) solver.dimension = cloud.dim;
   s.solve = solve(sys, x, solver);
   s.seconds_solve = s.solve.seconds;
+  s.warnings.insert(s.warnings.end(), s.solve.warnings.begin(), s.solve.warnings.end());
   if (!s.solve.success)
     throw NumericalError(detail::concat("solver ", s.solve.solver, " failed for ", o.label.empty() ? o.method : o.label,
                                         ": ", s.solve.message, " (relative residual ", s.solve.residual, ")"));

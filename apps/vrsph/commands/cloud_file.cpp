@@ -38,7 +38,7 @@ BvpSolveOptions solve_options(const StudyArgs& a, const std::string& method, con
   o.h_mode = parse_smoothing_mode(a.h_mode);
   o.h_knn = a.h_knn;
   check_h_knn_applies(a.h_knn_opt, a.h_mode);
-  o.solver.type = parse_solver(a.solver);
+  o.solver = solver_options(a);
   o.on_infeasible = parse_infeasible_policy(a.on_infeasible);
   o.infeasible_tolerance = a.infeasible_tol;
   return o;
@@ -60,7 +60,7 @@ FileRun run_on_file(const StudyArgs& a, const std::string& path, const std::stri
   BvpSolveOptions o = solve_options(a, method, method_options, h);
   o.label = method + " on " + path;
   r.s = solve(r.ep.problem, o);
-  for (const auto& w : r.s.warnings) std::cerr << "vrsph: warning: " << w << '\n';
+  print_warnings(r.s.warnings);
   if (r.ep.exact.size()) {
     const PointCloud& c = r.ep.problem.cloud;
     Eigen::MatrixXd err(c.size(), 1);

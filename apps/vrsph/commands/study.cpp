@@ -46,7 +46,14 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   cmd->add_option("--q", a.q, "Neumann data a du/dn as an expression (default: from the exact solution u)");
   cmd->add_flag("--fix-constant", a.fix_constant,
                 "Pin the unknown nearest the centre to g (needed when every boundary face is Neumann)");
-  cmd->add_option("--solver", a.solver, "Linear solver: sparselu, umfpack, bicgstab")->capture_default_str();
+  cmd->add_option("--solver", a.solver,
+                  "Linear solver: auto (direct when small, else petsc), petsc (GMRES + BoomerAMG by default), sparselu, "
+                  "umfpack, bicgstab")
+      ->capture_default_str();
+  cmd->add_option("--petsc-options", a.petsc_options,
+                  "PETSc options for --solver petsc/auto, e.g. \"-ksp_type cg -pc_type gamg\" (after the defaults and "
+                  "PETSC_OPTIONS)");
+  cmd->add_flag("--monitor", a.monitor, "Print the iterative solver's residual at every iteration (stderr)");
   cmd->add_option("--u", a.u, "Exact solution u(x,y,z): expression or catalogue name (custom problem)");
   cmd->add_option("--a", a.a, "Coefficient a(x,y,z) > 0 (custom problem; default 1)");
   cmd->add_option("--f", a.f, "Right-hand side f = div(a grad u) (custom; default: computed from u and a)");
@@ -79,7 +86,7 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   if (!a.neumann.empty()) p.neumann = parse_name_list(a.neumann, "--neumann");
   p.q = a.q;
   p.fix_constant = a.fix_constant;
-  p.solver.type = parse_solver(a.solver);
+  p.solver = solver_options(a);
   p.u = a.u;
   p.a = a.a;
   p.f = a.f;
@@ -90,12 +97,32 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   return p;
 }
 
-void print_warnings(const std::vector<std::string>& warnings) {
-  if (warnings.empty()) return;
-  std::cerr << "vrsph: warning: " << warnings.size() << " run(s) had particles whose local problem failed (infeasible moment conditions or a singular local system) "
-            << "(expected next to the boundary on perturbed clouds, METHODS §3.2); first: " << warnings.front() << '\n';
-}
 }  // namespace
+
+SolverOptions solver_options(const StudyArgs& a) {
+  SolverOptions o;
+  o.type = parse_solver(a.solver);
+  o.petsc_options = a.petsc_options;
+  if (!a.petsc_options.empty())
+    check<ConfigError>(o.type == SolverType::Petsc || o.type == SolverType::Auto,
+                       "--petsc-options applies to --solver petsc or auto, not ", a.solver);
+  if (a.monitor)
+    o.monitor = [](int it, Real r) { std::cerr << "  solver iteration " << it << ": residual " << r << '\n'; };
+  return o;
+}
+
+void print_warnings(const std::vector<std::string>& warnings) {
+  std::vector<std::string> infeasible, other;
+  for (const auto& w : warnings)
+    if (w.find("infeasible moment conditions") != std::string::npos) infeasible.push_back(w);
+    else if (std::find(other.begin(), other.end(), w) == other.end()) other.push_back(w);
+  if (!infeasible.empty())
+    std::cerr << "vrsph: warning: " << infeasible.size()
+              << " run(s) had particles whose local problem failed (infeasible moment conditions or a singular local "
+                 "system) (expected next to the boundary on perturbed clouds, METHODS §3.2); first: "
+              << infeasible.front() << '\n';
+  for (const auto& w : other) std::cerr << "vrsph: warning: " << w << '\n';
+}
 
 void add_study_command(CLI::App& app) {
   auto a = std::make_shared<StudyArgs>();

@@ -4,18 +4,19 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include <vrsph/solve/solver.hpp>
 #include "../cli_common.hpp"
 
 namespace vrsph::cli {
 
 struct StudyArgs {
   std::string problem = "qw-ex5", methods = "vrsph", cloud = "uniform", n = "20,40,80,160", seeds, kernel = "cubic",
-              solver = "sparselu", on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
+              solver = "auto", petsc_options, on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
   int dim = 2, h_knn = 0;
   std::string h_mode = "fixed";
   std::uint64_t seed = 1;
   double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
-  bool perturb_boundary = false, fix_constant = false;
+  bool perturb_boundary = false, fix_constant = false, monitor = false;
   std::string neumann, q;
   std::vector<std::string> method_opts;
   OutputOptions out;
@@ -23,6 +24,14 @@ struct StudyArgs {
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
               *h_knn_opt = nullptr, *problem_opt = nullptr;
 };
+
+/// The linear solver settings of --solver, --petsc-options and --monitor (which prints
+/// each iteration's residual to stderr).
+SolverOptions solver_options(const StudyArgs& a);
+
+/// Warnings of the runs on stderr: the infeasible-particle ones summarised (they are
+/// expected on perturbed clouds), every other kind once each.
+void print_warnings(const std::vector<std::string>& warnings);
 
 /// --cloud-file options (solve) and --cloud-file-pattern (study).
 struct CloudFileArgs {

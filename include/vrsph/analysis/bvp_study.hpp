@@ -79,6 +79,7 @@ struct BvpRun {
   std::vector<Index> infeasible_particles;  ///< first few, for messages
   SolveReport solve;
   double seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
+  double peak_memory_mib = 0;  ///< peak resident memory of the process when this run ended
   // Fields for output (kept only when requested).
   Field U, exact, local_residual;
 };

@@ -26,6 +26,11 @@ std::string format_bytes(double bytes);
 
 /// Resident memory of this process now (VmRSS), in bytes; 0 if unknown.
 std::size_t resident_memory_bytes();
+/// Peak resident memory of this process so far (VmHWM), in bytes; 0 if unknown.
+std::size_t peak_resident_memory_bytes();
+/// Starts a new peak: peak_resident_memory_bytes() then measures from now (Linux
+/// /proc/self/clear_refs); false where that is not possible (the peak stays global).
+bool reset_peak_resident_memory();
 
 /// Throws ResourceError if `bytes` (an estimate for `what`) plus the memory the process
 /// already holds exceeds the limit; the message gives the numbers and `advice`.

@@ -1,32 +1,61 @@
 #pragma once
 // Sparse linear solvers for assembled systems. Non-convergence is a returned status
 // (SolveReport::success), never an exception; callers decide (the studies turn a
-// failed solve into a NumericalError, never a silent result).
+// failed solve into a NumericalError, never a silent result). Bad solver options
+// (an unknown solver, options PETSc rejects) are a ConfigError.
 //
-// How to choose: sparselu (Eigen, default) is robust for the non-symmetric matrices of
-// corrected methods up to ~10^5 unknowns in 2D; umfpack (SuiteSparse) is the faster
-// direct solver for large 2D/3D systems; bicgstab (+ incomplete LUT) uses the least
-// memory and suits 10^6 unknowns when -L is an M-matrix (VRSPH, SPH).
+// How to choose:
+// - auto (default): a direct solver for small systems, PETSc GMRES + hypre BoomerAMG
+//   (tuned for our non-symmetric M-matrices, see default_petsc_options) for large ones;
+//   SolveReport::solver says which was picked.
+// - petsc: PETSc KSP + PC, default GMRES + BoomerAMG; any PETSc option can be given
+//   (SolverOptions::petsc_options, and the PETSC_OPTIONS environment variable).
+//   Iteration counts stay flat with the size, so it is the solver for 10^5+ unknowns.
+// - sparselu (Eigen), umfpack (SuiteSparse): direct; memory grows like the LU fill-in.
+// - bicgstab: Eigen BiCGSTAB + incomplete LUT, the embedded fallback without PETSc.
+#include <functional>
 #include <string>
+#include <vector>
 #include <vrsph/assembly/assemble.hpp>
 
 namespace vrsph {
 
-enum class SolverType { SparseLU, UmfPack, BiCGSTAB };
-/// "sparselu" | "umfpack" | "bicgstab"; throws ConfigError otherwise.
+enum class SolverType { Auto, SparseLU, UmfPack, BiCGSTAB, Petsc };
+/// "auto" | "sparselu" | "umfpack" | "bicgstab" | "petsc"; throws ConfigError otherwise.
 SolverType parse_solver(const std::string& name);
 std::string to_string(SolverType t);
 
 struct SolverOptions {
-  SolverType type = SolverType::SparseLU;
+  SolverType type = SolverType::Auto;
   Real rtol = 1e-10;          ///< iterative: relative residual target
   int max_iterations = 20000; ///< iterative
-  Real ilut_drop = 1e-5;      ///< incomplete LUT drop tolerance
-  int ilut_fill = 20;         ///< incomplete LUT fill factor
+  Real ilut_drop = 1e-5;      ///< bicgstab: incomplete LUT drop tolerance
+  int ilut_fill = 20;         ///< bicgstab: incomplete LUT fill factor
+  /// PETSc options ("-ksp_type cg -pc_type gamg ..."), applied after the defaults and after
+  /// the PETSC_OPTIONS environment variable, so they win over both.
+  std::string petsc_options;
+  /// Called after every iteration of an iterative solver with (iteration, residual norm
+  /// as the solver sees it); empty: no call. The history is in the report either way.
+  std::function<void(int, Real)> monitor;
   /// Dimension of the problem's geometry, for the fill-in estimate of the direct solvers
-  /// (0: inferred from the nonzeros per row).
+  /// and the AMG defaults (0: inferred from the nonzeros per row).
   int dimension = 0;
+  /// auto: the largest system solved directly (0: by dimension, see auto_direct_limit).
+  Index auto_direct_max = 0;
 };
+
+/// The largest number of unknowns `auto` solves with a direct solver in dimension d:
+/// below it the factorisation is faster than AMG setup + iterations (measured, see
+/// docs/solvers.md); 1D systems are banded and always solved directly.
+Index auto_direct_limit(int dimension);
+
+/// The solver `auto` picks for a system of this size.
+SolverType resolve_auto(Index unknowns, int dimension, Index direct_max = 0);
+
+/// The PETSc options vrsph starts from (before PETSC_OPTIONS and the user's): GMRES with
+/// BoomerAMG settings tuned for non-symmetric M-matrices of particle Laplacians in
+/// dimension d (docs/solvers.md has the measured iteration table).
+std::string default_petsc_options(int dimension);
 
 /// Memory a sparse LU factorisation (SparseLU/COLAMD or UMFPACK) of A is expected to
 /// need, in bytes: c nnz(A) N^((d-1)/d), the nested-dissection growth of the fill-in,
@@ -36,11 +65,15 @@ double direct_solver_bytes(const CsrMatrix& A, int dimension);
 
 struct SolveReport {
   bool success = false;
-  std::string solver;
+  std::string solver;         ///< what ran: "umfpack", "petsc gmres+hypre(boomeramg)", ...
+  std::string reason;         ///< why it stopped ("converged_rtol", "diverged_its", "direct", ...)
   std::string message;        ///< why it failed (empty on success)
+  std::vector<std::string> warnings;  ///< e.g. PETSc options that were given but never used
   int iterations = 0;         ///< 1 for direct solvers
   Real residual = 0;          ///< true relative residual ||b - A x|| / ||b||
-  double seconds = 0;
+  std::vector<Real> residual_history;  ///< iterative solvers: the residual norm per iteration
+  double seconds_setup = 0;   ///< factorisation or preconditioner set-up
+  double seconds = 0;         ///< set-up + solve
 };
 
 SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& options = {});
