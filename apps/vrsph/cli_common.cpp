@@ -32,8 +32,8 @@ std::string find_plot_script() {
   return std::string(VRSPH_SOURCE_DIR) + "/share/plot_convergence.py";
 }
 
-// Debian's interpreter has python3-matplotlib; a python3 earlier on PATH (pyenv,
-// venv) may not. VRSPH_PYTHON overrides.
+}  // namespace
+
 std::string python_interpreter() {
   if (const char* env = std::getenv("VRSPH_PYTHON")) return env;
   return std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
@@ -44,7 +44,6 @@ std::string shell_quote(const std::string& s) {
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
 }
-}  // namespace
 
 void validate_output(const OutputOptions& out) {
   (void)parse_table_format(out.format);  // ConfigError on an unknown format

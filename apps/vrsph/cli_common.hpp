@@ -53,6 +53,12 @@ CLI::Validator seed_validator();
 /// on absurd counts). Throws ConfigError for a negative count.
 void set_thread_count(int threads);
 
+/// The Python interpreter for plots and peers: Debian's (it has python3-matplotlib; a
+/// python3 earlier on PATH, from pyenv or a venv, may not); VRSPH_PYTHON overrides.
+std::string python_interpreter();
+/// s in single quotes for /bin/sh.
+std::string shell_quote(const std::string& s);
+
 /// Peak resident memory of this process (VmHWM), in MiB; 0 if unknown.
 double peak_memory_mib();
 

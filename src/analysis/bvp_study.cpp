@@ -198,12 +198,17 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   spec.seed = seed;
   spec.perturb_boundary = p.perturb_boundary;
   spec.regular_layer = p.regular_layer;
+  if (p.measure_memory) {
+    run.resident_bytes_before = resident_memory_bytes();
+    reset_peak_resident_memory();
+  }
   StudyCloud sc = make_study_cloud(spec);
   run.neumann_particles = apply_neumann_faces(sc.cloud, parse_faces(neumann_faces(p), p.dim), sc.dx);
   BoundaryValueProblem bvp;
   bvp.cloud = std::move(sc.cloud);
   const PointCloud& cloud = bvp.cloud;
   run.seconds_cloud = watch.seconds();
+  if (p.measure_memory) run.peak_bytes_cloud = peak_resident_memory_bytes();
   run.dx = sc.dx;
   run.particles = cloud.size();
 
@@ -247,6 +252,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   so.on_infeasible = p.on_infeasible;
   so.infeasible_tolerance = p.infeasible_tolerance;
   so.check_m_matrix = p.check_m_matrix;
+  so.measure_memory = p.measure_memory;
   so.label = detail::concat(method_name, " n=", n, " seed=", seed);
   BvpSolution sol = solve(bvp, so);
   if (warnings) warnings->insert(warnings->end(), sol.warnings.begin(), sol.warnings.end());
@@ -266,6 +272,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   run.seconds_stencil = sol.seconds_stencil;
   run.seconds_assemble = sol.seconds_assemble;
   run.seconds_solve = sol.seconds_solve;
+  run.stage_peak_bytes = sol.stage_peak_bytes;
   const Field& U = sol.u;
   Eigen::MatrixXd err(cloud.size(), 1);
   err.col(0) = U - exact;

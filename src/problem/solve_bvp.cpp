@@ -3,6 +3,7 @@
 #include <limits>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -99,6 +100,14 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   if (s.neumann_particles > 0) check_field(p.q, n, "q", true);
   const Field a = p.a.size() ? p.a : Field(Field::Ones(n));
 
+  // Peak memory per stage: the peak since the last mark.
+  const auto mark = [&](std::size_t* slot) {
+    if (!o.measure_memory) return;
+    if (slot) *slot = peak_resident_memory_bytes();
+    reset_peak_resident_memory();
+  };
+  mark(nullptr);
+
   // Smoothing radius and neighbours.
   Stopwatch watch;
   s.spacing = o.spacing > 0 ? o.spacing : estimate_spacing(cloud);
@@ -115,6 +124,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   }
   const NeighbourList nl = find_neighbours(cloud, sp);
   s.seconds_neighbours = watch.seconds();
+  mark(&s.stage_peak_bytes.neighbours);
 
   // Stencils: div(a grad) on the interior rows, the method's gradient on the flux rows.
   watch.restart();
@@ -142,6 +152,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     G = method->build(disc, greq);
   }
   s.seconds_stencil = watch.seconds();
+  mark(&s.stage_peak_bytes.stencil);
 
   // Diagnostics of the local problems (feasibility, conditioning) and of the matrix.
   const auto report = [&](const LocalResidualSummary& local, const char* what) {
@@ -185,6 +196,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   const LinearSystem sys = assemble(L, cloud, unknown, p.f, p.g, &bc);
   s.unknowns = sys.size();
   s.seconds_assemble = watch.seconds();
+  mark(&s.stage_peak_bytes.assemble);
   long long nsum = 0;
   for (Index i = 0; i < n; ++i) nsum += unknown[static_cast<std::size_t>(i)] ? nl.count(i) : 0;
   s.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<Index>(s.unknowns, 1));
@@ -195,6 +207,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   if (solver.dimension == 0) solver.dimension = cloud.dim;
   s.solve = solve(sys, x, solver);
   s.seconds_solve = s.solve.seconds;
+  mark(&s.stage_peak_bytes.solve);
   s.warnings.insert(s.warnings.end(), s.solve.warnings.begin(), s.solve.warnings.end());
   if (!s.solve.success)
     throw NumericalError(detail::concat("solver ", s.solve.solver, " failed for ", o.label.empty() ? o.method : o.label,

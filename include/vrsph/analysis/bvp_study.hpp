@@ -58,6 +58,7 @@ struct BvpStudyParams {
   InfeasiblePolicy on_infeasible = InfeasiblePolicy::Warn;
   Real infeasible_tolerance = 1e-6;  ///< local residual / |b| above this = infeasible
   bool check_m_matrix = true;
+  bool measure_memory = false;       ///< per-stage peak memory in BvpRun (resets the process peak)
   std::function<void(const std::string&, double)> progress;
 };
 
@@ -80,6 +81,11 @@ struct BvpRun {
   SolveReport solve;
   double seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
   double peak_memory_mib = 0;  ///< peak resident memory of the process when this run ended
+  /// With BvpStudyParams::measure_memory: peak resident bytes during the cloud stage, and
+  /// the solve's stages (BvpSolution::stage_peak_bytes).
+  std::size_t peak_bytes_cloud = 0;
+  std::size_t resident_bytes_before = 0;  ///< what the process held when the run started
+  BvpSolution::StagePeaks stage_peak_bytes;
   // Fields for output (kept only when requested).
   Field U, exact, local_residual;
 };

@@ -60,6 +60,9 @@ struct BvpSolveOptions {
   Real infeasible_tolerance = 1e-6;  ///< local residual / |b| above this = infeasible
   bool check_m_matrix = true;
   std::string label;                 ///< prefix of warning messages (e.g. "vrsph n=40 seed=1")
+  /// Measure each stage's peak resident memory (BvpSolution::stage_peak_bytes); it resets
+  /// the process's peak counter, so the process-wide peak is lost.
+  bool measure_memory = false;
 };
 
 struct BvpSolution {
@@ -82,6 +85,11 @@ struct BvpSolution {
   Real neumann_imbalance = 0;
   std::vector<std::string> warnings;
   double seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
+  /// With BvpSolveOptions::measure_memory: peak resident bytes of the process during each
+  /// stage (what the stage held plus what earlier stages still held).
+  struct StagePeaks {
+    std::size_t neighbours = 0, stencil = 0, assemble = 0, solve = 0;
+  } stage_peak_bytes;
 };
 
 /// Masks over the particles: 1 where the tag is one of `tags`.

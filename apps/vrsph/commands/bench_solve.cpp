@@ -1,0 +1,210 @@
+// `vrsph bench solve`: Example 5 from nothing to the solution, stage by stage, for a
+// list of sizes and solvers in one run; optionally the FEniCSx P1 + BoomerAMG peer
+// (../shared/anchors/fenicsx_ex5.py) on the same sizes in the same run, with ratios.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/convergence.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include "../cli_common.hpp"
+#include "../commands.hpp"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace vrsph::cli {
+
+namespace {
+struct SolveBenchArgs {
+  int dim = 2, threads = 0;
+  std::string n = "100,200,400", method = "vrsph", cloud = "perturbed", solvers = "petsc", petsc_options, anchor,
+              anchor_script;
+  std::uint64_t seed = 1;
+  double h_factor = 3;
+  OutputOptions out;
+};
+
+struct AnchorRow {
+  double seconds_total = 0, error_inf = 0;
+  int iterations = 0;
+};
+
+// Where the peer lives: --anchor-script, else VRSPH_ANCHOR_DIR, else the workspace's
+// shared/anchors next to the source tree.
+std::string anchor_script(const SolveBenchArgs& a) {
+  if (!a.anchor_script.empty()) return a.anchor_script;
+  if (const char* dir = std::getenv("VRSPH_ANCHOR_DIR")) return std::string(dir) + "/fenicsx_ex5.py";
+  return std::string(VRSPH_SOURCE_DIR) + "/../shared/anchors/fenicsx_ex5.py";
+}
+
+// Runs the peer for one n (one JSON line on stdout). Its first call of a size compiles
+// the form, so the caller runs a warm-up first.
+AnchorRow run_anchor(const std::string& script, int n, bool perturbed) {
+  const std::string cmd = "OMP_NUM_THREADS=1 " + shell_quote(python_interpreter()) + " " + shell_quote(script) + " " +
+                          std::to_string(n) + (perturbed ? " --perturbed" : "") + " 2>/dev/null";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(cmd.c_str(), "r"), ::pclose);
+  check<IoError>(pipe != nullptr, "could not start the FEniCSx anchor (", script, ")");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe.get())) out += buf.data();
+  const int rc = ::pclose(pipe.release());
+  check<IoError>(rc == 0 && !out.empty(), "the FEniCSx anchor failed at n = ", n, " (", script,
+                 "; it needs Debian's python3-dolfinx-real, python3-petsc4py, python3-mpi4py and python3-scipy)");
+  const auto j = nlohmann::json::parse(out.substr(0, out.find('\n')));
+  return {j.at("total").get<double>(), j.at("error_inf").get<double>(), j.at("iterations").get<int>()};
+}
+}  // namespace
+
+void add_solve_bench(CLI::App& bench) {
+  auto a = std::make_shared<SolveBenchArgs>();
+  auto* cmd = bench.add_subcommand("solve", "[QW] Example 5 end to end: seconds and memory per stage, solver iterations, "
+                                            "against the FEniCSx P1 + BoomerAMG peer (--anchor fenicsx)");
+  cmd->add_option("--dim", a->dim, "Dimension 2 or 3")->capture_default_str();
+  cmd->add_option("--n", a->n, "Intervals per direction, comma-separated ((n+1)^d particles)")->capture_default_str();
+  cmd->add_option("--method", a->method, "Method (see `vrsph methods`)")->capture_default_str();
+  cmd->add_option("--cloud", a->cloud, "uniform or perturbed")->capture_default_str();
+  cmd->add_option("--solver", a->solvers, "Comma-separated solvers: petsc, auto, umfpack, sparselu, bicgstab")
+      ->capture_default_str();
+  cmd->add_option("--petsc-options", a->petsc_options, "PETSc options (after the defaults and PETSC_OPTIONS)");
+  cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
+  cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--anchor", a->anchor, "Run a peer on the same sizes in the same run: fenicsx (2D only)");
+  cmd->add_option("--anchor-script", a->anchor_script,
+                  "The peer's script (default: $VRSPH_ANCHOR_DIR/fenicsx_ex5.py, else ../shared/anchors next to the "
+                  "source tree)");
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->add_option("--plot", a->out.plot, "Also plot seconds_total against N (log-log) into this PNG file");
+  cmd->callback([a] {
+    validate_output(a->out);
+    set_thread_count(a->threads);
+    check<ConfigError>(a->dim == 2 || a->dim == 3, "--dim must be 2 or 3 for bench solve, got ", a->dim);
+    check<ConfigError>(a->anchor.empty() || a->anchor == "fenicsx", "--anchor must be fenicsx, got '", a->anchor, "'");
+    check<ConfigError>(a->anchor.empty() || a->dim == 2, "--anchor fenicsx runs [QW] Example 5 in 2D only");
+    BvpStudyParams p;
+    p.dim = a->dim;
+    p.cloud = parse_cloud_family(a->cloud);
+    check<ConfigError>(p.cloud == CloudFamily::Uniform || p.cloud == CloudFamily::Perturbed,
+                       "--cloud must be uniform or perturbed for bench solve (the peer's node sets)");
+    p.h_factor = a->h_factor;
+    p.measure_memory = true;
+    p.check_m_matrix = false;  // a diagnostic, not part of a user's solve
+    const std::vector<int> sizes = parse_int_list(a->n, "--n");
+    const std::vector<std::string> solvers = parse_name_list(a->solvers, "--solver");
+    std::vector<SolverOptions> solver_options;
+    for (const auto& s : solvers) {
+      SolverOptions o;
+      o.type = parse_solver(s);
+      o.petsc_options = a->petsc_options;
+      solver_options.push_back(o);
+    }
+    (void)builtin_methods().create(a->method);  // ConfigError on an unknown method, before any run
+
+    std::vector<AnchorRow> anchor;
+    if (!a->anchor.empty()) {
+      const std::string script = anchor_script(*a);
+      check<IoError>(std::filesystem::exists(script), "the FEniCSx anchor script '", script,
+                     "' does not exist (--anchor-script or VRSPH_ANCHOR_DIR)");
+      Progress progress;
+      for (std::size_t k = 0; k < sizes.size(); ++k) {
+        progress.update("anchor n=" + std::to_string(sizes[k]), static_cast<double>(k) / static_cast<double>(sizes.size()));
+        (void)run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed);  // warm-up: form compilation
+        anchor.push_back(run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed));
+      }
+    }
+
+    Table t;
+    t.columns = {"n", "N", "method", "solver", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
+                 "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total", "solver_iterations",
+                 "error_inf", "bytes_per_particle", "bytes_per_particle_cloud", "bytes_per_particle_neighbours",
+                 "bytes_per_particle_stencil", "bytes_per_particle_assemble", "bytes_per_particle_solve"};
+    if (!anchor.empty()) {
+      t.columns.insert(t.columns.end(), {"anchor_seconds_total", "anchor_iterations", "anchor_error_inf",
+                                         "ratio_to_anchor"});
+    }
+    nlohmann::ordered_json meta;
+    meta["benchmark"] = "solve";
+    meta["dim"] = a->dim;
+    meta["cloud"] = a->cloud;
+    meta["method"] = a->method;
+#ifdef _OPENMP
+    meta["threads"] = omp_get_max_threads();
+#else
+    meta["threads"] = 1;
+#endif
+    Progress progress;
+    const double total_runs = static_cast<double>(sizes.size() * solvers.size());
+    int done = 0;
+    for (std::size_t s = 0; s < solvers.size(); ++s) {
+      p.solver = solver_options[s];
+      p.solver.dimension = a->dim;
+      std::vector<Real> big_n, work, iterations;
+      // Warm-up on a tiny problem: one-time costs (PETSc and MPI start-up, page faults of
+      // the libraries) stay out of the table, as the peer's import and form compilation do.
+      (void)run_bvp(p, a->method, 8, a->seed, false, nullptr, nullptr);
+      for (std::size_t k = 0; k < sizes.size(); ++k) {
+        progress.update(solvers[s] + " n=" + std::to_string(sizes[k]), done++ / total_runs);
+        const BvpRun r = run_bvp(p, a->method, sizes[k], a->seed, false, nullptr, nullptr);
+        const double total = r.seconds_cloud + r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble +
+                             r.seconds_solve;
+        // Bytes per particle above what the process held before the run (program, libraries).
+        const auto per = [&](std::size_t bytes) {
+          const double above = static_cast<double>(bytes) - static_cast<double>(r.resident_bytes_before);
+          return std::max(0.0, above) / static_cast<double>(r.particles);
+        };
+        const auto& sp = r.stage_peak_bytes;
+        const std::size_t peak =
+            std::max({r.peak_bytes_cloud, sp.neighbours, sp.stencil, sp.assemble, sp.solve});
+        std::vector<std::pair<std::string, TableCell>> row{
+            {"n", static_cast<long long>(sizes[k])},
+            {"N", static_cast<long long>(r.particles)},
+            {"method", a->method},
+            {"solver", r.solve.solver},
+            {"seconds_cloud", r.seconds_cloud},
+            {"seconds_neighbours", r.seconds_neighbours},
+            {"seconds_stencil", r.seconds_stencil},
+            {"seconds_assemble", r.seconds_assemble},
+            {"seconds_setup", r.solve.seconds_setup},
+            {"seconds_solve", r.seconds_solve - r.solve.seconds_setup},
+            {"seconds_total", total},
+            {"solver_iterations", static_cast<long long>(r.solve.iterations)},
+            {"error_inf", r.errors.all.linf},
+            {"bytes_per_particle", per(peak)},
+            {"bytes_per_particle_cloud", per(r.peak_bytes_cloud)},
+            {"bytes_per_particle_neighbours", per(sp.neighbours)},
+            {"bytes_per_particle_stencil", per(sp.stencil)},
+            {"bytes_per_particle_assemble", per(sp.assemble)},
+            {"bytes_per_particle_solve", per(sp.solve)}};
+        if (!anchor.empty()) {
+          row.emplace_back("anchor_seconds_total", anchor[k].seconds_total);
+          row.emplace_back("anchor_iterations", static_cast<long long>(anchor[k].iterations));
+          row.emplace_back("anchor_error_inf", anchor[k].error_inf);
+          row.emplace_back("ratio_to_anchor", total / anchor[k].seconds_total);
+        }
+        t.add_row(row);
+        big_n.push_back(static_cast<Real>(r.particles));
+        work.push_back(r.seconds_assemble + r.seconds_solve);
+        iterations.push_back(std::max(1, r.solve.iterations));
+      }
+      // Cost slopes in N: least_squares_order fits log(value) against log(1/size).
+      if (sizes.size() >= 2) {
+        std::vector<Real> inverse;
+        for (Real v : big_n) inverse.push_back(1 / v);
+        meta["slope_assemble_solve"][solvers[s]] = -least_squares_order(inverse, work);
+        meta["slope_iterations"][solvers[s]] = -least_squares_order(inverse, iterations);
+      }
+    }
+    meta["peak_memory_mib"] = peak_memory_mib();
+    emit(t, a->out, meta.dump(), "N", "seconds_total", "solver",
+         "Example 5 " + std::to_string(a->dim) + "D " + a->cloud + ": seconds to solution");
+  });
+}
+
+}  // namespace vrsph::cli

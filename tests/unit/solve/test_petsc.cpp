@@ -1,0 +1,175 @@
+// The PETSc back-end: same solution as a direct solver, the report (what ran, why it
+// stopped, history), option precedence and isolation, failures as statuses or typed
+// errors with PETSc's own text; and the compressed rows it borrows from the assembly.
+#include <cstdlib>
+#include <vrsph/assembly/assemble.hpp>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/solve/solver.hpp>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+// Δu = f on a perturbed cloud with VRSPH (a non-symmetric M-matrix), u = sin(3x) e^y.
+struct System {
+  PointCloud cloud;
+  Stencil L;
+  LinearSystem sys;
+  explicit System(int n, const char* method = "vrsph") {
+    cloud = vertex_lattice(Domain::unit_box(2), n);
+    PerturbOptions po;
+    po.seed = 7;
+    perturb(cloud, po);
+    SearchParams sp;
+    sp.radius = 3 * cloud.spacing;
+    const NeighbourList nl = find_neighbours(cloud, sp);
+    std::vector<char> unknown;
+    for (auto t : cloud.tags) unknown.push_back(t == Tag::Interior);
+    L = builtin_methods().create(method)->build({cloud, nl, KernelType::CubicSpline, cloud.spacing},
+                                                {OperatorKind::Laplacian, nullptr, nullptr, unknown});
+    Field f(cloud.size()), g(cloud.size());
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+      g[i] = std::sin(3 * x[0]) * std::exp(x[1]);
+      f[i] = -8 * g[i];
+    }
+    sys = assemble(L, cloud, unknown, f, g);
+  }
+};
+
+SolveReport run(const LinearSystem& sys, Eigen::VectorXd& x, const std::string& options = "") {
+  SolverOptions o;
+  o.type = SolverType::Petsc;
+  o.petsc_options = options;
+  return solve(sys, x, o);
+}
+
+// Restores an environment variable when it goes out of scope.
+struct EnvVar {
+  std::string name;
+  explicit EnvVar(std::string n, const char* value) : name(std::move(n)) { ::setenv(name.c_str(), value, 1); }
+  ~EnvVar() { ::unsetenv(name.c_str()); }
+};
+}  // namespace
+
+TEST(Petsc, AgreesWithTheDirectSolverAndReportsWhatRan) {
+  const System s(40);
+  Eigen::VectorXd direct, amg;
+  SolverOptions lu;
+  lu.type = SolverType::UmfPack;
+  ASSERT_TRUE(solve(s.sys, direct, lu).success);
+  const SolveReport r = run(s.sys, amg);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.solver, "petsc fgmres+hypre(boomeramg)");
+  EXPECT_EQ(r.reason, "converged_rtol");
+  EXPECT_GT(r.iterations, 2);
+  EXPECT_LT(r.iterations, 40);
+  // The history has the initial residual and one entry per iteration, decreasing by rtol.
+  ASSERT_EQ(r.residual_history.size(), static_cast<std::size_t>(r.iterations) + 1);
+  EXPECT_LT(r.residual_history.back(), 1e-10 * r.residual_history.front());
+  // Right preconditioning: the true residual is what the test saw.
+  EXPECT_LT(r.residual, 1e-9);
+  EXPECT_GT(r.seconds_setup, 0);
+  EXPECT_LT((amg - direct).cwiseAbs().maxCoeff(), 1e-8 * direct.cwiseAbs().maxCoeff());
+}
+
+TEST(Petsc, UserOptionsWinAndDoNotLeakIntoTheNextSolve) {
+  const System s(24);
+  Eigen::VectorXd x;
+  const SolveReport cg = run(s.sys, x, "-ksp_type bcgs -pc_type jacobi");
+  ASSERT_TRUE(cg.success) << cg.message;
+  EXPECT_EQ(cg.solver, "petsc bcgs+jacobi");
+  EXPECT_TRUE(cg.warnings.empty());
+  const SolveReport next = run(s.sys, x);
+  EXPECT_EQ(next.solver, "petsc fgmres+hypre(boomeramg)");
+  {
+    const EnvVar env("PETSC_OPTIONS", "-ksp_type bcgs");
+    EXPECT_EQ(run(s.sys, x).solver, "petsc bcgs+hypre(boomeramg)");
+    EXPECT_EQ(run(s.sys, x, "-ksp_type gmres").solver, "petsc gmres+hypre(boomeramg)") << "--petsc-options win";
+  }
+  // A misspelt option is reported, not ignored in silence.
+  const SolveReport typo = run(s.sys, x, "-ksp_tipe cg");
+  ASSERT_EQ(typo.warnings.size(), 1u);
+  EXPECT_NE(typo.warnings[0].find("-ksp_tipe was given but not used"), std::string::npos);
+}
+
+TEST(Petsc, FailuresAreStatusesOrTypedErrorsWithPetscText) {
+  const System s(24);
+  Eigen::VectorXd x;
+  EXPECT_THROW_MSG(run(s.sys, x, "-ksp_type nonsense"), ConfigError, "Unable to find requested KSP type nonsense");
+  EXPECT_THROW_MSG(run(s.sys, x, "-pc_type nonsense"), ConfigError, "Unable to find requested PC type nonsense");
+  const SolveReport stalled = run(s.sys, x, "-ksp_max_it 2");
+  EXPECT_FALSE(stalled.success);
+  EXPECT_EQ(stalled.reason, "diverged_its");
+  EXPECT_NE(stalled.message.find("stopped without converging: diverged_its after 2 iterations"), std::string::npos);
+  // After an error PETSc is still usable.
+  EXPECT_TRUE(run(s.sys, x).success);
+}
+
+TEST(Petsc, MonitorSeesEveryIteration) {
+  const System s(24);
+  Eigen::VectorXd x;
+  SolverOptions o;
+  o.type = SolverType::Petsc;
+  std::vector<int> seen;
+  o.monitor = [&](int it, Real) { seen.push_back(it); };
+  const SolveReport r = solve(s.sys, x, o);
+  ASSERT_TRUE(r.success);
+  ASSERT_EQ(seen.size(), static_cast<std::size_t>(r.iterations) + 1);
+  for (std::size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k], static_cast<int>(k));
+}
+
+TEST(Petsc, AutoPicksDirectWhenSmallAndAmgWhenLarge) {
+  EXPECT_EQ(resolve_auto(1000, 2), SolverType::UmfPack);
+  EXPECT_EQ(resolve_auto(1000000, 2), SolverType::Petsc);
+  EXPECT_EQ(resolve_auto(50000, 3), SolverType::Petsc);
+  EXPECT_EQ(resolve_auto(1000000, 1), SolverType::UmfPack) << "1D is banded";
+  EXPECT_EQ(resolve_auto(1000, 2, 500), SolverType::Petsc) << "explicit limit";
+  const System s(24);
+  Eigen::VectorXd x;
+  SolverOptions o;  // auto is the default
+  EXPECT_EQ(solve(s.sys, x, o).solver, "auto: umfpack");
+  o.auto_direct_max = 10;
+  EXPECT_EQ(solve(s.sys, x, o).solver, "auto: petsc fgmres+hypre(boomeramg)");
+  EXPECT_EQ(parse_solver("petsc"), SolverType::Petsc);
+  EXPECT_THROW_MSG(parse_solver("amg"), ConfigError, "known: auto, petsc");
+}
+
+// The assembly hands PETSc sorted rows without stored zeros (the diagonal always stays),
+// and the same bits whatever the number of threads.
+TEST(Petsc, AssembledRowsAreSortedSparseAndThreadIndependent) {
+  const System s(40);
+  const CsrMatrix& A = s.sys.A;
+  for (Index d = 0; d < A.rows(); ++d) {
+    bool diagonal = false;
+    for (Index k = A.outerIndexPtr()[d]; k < A.outerIndexPtr()[d + 1]; ++k) {
+      if (k > A.outerIndexPtr()[d]) {
+        EXPECT_LT(A.innerIndexPtr()[k - 1], A.innerIndexPtr()[k]);
+      }
+      diagonal |= A.innerIndexPtr()[k] == d;
+      EXPECT_TRUE(A.innerIndexPtr()[k] == d || A.valuePtr()[k] != 0);
+    }
+    EXPECT_TRUE(diagonal) << "row " << d;
+  }
+  // VRSPH's volumes are mostly zero: far fewer entries than neighbours.
+  EXPECT_LT(static_cast<double>(A.nonZeros()) / static_cast<double>(A.rows()), 14.0);
+#ifdef _OPENMP
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const System one(40);
+  omp_set_num_threads(2);
+  const System two(40);
+  omp_set_num_threads(threads);
+  ASSERT_EQ(one.sys.A.nonZeros(), two.sys.A.nonZeros());
+  EXPECT_TRUE(std::equal(one.sys.A.valuePtr(), one.sys.A.valuePtr() + one.sys.A.nonZeros(), two.sys.A.valuePtr()));
+  EXPECT_TRUE(std::equal(one.sys.A.innerIndexPtr(), one.sys.A.innerIndexPtr() + one.sys.A.nonZeros(),
+                         two.sys.A.innerIndexPtr()));
+  EXPECT_EQ(one.sys.b, two.sys.b);
+#endif
+}
