@@ -159,6 +159,13 @@ void solve_petsc(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOption
   call(KSPMonitorSet(s.ksp, monitor, &ctx, nullptr), "KSP");
   call(KSPSetFromOptions(s.ksp), "options", Blame::Options);
 
+  PetscReal rtol = 0, abstol = 0, dtol = 0;
+  PetscInt max_it = 0;
+  call(KSPGetTolerances(s.ksp, &rtol, &abstol, &dtol, &max_it), "KSP");
+  if (!(rtol > 0 && rtol < 1) || max_it < 1)
+    throw ConfigError(concat("PETSc options give the relative tolerance ", rtol, " and iteration cap ", max_it,
+                             ": the tolerance must be in (0, 1) and the cap at least 1"));
+
   KSPType ksp_type = nullptr;
   PCType pc_type = nullptr;
   PC pc = nullptr;

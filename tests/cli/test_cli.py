@@ -235,6 +235,57 @@ class Bench(unittest.TestCase):
         self.assertIn("volumes m/rho", out["methods"])
 
 
+class Solvers(unittest.TestCase):
+    """--solver petsc/auto, --petsc-options, --monitor and `bench solve` (issue 13 interface)."""
+
+    def test_petsc_rows_and_agreement_with_direct(self):
+        rows = {}
+        for solver in ("petsc", "umfpack"):
+            rows[solver] = run_json("study", "--cloud", "perturbed", "--n", "40", "--solver", solver)["rows"][0]
+        p, d = rows["petsc"], rows["umfpack"]
+        self.assertEqual(p["solver"], "petsc fgmres+hypre(boomeramg)")
+        self.assertEqual(p["solver_reason"], "converged_rtol")
+        self.assertEqual(d["solver_reason"], "direct")
+        for key in ("solver_iterations", "solver_residual", "seconds_setup", "peak_memory_mib"):
+            self.assertIn(key, p)
+        self.assertGreater(p["solver_iterations"], 1)
+        self.assertLess(p["solver_residual"], 1e-9)
+        self.assertAlmostEqual(p["error_inf"], d["error_inf"], delta=1e-8 * d["error_inf"] + 1e-12)
+
+    def test_auto_says_what_it_picked_and_options_pass_through(self):
+        row = run_json("study", "--cloud", "perturbed", "--n", "24")["rows"][0]
+        self.assertEqual(row["solver"], "auto: umfpack")
+        row = run_json("study", "--cloud", "perturbed", "--n", "24", "--solver", "petsc",
+                       "--petsc-options", "-ksp_type bcgs -pc_type jacobi")["rows"][0]
+        self.assertEqual(row["solver"], "petsc bcgs+jacobi")
+        env = dict(os.environ, PETSC_OPTIONS="-ksp_type gmres")
+        p = subprocess.run([VRSPH, "study", "--n", "24", "--solver", "petsc", "--format", "json"], capture_output=True,
+                           text=True, timeout=300, env=env)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(json.loads(p.stdout)["rows"][0]["solver"], "petsc gmres+hypre(boomeramg)")
+
+    def test_monitor_prints_every_iteration(self):
+        p = run("study", "--n", "24", "--solver", "petsc", "--monitor", "--format", "json")
+        its = json.loads(p.stdout)["rows"][0]["solver_iterations"]
+        lines = [l for l in p.stderr.splitlines() if l.strip().startswith("solver iteration")]
+        self.assertEqual(len(lines), its + 1)
+
+    def test_bench_solve_rows(self):
+        out = run_json("bench", "solve", "--n", "16,32", "--solver", "petsc,umfpack")
+        self.assertEqual(len(out["rows"]), 4)
+        for r in out["rows"]:
+            for key in ("n", "N", "seconds_total", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
+                        "seconds_assemble", "seconds_setup", "seconds_solve", "solver_iterations", "error_inf",
+                        "bytes_per_particle"):
+                self.assertIn(key, r)
+            self.assertGreater(r["seconds_total"], 0)
+        self.assertEqual([r["N"] for r in out["rows"]], [17 * 17, 33 * 33] * 2)
+        # Same discretisation, so the same error whichever solver.
+        self.assertAlmostEqual(out["rows"][1]["error_inf"], out["rows"][3]["error_inf"], delta=1e-9)
+        self.assertIn("petsc", out["slope_assemble_solve"])
+        self.assertIn("umfpack", out["slope_iterations"])
+
+
 class AarFamily(unittest.TestCase):
     def test_derivative_operator_all_particles(self):
         out = run_json("operator", "--problem", "aar-derivative", "--method", "fpm2o", "--operator",
