@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <mutex>
 #include <sstream>
@@ -148,9 +149,32 @@ void solve_petsc(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOption
   static_assert(sizeof(PetscInt) == sizeof(Index) && sizeof(PetscScalar) == sizeof(Real),
                 "PETSc's index and scalar types must match vrsph's for the no-copy matrix");
   auto& A = const_cast<CsrMatrix&>(sys.A);  // PETSc only reads the arrays (the matrix is never modified)
-  call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m, m, A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(), &s.A),
+  // Rows divided by their diagonal: Laplacian rows (negative diagonal) and flux rows of
+  // Neumann particles (positive diagonal, one power of h smaller) then look alike to the
+  // AMG. Without it, mixed problems took 196 iterations at 4 10^5 unknowns and 810 at 10^6
+  // instead of ~20. The index arrays are shared; only the values are copied.
+  std::vector<Real> scaled;
+  Eigen::VectorXd rhs;
+  Real* a_values = A.valuePtr();
+  const Real* b_values = sys.b.data();
+  if (o.scale_rows) {
+    scaled.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
+    rhs = sys.b;
+#pragma omp parallel for schedule(static)
+    for (Index d = 0; d < m; ++d) {
+      Real diagonal = 0;
+      for (Index k = A.outerIndexPtr()[d]; k < A.outerIndexPtr()[d + 1]; ++k)
+        if (A.innerIndexPtr()[k] == d) diagonal = A.valuePtr()[k];
+      if (diagonal == 0 || !std::isfinite(diagonal)) continue;
+      for (Index k = A.outerIndexPtr()[d]; k < A.outerIndexPtr()[d + 1]; ++k) scaled[static_cast<std::size_t>(k)] /= diagonal;
+      rhs[d] /= diagonal;
+    }
+    a_values = scaled.data();
+    b_values = rhs.data();
+  }
+  call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m, m, A.outerIndexPtr(), A.innerIndexPtr(), a_values, &s.A),
        "matrix");
-  call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m, sys.b.data(), &s.b), "vector");
+  call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m, b_values, &s.b), "vector");
   call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m, x.data(), &s.x), "vector");
   call(KSPCreate(PETSC_COMM_SELF, &s.ksp), "KSP");
   call(KSPSetOperators(s.ksp, s.A, s.A), "KSP");

@@ -37,6 +37,10 @@ struct SolverOptions {
   /// Called after every iteration of an iterative solver with (iteration, residual norm
   /// as the solver sees it); empty: no call. The history is in the report either way.
   std::function<void(int, Real)> monitor;
+  /// petsc: solve D^-1 A x = D^-1 b with D = diag(A) (a copy of the values; the true
+  /// residual is still measured on A x = b). Mixed Dirichlet/Neumann systems need it for
+  /// AMG to converge in a size-independent number of iterations (docs/solvers.md).
+  bool scale_rows = true;
   /// Dimension of the problem's geometry, for the fill-in estimate of the direct solvers
   /// and the AMG defaults (0: inferred from the nonzeros per row).
   int dimension = 0;
