@@ -199,6 +199,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   spec.perturb_boundary = p.perturb_boundary;
   spec.regular_layer = p.regular_layer;
   if (p.measure_memory) {
+    release_free_memory();  // what earlier runs freed is not this run's
     run.resident_bytes_before = resident_memory_bytes();
     reset_peak_resident_memory();
   }

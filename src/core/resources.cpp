@@ -1,4 +1,7 @@
 #include <unistd.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <atomic>
 #include <cctype>
 #include <cmath>
@@ -81,6 +84,12 @@ std::size_t peak_resident_memory_bytes() {
       return kib * 1024;
     }
   return 0;
+}
+
+void release_free_memory() {
+#ifdef __GLIBC__
+  ::malloc_trim(0);
+#endif
 }
 
 bool reset_peak_resident_memory() {

@@ -122,7 +122,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     sp.radius = sm.h;
     sp.radii = std::move(sm.radii);
   }
-  const NeighbourList nl = find_neighbours(cloud, sp);
+  NeighbourList nl = find_neighbours(cloud, sp);
   s.seconds_neighbours = watch.seconds();
   mark(&s.stage_peak_bytes.neighbours);
 
@@ -143,7 +143,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   }
   req.rows = interior;
   const Discretisation disc{cloud, nl, o.kernel, s.spacing};
-  const Stencil L = method->build(disc, req);
+  Stencil L = method->build(disc, req);
   Stencil G;
   if (s.neumann_particles > 0) {
     StencilRequest greq;
@@ -152,6 +152,14 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     G = method->build(disc, greq);
   }
   s.seconds_stencil = watch.seconds();
+  long long nsum = 0, unknown_count = 0;
+  for (Index i = 0; i < n; ++i)
+    if (unknown[static_cast<std::size_t>(i)]) {
+      nsum += nl.count(i);
+      ++unknown_count;
+    }
+  s.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<long long>(unknown_count, 1));
+  nl = NeighbourList();  // not needed any more: its memory goes back before assembly and solve
   mark(&s.stage_peak_bytes.stencil);
 
   // Diagnostics of the local problems (feasibility, conditioning) and of the matrix.
@@ -194,12 +202,13 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   }
   bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(cloud, interior) : -1;
   const LinearSystem sys = assemble(L, cloud, unknown, p.f, p.g, &bc);
+  // The stencils are in the system now; keep only the local residuals for the report.
+  s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
+  L = Stencil();
+  G = Stencil();
   s.unknowns = sys.size();
   s.seconds_assemble = watch.seconds();
   mark(&s.stage_peak_bytes.assemble);
-  long long nsum = 0;
-  for (Index i = 0; i < n; ++i) nsum += unknown[static_cast<std::size_t>(i)] ? nl.count(i) : 0;
-  s.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<Index>(s.unknowns, 1));
   s.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(s.unknowns, 1));
 
   Eigen::VectorXd x;
@@ -214,7 +223,6 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                                         ": ", s.solve.message, " (relative residual ", s.solve.residual, ")"));
   s.u = expand(sys, x);
   if (s.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0) check_neumann_balance(cloud, p.f, p.q, s.spacing, s);
-  s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
   return s;
 }
 

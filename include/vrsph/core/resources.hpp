@@ -31,6 +31,9 @@ std::size_t peak_resident_memory_bytes();
 /// Starts a new peak: peak_resident_memory_bytes() then measures from now (Linux
 /// /proc/self/clear_refs); false where that is not possible (the peak stays global).
 bool reset_peak_resident_memory();
+/// Returns freed heap memory to the system (glibc malloc_trim), so that the resident
+/// size measures what is in use; for memory measurements between runs.
+void release_free_memory();
 
 /// Throws ResourceError if `bytes` (an estimate for `what`) plus the memory the process
 /// already holds exceeds the limit; the message gives the numbers and `advice`.
