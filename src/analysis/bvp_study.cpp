@@ -187,7 +187,8 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
                                  ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
                                                                            : 4.2 * per_side * per_side * per_side)
                                  : std::pow(per_side, p.dim);
-    check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, 1, true), detail::concat("n = ", n));
+    check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, 1, true, p.solver.type),
+                        detail::concat("n = ", n));
   }
   CloudSpec spec;
   spec.family = p.cloud;

@@ -5,6 +5,7 @@
 // and minutes of neighbour search. Each stage checks its own exact size again later.
 #include <string>
 #include <vrsph/core/types.hpp>
+#include <vrsph/solve/solver.hpp>
 
 namespace vrsph {
 
@@ -16,8 +17,11 @@ struct RunFootprint {
 
 /// particles: expected particle count; h_over_dx: support radius in spacings;
 /// components: values per stencil entry (1, or d for a gradient); assembled: a linear
-/// system and a preconditioner/factorisation of the stencil's pattern follow.
-RunFootprint estimate_run_footprint(int dim, double particles, double h_over_dx, int components, bool assembled);
+/// system and a preconditioner/factorisation of the stencil's pattern follow, by
+/// `solver` (auto: what it would pick for this size; direct solvers' fill-in is checked
+/// separately before the factorisation).
+RunFootprint estimate_run_footprint(int dim, double particles, double h_over_dx, int components, bool assembled,
+                                    SolverType solver = SolverType::Auto);
 
 /// Throws ResourceError (via check_memory_estimate) naming the level `what` (e.g. "n = 2000").
 void check_run_footprint(const RunFootprint& footprint, const std::string& what);
