@@ -118,8 +118,12 @@ struct MonitorContext {
 
 PetscErrorCode monitor(KSP, PetscInt it, PetscReal rnorm, void* ctx) {
   auto* m = static_cast<MonitorContext*>(ctx);
-  m->report->residual_history.push_back(rnorm);
-  if (m->options->monitor) m->options->monitor(static_cast<int>(it), rnorm);
+  try {  // no C++ exception may cross PETSc's C frames: it becomes a PETSc error code
+    m->report->residual_history.push_back(rnorm);
+    if (m->options->monitor) m->options->monitor(static_cast<int>(it), rnorm);
+  } catch (...) {
+    return PETSC_ERR_USER;
+  }
   return 0;
 }
 
