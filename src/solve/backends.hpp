@@ -6,9 +6,10 @@
 
 namespace vrsph::detail {
 
-/// A guess of the geometry's dimension from the nonzeros per row of a particle
-/// Laplacian at h = 3 dx (1D ~ 7, 2D ~ 29, 3D ~ 120), when the caller did not say.
-inline int dimension_from_row_length(double per_row) { return per_row <= 15 ? 1 : per_row <= 50 ? 2 : 3; }
+/// The dimension the solver assumes when the caller gave none: 3, the fastest-growing LU
+/// fill-in estimate and the smallest direct-solve limit of `auto`. (It cannot be read off the
+/// row lengths: with exact zeros dropped, a 2D VRSPH row has ~10 entries, a 1D SPH row ~7.)
+inline int assumed_dimension(int dimension) { return dimension > 0 ? dimension : 3; }
 
 void solve_eigen(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o, SolveReport& rep);
 void solve_petsc(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o, SolveReport& rep);

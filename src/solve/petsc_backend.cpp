@@ -75,23 +75,19 @@ void start_petsc() {
   std::atexit(finalise_petsc);
 }
 
-// Option names (without the dash) in a PETSc option string: words that start with '-'
-// and a letter (so "-1e-3" is a value).
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+// Option names (without the dash, lower case) in a PETSc option string: words that start
+// with '-' and a letter (so "-1e-3" is a value).
 std::vector<std::string> option_names(const std::string& s) {
   std::vector<std::string> names;
   std::istringstream in(s);
   for (std::string w; in >> w;)
-    if (w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1]))) {
-      std::string n = w.substr(1);
-      std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return std::tolower(c); });
-      names.push_back(n);
-    }
+    if (w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1]))) names.push_back(lower(w.substr(1)));
   return names;
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
 }
 
 // Everything PETSc allocated for one solve, destroyed in reverse order whatever happens.

@@ -1,6 +1,7 @@
 // Solver choice, memory check and the true-residual check common to every back-end.
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
 #include "backends.hpp"
@@ -28,8 +29,10 @@ std::string to_string(SolverType t) {
 }
 
 Index auto_direct_limit(int dimension) {
-  // Where UMFPACK and GMRES + BoomerAMG take the same time on VRSPH Example 5 matrices
-  // (docs/solvers.md); 1D matrices are banded (fill-in O(nnz)).
+  // Whole `vrsph study` runs on VRSPH Example 5, PETSc's ~0.3 s start-up included, take the
+  // same time with UMFPACK and with GMRES + BoomerAMG at ~4 10^4 unknowns in 2D (n = 200)
+  // and between 3.4k and 6.9k in 3D; the limits sit below that because UMFPACK's memory
+  // grows faster than its time (docs/solvers.md). 1D matrices are banded (fill-in O(nnz)).
   if (dimension == 1) return std::numeric_limits<Index>::max();
   return dimension == 2 ? 20000 : 4000;
 }
@@ -41,7 +44,7 @@ SolverType resolve_auto(Index unknowns, int dimension, Index direct_max) {
 
 double direct_solver_bytes(const CsrMatrix& A, int dimension) {
   const auto n = static_cast<double>(A.rows()), nnz = static_cast<double>(A.nonZeros());
-  if (dimension <= 0) dimension = detail::dimension_from_row_length(nnz / std::max(n, 1.0));
+  dimension = detail::assumed_dimension(dimension);
   // Measured (peak RSS above the iterative solver's, vrsph study --solver ...):
   // 2D 160k unknowns: SparseLU 1.1 GB, UMFPACK 0.12 GB; 3D 59k: 3.2 GB, 1.7 GB.
   if (dimension == 1) return 50 * nnz + 1e6;
@@ -52,9 +55,7 @@ double direct_solver_bytes(const CsrMatrix& A, int dimension) {
 SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& options) {
   check<ConfigError>(options.rtol > 0 && options.max_iterations > 0, "solver tolerance and iteration cap must be positive");
   SolverOptions o = options;
-  if (o.dimension <= 0)
-    o.dimension = detail::dimension_from_row_length(static_cast<double>(sys.A.nonZeros()) /
-                                                    std::max<double>(1.0, static_cast<double>(sys.size())));
+  o.dimension = detail::assumed_dimension(o.dimension);
   if (o.type == SolverType::Auto) o.type = resolve_auto(sys.size(), o.dimension, o.auto_direct_max);
   if (o.type == SolverType::SparseLU || o.type == SolverType::UmfPack)
     check_memory_estimate(direct_solver_bytes(sys.A, o.dimension),

@@ -42,7 +42,7 @@ struct SolverOptions {
   /// AMG to converge in a size-independent number of iterations (docs/solvers.md).
   bool scale_rows = true;
   /// Dimension of the problem's geometry, for the fill-in estimate of the direct solvers
-  /// and the AMG defaults (0: inferred from the nonzeros per row).
+  /// and the direct-solve limit of auto (0: unknown, treated as 3, the most cautious).
   int dimension = 0;
   /// auto: the largest system solved directly (0: by dimension, see auto_direct_limit).
   Index auto_direct_max = 0;
@@ -65,6 +65,7 @@ std::string default_petsc_options(int dimension);
 /// need, in bytes: c nnz(A) N^((d-1)/d), the nested-dissection growth of the fill-in,
 /// with c fitted to peak-memory measurements of both solvers on our matrices (2D:
 /// N = 40k and 160k; 3D: N = 24k and 59k; within a factor 2 above the measurements).
+/// dimension 0: unknown, estimated as 3D (the fastest-growing fill-in).
 double direct_solver_bytes(const CsrMatrix& A, int dimension);
 
 struct SolveReport {
@@ -76,7 +77,7 @@ struct SolveReport {
   int iterations = 0;         ///< 1 for direct solvers
   Real residual = 0;          ///< true relative residual ||b - A x|| / ||b||
   std::vector<Real> residual_history;  ///< iterative solvers: the residual norm per iteration
-  double seconds_setup = 0;   ///< factorisation or preconditioner set-up
+  double seconds_setup = 0;   ///< factorisation or preconditioner set-up (part of seconds)
   double seconds = 0;         ///< set-up + solve
 };
 

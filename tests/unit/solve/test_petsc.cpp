@@ -135,6 +135,10 @@ TEST(Petsc, AutoPicksDirectWhenSmallAndAmgWhenLarge) {
   Eigen::VectorXd x;
   SolverOptions o;  // auto is the default
   EXPECT_EQ(solve(s.sys, x, o).solver, "auto: umfpack");
+  // Without a dimension the solver assumes 3D (row lengths no longer tell: VRSPH's 2D
+  // rows are as short as 1D SPH's): the fastest-growing fill estimate, the smallest limit.
+  EXPECT_EQ(direct_solver_bytes(s.sys.A, 0), direct_solver_bytes(s.sys.A, 3));
+  EXPECT_EQ(resolve_auto(5000, 0), SolverType::Petsc);
   o.auto_direct_max = 10;
   EXPECT_EQ(solve(s.sys, x, o).solver, "auto: petsc fgmres+hypre(boomeramg)");
   EXPECT_EQ(parse_solver("petsc"), SolverType::Petsc);
