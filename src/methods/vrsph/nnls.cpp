@@ -1,24 +1,35 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
+
+// Every particle solves one NNLS, so the solver is compiled twice on x86-64 with GCC: for
+// x86-64-v3 (AVX2 + FMA: four doubles per instruction, fused multiply-add) and for the
+// baseline, and the loader picks the clone the CPU runs (an ifunc, resolved once).
+// Measured with `vrsph_bench --benchmark_filter=Nnls`: see docs/performance.md. Clang (the
+// fuzz build) does not clone templates and gets the baseline. The clone only changes the
+// instruction selection, so results may differ in the last bits between CPUs (FMA
+// contraction), never between thread counts on one machine.
+// The steps are lambdas forced inline: a lambda the compiler leaves out of line is a
+// separate function without the clone's target, and runs the baseline code.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define VRSPH_NNLS_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define VRSPH_NNLS_CLONES
+#endif
+#if defined(__GNUC__)
+#define VRSPH_ALWAYS_INLINE __attribute__((always_inline))
+#else
+#define VRSPH_ALWAYS_INLINE
+#endif
 
 namespace vrsph {
 
 namespace {
 constexpr Real eps = std::numeric_limits<Real>::epsilon();
-
-Real norm1(const Real* A, int m, int n) {  // max column sum
-  Real out = 0;
-  for (int j = 0; j < n; ++j) {
-    Real s = 0;
-    for (int i = 0; i < m; ++i) s += std::abs(A[static_cast<std::size_t>(j) * static_cast<std::size_t>(m) + static_cast<std::size_t>(i)]);
-    out = std::max(out, s);
-  }
-  return out;
-}
 
 // Tolerances. The multiplier test uses METHODS §3.0's tol = 10 eps ||A||_1 max(m, n)
 // (w = A^T r has the units of A b). lsqnonneg also drops variables with |x_j| < tol, but
@@ -33,6 +44,57 @@ Tolerances tolerances(Real a_norm1, int m, int n, Real user) {
   const Real tw = user >= 0 ? user : 10 * eps * a_norm1 * std::max(m, n);
   const Real scale = a_norm1 > 0 ? a_norm1 : 1;
   return {tw, tw / (scale * scale)};
+}
+
+// Four doubles as one value: GCC and Clang map it to one AVX register in the x86-64-v3
+// clone and to two SSE registers in the baseline (the same loops written over scalars were
+// left scalar by the vectoriser: the gradient alone was ~40% of a solve's instructions).
+// memcpy: the columns are not 32-byte aligned. The helpers are macros-in-spirit (always
+// inline, so no vector value crosses a call and the ABI of the baseline is untouched).
+typedef Real Real4 __attribute__((vector_size(4 * sizeof(Real))));
+
+// y[0:len] -= c x[0:len]
+VRSPH_ALWAYS_INLINE inline void sub_scaled(Real* __restrict y, const Real* __restrict x, Real c, std::size_t len) {
+  std::size_t i = 0;
+  for (; i + 4 <= len; i += 4) {
+    Real4 a, b;
+    std::memcpy(&a, y + i, sizeof a);
+    std::memcpy(&b, x + i, sizeof b);
+    a -= c * b;
+    std::memcpy(y + i, &a, sizeof a);
+  }
+  for (; i < len; ++i) y[i] -= c * x[i];
+}
+
+// x[0:len] . y[0:len]
+VRSPH_ALWAYS_INLINE inline Real dot(const Real* __restrict x, const Real* __restrict y, std::size_t len) {
+  Real4 acc = {0, 0, 0, 0};
+  std::size_t i = 0;
+  for (; i + 4 <= len; i += 4) {
+    Real4 a, b;
+    std::memcpy(&a, x + i, sizeof a);
+    std::memcpy(&b, y + i, sizeof b);
+    acc += a * b;
+  }
+  Real sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+  for (; i < len; ++i) sum += x[i] * y[i];
+  return sum;
+}
+
+// First index of the largest w_j if that exceeds tol, else -1. Two passes: the maximum with
+// four independent partial maxima (vectorisable; the running arg-max was one dependent
+// compare per column, ~400 cycles per 3D iteration), then the first index holding it.
+inline int entering_column(const Real* w, int n, Real tol) {
+  Real part[4] = {tol, tol, tol, tol};
+  int j = 0;
+  for (; j + 4 <= n; j += 4)
+    for (int q = 0; q < 4; ++q) part[q] = w[j + q] > part[q] ? w[j + q] : part[q];
+  for (; j < n; ++j) part[0] = w[j] > part[0] ? w[j] : part[0];
+  const Real best = std::max(std::max(part[0], part[1]), std::max(part[2], part[3]));
+  if (!(best > tol)) return -1;
+  for (j = 0; j < n; ++j)
+    if (w[j] == best) return j;
+  return -1;
 }
 
 // Givens rotation (c, s) with [c s; -s c] [a; b] = [r; 0].
@@ -72,7 +134,7 @@ void NnlsSolver::reserve(int m, int n) {
 }
 
 template <int FixedRows>
-NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x, const NnlsOptions& options) {
+VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x, const NnlsOptions& options) {
   // With FixedRows > 0 the row count is a compile-time constant: the short loops over
   // rows unroll and vectorise (the row counts VRSPH uses are instantiated below).
   const int m = FixedRows > 0 ? FixedRows : m_runtime;
@@ -81,33 +143,45 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
   Real* Q = Q_.data();  // column-major m x m; A_P = Q R
   Real* R = R_.data();  // column-major m x (k <= m), upper triangular
   Real* qtb = qtb_.data();
-  const Tolerances tols = tolerances(norm1(A, m, n), m, n, options.tolerance);
-  const Real tol = tols.w, xtol = tols.x;
   const int max_it = options.max_iterations >= 0 ? options.max_iterations : 3 * std::max(n, 1);
 
   std::fill(x, x + n, 0.0);
   std::fill(in_passive_.begin(), in_passive_.begin() + n, 0);
   // Row-major copy of A: w = A^T r then runs over contiguous rows of n entries (vectorises;
-  // the column-major dot products of length m = 9 did not): +6% throughput in 2D.
+  // the column-major dot products of length m = 9 did not): +6% throughput in 2D. ||A||_1
+  // is taken in the same pass (as a separate runtime-m loop it was 11% of a 2D solve).
   const auto N = static_cast<std::size_t>(n);
   Real* At = at_.data();
+  Real a_norm1 = 0;
   for (int j = 0; j < n; ++j) {
     const Real* a = col(j);
-    for (std::size_t i = 0; i < M; ++i) At[i * N + static_cast<std::size_t>(j)] = a[i];
+    Real colsum = 0;
+    for (std::size_t i = 0; i < M; ++i) {
+      At[i * N + static_cast<std::size_t>(j)] = a[i];
+      colsum += std::abs(a[i]);
+    }
+    a_norm1 = std::max(a_norm1, colsum);
   }
+  const Tolerances tols = tolerances(a_norm1, m, n, options.tolerance);
+  const Real tol = tols.w, xtol = tols.x;
   int k = 0;  // passive count
   NnlsResult res;
 
-  // R[0:k,0:k] z = qtb[0:k]; rinv_ holds 1/R_ii (divisions were 8% of the solve).
-  auto back_substitute = [&] {
+  // R[0:k,0:k] z = qtb[0:k]; rinv_ holds 1/R_ii (divisions were 8% of the solve). Column
+  // oriented: once z_i is known it is eliminated from all rows above with one independent
+  // axpy, so the only dependent chain is one multiply-add per row (the row-oriented dot
+  // products chained k^2/2 of them).
+  auto back_substitute = [&]() VRSPH_ALWAYS_INLINE {
+    Real* z = z_.data();
+    for (int i = 0; i < k; ++i) z[i] = qtb[i];
     for (int i = k - 1; i >= 0; --i) {
-      Real s = qtb[i];
-      for (int j = i + 1; j < k; ++j) s -= R[static_cast<std::size_t>(j) * M + static_cast<std::size_t>(i)] * z_[static_cast<std::size_t>(j)];
-      z_[static_cast<std::size_t>(i)] = s * rinv_[static_cast<std::size_t>(i)];
+      const Real zi = z[i] * rinv_[static_cast<std::size_t>(i)];
+      z[i] = zi;
+      sub_scaled(z, R + static_cast<std::size_t>(i) * M, zi, static_cast<std::size_t>(i));
     }
   };
   // Apply the rotation (c, s) to rows (p, q) of Q^T, i.e. columns p, q of Q, and to qtb.
-  auto rotate_q = [&](int p, int q, Real c, Real s) {
+  auto rotate_q = [&](int p, int q, Real c, Real s) VRSPH_ALWAYS_INLINE {
     Real* Qp = Q + static_cast<std::size_t>(p) * M;
     Real* Qq = Q + static_cast<std::size_t>(q) * M;
     for (std::size_t i = 0; i < M; ++i) {
@@ -119,22 +193,44 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     qtb[p] = c * a + s * bq;
     qtb[q] = -s * a + c * bq;
   };
-  // w = A^T r with r = b - Q1 (Q1^T b), Q1 the k orthonormal columns spanning A_P.
-  auto gradient = [&] {
+  // w = A^T r with r = b - Q1 (Q1^T b), Q1 the k orthonormal columns spanning A_P. Columns
+  // in blocks of four with the partial sums in registers (one pass over A^T instead of m
+  // read-modify-write passes over w); returns ||r||.
+  auto gradient = [&]() VRSPH_ALWAYS_INLINE {
     for (std::size_t i = 0; i < M; ++i) r_[i] = b[i];
-    for (int j = 0; j < k; ++j) {
-      const Real t = qtb[j];
-      const Real* Qj = Q + static_cast<std::size_t>(j) * M;
-      for (std::size_t i = 0; i < M; ++i) r_[i] -= t * Qj[i];
-    }
+    for (int j = 0; j < k; ++j) sub_scaled(r_.data(), Q + static_cast<std::size_t>(j) * M, qtb[j], M);
     Real res2 = 0;
     for (std::size_t i = 0; i < M; ++i) res2 += r_[i] * r_[i];
     Real* w = w_.data();
-    std::fill(w, w + n, 0.0);
-    for (std::size_t i = 0; i < M; ++i) {
-      const Real ri = r_[i];
-      const Real* row = At + i * N;
-      for (std::size_t j = 0; j < N; ++j) w[j] += ri * row[j];
+    std::size_t j = 0;
+    for (; j + 8 <= N; j += 8) {  // eight columns: two independent accumulators per row of A^T
+      Real4 acc0 = {0, 0, 0, 0}, acc1 = {0, 0, 0, 0};
+      const Real* row = At + j;
+#pragma GCC unroll 4
+      for (std::size_t i = 0; i < M; ++i, row += N) {
+        Real4 a0, a1;
+        std::memcpy(&a0, row, sizeof a0);
+        std::memcpy(&a1, row + 4, sizeof a1);
+        const Real ri = r_[i];
+        acc0 += ri * a0;
+        acc1 += ri * a1;
+      }
+      std::memcpy(w + j, &acc0, sizeof acc0);
+      std::memcpy(w + j + 4, &acc1, sizeof acc1);
+    }
+    for (; j + 4 <= N; j += 4) {
+      Real4 acc = {0, 0, 0, 0};
+      for (std::size_t i = 0; i < M; ++i) {
+        Real4 a;
+        std::memcpy(&a, At + i * N + j, sizeof a);
+        acc += r_[i] * a;
+      }
+      std::memcpy(w + j, &acc, sizeof acc);
+    }
+    for (; j < N; ++j) {
+      Real acc = 0;
+      for (std::size_t i = 0; i < M; ++i) acc += r_[i] * At[i * N + j];
+      w[j] = acc;
     }
     for (int p = 0; p < k; ++p) w[passive_[static_cast<std::size_t>(p)]] = -std::numeric_limits<Real>::infinity();  // never re-enters directly
     return std::sqrt(res2);
@@ -144,10 +240,13 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
   // second pass only when the first cancelled more than half the norm (DGKS criterion;
   // "twice is enough"). Returns false (factorisation unchanged) if t is numerically
   // dependent on the passive set.
-  auto add_column = [&](int t) {
-    const Real* a = col(t);
-    Real* qk = Q + static_cast<std::size_t>(k) * M;
-    Real* Rk = R + static_cast<std::size_t>(k) * M;
+  auto add_column = [&](int t) VRSPH_ALWAYS_INLINE {
+    // __restrict: the workspaces are distinct arrays and qk, Rk are columns the loops below
+    // read through no other pointer; without it every store to qk forced the projections
+    // to be reloaded and the loops stayed scalar.
+    const Real* __restrict a = col(t);
+    Real* __restrict qk = Q + static_cast<std::size_t>(k) * M;
+    Real* __restrict Rk = R + static_cast<std::size_t>(k) * M;
     Real anorm2 = 0;
     for (std::size_t i = 0; i < M; ++i) {
       qk[i] = a[i];
@@ -156,16 +255,10 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     for (int l = 0; l < k; ++l) Rk[l] = 0;
     Real before2 = anorm2;
     for (int pass = 0; pass < 2; ++pass) {
-      Real* c = gs_.data();  // projections onto the passive basis
+      Real* __restrict c = gs_.data();  // projections onto the passive basis
+      for (int l = 0; l < k; ++l) c[l] = dot(Q + static_cast<std::size_t>(l) * M, qk, M);
       for (int l = 0; l < k; ++l) {
-        const Real* Ql = Q + static_cast<std::size_t>(l) * M;
-        Real d = 0;
-        for (std::size_t i = 0; i < M; ++i) d += Ql[i] * qk[i];
-        c[l] = d;
-      }
-      for (int l = 0; l < k; ++l) {
-        const Real* Ql = Q + static_cast<std::size_t>(l) * M;
-        for (std::size_t i = 0; i < M; ++i) qk[i] -= c[l] * Ql[i];
+        sub_scaled(qk, Q + static_cast<std::size_t>(l) * M, c[l], M);
         Rk[l] += c[l];
       }
       Real after2 = 0;
@@ -178,8 +271,9 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     const Real vnorm = std::sqrt(vnorm2);
     if (vnorm <= 100 * eps * std::sqrt(anorm2) * m) return false;
     Real qb = 0;
+    const Real inv = 1 / vnorm;
     for (std::size_t i = 0; i < M; ++i) {
-      qk[i] /= vnorm;
+      qk[i] *= inv;
       qb += qk[i] * b[i];
     }
     Rk[k] = vnorm;
@@ -192,7 +286,7 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     return true;
   };
   // Removes passive position p; restores triangularity with Givens rotations.
-  auto remove_position = [&](int p) {
+  auto remove_position = [&](int p) VRSPH_ALWAYS_INLINE {
     in_passive_[static_cast<std::size_t>(passive_[static_cast<std::size_t>(p)])] = 0;
     for (int j = p; j < k - 1; ++j) {
       std::copy(R + static_cast<std::size_t>(j + 1) * M, R + static_cast<std::size_t>(j + 1) * M + M, R + static_cast<std::size_t>(j) * M);
@@ -216,32 +310,17 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
     for (int j = p; j < k; ++j) rinv_[static_cast<std::size_t>(j)] = 1 / R[static_cast<std::size_t>(j) * M + static_cast<std::size_t>(j)];
   };
 
-  res.residual = gradient();
-  while (k < m) {
-    // Entering column: largest multiplier among the zero set (first index on ties).
-    int t = -1;
-    Real best = tol;
-    for (int j = 0; j < n; ++j)  // passive and rejected columns hold w = -inf
-      if (w_[static_cast<std::size_t>(j)] > best) {
-        best = w_[static_cast<std::size_t>(j)];
-        t = j;
-      }
-    if (t < 0) break;
-    if (++res.iterations > max_it) {
-      res.status = NnlsStatus::IterationLimit;
-      break;
-    }
-    if (!add_column(t)) {
-      w_[static_cast<std::size_t>(t)] = -std::numeric_limits<Real>::infinity();  // rejected until x changes
-      continue;
-    }
+  // One Lawson–Hanson step with entering column t from a feasible x (x_P = argmin on P,
+  // x_P > 0): t joins P if it is independent of P and its least-squares value is positive
+  // (the LH safeguard), then the inner loop steps back towards feasibility, dropping the
+  // variables that reach zero. Returns false if t was not admitted (nothing changed).
+  auto enter = [&](int t) VRSPH_ALWAYS_INLINE {
+    if (!add_column(t)) return false;
     back_substitute();
-    if (z_[static_cast<std::size_t>(k) - 1] <= 0) {  // LH safeguard: t must enter with a positive value
+    if (z_[static_cast<std::size_t>(k) - 1] <= 0) {
       remove_position(k - 1);
-      w_[static_cast<std::size_t>(t)] = -std::numeric_limits<Real>::infinity();
-      continue;
+      return false;
     }
-    // Inner loop: step back towards the feasible region while some z <= 0.
     for (;;) {
       int neg = -1;
       Real alpha = std::numeric_limits<Real>::infinity();
@@ -265,19 +344,38 @@ NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Rea
         if (std::abs(xp_[static_cast<std::size_t>(p)]) < xtol) remove_position(p);
       back_substitute();
     }
-    if (res.status == NnlsStatus::IterationLimit) break;
+    if (res.status == NnlsStatus::IterationLimit) return true;  // keep the last feasible x
     for (int p = 0; p < k; ++p) xp_[static_cast<std::size_t>(p)] = z_[static_cast<std::size_t>(p)];
+    return true;
+  };
+
+  res.residual = gradient();
+  while (k < m && res.status == NnlsStatus::Converged) {
+    // Entering column: largest multiplier among the zero set (first index on ties; passive
+    // and rejected columns hold w = -inf).
+    const int t = entering_column(w_.data(), n, tol);
+    if (t < 0) break;
+    if (++res.iterations > max_it) {
+      res.status = NnlsStatus::IterationLimit;
+      break;
+    }
+    if (!enter(t)) {
+      w_[static_cast<std::size_t>(t)] = -std::numeric_limits<Real>::infinity();  // rejected until x changes
+      continue;
+    }
+    if (res.status == NnlsStatus::IterationLimit) break;
     res.residual = gradient();
   }
   for (int p = 0; p < k; ++p) x[passive_[static_cast<std::size_t>(p)]] = std::max(xp_[static_cast<std::size_t>(p)], 0.0);
   res.passive = k;
   // Report the true residual of the returned x.
-  Real r2 = 0;
-  for (std::size_t i = 0; i < M; ++i) {
-    Real s = -b[i];
-    for (int p = 0; p < k; ++p) s += col(passive_[static_cast<std::size_t>(p)])[i] * x[passive_[static_cast<std::size_t>(p)]];
-    r2 += s * s;
+  for (std::size_t i = 0; i < M; ++i) r_[i] = b[i];
+  for (int p = 0; p < k; ++p) {
+    const int j = passive_[static_cast<std::size_t>(p)];
+    sub_scaled(r_.data(), col(j), x[j], M);
   }
+  Real r2 = 0;
+  for (std::size_t i = 0; i < M; ++i) r2 += r_[i] * r_[i];
   res.residual = std::sqrt(r2);
   return res;
 }
