@@ -95,10 +95,15 @@ void Kernel::dW_over_r(const Real* r, Real* out, int n) const {
     return;
   }
   // [QW](2.4): w'(R)/R = -12 + 18 R (R < 1/2), -6 (1 - R)^2 / R (R < 1), 0 beyond.
+  // Both branches evaluated and selected (vectorises; the distances are in no order, so
+  // the branches mispredicted). R > 0 for neighbours (coincident points are rejected), and
+  // the unused quotient of a selected-away branch is discarded.
   for (int k = 0; k < n; ++k) {
     const Real R = r[k] * inv_h;
     const Real s = 1 - R;
-    const Real ratio = R < 0.5 ? -12 + 18 * R : R < 1 ? -6 * s * s / R : 0.0;
+    const Real inner = -12 + 18 * R;
+    const Real outer = -6 * s * s / (R > 0 ? R : 1);
+    const Real ratio = R < 0.5 ? inner : R < 1 ? outer : 0.0;
     out[k] = scale * ratio;
   }
 }
