@@ -214,19 +214,14 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   run.dx = sc.dx;
   run.particles = cloud.size();
 
+  watch.restart();
   // u first: a u that is not finite must be named as the user wrote it, not through
   // the derived f = div(a grad u).
   const Field exact = sample(*pf.u, cloud, "the exact solution u (--u)");
   bvp.a = sample(*pf.a, cloud, "the coefficient a (--a)");
   // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0);
   // sampled only for them (an expression's gradient costs 4d evaluations per particle).
-  if (builtin_methods().info(method_name).uses_coefficient_gradient) {
-    bvp.grad_a.resize(cloud.size(), p.dim);
-    for (Index i = 0; i < cloud.size(); ++i) {
-      const Vec3 ga = pf.a->gradient(cloud.positions[static_cast<std::size_t>(i)]);
-      for (int c = 0; c < p.dim; ++c) bvp.grad_a(i, c) = ga[c];
-    }
-  }
+  if (builtin_methods().info(method_name).uses_coefficient_gradient) bvp.grad_a = sample_gradient(*pf.a, cloud);
   bvp.f = sample(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
   bvp.g = sample(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
   if (run.neumann_particles > 0) {
@@ -240,6 +235,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     if (cloud.count(Tag::Dirichlet) == 0) check_neumann_compatibility(p, pf, cloud.domain);
   }
   bvp.fix_constant = p.fix_constant;
+  run.seconds_data = watch.seconds();
 
   BvpSolveOptions so;
   so.method = method_name;
@@ -276,10 +272,12 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   run.seconds_solve = sol.seconds_solve;
   run.stage_peak_bytes = sol.stage_peak_bytes;
   const Field& U = sol.u;
+  watch.restart();
   Eigen::MatrixXd err(cloud.size(), 1);
   err.col(0) = U - exact;
   const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
   run.errors = error_norms(err, unknown_mask(cloud), cloud, run.h, vol);
+  run.seconds_data += watch.seconds();
   if (keep_fields) {
     run.U = U;
     run.exact = exact;
@@ -354,7 +352,7 @@ Table to_table(const BvpStudyResult& r) {
   Table t;
   t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
                "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "condition_max", "neighbours_mean",
-               "nnz_per_row", "solver", "solver_iterations", "solver_residual", "solver_reason", "seconds_cloud", "seconds_neighbours", "seconds_stencil",
+               "nnz_per_row", "solver", "solver_iterations", "solver_residual", "solver_reason", "seconds_cloud", "seconds_data", "seconds_neighbours", "seconds_stencil",
                "seconds_assemble", "seconds_setup", "seconds_solve", "peak_memory_mib"};
   for (const auto& row : r.rows) {
     const BvpRun& f = row.first;
@@ -382,6 +380,7 @@ Table to_table(const BvpStudyResult& r) {
                {"solver_residual", f.solve.residual},
                {"solver_reason", f.solve.reason},
                {"seconds_cloud", f.seconds_cloud},
+               {"seconds_data", f.seconds_data},
                {"seconds_neighbours", f.seconds_neighbours},
                {"seconds_stencil", f.seconds_stencil},
                {"seconds_assemble", f.seconds_assemble},

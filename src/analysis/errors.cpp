@@ -1,4 +1,5 @@
 #include <cmath>
+#include <vector>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/core/error.hpp>
 
@@ -34,17 +35,26 @@ ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, 
                     "error_norms: error matrix, row mask and cloud sizes differ");
   check<InputError>(volumes.empty() || static_cast<Index>(volumes.size()) == cloud.size(),
                     "error_norms: volumes size differs from the cloud size");
+  // The per-particle part (a norm and a signed distance) in parallel; the sums in particle
+  // order on one thread, so the norms do not depend on the thread count.
+  const Index n = cloud.size();
+  std::vector<Real> e(static_cast<std::size_t>(n));
+  std::vector<char> is_near(static_cast<std::size_t>(n));
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (Index i = 0; i < n; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (!rows[si]) continue;
+    e[si] = err.row(i).norm();
+    is_near[si] = cloud.domain.signed_distance(cloud.positions[si]) < near_distance;
+  }
   Accumulator all, inner, near;
-  for (Index i = 0; i < cloud.size(); ++i) {
-    if (!rows[static_cast<std::size_t>(i)]) continue;
-    const Real e = err.row(i).norm();
-    check<InputError>(std::isfinite(e), "error at particle ", i, " is not finite");
-    const Real w = volumes.empty() ? 1.0 : volumes[static_cast<std::size_t>(i)];
-    all.add(i, e, w);
-    if (cloud.domain.signed_distance(cloud.positions[static_cast<std::size_t>(i)]) < near_distance)
-      near.add(i, e, w);
-    else
-      inner.add(i, e, w);
+  for (Index i = 0; i < n; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (!rows[si]) continue;
+    check<InputError>(std::isfinite(e[si]), "error at particle ", i, " is not finite");
+    const Real w = volumes.empty() ? 1.0 : volumes[si];
+    all.add(i, e[si], w);
+    (is_near[si] ? near : inner).add(i, e[si], w);
   }
   return {all.finish(), inner.finish(), near.finish()};
 }

@@ -1,8 +1,12 @@
 #include <cmath>
+#include <exception>
 #include <muParser.h>
 #include <numbers>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/core/error.hpp>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace vrsph {
 
@@ -54,6 +58,7 @@ class ProductTrig final : public ScalarFunction {  // prod_k f(pi x_k), f = cos 
     return g;
   }
   Real laplacian(const Vec3& x) const override { return -dim * pi * pi * value(x); }
+  std::unique_ptr<ScalarFunction> clone() const override { return std::make_unique<ProductTrig>(*this); }
 
  private:
   bool cos_;
@@ -101,6 +106,7 @@ class Polynomial final : public ScalarFunction {
     }
     return 0;
   }
+  std::unique_ptr<ScalarFunction> clone() const override { return std::make_unique<Polynomial>(*this); }
 
  private:
   Kind kind_;
@@ -113,6 +119,7 @@ class ExpX final : public ScalarFunction {
   Real value(const Vec3& x) const override { return std::exp(x[0]); }
   Vec3 gradient(const Vec3& x) const override { return Vec3(std::exp(x[0]), 0, 0); }
   Real laplacian(const Vec3& x) const override { return std::exp(x[0]); }
+  std::unique_ptr<ScalarFunction> clone() const override { return std::make_unique<ExpX>(*this); }
 };
 }  // namespace
 
@@ -185,7 +192,7 @@ namespace {
 class ExpressionFunction final : public ScalarFunction {
  public:
   ExpressionFunction(const std::string& u, int d, const std::vector<std::string>& grad, const std::string& lap)
-      : u_(u) {
+      : u_(u), grad_text_(grad), lap_text_(lap) {
     dim = d;
     check<InputError>(grad.empty() || static_cast<int>(grad.size()) == d, "expected ", d,
                       " gradient expressions, got ", grad.size(), " (dimension mismatch)");
@@ -201,9 +208,15 @@ class ExpressionFunction final : public ScalarFunction {
     return g;
   }
   Real laplacian(const Vec3& x) const override { return lap_ ? (*lap_)(x) : ScalarFunction::laplacian(x); }
+  // A parser binds its variables to its own storage: a copy is parsed afresh.
+  std::unique_ptr<ScalarFunction> clone() const override {
+    return std::make_unique<ExpressionFunction>(u_.text(), dim, grad_text_, lap_text_);
+  }
 
  private:
   Expression u_;
+  std::vector<std::string> grad_text_;
+  std::string lap_text_;
   std::vector<Expression> grad_;
   std::unique_ptr<Expression> lap_;
 };
@@ -224,14 +237,71 @@ std::unique_ptr<ScalarFunction> make_function_or_expression(const std::string& s
 
 Real DivAGradOf::value(const Vec3& x) const { return exact_operator(OperatorKind::DivAGrad, u_, &a_, x, 0); }
 
+std::unique_ptr<ScalarFunction> DivAGradOf::clone() const {
+  std::shared_ptr<const ScalarFunction> u = u_.clone(), a = a_.clone();
+  if (!u || !a) return nullptr;
+  return std::unique_ptr<ScalarFunction>(new DivAGradOf(std::move(u), std::move(a)));
+}
+
+namespace {
+// Below this many particles the copies cost more than the threads save.
+constexpr Index parallel_sampling_threshold = 4096;
+
+// body(fs, i) for every particle i, where fs are the functions (nullptr entries allowed)
+// or, on other threads, clones of them. Serial if one cannot be cloned or the cloud is
+// small. Each value depends only on its particle, so the result does not depend on the
+// thread count; of the exceptions thrown, the one of the lowest particle index is
+// rethrown (the one a serial loop would have met first).
+template <class Body>
+void for_each_sample(std::vector<const ScalarFunction*> fs, Index n, Body body) {
+  bool cloneable = n >= parallel_sampling_threshold;
+  for (const ScalarFunction* f : fs)
+    if (f && cloneable) cloneable = f->clone() != nullptr;
+  if (!cloneable) {
+    for (Index i = 0; i < n; ++i) body(fs, i);
+    return;
+  }
+  std::exception_ptr failure;
+  Index failed_at = n;
+#pragma omp parallel
+  {
+    std::vector<std::unique_ptr<ScalarFunction>> own;
+    std::vector<const ScalarFunction*> mine = fs;
+#ifdef _OPENMP
+    if (omp_get_thread_num() != 0)
+      for (auto& f : mine)
+        if (f) f = own.emplace_back(f->clone()).get();
+#endif
+    std::exception_ptr local;
+    Index local_at = n;
+#pragma omp for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      if (local) continue;
+      try {
+        body(mine, i);
+      } catch (...) {
+        local = std::current_exception();
+        local_at = i;
+      }
+    }
+#pragma omp critical(vrsph_sampling_failure)
+    if (local && local_at < failed_at) {
+      failure = local;
+      failed_at = local_at;
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+}
+}  // namespace
+
 Field sample(const ScalarFunction& u, const PointCloud& cloud) {
   Field out(cloud.size());
-  for (Index i = 0; i < cloud.size(); ++i) {
+  for_each_sample({&u}, cloud.size(), [&](const std::vector<const ScalarFunction*>& f, Index i) {
     const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-    out[i] = u.value(x);
+    out[i] = f[0]->value(x);
     check<InputError>(std::isfinite(out[i]), "function '", u.name(), "' is not finite (", out[i], ") at particle ", i,
                       " (", x[0], ", ", x[1], ", ", x[2], ")");
-  }
+  });
   return out;
 }
 
@@ -241,6 +311,15 @@ Field sample(const ScalarFunction& u, const PointCloud& cloud, const std::string
   } catch (const InputError& e) {
     throw InputError(role + ": " + e.what());
   }
+}
+
+Eigen::MatrixXd sample_gradient(const ScalarFunction& u, const PointCloud& cloud) {
+  Eigen::MatrixXd out(cloud.size(), cloud.dim);
+  for_each_sample({&u}, cloud.size(), [&](const std::vector<const ScalarFunction*>& f, Index i) {
+    const Vec3 g = f[0]->gradient(cloud.positions[static_cast<std::size_t>(i)]);
+    for (int c = 0; c < cloud.dim; ++c) out(i, c) = g[c];
+  });
+  return out;
 }
 
 Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const Vec3& x, int component) {
@@ -261,14 +340,14 @@ Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunc
 Eigen::MatrixXd sample_exact(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const PointCloud& cloud) {
   const int nc = components(kind, cloud.dim);
   Eigen::MatrixXd out(cloud.size(), nc);
-  for (Index i = 0; i < cloud.size(); ++i) {
+  for_each_sample({&u, a}, cloud.size(), [&](const std::vector<const ScalarFunction*>& f, Index i) {
     const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
     for (int c = 0; c < nc; ++c) {
-      out(i, c) = exact_operator(kind, u, a, x, c);
+      out(i, c) = exact_operator(kind, *f[0], f[1], x, c);
       check<InputError>(std::isfinite(out(i, c)), "exact ", to_string(kind), " of '", u.name(), "' is not finite at particle ",
                         i, " (", x[0], ", ", x[1], ", ", x[2], ")");
     }
-  }
+  });
   return out;
 }
 

@@ -31,32 +31,33 @@ PointCloud tensor_cloud(const Domain& box, const std::vector<std::vector<Real>>&
   for (int k = 0; k < box.dim; ++k) total_estimate *= static_cast<double>(axes[static_cast<std::size_t>(k)].size());
   check_memory_estimate(total_estimate * bytes_per_particle, detail::concat("the point cloud (", total_estimate, " particles)"),
                         "reduce --n (intervals per direction) or the dimension");
-  const auto total = static_cast<std::size_t>(total_estimate);
-  c.positions.reserve(total);
-  c.tags.reserve(total);
-  c.normals.reserve(total);
   const std::size_t nx = axes[0].size(), ny = box.dim > 1 ? axes[1].size() : 1, nz = box.dim > 2 ? axes[2].size() : 1;
+  const std::size_t total = nx * ny * nz;
+  c.positions.resize(total);
+  c.tags.resize(total);
+  c.normals.resize(total);
   const Real tol = 1e-12 * spacing;
-  for (std::size_t kz = 0; kz < nz; ++kz)
-    for (std::size_t ky = 0; ky < ny; ++ky)
-      for (std::size_t kx = 0; kx < nx; ++kx) {
-        Vec3 x = Vec3::Zero();
-        x[0] = axes[0][kx];
-        if (box.dim > 1) x[1] = axes[1][ky];
-        if (box.dim > 2) x[2] = axes[2][kz];
-        const Real sd = box.signed_distance(x);
-        Tag tag = Tag::Interior;
-        Vec3 normal = Vec3::Zero();
-        if (sd < -tol) {
-          tag = Tag::Ghost;
-        } else if (sd <= tol) {
-          tag = Tag::Dirichlet;
-          normal = box.outward_normal(x, tol);
-        }
-        c.positions.push_back(x);
-        c.tags.push_back(tag);
-        c.normals.push_back(normal);
-      }
+  // x fastest, then y, then z: particle (kx, ky, kz) is number kx + nx (ky + ny kz).
+#pragma omp parallel for schedule(static) if (total > 4096)
+  for (std::size_t flat = 0; flat < total; ++flat) {
+    const std::size_t kx = flat % nx, ky = flat / nx % ny, kz = flat / (nx * ny);
+    Vec3 x = Vec3::Zero();
+    x[0] = axes[0][kx];
+    if (box.dim > 1) x[1] = axes[1][ky];
+    if (box.dim > 2) x[2] = axes[2][kz];
+    const Real sd = box.signed_distance(x);
+    Tag tag = Tag::Interior;
+    Vec3 normal = Vec3::Zero();
+    if (sd < -tol) {
+      tag = Tag::Ghost;
+    } else if (sd <= tol) {
+      tag = Tag::Dirichlet;
+      normal = box.outward_normal(x, tol);
+    }
+    c.positions[flat] = x;
+    c.tags[flat] = tag;
+    c.normals[flat] = normal;
+  }
   return c;
 }
 
@@ -114,6 +115,8 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
                     o.regular_layer);
   const bool bounded = cloud.count(Tag::Dirichlet) + cloud.count(Tag::Neumann) > 0;
   const Real amp = o.delta * cloud.spacing;
+  // Each particle's step depends only on (seed, particle, axis): threads change nothing.
+#pragma omp parallel for schedule(static) if (cloud.size() > 4096)
   for (Index i = 0; i < cloud.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     const Tag tag = cloud.tags[si];
@@ -149,6 +152,7 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
     cloud.positions[si] = x;
   }
   if (!bounded && cloud.domain.shape != Domain::Shape::None) {
+#pragma omp parallel for schedule(static) if (cloud.size() > 4096)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
       cloud.tags[si] = cloud.domain.signed_distance(cloud.positions[si]) >= 0 ? Tag::Interior : Tag::Ghost;

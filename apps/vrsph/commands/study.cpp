@@ -198,7 +198,8 @@ void add_solve_command(CLI::App& app) {
                {"error_l2", r.errors.all.l2}, {"mmatrix", r.m_matrix}, {"infeasible", static_cast<long long>(r.infeasible)},
                {"solver", r.solve.solver}, {"solver_iterations", static_cast<long long>(r.solve.iterations)},
                {"solver_residual", r.solve.residual},
-               {"seconds_total", r.seconds_cloud + r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble + r.seconds_solve},
+               {"seconds_total", r.seconds_cloud + r.seconds_data + r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble +
+                                     r.seconds_solve},
                {"vtu", a->vtu}});
     std::cout << format_table(t, parse_table_format(a->out.format));
   });

@@ -80,6 +80,7 @@ struct BvpRun {
   std::vector<Index> infeasible_particles;  ///< first few, for messages
   SolveReport solve;
   double seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
+  double seconds_data = 0;  ///< sampling a, f, g, q and the exact u, and the error norms
   double peak_memory_mib = 0;  ///< peak resident memory of the process when this run ended
   /// With BvpStudyParams::measure_memory: peak resident bytes during the cloud stage, and
   /// the solve's stages (BvpSolution::stage_peak_bytes).

@@ -5,7 +5,9 @@
 //
 // Expression functions evaluate derivatives the user did not give by 4th-order
 // central differences (step 1e-3 * max(1, |x|)), accurate to ~1e-10 for smooth
-// functions. Expression objects are not thread-safe: sample them serially.
+// functions. An Expression object is not thread-safe; sample() and sample_exact() give
+// every thread its own copy (clone()), so sampling is parallel and its values do not
+// depend on the thread count.
 #include <memory>
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>
@@ -20,6 +22,9 @@ class ScalarFunction {
   virtual Real value(const Vec3& x) const = 0;
   virtual Vec3 gradient(const Vec3& x) const;  ///< default: finite differences of value()
   virtual Real laplacian(const Vec3& x) const; ///< default: finite differences of value()
+  /// An independent copy another thread may evaluate while this one is in use. The
+  /// default (nullptr) marks a function that cannot be copied: it is then sampled serially.
+  virtual std::unique_ptr<ScalarFunction> clone() const { return nullptr; }
   int dim = 2;
 };
 
@@ -56,16 +61,21 @@ class Expression {
 };
 
 /// f = div(a grad u) from u and a (exact for catalogue functions, finite differences of
-/// expressions otherwise). Keeps references: u and a must outlive it.
+/// expressions otherwise). Keeps references: u and a must outlive it (its clones own
+/// clones of u and a).
 class DivAGradOf final : public ScalarFunction {
  public:
   DivAGradOf(const ScalarFunction& u, const ScalarFunction& a) : u_(u), a_(a) { dim = u.dim; }
   std::string name() const override { return "div(a grad u)"; }
   Real value(const Vec3& x) const override;
+  std::unique_ptr<ScalarFunction> clone() const override;
 
  private:
+  DivAGradOf(std::shared_ptr<const ScalarFunction> u, std::shared_ptr<const ScalarFunction> a)
+      : u_(*u), a_(*a), owned_u_(std::move(u)), owned_a_(std::move(a)) { dim = u_.dim; }
   const ScalarFunction& u_;
   const ScalarFunction& a_;
+  std::shared_ptr<const ScalarFunction> owned_u_, owned_a_;  // set in clones only
 };
 
 /// u at every particle; throws InputError naming the particle if a value is not finite.
@@ -73,6 +83,8 @@ Field sample(const ScalarFunction& u, const PointCloud& cloud);
 /// The same, with the function's role in the problem first in the message (e.g. "the
 /// exact solution u (--u)"), so a value that is not finite is named as the user gave it.
 Field sample(const ScalarFunction& u, const PointCloud& cloud, const std::string& role);
+/// N x dim matrix of grad u at the particles (the coefficient gradient of Taylor methods).
+Eigen::MatrixXd sample_gradient(const ScalarFunction& u, const PointCloud& cloud);
 /// Exact value of the operator applied to u at x (component c of the gradient);
 /// DivAGrad needs a: a Δu + ∇a·∇u.
 Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const Vec3& x, int component);
