@@ -32,7 +32,7 @@ std::vector<std::string> split(const std::string& line) {
 }
 }  // namespace
 
-PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
+CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int dim) {
   check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
   std::string line;
   std::size_t lineno = 0;
@@ -56,12 +56,20 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
   const auto header = split(line);
   std::map<std::string, std::size_t> col;
   static const std::vector<std::string> known = {"x", "y", "z", "tag", "nx", "ny", "nz"};
+  CloudFile out;
+  out.source = name;
+  std::vector<std::size_t> extra_col;  // header position of each extra field
   for (std::size_t k = 0; k < header.size(); ++k) {
     const std::string h = trim_lower(header[k]);
-    check<InputError>(std::find(known.begin(), known.end(), h) != known.end(), name, ":", lineno, ": unknown column '",
-                      printable(header[k]), "' in header (expected x,y,z,tag[,nx,ny,nz])");
+    check<InputError>(!h.empty(), name, ":", lineno, ": column ", k + 1, " of the header has no name");
     check<InputError>(!col.count(h), name, ":", lineno, ": column '", h, "' appears twice in the header");
     col[h] = k;
+    if (std::find(known.begin(), known.end(), h) == known.end()) {
+      check<InputError>(h.find_first_of("\"<>&") == std::string::npos, name, ":", lineno, ": column name '",
+                        printable(header[k]), "' contains a quote or <, >, & (not usable as a field name)");
+      out.fields.push_back({h, Field()});
+      extra_col.push_back(k);
+    }
   }
   check<InputError>(col.count("x") && col.count("tag"), name, ":", lineno,
                     ": header must contain at least the columns x and tag (got '", printable(line), "')");
@@ -75,9 +83,10 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
   check<InputError>(!normals || (col.count("ny") > 0) == (coord_cols > 1), name,
                     ": normal columns must match the coordinate columns (nx[,ny[,nz]])");
 
-  PointCloud c;
+  PointCloud& c = out.cloud;
   c.dim = 3;
   Vec3 any_nonzero = Vec3::Zero();
+  std::vector<std::vector<Real>> extra(extra_col.size());
   while (std::getline(in, line)) {
     ++lineno;
     refuse_nul();
@@ -85,15 +94,15 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
     const auto f = split(line);
     check<InputError>(f.size() == header.size(), name, ":", lineno, ": expected ", header.size(), " fields, found ",
                       f.size());
+    auto number_at = [&](std::size_t k, const std::string& key) -> Real {
+      const auto v = parse_real(f[k]);
+      check<InputError>(v.has_value(), name, ":", lineno, ": column ", key, ": '", printable(f[k]), "' is not a number");
+      check<InputError>(std::isfinite(*v), name, ":", lineno, ": column ", key, " is not finite (", printable(f[k]), ")");
+      return *v;
+    };
     auto number = [&](const char* key) -> Real {
       const auto it = col.find(key);
-      if (it == col.end()) return 0;
-      const auto v = parse_real(f[it->second]);
-      check<InputError>(v.has_value(), name, ":", lineno, ": column ", key, ": '", printable(f[it->second]),
-                        "' is not a number");
-      check<InputError>(std::isfinite(*v), name, ":", lineno, ": column ", key, " is not finite (",
-                        printable(f[it->second]), ")");
-      return *v;
+      return it == col.end() ? 0 : number_at(it->second, key);
     };
     Vec3 x(number("x"), number("y"), number("z"));
     for (int k = 0; k < 3; ++k)
@@ -107,6 +116,7 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
     c.positions.push_back(x);
     c.tags.push_back(tag);
     if (normals) c.normals.emplace_back(number("nx"), number("ny"), number("nz"));
+    for (std::size_t e = 0; e < extra_col.size(); ++e) extra[e].push_back(number_at(extra_col[e], out.fields[e].name));
   }
   check<InputError>(!c.positions.empty(), name, ": no particles after the header");
   int inferred = 1;
@@ -125,18 +135,26 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
     for (auto& n : c.normals)
       for (int k = c.dim; k < 3; ++k) n[k] = 0;
   validate(c);
-  return c;
+  for (std::size_t e = 0; e < extra.size(); ++e)
+    out.fields[e].values = Eigen::Map<const Field>(extra[e].data(), static_cast<Eigen::Index>(extra[e].size()));
+  return out;
 }
 
-PointCloud read_csv(const std::string& path, int dim) {
+PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
+  return read_csv_with_fields(in, name, dim).cloud;
+}
+
+CloudFile read_csv_with_fields(const std::string& path, int dim) {
   std::error_code ec;
   check<IoError>(!std::filesystem::is_directory(path, ec), "point cloud file '", path,
                  "' is a directory, not a file");
   std::ifstream in(path);
   check<IoError>(static_cast<bool>(in), "cannot open point cloud file '", path, "'",
                  std::filesystem::exists(path, ec) ? " (permission denied?)" : " (no such file)");
-  return read_csv(in, path, dim);
+  return read_csv_with_fields(in, path, dim);
 }
+
+PointCloud read_csv(const std::string& path, int dim) { return read_csv_with_fields(path, dim).cloud; }
 
 namespace {
 void write_rows(std::ostream& out, const PointCloud& c) {

@@ -1,32 +1,67 @@
 #include <cmath>
 #include <memory>
+#include <tuple>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/problem/from_expressions.hpp>
 
 namespace vrsph {
 
-ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpressions& e) {
+namespace {
+// Checks a value array for a role: one finite value per particle.
+void check_values(const Field& v, const PointCloud& cloud, const char* role) {
+  check<InputError>(v.size() == cloud.size(), role, ": ", v.size(), " values for ", cloud.size(), " particles");
+  for (Index i = 0; i < v.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    check<InputError>(std::isfinite(v[i]), role, " is not finite (", v[i], ") at particle ", i, " (", x[0], ", ", x[1],
+                      ", ", x[2], ")");
+  }
+}
+}  // namespace
+
+ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpressions& e, const ProblemValues& v) {
   validate(cloud);
   const int dim = cloud.dim;
-  const bool has_u = !e.u.empty();
+  for (const auto& [expr, values, role] : {std::tuple{&e.u, v.u, "u"}, std::tuple{&e.a, v.a, "a"},
+                                          std::tuple{&e.f, v.f, "f"}, std::tuple{&e.g, v.g, "g"},
+                                          std::tuple{&e.q, v.q, "q"}})
+    check<ConfigError>(expr->empty() || values == nullptr, "give ", role, " either as an expression (--", role,
+                       ") or as values (--", role, "-column), not both");
+  const bool has_u = !e.u.empty() || v.u;
+  const bool has_f = !e.f.empty() || v.f;
   const bool dirichlet = cloud.count(Tag::Dirichlet) > 0, neumann = cloud.count(Tag::Neumann) > 0;
-  check<ConfigError>(has_u || !e.f.empty(), "without an exact solution --u the right-hand side --f is required");
-  check<ConfigError>(has_u || !dirichlet || !e.g.empty(), "the cloud has ", cloud.count(Tag::Dirichlet),
+  check<ConfigError>(has_u || has_f, "without an exact solution --u the right-hand side --f is required");
+  check<ConfigError>(has_f || (!v.u && !v.a), "f = div(a grad u) cannot be derived from values of ", v.u ? "u" : "a",
+                     " (a column): give the right-hand side --f or --f-column");
+  check<ConfigError>(has_u || !dirichlet || !e.g.empty() || v.g, "the cloud has ", cloud.count(Tag::Dirichlet),
                      " Dirichlet particles: give their values with --g (or an exact solution --u)");
-  check<ConfigError>(has_u || !neumann || !e.q.empty(), "the cloud has ", cloud.count(Tag::Neumann),
+  check<ConfigError>(has_u || !neumann || !e.q.empty() || v.q, "the cloud has ", cloud.count(Tag::Neumann),
                      " Neumann particles: give the flux a du/dn with --q (or an exact solution --u)");
-  const auto u = has_u ? make_function_or_expression(e.u, dim) : nullptr;
-  const auto a = make_function_or_expression(e.a.empty() ? "one" : e.a, dim);
+  check<ConfigError>(!neumann || !e.q.empty() || v.q || !v.u, "the cloud has ", cloud.count(Tag::Neumann),
+                     " Neumann particles and u is given as values: a du/dn cannot be derived, give --q or --q-column");
+  for (const auto& [values, role] : {std::pair{v.u, "the exact solution u (--u-column)"},
+                                     std::pair{v.a, "the coefficient a (--a-column)"},
+                                     std::pair{v.f, "the right-hand side f (--f-column)"},
+                                     std::pair{v.g, "the Dirichlet data g (--g-column)"},
+                                     std::pair{v.q, "the Neumann data q (--q-column)"}})
+    if (values) check_values(*values, cloud, role);
+  const auto u = e.u.empty() ? nullptr : make_function_or_expression(e.u, dim);
+  const auto a = v.a ? nullptr : make_function_or_expression(e.a.empty() ? "one" : e.a, dim);
   ExpressionProblem out;
   BoundaryValueProblem& p = out.problem;
   if (u) out.exact = sample(*u, cloud, "the exact solution u (--u)");
-  p.a = sample(*a, cloud, "the coefficient a (--a)");
-  const auto f = e.f.empty() ? std::unique_ptr<ScalarFunction>(std::make_unique<DivAGradOf>(*u, *a))
-                             : make_function_or_expression(e.f, dim);
-  p.f = sample(*f, cloud, e.f.empty() ? "the right-hand side f = div(a grad u)" : "the right-hand side f (--f)");
-  if (!e.g.empty()) p.g = sample(*make_function_or_expression(e.g, dim), cloud, "the Dirichlet data g (--g)");
-  else if (u) p.g = out.exact;
+  else if (v.u) out.exact = *v.u;
+  p.a = v.a ? *v.a : sample(*a, cloud, "the coefficient a (--a)");
+  if (v.f) {
+    p.f = *v.f;
+  } else {
+    const auto f = e.f.empty() ? std::unique_ptr<ScalarFunction>(std::make_unique<DivAGradOf>(*u, *a))
+                               : make_function_or_expression(e.f, dim);
+    p.f = sample(*f, cloud, e.f.empty() ? "the right-hand side f = div(a grad u)" : "the right-hand side f (--f)");
+  }
+  if (v.g) p.g = *v.g;
+  else if (!e.g.empty()) p.g = sample(*make_function_or_expression(e.g, dim), cloud, "the Dirichlet data g (--g)");
+  else if (has_u) p.g = out.exact;
   else p.g = Field::Zero(cloud.size());  // no Dirichlet particle reads it
   if (neumann) {
     const auto q = e.q.empty() ? nullptr : make_function_or_expression(e.q, dim);
@@ -35,7 +70,7 @@ ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpres
       const auto si = static_cast<std::size_t>(i);
       if (cloud.tags[si] != Tag::Neumann) continue;
       const Vec3& x = cloud.positions[si];
-      p.q[i] = q ? q->value(x) : p.a[i] * u->gradient(x).dot(cloud.normals[si]);
+      p.q[i] = v.q ? (*v.q)[i] : q ? q->value(x) : p.a[i] * u->gradient(x).dot(cloud.normals[si]);
       check<InputError>(std::isfinite(p.q[i]), "the Neumann data q", q ? " (--q)" : " = a du/dn", " is not finite at particle ",
                         i, " (", x[0], ", ", x[1], ", ", x[2], ")");
     }

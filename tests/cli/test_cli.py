@@ -404,6 +404,37 @@ class CloudFile(unittest.TestCase):
         self.assertLess(out["fitted_order_inf"]["sph"], 0.8)  # SPH does not converge on perturbed particles
         self.assertIsNone(rows[0]["order_inf"])
 
+    def test_data_from_columns_of_the_file(self):
+        """a, f, g and u as extra CSV columns give the same solution as the same data as expressions."""
+        with tempfile.TemporaryDirectory() as d:
+            c = self.cloud(d, 24)
+            with open(c, encoding="utf-8") as f:
+                lines = f.read().strip().split("\n")
+            header = lines[0].split(",")
+            ix, iy = header.index("x"), header.index("y")
+            with_columns = os.path.join(d, "cols.csv")
+            with open(with_columns, "w", encoding="utf-8") as f:
+                f.write(lines[0] + ",coef,rhs,boundary,exact,volume\n")
+                for line in lines[1:]:
+                    x, y = float(line.split(",")[ix]), float(line.split(",")[iy])
+                    u = math.sin(math.pi * x) * math.sin(math.pi * y)
+                    ux, uy = math.pi * math.cos(math.pi * x) * math.sin(math.pi * y), math.pi * math.sin(math.pi * x) * math.cos(math.pi * y)
+                    a = 1 + x * x + y * y
+                    rhs = a * (-2 * math.pi ** 2 * u) + 2 * x * ux + 2 * y * uy
+                    f.write(f"{line},{a!r},{rhs!r},{u!r},{u!r},{1 / 24 ** 2!r}\n")
+            vtu = os.path.join(d, "s.vtu")
+            expr = run_json("solve", "--cloud-file", with_columns, "--u", self.U, "--a", self.A, "--vtu", vtu)["rows"][0]
+            cols = run_json("solve", "--cloud-file", with_columns, "--u-column", "exact", "--a-column", "COEF",
+                            "--f-column", "rhs", "--g-column", "boundary", "--volume-column", "volume",
+                            "--vtu", vtu)["rows"][0]
+            self.assertAlmostEqual(cols["error_inf"], expr["error_inf"], delta=1e-9)
+            self.assertEqual(cols["unknowns"], expr["unknowns"])
+            missing = run("solve", "--cloud-file", with_columns, "--u", self.U, "--a-column", "k", "--f-column", "rhs",
+                          "--vtu", vtu, check=False)
+            self.assertEqual(missing.returncode, 3)
+            self.assertIn("no column 'k' for --a-column (the file's extra columns: coef, rhs, boundary, exact, volume)",
+                          missing.stderr)
+
 
 if __name__ == "__main__":
     VRSPH = os.path.abspath(sys.argv.pop(1))

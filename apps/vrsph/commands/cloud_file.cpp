@@ -8,7 +8,7 @@
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
-#include <vrsph/io/csv.hpp>
+#include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>
 #include <vrsph/problem/from_expressions.hpp>
@@ -51,11 +51,26 @@ struct FileRun {
   double seconds = 0;
 };
 
-FileRun run_on_file(const StudyArgs& a, const std::string& path, const std::string& method,
+FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::string& path, const std::string& method,
                     const MethodOptions& method_options, double h) {
   Stopwatch watch;
   FileRun r;
-  r.ep = problem_from_expressions(read_csv(path, a.dim_opt->count() ? a.dim : 0), {a.u, a.a, a.f, a.g, a.q});
+  CloudFile cf = read_cloud_file(path, a.dim_opt->count() ? a.dim : 0);
+  const auto column = [&](const std::string& name, const char* option) {
+    return name.empty() ? nullptr : &cf.field(name, option);
+  };
+  const ProblemValues values{column(file.u_column, "--u-column"), column(file.a_column, "--a-column"),
+                             column(file.f_column, "--f-column"), column(file.g_column, "--g-column"),
+                             column(file.q_column, "--q-column")};
+  std::vector<Real> volumes;
+  if (!file.volume_column.empty()) {
+    const Field& v = cf.field(file.volume_column, "--volume-column");
+    for (Index i = 0; i < v.size(); ++i)
+      check<InputError>(v[i] > 0, path, ": --volume-column '", file.volume_column, "' is not positive (", v[i],
+                        ") at particle ", i);
+    volumes.assign(v.data(), v.data() + v.size());
+  }
+  r.ep = problem_from_expressions(cf.cloud, {a.u, a.a, a.f, a.g, a.q}, values);
   r.ep.problem.fix_constant = a.fix_constant;
   BvpSolveOptions o = solve_options(a, method, method_options, h);
   o.label = method + " on " + path;
@@ -65,8 +80,9 @@ FileRun run_on_file(const StudyArgs& a, const std::string& path, const std::stri
     const PointCloud& c = r.ep.problem.cloud;
     Eigen::MatrixXd err(c.size(), 1);
     err.col(0) = r.s.u - r.ep.exact;
-    const std::vector<Real> vol(static_cast<std::size_t>(c.size()), std::pow(r.s.spacing, c.dim));
-    r.errors = error_norms(err, unknown_mask(c), c, r.s.h, vol);
+    // L2 weights: the file's volumes, else the estimated spacing to the power d.
+    if (volumes.empty()) volumes.assign(static_cast<std::size_t>(c.size()), std::pow(r.s.spacing, c.dim));
+    r.errors = error_norms(err, unknown_mask(c), c, r.s.h, volumes);
   }
   r.seconds = watch.seconds();
   return r;
@@ -108,7 +124,27 @@ std::vector<std::pair<std::string, TableCell>> row_of(const std::string& method,
 const std::vector<std::string> base_columns = {
     "method", "particles", "unknowns", "dim", "spacing", "h", "mmatrix", "infeasible", "condition_max", "solver",
     "solver_iterations", "solver_residual", "neumann_imbalance"};
+const std::vector<std::pair<const char*, const char*>> column_options = {
+    {"--u-column", "the exact solution u"}, {"--a-column", "the coefficient a"}, {"--f-column", "the right-hand side f"},
+    {"--g-column", "the Dirichlet data g"}, {"--q-column", "the Neumann data a du/dn"}};
 }  // namespace
+
+void add_column_options(CLI::App* cmd, CloudFileArgs& file, const std::string& file_option) {
+  std::string* targets[] = {&file.u_column, &file.a_column, &file.f_column, &file.g_column, &file.q_column};
+  for (std::size_t k = 0; k < column_options.size(); ++k)
+    cmd->add_option(column_options[k].first, *targets[k],
+                    std::string("With ") + file_option + ": take " + column_options[k].second +
+                        " from this extra column of the file (instead of an expression)");
+  cmd->add_option("--volume-column", file.volume_column,
+                  "With " + file_option + ": particle volumes from this column, the weights of the L2 error "
+                  "(default: spacing^d)");
+}
+
+void reject_column_options(const CLI::App& cmd, const std::string& file_option) {
+  for (const auto& [opt, what] : column_options)
+    check<ConfigError>(cmd.count(opt) == 0, opt, " needs ", file_option, " (", what, " from a column of the cloud file)");
+  check<ConfigError>(cmd.count("--volume-column") == 0, "--volume-column needs ", file_option);
+}
 
 void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {
   reject_generator_options(cmd, "--cloud-file");
@@ -116,7 +152,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   const auto methods = parse_name_list(a.methods, "--method");
   check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
   const auto options = parse_method_options(a.method_opts, methods);
-  const FileRun r = run_on_file(a, file.path, methods.front(), options_for(options, methods.front()), file.h);
+  const FileRun r = run_on_file(a, file, file.path, methods.front(), options_for(options, methods.front()), file.h);
   const bool exact = r.ep.exact.size() > 0;
   std::vector<PointField> fields{{"U", r.s.u}, {"local_residual", r.s.local_residual}};
   if (exact) {
@@ -139,7 +175,7 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
   reject_generator_options(cmd, "--cloud-file-pattern");
   check<ConfigError>(file.pattern.find("{n}") != std::string::npos, "--cloud-file-pattern '", file.pattern,
                      "' must contain {n}, replaced by each value of --n (e.g. cloud_{n}.csv)");
-  check<ConfigError>(!a.u.empty(), "a convergence study needs the exact solution --u");
+  check<ConfigError>(!a.u.empty() || !file.u_column.empty(), "a convergence study needs the exact solution --u (or --u-column)");
   const auto methods = parse_name_list(a.methods, "--method");
   const auto levels = parse_int_list(a.n, "--n");
   const auto options = parse_method_options(a.method_opts, methods);
@@ -156,7 +192,7 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
       std::string path = file.pattern;
       path.replace(path.find("{n}"), 3, std::to_string(n));
       progress.update(m + " " + path, done / static_cast<double>(methods.size() * levels.size()));
-      const FileRun r = run_on_file(a, path, m, options_for(options, m), file.h);
+      const FileRun r = run_on_file(a, file, path, m, options_for(options, m), file.h);
       sizes.push_back(r.s.spacing);
       einf.push_back(r.errors.all.linf);
       el2.push_back(r.errors.all.l2);

@@ -139,9 +139,11 @@ void add_study_command(CLI::App& app) {
                   "--u required, --f/--g/--q default from it");
   cmd->add_option("--h", file->h, "With --cloud-file-pattern: absolute support radius (default: --h-factor x the "
                                   "robust spacing of each file)");
+  add_column_options(cmd, *file, "--cloud-file-pattern");
   cmd->callback([a, file, cmd] {
     validate_output(a->out);
     if (!file->pattern.empty()) return study_cloud_files(*a, *file, *cmd);
+    reject_column_options(*cmd, "--cloud-file-pattern");
     BvpStudyParams p = to_params(*a, parse_name_list(a->methods, "--method"));
     p.n = parse_int_list(a->n, "--n");
     if (!a->seeds.empty()) {
@@ -167,15 +169,18 @@ void add_solve_command(CLI::App& app) {
   auto file = std::make_shared<CloudFileArgs>();
   cmd->add_option("--n", *np, "Intervals per direction (layout A, dx = 1/n)")->capture_default_str();
   cmd->add_option("--cloud-file", file->path,
-                  "Solve on this CSV cloud (x,y,z,tag[,nx,ny,nz]) instead of a built-in one: tags and normals from the "
-                  "file, --f/--g/--q/--a evaluated at its points, --u optional (errors only with it)");
+                  "Solve on this CSV cloud (x,y,z,tag[,nx,ny,nz][,extra columns]) instead of a built-in one: tags and "
+                  "normals from the file, --f/--g/--q/--a evaluated at its points or taken from its columns "
+                  "(--f-column ...), --u optional (errors only with it)");
   cmd->add_option("--h", file->h, "With --cloud-file: absolute support radius (default: --h-factor x the cloud's "
                                   "robust spacing, see README)");
   cmd->add_option("--csv", file->csv, "With --cloud-file: also write the fields as CSV (x,y,z,tag,u,...)");
+  add_column_options(cmd, *file, "--cloud-file");
   cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
   cmd->callback([a, np, file, cmd] {
     if (!file->path.empty()) return solve_cloud_file(*a, *file, *cmd);
+    reject_column_options(*cmd, "--cloud-file");
     const auto methods = parse_name_list(a->methods, "--method");
     check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
     BvpStudyParams p = to_params(*a, methods);

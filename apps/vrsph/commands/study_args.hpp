@@ -37,7 +37,15 @@ void print_warnings(const std::vector<std::string>& warnings);
 struct CloudFileArgs {
   std::string path, pattern, csv;
   double h = 0;
+  // Extra columns of the file used as per-particle values (--u-column ...), and as the
+  // particle volumes weighting the L2 error (--volume-column).
+  std::string u_column, a_column, f_column, g_column, q_column, volume_column;
 };
+
+/// Adds --u-column, --a-column, --f-column, --g-column, --q-column and --volume-column.
+void add_column_options(CLI::App* cmd, CloudFileArgs& file, const std::string& file_option);
+/// Refuses the column options without a cloud file (they would be silently ignored).
+void reject_column_options(const CLI::App& cmd, const std::string& file_option);
 
 /// `vrsph solve --cloud-file`: one solve on the user's cloud.
 void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd);

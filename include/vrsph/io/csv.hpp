@@ -1,12 +1,14 @@
 #pragma once
 // Point clouds as CSV. Header line required; columns (any order, case-insensitive):
-//   x[,y[,z]], tag[, nx[,ny[,nz]]]
+//   x[,y[,z]], tag[, nx[,ny[,nz]]], and any further numeric columns (per-particle fields,
+//   e.g. a coefficient or a right-hand side: read_csv_with_fields keeps them).
 // tag is interior|dirichlet|neumann|ghost or 0..3. The dimension is the number of
 // coordinate columns up to the last one that is not identically zero, unless a
 // dimension is requested (then extra coordinates must be zero: else a mismatch).
 #include <iosfwd>
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/io/cloud_file.hpp>
 
 namespace vrsph {
 
@@ -15,6 +17,10 @@ namespace vrsph {
 /// unknown tag, dimension mismatch).
 PointCloud read_csv(const std::string& path, int dim = 0);
 PointCloud read_csv(std::istream& in, const std::string& name, int dim = 0);
+/// The cloud and its extra columns as fields (names lower-cased, in file order); every
+/// value of an extra column must be a finite number.
+CloudFile read_csv_with_fields(const std::string& path, int dim = 0);
+CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int dim = 0);
 /// Writes x,y,z,tag[,nx,ny,nz] with 17 significant digits (lossless round trip).
 void write_csv(const std::string& path, const PointCloud& cloud);
 void write_csv(std::ostream& out, const PointCloud& cloud);

@@ -15,6 +15,18 @@ struct ProblemExpressions {
   std::string f, g, q;
 };
 
+/// Per-particle values given directly (e.g. columns of the cloud file, `--f-column`); each
+/// replaces the expression of the same role, which must then be empty. Derived defaults
+/// need formulas: with u or a given as values, f = div(a grad u) cannot be derived (give f),
+/// nor, with u as values, q = a du/dn (give q).
+struct ProblemValues {
+  const Field* u = nullptr;
+  const Field* a = nullptr;
+  const Field* f = nullptr;
+  const Field* g = nullptr;
+  const Field* q = nullptr;
+};
+
 struct ExpressionProblem {
   BoundaryValueProblem problem;
   Field exact;  ///< u at every particle; empty without u
@@ -22,6 +34,6 @@ struct ExpressionProblem {
 
 /// Throws ConfigError naming the missing expression, InputError for an expression that
 /// does not parse or is not finite at a particle (naming its role and the particle).
-ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpressions& e);
+ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpressions& e, const ProblemValues& values = {});
 
 }  // namespace vrsph

@@ -1,6 +1,7 @@
 #include <sstream>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
 #include "test_util.hpp"
 
@@ -40,7 +41,8 @@ TEST(Csv, AcceptsColumnsInAnyOrderAndNumericTags) {
 TEST(Csv, MalformedInputIsReportedWithLineNumbers) {
   EXPECT_THROW_MSG(parse(""), InputError, "t.csv: empty file");
   EXPECT_THROW_MSG(parse("x,y\n1,2\n"), InputError, "at least the columns x and tag");
-  EXPECT_THROW_MSG(parse("x,y,w,tag\n"), InputError, "unknown column 'w'");
+  EXPECT_THROW_MSG(parse("x,y,,tag\n"), InputError, "column 3 of the header has no name");
+  EXPECT_THROW_MSG(parse("x,y,w,tag\n1,2,abc,0\n"), InputError, "t.csv:2: column w: 'abc' is not a number");
   EXPECT_THROW_MSG(parse("x,tag\n"), InputError, "no particles after the header");
   EXPECT_THROW_MSG(parse("x,y,tag\n1,2,0\n1,0\n"), InputError, "t.csv:3: expected 3 fields, found 2");
   EXPECT_THROW_MSG(parse("x,y,tag\n1,abc,0\n"), InputError, "t.csv:2: column y: 'abc' is not a number");
@@ -51,4 +53,18 @@ TEST(Csv, MalformedInputIsReportedWithLineNumbers) {
   EXPECT_THROW_MSG(parse("x,y,tag\n1,1,0\n", 3), InputError, "dimension mismatch: 3D requested but the file has only 2");
   EXPECT_THROW_MSG(parse("x,y,tag\n1,1,neumann\n"), InputError, "Neumann particle 0");
   EXPECT_THROW_MSG(read_csv("/nonexistent/cloud.csv"), InputError, "cannot open point cloud file '/nonexistent/cloud.csv'");
+}
+
+TEST(Csv, ExtraColumnsAreFields) {
+  std::istringstream in("x,y,Tag,Coef,rhs\n0,0,dirichlet,1.5,-2\n0.5,0.5,interior,2.5,3e-1\n");
+  const CloudFile f = read_csv_with_fields(in, "t.csv");
+  EXPECT_EQ(f.cloud.size(), 2);
+  ASSERT_EQ(f.fields.size(), 2u);
+  EXPECT_EQ(f.fields[0].name, "coef");  // names are case-insensitive, kept lower case
+  EXPECT_EQ(f.field("COEF", "--a-column")[1], 2.5);
+  EXPECT_EQ(f.field("rhs", "--f-column")[0], -2.0);
+  EXPECT_THROW_MSG((void)f.field("g", "--g-column"), InputError,
+                   "t.csv: no column 'g' for --g-column (the file's extra columns: coef, rhs)");
+  std::istringstream plain("x,y,tag\n0,0,0\n");
+  EXPECT_TRUE(read_csv_with_fields(plain, "p.csv").fields.empty());
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
+#include <vrsph/problem/from_expressions.hpp>
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -98,4 +99,29 @@ TEST(SolveBvp, BadProblemsAreTypedErrors) {
   o.method = "vrsph";
   o.h_factor = 100;
   EXPECT_THROW_MSG(solve(p, o), ConfigError, "exceeds the extent");
+}
+
+TEST(SolveBvp, ValuesInsteadOfExpressions) {
+  // The same problem from expressions and from per-particle values (as --a-column etc.
+  // give them) is the same problem.
+  const PointCloud c = l_shape(16);
+  const ExpressionProblem from_expr = problem_from_expressions(c, {"x*x + y", "1 + x", "", "", ""});
+  const Field a = from_expr.problem.a, f = from_expr.problem.f, g = from_expr.problem.g;
+  const ExpressionProblem from_values = problem_from_expressions(c, {"", "", "", "", ""}, {nullptr, &a, &f, &g, nullptr});
+  EXPECT_EQ(from_values.problem.a, a);
+  EXPECT_EQ(from_values.problem.f, f);
+  EXPECT_EQ(from_values.problem.g, g);
+  EXPECT_EQ(from_values.exact.size(), 0);
+  // Misuse is named.
+  EXPECT_THROW_MSG(problem_from_expressions(c, {"", "", "1", "", ""}, {nullptr, nullptr, &f, &g, nullptr}), ConfigError,
+                   "give f either as an expression (--f) or as values (--f-column), not both");
+  EXPECT_THROW_MSG(problem_from_expressions(c, {"x", "", "", "", ""}, {nullptr, &a, nullptr, nullptr, nullptr}), ConfigError,
+                   "cannot be derived from values of a");
+  const Field short_field = Field::Ones(3);
+  EXPECT_THROW_MSG(problem_from_expressions(c, {"", "", "", "", ""}, {nullptr, nullptr, &f, &short_field, nullptr}),
+                   InputError, "the Dirichlet data g (--g-column): 3 values for");
+  Field bad = g;
+  bad[4] = std::nan("");
+  EXPECT_THROW_MSG(problem_from_expressions(c, {"", "", "", "", ""}, {nullptr, nullptr, &f, &bad, nullptr}), InputError,
+                   "is not finite (nan) at particle 4");
 }

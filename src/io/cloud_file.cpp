@@ -1,0 +1,28 @@
+#include <algorithm>
+#include <cctype>
+#include <vrsph/core/error.hpp>
+#include <vrsph/io/cloud_file.hpp>
+#include <vrsph/io/csv.hpp>
+
+namespace vrsph {
+
+namespace {
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+}  // namespace
+
+const Field& CloudFile::field(const std::string& name, const std::string& wanted_for) const {
+  const std::string key = lower(name);
+  for (const auto& f : fields)
+    if (f.name == key) return f.values;
+  std::string have;
+  for (const auto& f : fields) have += (have.empty() ? "" : ", ") + f.name;
+  throw InputError(detail::concat(source, ": no column '", name, "' for ", wanted_for, " (the file's extra columns: ",
+                                  have.empty() ? "none" : have, ")"));
+}
+
+CloudFile read_cloud_file(const std::string& path, int dim) { return read_csv_with_fields(path, dim); }
+
+}  // namespace vrsph
