@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const int dim = data[0] % 4;  // 0 = infer from the columns
   std::istringstream in(std::string(reinterpret_cast<const char*>(data) + 1, size - 1));
   try {
-    const vrsph::PointCloud cloud = vrsph::read_csv(in, "fuzz.csv", dim);
+    const vrsph::PointCloud cloud = vrsph::read_csv_with_fields(in, "fuzz.csv", dim).cloud;
     const vrsph::Real spacing = vrsph::estimate_spacing(cloud);
     vrsph::SearchParams sp;
     sp.radius = 2.5 * spacing;

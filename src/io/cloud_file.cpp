@@ -1,8 +1,10 @@
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
+#include <vrsph/io/vtk_cloud.hpp>
 
 namespace vrsph {
 
@@ -23,6 +25,10 @@ const Field& CloudFile::field(const std::string& name, const std::string& wanted
                                   have.empty() ? "none" : have, ")"));
 }
 
-CloudFile read_cloud_file(const std::string& path, int dim) { return read_csv_with_fields(path, dim); }
+CloudFile read_cloud_file(const std::string& path, int dim) {
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  if (ext == ".vtu" || ext == ".vtp") return read_vtk_cloud(path, dim);
+  return read_csv_with_fields(path, dim);
+}
 
 }  // namespace vrsph

@@ -404,6 +404,17 @@ class CloudFile(unittest.TestCase):
         self.assertLess(out["fitted_order_inf"]["sph"], 0.8)  # SPH does not converge on perturbed particles
         self.assertIsNone(rows[0]["order_inf"])
 
+    def test_vtu_cloud_gives_the_csv_result(self):
+        with tempfile.TemporaryDirectory() as d:
+            csv_cloud = self.cloud(d, 24)
+            vtu_cloud = os.path.join(d, "c24.vtu")
+            run("cloud", "--input", csv_cloud, "--output", vtu_cloud)
+            out = os.path.join(d, "s.vtu")
+            a = run_json("solve", "--cloud-file", csv_cloud, "--u", self.U, "--a", self.A, "--vtu", out)["rows"][0]
+            b = run_json("solve", "--cloud-file", vtu_cloud, "--u", self.U, "--a", self.A, "--vtu", out)["rows"][0]
+            self.assertEqual(a["particles"], b["particles"])
+            self.assertEqual(a["error_inf"], b["error_inf"])  # 17 significant digits both ways: the same cloud
+
     def test_data_from_columns_of_the_file(self):
         """a, f, g and u as extra CSV columns give the same solution as the same data as expressions."""
         with tempfile.TemporaryDirectory() as d:

@@ -7,6 +7,7 @@
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
 #include <vrsph/io/vtu.hpp>
 #include <vrsph/neighbours/brute_force.hpp>
@@ -56,7 +57,7 @@ PointCloud generate(const CloudArgs& a) {
 void add_cloud_command(CLI::App& app) {
   auto a = std::make_shared<CloudArgs>();
   auto* cmd = app.add_subcommand("cloud", "Generate a point cloud, or inspect/convert one given with --input");
-  cmd->add_option("--input", a->input, "Read this CSV cloud (x,y,z,tag[,nx,ny,nz]) instead of generating one");
+  cmd->add_option("--input", a->input, "Read this cloud file (CSV x,y,z,tag[,nx,ny,nz][,fields], or VTU/VTP with a point array tag) instead of generating one");
   cmd->add_option("--output", a->output, "Write the cloud to this file (.csv or .vtu)");
   cmd->add_option("--format", a->format, "Report format: md, csv or json")->capture_default_str();
   cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk")->capture_default_str();
@@ -74,7 +75,7 @@ void add_cloud_command(CLI::App& app) {
     PointCloud cloud;
     if (!a->input.empty()) {
       const int dim = cmd->count("--dim") ? a->dim : 0;
-      cloud = read_csv(a->input, dim);
+      cloud = read_cloud_file(a->input, dim).cloud;
     } else {
       cloud = generate(*a);
     }

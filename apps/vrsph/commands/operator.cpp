@@ -4,6 +4,7 @@
 #include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/analysis/functions.hpp>
+#include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -39,7 +40,7 @@ void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
     check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --cloud-file (the cloud comes from the file; "
                                              "the expected values are the exact derivatives of --u)");
   check_h_knn_applies(a.h_knn_opt, a.h_mode);
-  const PointCloud cloud = read_csv(a.cloud_file, a.dim_opt->count() ? a.dim : 0);
+  const PointCloud cloud = read_cloud_file(a.cloud_file, a.dim_opt->count() ? a.dim : 0).cloud;
   const OperatorKind op = parse_operator(a.op);
   const auto methods = parse_name_list(a.methods, "--method");
   const auto options = parse_method_options(a.method_opts, methods);
@@ -120,7 +121,7 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against dx (log-log) into this PNG file");
   cmd->add_option("--cloud-file", a->cloud_file,
-                  "Evaluate the operator on this CSV cloud (x,y,z,tag,...) against the exact derivatives of --u: "
+                  "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., or VTU/VTP) against the exact derivatives of --u: "
                   "error over interior particles, and over the tagged boundary particles apart");
   cmd->callback([a, cmd] {
     validate_output(a->out);
