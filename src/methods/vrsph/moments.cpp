@@ -85,7 +85,11 @@ int moment_rows(MomentConditions c, int dim, MomentRows layout) {
 }
 
 void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Real* half_y, int n, Real* A, Real* b,
-                         MomentRows layout) {
+                         MomentRows layout, MatrixOrder order) {
+  // Entry (r, j) at A[r + j m] (column-major) or A[r n + j] (row-major).
+  const std::size_t rows_total = static_cast<std::size_t>(moment_rows(c, dim, layout));
+  const std::size_t row_step = order == MatrixOrder::ColumnMajor ? 1 : static_cast<std::size_t>(n);
+  const std::size_t col_step = order == MatrixOrder::ColumnMajor ? rows_total : 1;
   if (layout == MomentRows::Merged) {
     const auto& rows = merged_rows(c, dim);
     const std::size_t m = rows.size();
@@ -109,13 +113,12 @@ void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Rea
       mono[13] = mono[4] * z; mono[14] = mono[8] * x; mono[15] = mono[6] * y; mono[16] = mono[6] * z;
       mono[17] = mono[8] * y; mono[18] = mono[8] * z;
       const Real hy = half_y[j];
-      Real* col = A + static_cast<std::size_t>(j) * m;
-      for (std::size_t r = 0; r < m; ++r) col[r] = weight[r] * hy * mono[pick[r]];
+      Real* col = A + static_cast<std::size_t>(j) * col_step;
+      for (std::size_t r = 0; r < m; ++r) col[r * row_step] = weight[r] * hy * mono[pick[r]];
     }
     return;
   }
   const auto& alphas = moment_exponents(c, dim);
-  const int m = dim * static_cast<int>(alphas.size());
   for (int beta = 0; beta < dim; ++beta)
     for (std::size_t a = 0; a < alphas.size(); ++a) {
       const auto& al = alphas[a];
@@ -131,10 +134,11 @@ void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Rea
         for (int e = 0; e < alphas[a][static_cast<std::size_t>(k)]; ++e) p *= d[k];
       mono[a] = p;
     }
-    Real* col = A + static_cast<std::size_t>(j) * static_cast<std::size_t>(m);
+    Real* col = A + static_cast<std::size_t>(j) * col_step;
     for (int beta = 0; beta < dim; ++beta) {
       const Real s = half_y[j] * d[beta];
-      for (std::size_t a = 0; a < alphas.size(); ++a) col[static_cast<std::size_t>(beta) * alphas.size() + a] = s * mono[a];
+      for (std::size_t a = 0; a < alphas.size(); ++a)
+        col[(static_cast<std::size_t>(beta) * alphas.size() + a) * row_step] = s * mono[a];
     }
   }
 }

@@ -134,12 +134,13 @@ void NnlsSolver::reserve(int m, int n) {
 }
 
 template <int FixedRows>
-VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x, const NnlsOptions& options) {
+VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x,
+                                                     const NnlsOptions& options, MatrixOrder order) {
   // With FixedRows > 0 the row count is a compile-time constant: the short loops over
   // rows unroll and vectorise (the row counts VRSPH uses are instantiated below).
   const int m = FixedRows > 0 ? FixedRows : m_runtime;
   const auto M = static_cast<std::size_t>(m);
-  auto col = [&](int j) { return A + static_cast<std::size_t>(j) * M; };
+  const auto N = static_cast<std::size_t>(n);
   Real* Q = Q_.data();  // column-major m x m; A_P = Q R
   Real* R = R_.data();  // column-major m x (k <= m), upper triangular
   Real* qtb = qtb_.data();
@@ -147,21 +148,35 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
 
   std::fill(x, x + n, 0.0);
   std::fill(in_passive_.begin(), in_passive_.begin() + n, 0);
-  // Row-major copy of A: w = A^T r then runs over contiguous rows of n entries (vectorises;
-  // the column-major dot products of length m = 9 did not): +6% throughput in 2D. ||A||_1
-  // is taken in the same pass (as a separate runtime-m loop it was 11% of a 2D solve).
-  const auto N = static_cast<std::size_t>(n);
-  Real* At = at_.data();
+  // The solver works on A row-major (A^T's columns contiguous): w = A^T r then runs over
+  // contiguous rows of n entries (vectorises; column-major dot products of length m = 9 did
+  // not). Column-major input is transposed here; VRSPH builds its systems row-major and
+  // skips the copy. ||A||_1 (max column sum) comes from the same pass.
+  const Real* At = A;
   Real a_norm1 = 0;
-  for (int j = 0; j < n; ++j) {
-    const Real* a = col(j);
-    Real colsum = 0;
-    for (std::size_t i = 0; i < M; ++i) {
-      At[i * N + static_cast<std::size_t>(j)] = a[i];
-      colsum += std::abs(a[i]);
+  if (order == MatrixOrder::ColumnMajor) {
+    Real* copy = at_.data();
+    for (std::size_t j = 0; j < N; ++j) {
+      const Real* a = A + j * M;
+      Real colsum = 0;
+      for (std::size_t i = 0; i < M; ++i) {
+        copy[i * N + j] = a[i];
+        colsum += std::abs(a[i]);
+      }
+      a_norm1 = std::max(a_norm1, colsum);
     }
-    a_norm1 = std::max(a_norm1, colsum);
+    At = copy;
+  } else {
+    Real* colsum = w_.data();
+    std::fill(colsum, colsum + n, 0.0);
+    for (std::size_t i = 0; i < M; ++i)
+      for (std::size_t j = 0; j < N; ++j) colsum[j] += std::abs(At[i * N + j]);
+    for (std::size_t j = 0; j < N; ++j) a_norm1 = std::max(a_norm1, colsum[j]);
   }
+  // Column j of A gathered into out (m entries).
+  auto gather_column = [&](int j, Real* out) VRSPH_ALWAYS_INLINE {
+    for (std::size_t i = 0; i < M; ++i) out[i] = At[i * N + static_cast<std::size_t>(j)];
+  };
   const Tolerances tols = tolerances(a_norm1, m, n, options.tolerance);
   const Real tol = tols.w, xtol = tols.x;
   int k = 0;  // passive count
@@ -194,13 +209,12 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
     qtb[q] = -s * a + c * bq;
   };
   // w = A^T r with r = b - Q1 (Q1^T b), Q1 the k orthonormal columns spanning A_P. Columns
-  // in blocks of four with the partial sums in registers (one pass over A^T instead of m
-  // read-modify-write passes over w); returns ||r||.
+  // in blocks of eight with the partial sums in registers (one pass over A^T instead of m
+  // read-modify-write passes over w). The residual norm is not needed here: the result
+  // reports the true residual of the returned x, computed once at the end.
   auto gradient = [&]() VRSPH_ALWAYS_INLINE {
     for (std::size_t i = 0; i < M; ++i) r_[i] = b[i];
     for (int j = 0; j < k; ++j) sub_scaled(r_.data(), Q + static_cast<std::size_t>(j) * M, qtb[j], M);
-    Real res2 = 0;
-    for (std::size_t i = 0; i < M; ++i) res2 += r_[i] * r_[i];
     Real* w = w_.data();
     std::size_t j = 0;
     for (; j + 8 <= N; j += 8) {  // eight columns: two independent accumulators per row of A^T
@@ -233,7 +247,6 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
       w[j] = acc;
     }
     for (int p = 0; p < k; ++p) w[passive_[static_cast<std::size_t>(p)]] = -std::numeric_limits<Real>::infinity();  // never re-enters directly
-    return std::sqrt(res2);
   };
   // Appends column t as passive position k: classical Gram–Schmidt against the k passive
   // basis columns (the k dot products are independent, unlike modified GS's chain), with a
@@ -241,33 +254,26 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   // "twice is enough"). Returns false (factorisation unchanged) if t is numerically
   // dependent on the passive set.
   auto add_column = [&](int t) VRSPH_ALWAYS_INLINE {
-    // __restrict: the workspaces are distinct arrays and qk, Rk are columns the loops below
-    // read through no other pointer; without it every store to qk forced the projections
-    // to be reloaded and the loops stayed scalar.
-    const Real* __restrict a = col(t);
+    // __restrict: the workspaces are distinct arrays and qk (column t of A, then its
+    // orthogonalised copy) and Rk are read through no other pointer; without it every store
+    // to qk forced the projections to be reloaded and the loops stayed scalar.
     Real* __restrict qk = Q + static_cast<std::size_t>(k) * M;
+    gather_column(t, qk);
     Real* __restrict Rk = R + static_cast<std::size_t>(k) * M;
-    Real anorm2 = 0;
-    for (std::size_t i = 0; i < M; ++i) {
-      qk[i] = a[i];
-      anorm2 += a[i] * a[i];
-    }
+    const Real anorm2 = dot(qk, qk, M);
     for (int l = 0; l < k; ++l) Rk[l] = 0;
-    Real before2 = anorm2;
-    for (int pass = 0; pass < 2; ++pass) {
+    Real vnorm2 = anorm2;  // ||qk||^2 after the last pass
+    for (int pass = 0; pass < 2 && k > 0; ++pass) {
       Real* __restrict c = gs_.data();  // projections onto the passive basis
       for (int l = 0; l < k; ++l) c[l] = dot(Q + static_cast<std::size_t>(l) * M, qk, M);
       for (int l = 0; l < k; ++l) {
         sub_scaled(qk, Q + static_cast<std::size_t>(l) * M, c[l], M);
         Rk[l] += c[l];
       }
-      Real after2 = 0;
-      for (std::size_t i = 0; i < M; ++i) after2 += qk[i] * qk[i];
-      if (k == 0 || after2 > 0.5 * before2) break;  // ||q|| > ||a||/sqrt(2): orthogonal to working accuracy
-      before2 = after2;
+      const Real before2 = vnorm2;
+      vnorm2 = dot(qk, qk, M);
+      if (vnorm2 > 0.5 * before2) break;  // ||q|| > ||a||/sqrt(2): orthogonal to working accuracy
     }
-    Real vnorm2 = 0;
-    for (std::size_t i = 0; i < M; ++i) vnorm2 += qk[i] * qk[i];
     const Real vnorm = std::sqrt(vnorm2);
     if (vnorm <= 100 * eps * std::sqrt(anorm2) * m) return false;
     Real qb = 0;
@@ -277,7 +283,7 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
       qb += qk[i] * b[i];
     }
     Rk[k] = vnorm;
-    rinv_[static_cast<std::size_t>(k)] = 1 / vnorm;
+    rinv_[static_cast<std::size_t>(k)] = inv;
     qtb[k] = qb;
     passive_[static_cast<std::size_t>(k)] = t;
     xp_[static_cast<std::size_t>(k)] = 0;  // t comes from the zero set
@@ -349,7 +355,7 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
     return true;
   };
 
-  res.residual = gradient();
+  gradient();
   while (k < m && res.status == NnlsStatus::Converged) {
     // Entering column: largest multiplier among the zero set (first index on ties; passive
     // and rejected columns hold w = -inf).
@@ -364,7 +370,7 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
       continue;
     }
     if (res.status == NnlsStatus::IterationLimit) break;
-    res.residual = gradient();
+    gradient();
   }
   for (int p = 0; p < k; ++p) x[passive_[static_cast<std::size_t>(p)]] = std::max(xp_[static_cast<std::size_t>(p)], 0.0);
   res.passive = k;
@@ -372,7 +378,8 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   for (std::size_t i = 0; i < M; ++i) r_[i] = b[i];
   for (int p = 0; p < k; ++p) {
     const int j = passive_[static_cast<std::size_t>(p)];
-    sub_scaled(r_.data(), col(j), x[j], M);
+    gather_column(j, gs_.data());
+    sub_scaled(r_.data(), gs_.data(), x[j], M);
   }
   Real r2 = 0;
   for (std::size_t i = 0; i < M; ++i) r2 += r_[i] * r_[i];
@@ -380,21 +387,22 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   return res;
 }
 
-NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options) {
+NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
+                             MatrixOrder order) {
   check<InputError>(m >= 1 && n >= 0, "NNLS: invalid problem size ", m, " x ", n);
   reserve(m, n);
   switch (m) {
-    case 2: return solve_impl<2>(A, m, n, b, x, options);
-    case 3: return solve_impl<3>(A, m, n, b, x, options);
-    case 7: return solve_impl<7>(A, m, n, b, x, options);
-    case 9: return solve_impl<9>(A, m, n, b, x, options);
-    case 10: return solve_impl<10>(A, m, n, b, x, options);
-    case 12: return solve_impl<12>(A, m, n, b, x, options);
-    case 16: return solve_impl<16>(A, m, n, b, x, options);
-    case 19: return solve_impl<19>(A, m, n, b, x, options);
-    case 27: return solve_impl<27>(A, m, n, b, x, options);
-    case 30: return solve_impl<30>(A, m, n, b, x, options);
-    default: return solve_impl<0>(A, m, n, b, x, options);
+    case 2: return solve_impl<2>(A, m, n, b, x, options, order);
+    case 3: return solve_impl<3>(A, m, n, b, x, options, order);
+    case 7: return solve_impl<7>(A, m, n, b, x, options, order);
+    case 9: return solve_impl<9>(A, m, n, b, x, options, order);
+    case 10: return solve_impl<10>(A, m, n, b, x, options, order);
+    case 12: return solve_impl<12>(A, m, n, b, x, options, order);
+    case 16: return solve_impl<16>(A, m, n, b, x, options, order);
+    case 19: return solve_impl<19>(A, m, n, b, x, options, order);
+    case 27: return solve_impl<27>(A, m, n, b, x, options, order);
+    case 30: return solve_impl<30>(A, m, n, b, x, options, order);
+    default: return solve_impl<0>(A, m, n, b, x, options, order);
   }
 }
 

@@ -1,3 +1,4 @@
+#include <optional>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/volumes.hpp>
 
@@ -29,6 +30,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
     std::vector<Real> A(static_cast<std::size_t>(m) * static_cast<std::size_t>(max_count)), b(static_cast<std::size_t>(m)),
         half_y(static_cast<std::size_t>(max_count));
     std::vector<Vec3> xji(static_cast<std::size_t>(max_count));
+    std::optional<Kernel> ker;
 #pragma omp for schedule(dynamic, 64)
     for (Index i = 0; i < n; ++i) {
       const auto si = static_cast<std::size_t>(i);
@@ -39,16 +41,19 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
         std::fill(v, v + cnt, 0.0);
         continue;
       }
-      const Kernel ker = disc.kernel_at(i);
+      // The kernel changes only with the support radius (the same for every particle unless
+      // h varies): rebuilding it per particle (a pow and checks) was ~2% of the volumes.
+      if (!ker || nl.radius(i) != ker->support()) ker = disc.kernel_at(i);
       const auto nbr = nl.of(i);
       const auto dist = nl.distances_of(i);
-      ker.dW_over_r(dist.data(), half_y.data(), cnt);
+      ker->dW_over_r(dist.data(), half_y.data(), cnt);
       for (int k = 0; k < cnt; ++k) {
         xji[static_cast<std::size_t>(k)] = cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - cloud.positions[si];
         half_y[static_cast<std::size_t>(k)] = -half_y[static_cast<std::size_t>(k)];
       }
-      build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout);
-      const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, nnls);
+      // Row-major: the layout the solver works on, so it copies nothing.
+      build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
+      const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, nnls, MatrixOrder::RowMajor);
       out.residual[si] = r.residual;
       out.failed[si] = r.status != NnlsStatus::Converged;
       out.iterations[si] = r.iterations;

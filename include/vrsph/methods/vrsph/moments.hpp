@@ -11,6 +11,7 @@
 // Rows are unscaled and duplicates are kept (METHODS P6): scaling changes the minimiser.
 #include <array>
 #include <vrsph/core/types.hpp>
+#include <vrsph/methods/vrsph/nnls.hpp>
 
 namespace vrsph {
 
@@ -31,9 +32,10 @@ int moment_rows(MomentConditions c, int dim);
 enum class MomentRows { Merged, Full };
 int moment_rows(MomentConditions c, int dim, MomentRows layout);
 
-/// Fills the column-major rows x n matrix A (column j for neighbour j) and b (rows).
-/// xji[j] = x_j - x_i, half_y[j] = Y_ij / 2 = -W'(r_ij)/r_ij >= 0.
+/// Fills the rows x n matrix A (column j for neighbour j; column-major, or row-major as the
+/// NNLS solver works on it) and b (rows). xji[j] = x_j - x_i, half_y[j] = Y_ij / 2 =
+/// -W'(r_ij)/r_ij >= 0.
 void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Real* half_y, int n, Real* A, Real* b,
-                         MomentRows layout = MomentRows::Full);
+                         MomentRows layout = MomentRows::Full, MatrixOrder order = MatrixOrder::ColumnMajor);
 
 }  // namespace vrsph

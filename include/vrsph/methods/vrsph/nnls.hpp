@@ -27,6 +27,7 @@ struct NnlsOptions {
 };
 
 enum class NnlsStatus { Converged, IterationLimit };
+enum class MatrixOrder { ColumnMajor, RowMajor };
 
 struct NnlsResult {
   NnlsStatus status = NnlsStatus::Converged;
@@ -39,13 +40,16 @@ class NnlsSolver {
  public:
   /// Workspace for problems up to max_rows x max_cols (grown on demand, never shrunk).
   NnlsSolver(int max_rows = 30, int max_cols = 256);
-  /// A is column-major m x n (column j = A + j*m); x receives n values.
-  NnlsResult solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options = {});
+  /// A is m x n, column-major (column j = A + j*m) or row-major (row i = A + i*n, what the
+  /// solver works on: no copy); x receives n values.
+  NnlsResult solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options = {},
+                   MatrixOrder order = MatrixOrder::ColumnMajor);
 
  private:
   void reserve(int m, int n);
   template <int FixedRows>
-  NnlsResult solve_impl(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options);
+  NnlsResult solve_impl(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
+                        MatrixOrder order);
   std::vector<Real> Q_, R_, qtb_, z_, w_, r_, xp_, rinv_, at_, gs_;  // at_: A row-major (m x n)
   std::vector<int> passive_;  // column index per passive position
   std::vector<char> in_passive_;
