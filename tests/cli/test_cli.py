@@ -447,6 +447,37 @@ class CloudFile(unittest.TestCase):
                           missing.stderr)
 
 
+class ProblemFile(unittest.TestCase):
+    """vrsph solve/study --config problem.toml: keys are the options, the command line wins."""
+
+    def test_file_equals_command_line_and_command_line_wins(self):
+        with tempfile.TemporaryDirectory() as d:
+            sub = os.path.join(d, "case")
+            os.mkdir(sub)
+            run("cloud", "--family", "perturbed", "--n", "24", "--seed", "5", "--output", os.path.join(sub, "c.csv"))
+            toml = os.path.join(sub, "problem.toml")
+            with open(toml, "w", encoding="utf-8") as f:
+                f.write('method = "vrsph"\ncloud-file = "c.csv"   # relative to this file\n'
+                        '[problem]\nu = "sin(pi*x)*sin(pi*y)"\na = "1+x^2+y^2"\n'
+                        '[solver]\nsolver = "sparselu"\n[output]\nvtu = "u.vtu"\n')
+            from_file = run_json("solve", "--config", toml)["rows"][0]
+            self.assertTrue(os.path.exists(os.path.join(sub, "u.vtu")))  # relative to the file, not the cwd
+            direct = run_json("solve", "--cloud-file", os.path.join(sub, "c.csv"), "--u", "sin(pi*x)*sin(pi*y)",
+                              "--a", "1+x^2+y^2", "--solver", "sparselu", "--vtu", os.path.join(d, "v.vtu"))["rows"][0]
+            self.assertEqual(from_file["error_inf"], direct["error_inf"])
+            override = run_json("solve", "--config", toml, "--method", "fpm", "--vtu", os.path.join(d, "w.vtu"))["rows"][0]
+            self.assertEqual(override["method"], "fpm")
+            self.assertNotEqual(override["error_inf"], from_file["error_inf"])
+
+    def test_study_lists(self):
+        with tempfile.TemporaryDirectory() as d:
+            toml = os.path.join(d, "study.toml")
+            with open(toml, "w", encoding="utf-8") as f:
+                f.write('method = ["vrsph", "sph"]\nn = [8, 16]\nmethod-opt = ["vrsph:rows=full"]\n')
+            rows = run_json("study", "--config", toml)["rows"]
+        self.assertEqual([(r["method"], r["n"]) for r in rows], [("vrsph", 8), ("vrsph", 16), ("sph", 8), ("sph", 16)])
+
+
 if __name__ == "__main__":
     VRSPH = os.path.abspath(sys.argv.pop(1))
     unittest.main(verbosity=2)

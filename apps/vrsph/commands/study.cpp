@@ -8,6 +8,7 @@
 #include <vrsph/io/vtu.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
+#include "../problem_file.hpp"
 #include "study_args.hpp"
 
 namespace vrsph::cli {
@@ -140,7 +141,10 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--h", file->h, "With --cloud-file-pattern: absolute support radius (default: --h-factor x the "
                                   "robust spacing of each file)");
   add_column_options(cmd, *file, "--cloud-file-pattern");
-  cmd->callback([a, file, cmd] {
+  auto config = std::make_shared<std::string>();
+  add_config_option(cmd, *config);
+  cmd->callback([a, file, cmd, config] {
+    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--output", "--plot"});
     validate_output(a->out);
     if (!file->pattern.empty()) return study_cloud_files(*a, *file, *cmd);
     reject_column_options(*cmd, "--cloud-file-pattern");
@@ -178,7 +182,10 @@ void add_solve_command(CLI::App& app) {
   add_column_options(cmd, *file, "--cloud-file");
   cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
-  cmd->callback([a, np, file, cmd] {
+  auto config = std::make_shared<std::string>();
+  add_config_option(cmd, *config);
+  cmd->callback([a, np, file, cmd, config] {
+    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file", "--vtu", "--csv"});
     if (!file->path.empty()) return solve_cloud_file(*a, *file, *cmd);
     reject_column_options(*cmd, "--cloud-file");
     const auto methods = parse_name_list(a->methods, "--method");
