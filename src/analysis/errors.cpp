@@ -2,6 +2,7 @@
 #include <vector>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/search.hpp>
 
 namespace vrsph {
 
@@ -40,12 +41,16 @@ ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, 
   const Index n = cloud.size();
   std::vector<Real> e(static_cast<std::size_t>(n));
   std::vector<char> is_near(static_cast<std::size_t>(n));
+  // Distance to the boundary: the domain's where it is known, else to the nearest tagged
+  // boundary particle (a user's cloud from a file).
+  const bool known_domain = cloud.domain.shape != Domain::Shape::None;
+  const std::vector<Real> wall = known_domain ? std::vector<Real>{} : distance_to_tagged_boundary(cloud);
 #pragma omp parallel for schedule(static) if (n > 4096)
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (!rows[si]) continue;
     e[si] = err.row(i).norm();
-    is_near[si] = cloud.domain.signed_distance(cloud.positions[si]) < near_distance;
+    is_near[si] = (known_domain ? cloud.domain.signed_distance(cloud.positions[si]) : wall[si]) < near_distance;
   }
   Accumulator all, inner, near;
   for (Index i = 0; i < n; ++i) {

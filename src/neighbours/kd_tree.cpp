@@ -154,6 +154,20 @@ std::vector<Real> kth_neighbour_distance(const PointCloud& cloud, int k) {
   return d;
 }
 
+std::vector<Real> distance_to_tagged_boundary(const PointCloud& cloud) {
+  PointCloud wall;
+  wall.dim = cloud.dim;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Tag t = cloud.tags[static_cast<std::size_t>(i)];
+    if (t == Tag::Dirichlet || t == Tag::Neumann) wall.add(cloud.positions[static_cast<std::size_t>(i)], t);
+  }
+  if (wall.size() == 0) return std::vector<Real>(static_cast<std::size_t>(cloud.size()), std::numeric_limits<Real>::infinity());
+  std::vector<Real> d;
+  std::vector<Index> nearest;
+  detail::nearest_particles(wall, cloud.positions, d, nearest);
+  return d;
+}
+
 Real mean_nearest_neighbour_distance(const PointCloud& cloud) {
   if (cloud.size() < 2) return 0;
   const auto d = kth_neighbour_distance(cloud, 1);

@@ -117,6 +117,9 @@ std::vector<std::pair<std::string, TableCell>> row_of(const std::string& method,
   if (r.ep.exact.size()) {
     row.emplace_back("error_inf", r.errors.all.linf);
     row.emplace_back("error_l2", r.errors.all.l2);
+    // Split at one support radius from the nearest tagged boundary particle.
+    row.emplace_back("error_inf_interior", r.errors.interior.linf);
+    row.emplace_back("error_inf_boundary", r.errors.near_boundary.linf);
   }
   return row;
 }
@@ -163,7 +166,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   if (!file.csv.empty()) write_field_csv(file.csv, r);
   Table t;
   t.columns = base_columns;
-  if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2"});
+  if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"});
   t.columns.insert(t.columns.end(), {"seconds_total", "vtu"});
   auto row = row_of(methods.front(), r);
   row.emplace_back("vtu", a.vtu);
@@ -182,7 +185,8 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
   Table t;
   t.columns = {"n", "file"};
   t.columns.insert(t.columns.end(), base_columns.begin(), base_columns.end());
-  t.columns.insert(t.columns.end(), {"error_inf", "order_inf", "error_l2", "order_l2", "seconds_total"});
+  t.columns.insert(t.columns.end(), {"error_inf", "order_inf", "error_l2", "order_l2", "error_inf_interior",
+                                     "error_inf_boundary", "seconds_total"});
   nlohmann::ordered_json fitted = nlohmann::ordered_json::object();
   Progress progress;
   double done = 0;

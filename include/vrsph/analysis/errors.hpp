@@ -21,7 +21,8 @@ struct ErrorReport {
 
 /// err: N x c pointwise errors; rows: which particles count; near_distance: particles
 /// whose distance to the domain boundary is below it count as near-boundary (use the
-/// support radius: their kernels would be truncated without ghosts); volumes: N values
+/// support radius: their kernels would be truncated without ghosts; without a known domain
+/// the distance is to the nearest tagged boundary particle); volumes: N values
 /// or empty (equal volumes).
 ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
                         Real near_distance, std::span<const Real> volumes = {});

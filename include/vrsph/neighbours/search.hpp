@@ -43,5 +43,9 @@ ClosestPair closest_pair(const PointCloud& cloud);
 /// Distance from each particle to its k-th nearest other particle (k >= 1), e.g. for a
 /// per-particle smoothing radius h_i = factor * dist_k.
 std::vector<Real> kth_neighbour_distance(const PointCloud& cloud, int k);
+/// Per particle, the distance to the nearest tagged boundary particle (Dirichlet or
+/// Neumann; 0 for those themselves), infinity if the cloud has none: "near the boundary"
+/// for clouds without a known domain (users' files).
+std::vector<Real> distance_to_tagged_boundary(const PointCloud& cloud);
 
 }  // namespace vrsph

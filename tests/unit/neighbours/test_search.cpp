@@ -110,3 +110,17 @@ TEST(Search, KnnQueries) {
   EXPECT_NEAR(cp.distance, 0.1, 1e-12);
   EXPECT_NEAR(mean_nearest_neighbour_distance(c), 0.1, 1e-12);
 }
+
+TEST(Search, DistanceToTaggedBoundaryMatchesTheDomainOnALattice) {
+  // On a vertex lattice the nearest face point of an interior particle is a boundary
+  // particle, so the two distances agree; a cloud without boundary particles gives infinity.
+  const PointCloud c = vertex_lattice(Domain::unit_box(2), 10);
+  const std::vector<Real> d = distance_to_tagged_boundary(c);
+  ASSERT_EQ(static_cast<Index>(d.size()), c.size());
+  for (Index i = 0; i < c.size(); ++i)
+    EXPECT_NEAR(d[static_cast<std::size_t>(i)], c.domain.signed_distance(c.positions[static_cast<std::size_t>(i)]), 1e-12);
+  PointCloud inner;
+  inner.dim = 2;
+  inner.add(Vec3(0, 0, 0), Tag::Interior);
+  EXPECT_TRUE(std::isinf(distance_to_tagged_boundary(inner)[0]));
+}
