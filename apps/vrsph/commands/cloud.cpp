@@ -14,12 +14,13 @@
 #include <vrsph/neighbours/search.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
+#include "study_args.hpp"
 
 namespace vrsph::cli {
 
 namespace {
 struct CloudArgs {
-  std::string input, output, format = "md", family = "uniform", layout = "vertex", domain = "unit";
+  std::string input, output, format = "md", family = "uniform", layout = "vertex", domain = "unit", vtu_format = "binary";
   int dim = 2, n = 20, ghost_layers = 0;
   double delta = 0.5, h_factor = 3;
   std::uint64_t seed = 1;
@@ -59,6 +60,8 @@ void add_cloud_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("cloud", "Generate a point cloud, or inspect/convert one given with --input");
   cmd->add_option("--input", a->input, "Read this cloud file (CSV x,y,z,tag[,nx,ny,nz][,fields], or VTU/VTP with a point array tag) instead of generating one");
   cmd->add_option("--output", a->output, "Write the cloud to this file (.csv or .vtu)");
+  cmd->add_option("--vtu-format", a->vtu_format, "With --output .vtu: binary (base64, exact, smaller) or ascii")
+      ->capture_default_str();
   cmd->add_option("--format", a->format, "Report format: md, csv or json")->capture_default_str();
   cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk")->capture_default_str();
   cmd->add_option("--layout", a->layout, "Lattice layout: vertex (A, boundary on faces) or cells (B)")->capture_default_str();
@@ -72,6 +75,7 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--h-factor", a->h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
   cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
   cmd->callback([a, cmd] {
+    const VtuFormat vtu_format = parse_vtu_format(a->vtu_format);  // checked before any work
     PointCloud cloud;
     if (!a->input.empty()) {
       const int dim = cmd->count("--dim") ? a->dim : 0;
@@ -169,7 +173,7 @@ void add_cloud_command(CLI::App& app) {
       if (ends_with(a->output, ".vtu")) {
         Eigen::MatrixXd counts(cloud.size(), 1);
         for (Index i = 0; i < cloud.size(); ++i) counts(i, 0) = nl.count(i);
-        write_vtu(a->output, cloud, {{"neighbours", counts}});
+        write_vtu(a->output, cloud, {{"neighbours", counts}}, vtu_format);
       } else {
         check<ConfigError>(ends_with(a->output, ".csv"), "--output must end in .csv or .vtu, got '", a->output, "'");
         write_csv(a->output, cloud);

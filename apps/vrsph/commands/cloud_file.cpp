@@ -132,6 +132,11 @@ const std::vector<std::pair<const char*, const char*>> column_options = {
     {"--g-column", "the Dirichlet data g"}, {"--q-column", "the Neumann data a du/dn"}};
 }  // namespace
 
+VtuFormat parse_vtu_format(const std::string& s) {
+  check<ConfigError>(s == "binary" || s == "ascii", "--vtu-format must be binary or ascii, got '", s, "'");
+  return s == "ascii" ? VtuFormat::Ascii : VtuFormat::Binary;
+}
+
 void add_column_options(CLI::App* cmd, CloudFileArgs& file, const std::string& file_option) {
   std::string* targets[] = {&file.u_column, &file.a_column, &file.f_column, &file.g_column, &file.q_column};
   for (std::size_t k = 0; k < column_options.size(); ++k)
@@ -162,7 +167,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
     fields.push_back({"u_exact", r.ep.exact});
     fields.push_back({"error", r.s.u - r.ep.exact});
   }
-  write_vtu(a.vtu, r.ep.problem.cloud, fields);
+  write_vtu(a.vtu, r.ep.problem.cloud, fields, parse_vtu_format(a.vtu_format));
   if (!file.csv.empty()) write_field_csv(file.csv, r);
   Table t;
   t.columns = base_columns;

@@ -181,11 +181,13 @@ void add_solve_command(CLI::App& app) {
   cmd->add_option("--csv", file->csv, "With --cloud-file: also write the fields as CSV (x,y,z,tag,u,...)");
   add_column_options(cmd, *file, "--cloud-file");
   cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
+  cmd->add_option("--vtu-format", a->vtu_format, "VTU data: binary (base64, exact, smaller) or ascii")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
   auto config = std::make_shared<std::string>();
   add_config_option(cmd, *config);
   cmd->callback([a, np, file, cmd, config] {
     if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file", "--vtu", "--csv"});
+    (void)parse_vtu_format(a->vtu_format);  // checked before any work
     if (!file->path.empty()) return solve_cloud_file(*a, *file, *cmd);
     reject_column_options(*cmd, "--cloud-file");
     const auto methods = parse_name_list(a->methods, "--method");
@@ -201,7 +203,8 @@ void add_solve_command(CLI::App& app) {
     ex.col(0) = r.exact;
     err.col(0) = r.U - r.exact;
     res.col(0) = r.local_residual;
-    write_vtu(a->vtu, cloud, {{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}});
+    write_vtu(a->vtu, cloud, {{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}},
+              parse_vtu_format(a->vtu_format));
     Table t;
     t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
                  "solver_iterations", "solver_residual", "seconds_total", "vtu"};

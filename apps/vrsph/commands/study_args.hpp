@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include <vrsph/io/vtu.hpp>
 #include <vrsph/solve/solver.hpp>
 #include "../cli_common.hpp"
 
@@ -17,6 +18,7 @@ struct StudyArgs {
   std::uint64_t seed = 1;
   double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
   bool perturb_boundary = false, fix_constant = false, monitor = false;
+  std::string vtu_format = "binary";
   std::string neumann, q;
   std::vector<std::string> method_opts;
   OutputOptions out;
@@ -32,6 +34,9 @@ SolverOptions solver_options(const StudyArgs& a);
 /// Warnings of the runs on stderr: the infeasible-particle ones summarised (they are
 /// expected on perturbed clouds), every other kind once each.
 void print_warnings(const std::vector<std::string>& warnings);
+
+/// --vtu-format: binary (default) or ascii.
+VtuFormat parse_vtu_format(const std::string& s);
 
 /// --cloud-file options (solve) and --cloud-file-pattern (study).
 struct CloudFileArgs {

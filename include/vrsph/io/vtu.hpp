@@ -1,7 +1,8 @@
 #pragma once
-// VTK unstructured-grid (.vtu, ASCII XML) output for ParaView: one vertex cell per
-// particle, the tag and normals, plus any number of named point fields (scalar or
-// vector; vectors are padded to 3 components).
+// VTK unstructured-grid (.vtu, XML) output for ParaView: one vertex cell per particle, the
+// tag and normals, plus any number of named point fields (scalar or vector; vectors are
+// padded to 3 components). Data binary (zlib-compressed, base64 inline: exact and the
+// smallest; the default) or ascii (17 significant digits).
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>
 
@@ -12,8 +13,11 @@ struct PointField {
   Eigen::MatrixXd values;  ///< N x 1 (scalar) or N x d (vector)
 };
 
+enum class VtuFormat { Binary, Ascii };
+
 /// Throws InputError on a field whose row count differs from the cloud size or
 /// when the file cannot be written.
-void write_vtu(const std::string& path, const PointCloud& cloud, const std::vector<PointField>& fields = {});
+void write_vtu(const std::string& path, const PointCloud& cloud, const std::vector<PointField>& fields = {},
+               VtuFormat format = VtuFormat::Binary);
 
 }  // namespace vrsph

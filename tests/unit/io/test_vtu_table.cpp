@@ -1,9 +1,11 @@
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/table.hpp>
+#include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/vtu.hpp>
 #include "test_util.hpp"
 
@@ -24,6 +26,27 @@ TEST(Vtu, WritesPointsTagsAndFields) {
   EXPECT_NE(t.find("</VTKFile>"), std::string::npos);
   std::remove(path.c_str());
   EXPECT_THROW_MSG(write_vtu(path, c, {{"bad", Eigen::MatrixXd::Zero(3, 1)}}), InputError, "VTU field 'bad' has 3 rows");
+  EXPECT_THROW_MSG(write_vtu(path, c, {{"a<b", s}}), InputError, "contains a quote or <, >, &");
+}
+
+TEST(Vtu, BinaryAndAsciiReadBackExactly) {
+  PointCloud c = vertex_lattice(Domain::unit_box(3), 5);
+  perturb(c, {0.4, 3, false});
+  Eigen::MatrixXd u(c.size(), 1), g(c.size(), 3);
+  for (Index i = 0; i < c.size(); ++i) {
+    u(i, 0) = std::sin(1 + static_cast<Real>(i));
+    g.row(i) = c.positions[static_cast<std::size_t>(i)].transpose() / 3;
+  }
+  for (const VtuFormat f : {VtuFormat::Binary, VtuFormat::Ascii}) {
+    const std::string path = ::testing::TempDir() + "/vrsph_round_trip.vtu";
+    write_vtu(path, c, {{"u", u}, {"g", g}}, f);
+    const CloudFile r = read_cloud_file(path);
+    EXPECT_EQ(r.cloud.positions, c.positions);
+    EXPECT_EQ(r.cloud.tags, c.tags);
+    EXPECT_EQ(r.cloud.normals, c.normals);
+    EXPECT_EQ(r.field("u", "test"), u.col(0));
+    std::remove(path.c_str());
+  }
 }
 
 TEST(Table, FormatsMarkdownCsvAndJson) {

@@ -6,6 +6,9 @@ and one field `k` in every encoding the VTK XML format has: ascii, inline base64
 (UInt32 and UInt64 headers, uncompressed and zlib-compressed in blocks), appended raw and
 appended base64, as .vtu (UnstructuredGrid) and .vtp (PolyData). Only Python's standard
 library: struct, base64, zlib. Run from this directory; the outputs are committed.
+The vtk_written_* files were written once by VTK 9.1 itself (Debian python3-vtk9:
+vtkXMLUnstructuredGridWriter / vtkXMLPolyDataWriter reading ascii.vtu, in appended zlib,
+appended raw, binary and binary zlib modes); they are not regenerated here.
 """
 import base64
 import struct
