@@ -21,18 +21,45 @@
 namespace vrsph::cli {
 
 namespace {
-std::string find_plot_script() {
-  if (const char* env = std::getenv("VRSPH_PLOT_SCRIPT")) return env;
+// A script of share/: next to an installed binary (PREFIX/share/vrsph), else in the source tree.
+std::string find_share_script(const std::string& name) {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (!ec) {
-    const auto installed = exe.parent_path().parent_path() / "share" / "vrsph" / "plot_convergence.py";
+    const auto installed = exe.parent_path().parent_path() / "share" / "vrsph" / name;
     if (std::filesystem::exists(installed)) return installed.string();
   }
-  return std::string(VRSPH_SOURCE_DIR) + "/share/plot_convergence.py";
+  return std::string(VRSPH_SOURCE_DIR) + "/share/" + name;
 }
 
+std::string find_plot_script() {
+  if (const char* env = std::getenv("VRSPH_PLOT_SCRIPT")) return env;
+  return find_share_script("plot_convergence.py");
+}
 }  // namespace
+
+namespace {
+void run_python(const std::string& script_path, const std::string& args, const std::string& png) {
+  const auto log_path = std::filesystem::temp_directory_path() / ("vrsph-plot-" + std::to_string(::getpid()) + ".log");
+  const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(script_path) + " " + args + " 2>" +
+                          shell_quote(log_path.string());
+  const int rc = std::system(cmd.c_str());
+  // Our message first; of Python's traceback only its last line (the actual reason).
+  std::string last, line;
+  {
+    std::ifstream log(log_path);
+    while (std::getline(log, line))
+      if (!line.empty()) last = line;
+  }
+  std::filesystem::remove(log_path);
+  check<IoError>(rc == 0, "plotting to '", png, "' failed", last.empty() ? "" : ": " + last,
+                 " (needs python3 with matplotlib: Debian's python3-matplotlib; VRSPH_PYTHON selects the interpreter)");
+}
+}  // namespace
+
+void run_plot_script(const std::string& script, const std::string& args, const std::string& png) {
+  run_python(find_share_script(script), args, png);
+}
 
 std::string python_interpreter() {
   if (const char* env = std::getenv("VRSPH_PYTHON")) return env;
@@ -70,26 +97,18 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
     write_file(out.output, "output file", [&](std::ostream& f) { f << text; });
   }
   if (out.plot.empty()) return;
-  const auto tmp = std::filesystem::temp_directory_path();
-  const std::string stem = "vrsph-plot-" + std::to_string(::getpid());
-  const auto json_path = tmp / (stem + ".json"), log_path = tmp / (stem + ".log");
+  const auto json_path = std::filesystem::temp_directory_path() / ("vrsph-plot-" + std::to_string(::getpid()) + ".json");
   write_file(json_path.string(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra_json); });
-  const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(find_plot_script()) + " " +
-                          shell_quote(json_path.string()) + " " + shell_quote(out.plot) + " --x " + plot_x + " --y " +
-                          plot_y + " --group " + plot_group + " --title " + shell_quote(plot_title) +
-                          (loglog ? "" : " --linear") + " 2>" + shell_quote(log_path.string());
-  const int rc = std::system(cmd.c_str());
-  std::filesystem::remove(json_path);
-  // Our message first; of Python's traceback only its last line (the actual reason).
-  std::string last, line;
-  {
-    std::ifstream log(log_path);
-    while (std::getline(log, line))
-      if (!line.empty()) last = line;
+  const std::string args = shell_quote(json_path.string()) + " " + shell_quote(out.plot) + " --x " + plot_x + " --y " +
+                           plot_y + " --group " + plot_group + " --title " + shell_quote(plot_title) +
+                           (loglog ? "" : " --linear");
+  try {
+    run_python(find_plot_script(), args, out.plot);
+  } catch (...) {
+    std::filesystem::remove(json_path);
+    throw;
   }
-  std::filesystem::remove(log_path);
-  check<IoError>(rc == 0, "plotting to '", out.plot, "' failed", last.empty() ? "" : ": " + last,
-                 " (needs python3 with matplotlib: Debian's python3-matplotlib; VRSPH_PYTHON selects the interpreter)");
+  std::filesystem::remove(json_path);
 }
 
 std::vector<int> parse_int_list(const std::string& text, const std::string& option) {

@@ -56,6 +56,9 @@ void set_thread_count(int threads);
 /// The Python interpreter for plots and peers: Debian's (it has python3-matplotlib; a
 /// python3 earlier on PATH, from pyenv or a venv, may not); VRSPH_PYTHON overrides.
 std::string python_interpreter();
+/// Runs share/<script> with the arguments (already shell-quoted) under python_interpreter();
+/// a failure is an IoError naming png and Python's last line of error output.
+void run_plot_script(const std::string& script, const std::string& args, const std::string& png);
 /// s in single quotes for /bin/sh.
 std::string shell_quote(const std::string& s);
 

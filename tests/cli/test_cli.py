@@ -469,6 +469,15 @@ class ProblemFile(unittest.TestCase):
             self.assertEqual(override["method"], "fpm")
             self.assertNotEqual(override["error_inf"], from_file["error_inf"])
 
+    def test_solve_plot_png(self):
+        with tempfile.TemporaryDirectory() as d:
+            for extra in (["--n", "12"], ["--dim", "3", "--n", "10"]):
+                png = os.path.join(d, "u.png")
+                run("solve", *extra, "--vtu", os.path.join(d, "u.vtu"), "--plot", png)
+                with open(png, "rb") as f:
+                    self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+                os.remove(png)
+
     def test_study_lists(self):
         with tempfile.TemporaryDirectory() as d:
             toml = os.path.join(d, "study.toml")

@@ -2,6 +2,8 @@
 // problems on the user's own clouds (CSV with tags and normals), data from expressions
 // evaluated at the file's points, each solve one library call (problem/).
 #include <cmath>
+#include <filesystem>
+#include <unistd.h>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/convergence.hpp>
@@ -88,20 +90,24 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
   return r;
 }
 
-void write_field_csv(const std::string& path, const FileRun& r) {
-  const PointCloud& c = r.ep.problem.cloud;
-  const bool exact = r.ep.exact.size() > 0;
+// x,y,z,tag,u[,local_residual][,u_exact,error] with 17 significant digits.
+void write_fields(const std::string& path, const PointCloud& c, const Field& u, const Field* local_residual,
+                  const Field* exact) {
   write_file(path, "CSV field file", [&](std::ostream& out) {
     out.precision(17);
-    out << "x,y,z,tag,u,local_residual" << (exact ? ",u_exact,error" : "") << '\n';
+    out << "x,y,z,tag,u" << (local_residual ? ",local_residual" : "") << (exact ? ",u_exact,error" : "") << '\n';
     for (Index i = 0; i < c.size(); ++i) {
       const Vec3& x = c.positions[static_cast<std::size_t>(i)];
-      out << x[0] << ',' << x[1] << ',' << x[2] << ',' << to_string(c.tags[static_cast<std::size_t>(i)]) << ','
-          << r.s.u[i] << ',' << r.s.local_residual[i];
-      if (exact) out << ',' << r.ep.exact[i] << ',' << r.s.u[i] - r.ep.exact[i];
+      out << x[0] << ',' << x[1] << ',' << x[2] << ',' << to_string(c.tags[static_cast<std::size_t>(i)]) << ',' << u[i];
+      if (local_residual) out << ',' << (*local_residual)[i];
+      if (exact) out << ',' << (*exact)[i] << ',' << u[i] - (*exact)[i];
       out << '\n';
     }
   });
+}
+
+void write_field_csv(const std::string& path, const FileRun& r) {
+  write_fields(path, r.ep.problem.cloud, r.s.u, &r.s.local_residual, r.ep.exact.size() ? &r.ep.exact : nullptr);
 }
 
 // One row: sizes, diagnostics, and errors only when an exact solution was given.
@@ -131,6 +137,23 @@ const std::vector<std::pair<const char*, const char*>> column_options = {
     {"--u-column", "the exact solution u"}, {"--a-column", "the coefficient a"}, {"--f-column", "the right-hand side f"},
     {"--g-column", "the Dirichlet data g"}, {"--q-column", "the Neumann data a du/dn"}};
 }  // namespace
+
+void plot_solution(const PointCloud& cloud, const Field& u, const Field* error, const std::string& png,
+                   const std::string& title) {
+  const auto csv = std::filesystem::temp_directory_path() / ("vrsph-fields-" + std::to_string(::getpid()) + ".csv");
+  const Field exact = error ? Field(u - *error) : Field();
+  write_fields(csv.string(), cloud, u, nullptr, error ? &exact : nullptr);
+  try {
+    run_plot_script("plot_field.py",
+                    shell_quote(csv.string()) + " " + shell_quote(png) + " --dim " + std::to_string(cloud.dim) +
+                        " --title " + shell_quote(title),
+                    png);
+  } catch (...) {
+    std::filesystem::remove(csv);
+    throw;
+  }
+  std::filesystem::remove(csv);
+}
 
 VtuFormat parse_vtu_format(const std::string& s) {
   check<ConfigError>(s == "binary" || s == "ascii", "--vtu-format must be binary or ascii, got '", s, "'");
@@ -169,6 +192,10 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   }
   write_vtu(a.vtu, r.ep.problem.cloud, fields, parse_vtu_format(a.vtu_format));
   if (!file.csv.empty()) write_field_csv(file.csv, r);
+  if (!a.out.plot.empty()) {
+    const Field e = exact ? Field(r.s.u - r.ep.exact) : Field();
+    plot_solution(r.ep.problem.cloud, r.s.u, exact ? &e : nullptr, a.out.plot, methods.front() + " on " + file.path);
+  }
   Table t;
   t.columns = base_columns;
   if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"});

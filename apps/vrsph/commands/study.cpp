@@ -183,11 +183,14 @@ void add_solve_command(CLI::App& app) {
   cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
   cmd->add_option("--vtu-format", a->vtu_format, "VTU data: binary (base64, exact, smaller) or ascii")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
+  cmd->add_option("--plot", a->out.plot, "Also draw u (and, with an exact u, the error) into this PNG file "
+                                         "(2D: filled contours; 1D: curves; 3D: the mid-plane z slice)");
   auto config = std::make_shared<std::string>();
   add_config_option(cmd, *config);
   cmd->callback([a, np, file, cmd, config] {
-    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file", "--vtu", "--csv"});
+    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file", "--vtu", "--csv", "--plot"});
     (void)parse_vtu_format(a->vtu_format);  // checked before any work
+    validate_output(a->out);
     if (!file->path.empty()) return solve_cloud_file(*a, *file, *cmd);
     reject_column_options(*cmd, "--cloud-file");
     const auto methods = parse_name_list(a->methods, "--method");
@@ -205,6 +208,10 @@ void add_solve_command(CLI::App& app) {
     res.col(0) = r.local_residual;
     write_vtu(a->vtu, cloud, {{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}},
               parse_vtu_format(a->vtu_format));
+    if (!a->out.plot.empty()) {
+      const Field e = r.U - r.exact;
+      plot_solution(cloud, r.U, &e, a->out.plot, r.method + " n=" + std::to_string(r.n));
+    }
     Table t;
     t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
                  "solver_iterations", "solver_residual", "seconds_total", "vtu"};
