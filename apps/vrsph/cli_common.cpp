@@ -57,6 +57,56 @@ void run_python(const std::string& script_path, const std::string& args, const s
 }
 }  // namespace
 
+namespace {
+std::string join(const std::vector<std::string>& items, const std::string& sep) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : sep) + item;
+  return out;
+}
+
+}  // namespace
+
+void validate_columns(const OutputOptions& out, const std::vector<std::string>& available) {
+  if (out.columns == "all" || out.columns == "key") return;
+  for (const auto& name : parse_name_list(out.columns, "--columns"))
+    check<ConfigError>(std::find(available.begin(), available.end(), name) != available.end(), "--columns: no column '",
+                       name, "' (the table has: ", join(available, ", "), ")");
+}
+
+namespace {
+// The table with only the columns --columns asks for (Markdown output).
+Table displayed_columns(const Table& t, const OutputOptions& out) {
+  if (out.columns == "all" || (out.columns == "key" && out.key_columns.empty())) return t;
+  std::vector<std::string> wanted = out.key_columns;
+  if (out.columns != "key") wanted = parse_name_list(out.columns, "--columns");
+  Table shown;
+  std::vector<std::size_t> pick;
+  for (const auto& name : wanted) {
+    const auto it = std::find(t.columns.begin(), t.columns.end(), name);
+    if (it == t.columns.end()) {
+      validate_columns(out, t.columns);  // a name the user gave: an error
+      continue;                          // a key column this table lacks
+    }
+    shown.columns.push_back(name);
+    pick.push_back(static_cast<std::size_t>(it - t.columns.begin()));
+  }
+  for (const auto& row : t.rows) {
+    std::vector<TableCell> cells;
+    for (const auto k : pick) cells.push_back(row[k]);
+    shown.rows.push_back(std::move(cells));
+  }
+  return shown;
+}
+}  // namespace
+
+void add_columns_option(CLI::App* cmd, OutputOptions& out, std::vector<std::string> key_columns) {
+  out.key_columns = std::move(key_columns);
+  cmd->add_option("--columns", out.columns,
+                  "Markdown table columns: key (" + join(out.key_columns, ", ") +
+                      "), all, or a comma-separated list (CSV and JSON always have all)")
+      ->capture_default_str();
+}
+
 void run_plot_script(const std::string& script, const std::string& args, const std::string& png) {
   run_python(find_share_script(script), args, png);
 }
@@ -89,7 +139,7 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
           const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   validate_output(out);
   const TableFormat fmt = parse_table_format(out.format);
-  const std::string text = format_table(table, fmt, extra_json);
+  const std::string text = format_table(fmt == TableFormat::Markdown ? displayed_columns(table, out) : table, fmt, extra_json);
   if (out.output.empty()) {
     std::cout << text;
     check_stream(std::cout, "the table to standard output");

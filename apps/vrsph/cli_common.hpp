@@ -16,7 +16,16 @@ struct OutputOptions {
   std::string format = "md";
   std::string output;  ///< file, empty = stdout
   std::string plot;    ///< PNG file, empty = no plot
+  /// Markdown columns: "key" (key_columns, when the command names them), "all", or a
+  /// comma-separated list. CSV and JSON always carry every column.
+  std::string columns = "key";
+  std::vector<std::string> key_columns;
 };
+
+/// Refuses a --columns list naming a column the table will not have (before a long run).
+void validate_columns(const OutputOptions& out, const std::vector<std::string>& available);
+/// Adds --columns to a command whose Markdown table shows key columns by default.
+void add_columns_option(CLI::App* cmd, OutputOptions& out, std::vector<std::string> key_columns);
 
 /// Checks the output options before a long run: a known format, --output not a
 /// directory, --plot a file name ending in .png. Throws ConfigError.

@@ -353,7 +353,7 @@ Table to_table(const BvpStudyResult& r) {
   t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
                "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "condition_max", "neighbours_mean",
                "nnz_per_row", "solver", "solver_iterations", "solver_residual", "solver_reason", "seconds_cloud", "seconds_data", "seconds_neighbours", "seconds_stencil",
-               "seconds_assemble", "seconds_setup", "seconds_solve", "peak_memory_mib"};
+               "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total", "peak_memory_mib"};
   for (const auto& row : r.rows) {
     const BvpRun& f = row.first;
     t.add_row({{"method", f.method},
@@ -386,6 +386,8 @@ Table to_table(const BvpStudyResult& r) {
                {"seconds_assemble", f.seconds_assemble},
                {"seconds_setup", f.solve.seconds_setup},
                {"seconds_solve", f.seconds_solve},
+               {"seconds_total", f.seconds_cloud + f.seconds_data + f.seconds_neighbours + f.seconds_stencil +
+                                     f.seconds_assemble + f.seconds_solve},
                {"peak_memory_mib", f.peak_memory_mib}});
   }
   return t;

@@ -134,6 +134,9 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against h (log-log) into this PNG file");
+  add_columns_option(cmd, a->out,
+                     {"method", "n", "N", "error_inf", "order_inf", "error_l2", "order_l2", "mmatrix", "infeasible",
+                      "solver_iterations", "seconds_total"});
   auto file = std::make_shared<CloudFileArgs>();
   cmd->add_option("--cloud-file-pattern", file->pattern,
                   "Study on the user's clouds: a CSV file name with {n}, replaced by each --n (e.g. cloud_{n}.csv); "
@@ -146,6 +149,7 @@ void add_study_command(CLI::App& app) {
   cmd->callback([a, file, cmd, config] {
     if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--output", "--plot"});
     validate_output(a->out);
+    if (file->pattern.empty()) validate_columns(a->out, to_table(BvpStudyResult{}).columns);
     if (!file->pattern.empty()) return study_cloud_files(*a, *file, *cmd);
     reject_column_options(*cmd, "--cloud-file-pattern");
     BvpStudyParams p = to_params(*a, parse_name_list(a->methods, "--method"));
