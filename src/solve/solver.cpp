@@ -52,17 +52,9 @@ double direct_solver_bytes(const CsrMatrix& A, int dimension) {
   return 0.6 * nnz * std::pow(n, 2.0 / 3.0) + 1e6;
 }
 
-SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& options) {
-  check<ConfigError>(options.rtol > 0 && options.max_iterations > 0, "solver tolerance and iteration cap must be positive");
-  SolverOptions o = options;
-  o.dimension = detail::assumed_dimension(o.dimension);
-  if (o.type == SolverType::Auto) o.type = resolve_auto(sys.size(), o.dimension, o.auto_direct_max);
-  if (o.type == SolverType::SparseLU || o.type == SolverType::UmfPack)
-    check_memory_estimate(direct_solver_bytes(sys.A, o.dimension),
-                          detail::concat("the sparse LU factorisation (", to_string(o.type), ", ", sys.A.rows(),
-                                         " unknowns, ", sys.A.nonZeros(), " nonzeros)"),
-                          "use an iterative solver (--solver petsc), or fewer particles");
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+// One back-end run of the resolved type, with the true residual checked.
+SolveReport solve_with(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o) {
   SolveReport rep;
   rep.solver = to_string(o.type);
   x = Eigen::VectorXd::Zero(sys.size());
@@ -74,7 +66,50 @@ SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptio
     rep.success = false;
     rep.message = detail::concat("true relative residual ", rep.residual, " too large");
   }
-  if (options.type == SolverType::Auto) rep.solver = "auto: " + rep.solver;
+  return rep;
+}
+
+constexpr int auto_iteration_cap = 500;
+}  // namespace
+
+SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& options) {
+  check<ConfigError>(options.rtol > 0 && options.max_iterations > 0, "solver tolerance and iteration cap must be positive");
+  SolverOptions o = options;
+  o.dimension = detail::assumed_dimension(o.dimension);
+  if (o.type == SolverType::Auto) o.type = resolve_auto(sys.size(), o.dimension, o.auto_direct_max);
+  if (o.type == SolverType::SparseLU || o.type == SolverType::UmfPack)
+    check_memory_estimate(direct_solver_bytes(sys.A, o.dimension),
+                          detail::concat("the sparse LU factorisation (", to_string(o.type), ", ", sys.A.rows(),
+                                         " unknowns, ", sys.A.nonZeros(), " nonzeros)"),
+                          "use an iterative solver (--solver petsc), or fewer particles");
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool automatic = options.type == SolverType::Auto;
+  // auto gives AMG a bounded number of iterations: the defaults are tuned for M-matrices
+  // (VRSPH, SPH) and converge in ~10-25; a matrix they do not suit (FPM's mixed signs) is
+  // then handed to the direct solver below instead of iterating to the cap of 20 000.
+  if (automatic && o.type == SolverType::Petsc) o.max_iterations = std::min(o.max_iterations, auto_iteration_cap);
+  SolveReport rep = solve_with(sys, x, o);
+  if (automatic && o.type == SolverType::Petsc && !rep.success) {
+    bool fits = true;
+    try {
+      check_memory_estimate(direct_solver_bytes(sys.A, o.dimension), "the fallback direct solve", "");
+    } catch (const ResourceError&) {
+      fits = false;
+    }
+    if (fits) {
+      const std::string why = rep.reason.empty() ? rep.message : rep.reason;
+      SolverOptions direct = o;
+      direct.type = SolverType::UmfPack;
+      std::vector<std::string> warnings = std::move(rep.warnings);
+      rep = solve_with(sys, x, direct);
+      rep.solver = "umfpack after petsc (" + why + ")";
+      warnings.push_back(detail::concat("auto: PETSc GMRES + BoomerAMG did not converge (", why,
+                                        "); solved with UMFPACK instead. The AMG defaults suit M-matrices "
+                                        "(vrsph, sph); give --solver and --petsc-options to choose otherwise"));
+      rep.warnings.insert(rep.warnings.begin(), warnings.begin(), warnings.end());
+    }
+  }
+  if (automatic) rep.solver = "auto: " + rep.solver;
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

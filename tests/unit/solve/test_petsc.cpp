@@ -177,3 +177,26 @@ TEST(Petsc, AssembledRowsAreSortedSparseAndThreadIndependent) {
   EXPECT_EQ(one.sys.b, two.sys.b);
 #endif
 }
+
+TEST(Petsc, AutoFallsBackToTheDirectSolverWhenAmgDoesNotConverge) {
+  // auto with AMG that cannot converge (one iteration allowed): the direct solver takes
+  // over, says so, and the solution is the direct one.
+  const System s(24);
+  Eigen::VectorXd x_auto, x_direct;
+  SolverOptions o;
+  o.type = SolverType::Auto;
+  o.auto_direct_max = 1;  // make auto pick PETSc for this small system
+  o.dimension = 2;
+  o.petsc_options = "-ksp_max_it 1";
+  const SolveReport r = solve(s.sys, x_auto, o);
+  EXPECT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.solver, "auto: umfpack after petsc (diverged_its)");
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.front().find("did not converge (diverged_its); solved with UMFPACK instead"), std::string::npos);
+  SolverOptions d;
+  d.type = SolverType::UmfPack;
+  (void)solve(s.sys, x_direct, d);
+  EXPECT_LT((x_auto - x_direct).cwiseAbs().maxCoeff(), 1e-12);
+  // Asked for PETSc explicitly, the same failure is reported, not replaced.
+  EXPECT_FALSE(run(s.sys, x_auto, "-ksp_max_it 1").success);
+}
