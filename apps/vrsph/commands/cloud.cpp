@@ -7,6 +7,8 @@
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/analysis/functions.hpp>
+#include <vrsph/cloud/polygon.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
 #include <vrsph/io/vtu.hpp>
@@ -21,6 +23,8 @@ namespace vrsph::cli {
 namespace {
 struct CloudArgs {
   std::string input, output, format = "md", family = "uniform", layout = "vertex", domain = "unit", vtu_format = "binary";
+  std::string geometry, neumann, dirichlet;  // --geometry: a GeoJSON polygon; boundary tags by expression
+  double spacing = 0;
   int dim = 2, n = 20, ghost_layers = 0;
   double delta = 0.5, h_factor = 3;
   std::uint64_t seed = 1;
@@ -29,6 +33,35 @@ struct CloudArgs {
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// --geometry: a polygon filled at --spacing; boundary particles Dirichlet unless the
+// expressions say otherwise.
+PointCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
+  for (const char* opt : {"--n", "--domain", "--layout", "--ghost-layers", "--perturb-boundary", "--dim"})
+    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --geometry (the polygon is the domain; "
+                       "--spacing sets the resolution)");
+  check<ConfigError>(cmd.count("--spacing") > 0, "--geometry needs --spacing (the particle distance)");
+  check<ConfigError>(a.family == "uniform" || a.family == "perturbed", "--family with --geometry must be uniform or "
+                     "perturbed, got '", a.family, "'");
+  check<ConfigError>(a.neumann.empty() || a.dirichlet.empty(), "give --neumann or --dirichlet, not both (the other "
+                     "boundary particles get the other kind)");
+  const Polygon polygon = read_geojson_polygon(a.geometry);
+  PolygonFill fill;
+  fill.spacing = a.spacing;
+  fill.delta = a.family == "perturbed" ? (cmd.count("--delta") ? a.delta : 0.3) : 0;
+  fill.seed = a.seed;
+  PointCloud c = fill_polygon(polygon, fill);
+  if (!a.neumann.empty() || !a.dirichlet.empty()) {
+    const Expression select(a.neumann.empty() ? a.dirichlet : a.neumann);
+    for (Index i = 0; i < c.size(); ++i) {
+      auto& tag = c.tags[static_cast<std::size_t>(i)];
+      if (tag == Tag::Interior) continue;
+      const bool hit = select(c.positions[static_cast<std::size_t>(i)]) != 0;
+      tag = (a.neumann.empty() ? !hit : hit) ? Tag::Neumann : Tag::Dirichlet;
+    }
+  }
+  return c;
 }
 
 PointCloud generate(const CloudArgs& a) {
@@ -74,13 +107,25 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_flag("--perturb-boundary", a->perturb_boundary, "Also move boundary particles along their faces");
   cmd->add_option("--h-factor", a->h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
   cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
+  cmd->add_option("--geometry", a->geometry,
+                  "Fill this 2D domain (GeoJSON Polygon, holes allowed) with particles: boundary particles along the "
+                  "edges with outward normals, interior ones on a lattice (--family uniform|perturbed)");
+  cmd->add_option("--spacing", a->spacing, "With --geometry: the particle spacing");
+  cmd->add_option("--neumann", a->neumann,
+                  "With --geometry: boundary particles where this expression is non-zero are Neumann (e.g. \"x^2+y^2<0.3\")");
+  cmd->add_option("--dirichlet", a->dirichlet,
+                  "With --geometry: only boundary particles where this expression is non-zero are Dirichlet, the rest Neumann");
   cmd->callback([a, cmd] {
     const VtuFormat vtu_format = parse_vtu_format(a->vtu_format);  // checked before any work
     PointCloud cloud;
     if (!a->input.empty()) {
       const int dim = cmd->count("--dim") ? a->dim : 0;
       cloud = read_cloud_file(a->input, dim).cloud;
+    } else if (!a->geometry.empty()) {
+      cloud = from_geometry(*a, *cmd);
     } else {
+      for (const char* opt : {"--spacing", "--neumann", "--dirichlet"})
+        check<ConfigError>(cmd->count(opt) == 0, opt, " needs --geometry");
       cloud = generate(*a);
     }
     validate(cloud);

@@ -1,0 +1,38 @@
+#pragma once
+// 2D domains as polygons with holes, read from GeoJSON (RFC 7946: a Polygon geometry, or a
+// Feature / FeatureCollection holding exactly one; the first ring is the outer boundary, the
+// others holes; ring orientation is not relied on), and filled with particles: boundary
+// particles along every edge at about the requested spacing with the domain's outward unit
+// normals, interior particles on a lattice (optionally perturbed) kept at least half a
+// spacing from the boundary.
+#include <string>
+#include <vector>
+#include <vrsph/cloud/point_cloud.hpp>
+
+namespace vrsph {
+
+struct Polygon {
+  std::vector<std::vector<Vec3>> rings;  ///< ring 0 outer, the rest holes; not closed (first != last)
+};
+
+/// Throws IoError (unreadable file) or InputError naming the file and the problem: not
+/// GeoJSON, not one Polygon, a ring with fewer than 3 distinct vertices, non-finite or 3D
+/// coordinates, edges that cross (naming the two rings and edges), a hole outside the outer ring.
+Polygon read_geojson_polygon(const std::string& path);
+Polygon parse_geojson_polygon(const std::string& text, const std::string& name);
+
+struct PolygonFill {
+  Real spacing = 0;             ///< particle spacing (> 0)
+  Real delta = 0;               ///< interior perturbation amplitude in units of spacing, [0, 0.5)
+  std::uint64_t seed = 1;
+};
+
+/// Boundary particles tagged Dirichlet (see tag_boundary to change them), interior ones
+/// Interior; domain shape None, spacing set. Throws ConfigError when the spacing is not
+/// positive or too coarse for the polygon (fewer than 3 particles across its smallest ring).
+PointCloud fill_polygon(const Polygon& polygon, const PolygonFill& fill);
+
+/// True if x lies inside the polygon (inside the outer ring and outside every hole).
+bool inside_polygon(const Polygon& polygon, const Vec3& x);
+
+}  // namespace vrsph

@@ -1,0 +1,219 @@
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vrsph/cloud/polygon.hpp>
+#include <vrsph/core/error.hpp>
+#include "random.hpp"
+
+namespace vrsph {
+
+namespace {
+using json = nlohmann::json;
+
+// The Polygon geometry inside a GeoJSON document (geometry, Feature or a collection of one).
+const json& polygon_geometry(const json& doc, const std::string& name) {
+  check<InputError>(doc.is_object() && doc.contains("type") && doc["type"].is_string(), name,
+                    ": not a GeoJSON object (no \"type\")");
+  const std::string type = doc["type"];
+  if (type == "Polygon") return doc;
+  if (type == "Feature") {
+    check<InputError>(doc.contains("geometry") && doc["geometry"].is_object(), name, ": Feature without a geometry");
+    return polygon_geometry(doc["geometry"], name);
+  }
+  if (type == "FeatureCollection") {
+    check<InputError>(doc.contains("features") && doc["features"].is_array() && doc["features"].size() == 1, name,
+                      ": a FeatureCollection must hold exactly one Feature (the domain)");
+    return polygon_geometry(doc["features"][0], name);
+  }
+  throw InputError(detail::concat(name, ": GeoJSON type '", type, "' is not a Polygon (a MultiPolygon or other "
+                                        "geometry is not a single domain)"));
+}
+
+Real cross(const Vec3& a, const Vec3& b) { return a[0] * b[1] - a[1] * b[0]; }
+
+// Whether segments pq and rs intersect (touching included).
+bool segments_meet(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) {
+  const auto orient = [](const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Real v = cross(b - a, c - a);
+    return (v > 0) - (v < 0);
+  };
+  const auto on = [](const Vec3& a, const Vec3& b, const Vec3& c) {  // c on segment ab, given collinear
+    return std::min(a[0], b[0]) <= c[0] && c[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= c[1] &&
+           c[1] <= std::max(a[1], b[1]);
+  };
+  const int o1 = orient(p, q, r), o2 = orient(p, q, s), o3 = orient(r, s, p), o4 = orient(r, s, q);
+  if (o1 != o2 && o3 != o4) return true;
+  return (o1 == 0 && on(p, q, r)) || (o2 == 0 && on(p, q, s)) || (o3 == 0 && on(r, s, p)) || (o4 == 0 && on(r, s, q));
+}
+
+Real signed_area(const std::vector<Vec3>& ring) {
+  Real a = 0;
+  for (std::size_t k = 0; k < ring.size(); ++k) a += cross(ring[k], ring[(k + 1) % ring.size()]);
+  return a / 2;
+}
+
+bool inside_ring(const std::vector<Vec3>& ring, const Vec3& x) {  // even-odd rule
+  bool in = false;
+  for (std::size_t k = 0, j = ring.size() - 1; k < ring.size(); j = k++) {
+    const Vec3 &a = ring[k], &b = ring[j];
+    if ((a[1] > x[1]) != (b[1] > x[1]) && x[0] < (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0]) in = !in;
+  }
+  return in;
+}
+
+Real distance_to_segment(const Vec3& x, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const Real t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), Real(0), Real(1));
+  return (x - (a + t * ab)).norm();
+}
+
+void check_polygon(const Polygon& p, const std::string& name) {
+  for (std::size_t r = 0; r < p.rings.size(); ++r) {
+    const auto& ring = p.rings[r];
+    check<InputError>(ring.size() >= 3, name, ": ring ", r, " has ", ring.size(), " distinct vertices (at least 3 needed)");
+    check<InputError>(std::abs(signed_area(ring)) > 0, name, ": ring ", r, " encloses no area");
+  }
+  // Every pair of edges that are not neighbours on one ring must not meet.
+  for (std::size_t r1 = 0; r1 < p.rings.size(); ++r1)
+    for (std::size_t e1 = 0; e1 < p.rings[r1].size(); ++e1)
+      for (std::size_t r2 = r1; r2 < p.rings.size(); ++r2)
+        for (std::size_t e2 = r1 == r2 ? e1 + 1 : 0; e2 < p.rings[r2].size(); ++e2) {
+          const std::size_t n = p.rings[r1].size();
+          if (r1 == r2 && (e2 == e1 + 1 || (e1 == 0 && e2 == n - 1))) continue;  // share a vertex
+          const auto& a = p.rings[r1];
+          const auto& b = p.rings[r2];
+          check<InputError>(!segments_meet(a[e1], a[(e1 + 1) % a.size()], b[e2], b[(e2 + 1) % b.size()]), name,
+                            ": edges cross or touch: ring ", r1, " edge ", e1, " and ring ", r2, " edge ", e2,
+                            " (the polygon must be simple, its holes inside it and apart)");
+        }
+  for (std::size_t r = 1; r < p.rings.size(); ++r)
+    check<InputError>(inside_ring(p.rings[0], p.rings[r][0]), name, ": hole ", r, " lies outside the outer ring");
+}
+}  // namespace
+
+Polygon parse_geojson_polygon(const std::string& text, const std::string& name) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(detail::concat(name, ": not valid JSON (", e.what(), ")"));
+  }
+  const json& g = polygon_geometry(doc, name);
+  check<InputError>(g.contains("coordinates") && g["coordinates"].is_array() && !g["coordinates"].empty(), name,
+                    ": Polygon without coordinates");
+  Polygon p;
+  for (std::size_t r = 0; r < g["coordinates"].size(); ++r) {
+    const json& ring = g["coordinates"][r];
+    check<InputError>(ring.is_array(), name, ": ring ", r, " is not an array of positions");
+    std::vector<Vec3> pts;
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      const json& pos = ring[k];
+      check<InputError>(pos.is_array() && pos.size() >= 2 && pos[0].is_number() && pos[1].is_number(), name, ": ring ", r,
+                        " position ", k, " is not [x, y]");
+      check<InputError>(pos.size() == 2 || (pos[2].is_number() && pos[2].get<double>() == 0), name, ": ring ", r,
+                        " position ", k, " has a non-zero z (a 2D domain is expected)");
+      const Vec3 x(pos[0].get<double>(), pos[1].get<double>(), 0);
+      check<InputError>(x.allFinite() && x.cwiseAbs().maxCoeff() < 1e150, name, ": ring ", r, " position ", k,
+                        " is not finite");
+      if (pts.empty() || x != pts.back()) pts.push_back(x);  // repeated vertices collapse
+    }
+    if (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();  // GeoJSON rings are closed
+    p.rings.push_back(std::move(pts));
+  }
+  check_polygon(p, name);
+  return p;
+}
+
+Polygon read_geojson_polygon(const std::string& path) {
+  std::error_code ec;
+  check<IoError>(!std::filesystem::is_directory(path, ec), "geometry file '", path, "' is a directory, not a file");
+  std::ifstream in(path);
+  check<IoError>(static_cast<bool>(in), "cannot open geometry file '", path, "'",
+                 std::filesystem::exists(path, ec) ? " (permission denied?)" : " (no such file)");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_geojson_polygon(text.str(), path);
+}
+
+bool inside_polygon(const Polygon& polygon, const Vec3& x) {
+  if (!inside_ring(polygon.rings[0], x)) return false;
+  for (std::size_t r = 1; r < polygon.rings.size(); ++r)
+    if (inside_ring(polygon.rings[r], x)) return false;
+  return true;
+}
+
+PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
+  check<ConfigError>(std::isfinite(f.spacing) && f.spacing > 0, "the spacing must be positive and finite, got ", f.spacing);
+  check<ConfigError>(std::isfinite(f.delta) && f.delta >= 0 && f.delta < 0.5, "the perturbation must be in [0, 0.5), got ",
+                     f.delta);
+  Real smallest = std::numeric_limits<Real>::infinity();
+  Vec3 lo = p.rings[0][0], hi = p.rings[0][0];
+  for (const auto& ring : p.rings) {
+    Vec3 rlo = ring[0], rhi = ring[0];
+    for (const Vec3& x : ring) {
+      rlo = rlo.cwiseMin(x);
+      rhi = rhi.cwiseMax(x);
+    }
+    smallest = std::min(smallest, (rhi - rlo).head<2>().maxCoeff());
+    lo = lo.cwiseMin(rlo);
+    hi = hi.cwiseMax(rhi);
+  }
+  check<ConfigError>(f.spacing * 3 <= smallest, "the spacing ", f.spacing, " is too large for the geometry: its smallest ",
+                     "ring spans ", smallest, " (at least 3 particles across are needed)");
+  const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1);
+  check<ResourceError>(lattice < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
+                       " lattice points over the geometry: choose a larger spacing");
+  PointCloud c;
+  c.dim = 2;
+  c.spacing = f.spacing;
+  // Every particle carries a normal (zero inside): PointCloud::add keeps normals only once
+  // the cloud has them.
+  const auto put = [&c](const Vec3& x, Tag t, const Vec3& n) {
+    c.positions.push_back(x);
+    c.tags.push_back(t);
+    c.normals.push_back(n);
+  };
+  // Boundary: each edge split into ceil(length / spacing) pieces; the outward normal of the
+  // domain is the ring's outward normal for the outer ring and its inward one for holes.
+  for (std::size_t r = 0; r < p.rings.size(); ++r) {
+    const auto& ring = p.rings[r];
+    const Real orientation = signed_area(ring) > 0 ? 1 : -1;  // +1: counter-clockwise
+    const Real side = (r == 0 ? 1 : -1) * orientation;
+    const std::size_t n = ring.size();
+    auto edge_normal = [&](std::size_t e) {
+      const Vec3 d = ring[(e + 1) % n] - ring[e];
+      return Vec3(side * d[1], -side * d[0], 0).normalized();  // right of d for a CCW outer ring
+    };
+    for (std::size_t e = 0; e < n; ++e) {
+      const Vec3 a = ring[e], b = ring[(e + 1) % n];
+      const auto pieces = static_cast<int>(std::ceil((b - a).norm() / f.spacing - 1e-9));
+      const Vec3 vertex_normal = (edge_normal((e + n - 1) % n) + edge_normal(e)).normalized();
+      put(a, Tag::Dirichlet, vertex_normal);
+      for (int k = 1; k < pieces; ++k) put(a + (b - a) * (static_cast<Real>(k) / pieces), Tag::Dirichlet, edge_normal(e));
+    }
+  }
+  // Interior: lattice points inside, at least half a spacing from every edge.
+  const auto nx = static_cast<long long>((hi[0] - lo[0]) / f.spacing) + 1, ny = static_cast<long long>((hi[1] - lo[1]) / f.spacing) + 1;
+  for (long long j = 0; j <= ny; ++j)
+    for (long long i = 0; i <= nx; ++i) {
+      Vec3 x(lo[0] + static_cast<Real>(i) * f.spacing, lo[1] + static_cast<Real>(j) * f.spacing, 0);
+      if (f.delta > 0) {
+        const auto id = static_cast<std::uint64_t>(j * (nx + 1) + i);
+        for (int k = 0; k < 2; ++k)
+          x[k] += f.delta * f.spacing * (2 * detail::uniform01(f.seed, id, static_cast<std::uint64_t>(k)) - 1);
+      }
+      if (!inside_polygon(p, x)) continue;
+      Real d = std::numeric_limits<Real>::infinity();
+      for (const auto& ring : p.rings)
+        for (std::size_t e = 0; e < ring.size(); ++e) d = std::min(d, distance_to_segment(x, ring[e], ring[(e + 1) % ring.size()]));
+      if (d >= 0.5 * f.spacing) put(x, Tag::Interior, Vec3::Zero());
+    }
+  validate(c);
+  return c;
+}
+
+}  // namespace vrsph

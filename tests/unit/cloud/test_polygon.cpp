@@ -1,0 +1,66 @@
+// Polygon domains from GeoJSON: parsing, validation of the geometry, and the fill (boundary
+// particles with the domain's outward normals, interior particles off the boundary).
+#include <cmath>
+#include <vrsph/cloud/polygon.hpp>
+#include <vrsph/core/error.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+// A 2 x 1 plate with a square hole, as a Feature; the hole given clockwise, the outer ring
+// counter-clockwise (RFC 7946) — the reader must not rely on either.
+const char* plate = R"({"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [
+  [[0,0],[2,0],[2,1],[0,1],[0,0]],
+  [[0.7,0.3],[0.7,0.7],[1.1,0.7],[1.1,0.3],[0.7,0.3]]]}})";
+}  // namespace
+
+TEST(Polygon, FillsWithOutwardNormalsAndKeepsInteriorOffTheBoundary) {
+  const Polygon p = parse_geojson_polygon(plate, "plate.geojson");
+  ASSERT_EQ(p.rings.size(), 2u);
+  EXPECT_TRUE(inside_polygon(p, Vec3(0.3, 0.5, 0)));
+  EXPECT_FALSE(inside_polygon(p, Vec3(0.9, 0.5, 0)));  // in the hole
+  PolygonFill f;
+  f.spacing = 0.05;
+  const PointCloud c = fill_polygon(p, f);
+  EXPECT_EQ(c.count(Tag::Dirichlet), 2 * (40 + 20) + 4 * 8);  // outer 6 units, hole 1.6 units at 0.05
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Vec3& x = c.positions[si];
+    if (c.tags[si] == Tag::Interior) {
+      EXPECT_TRUE(inside_polygon(p, x));
+      continue;
+    }
+    const Vec3& n = c.normals[si];
+    EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+    // Outward: a step along n leaves the domain (into the hole on the hole's edges).
+    EXPECT_FALSE(inside_polygon(p, x + 0.01 * n)) << x.transpose() << " n " << n.transpose();
+    EXPECT_TRUE(inside_polygon(p, x - 0.01 * n)) << x.transpose() << " n " << n.transpose();
+  }
+  f.delta = 0.3;
+  const PointCloud perturbed = fill_polygon(p, f);
+  EXPECT_EQ(perturbed.count(Tag::Dirichlet), c.count(Tag::Dirichlet));
+}
+
+TEST(Polygon, BadGeometriesAreNamed) {
+  EXPECT_THROW_MSG(parse_geojson_polygon("{", "g.json"), InputError, "g.json: not valid JSON");
+  EXPECT_THROW_MSG(parse_geojson_polygon(R"({"type": "MultiPolygon", "coordinates": []})", "g.json"), InputError,
+                   "GeoJSON type 'MultiPolygon' is not a Polygon");
+  EXPECT_THROW_MSG(parse_geojson_polygon(R"({"type": "Polygon", "coordinates": [[[0,0],[1,0],[0,0]]]})", "g.json"),
+                   InputError, "ring 0 has 2 distinct vertices");
+  // A bow tie: edges 0 and 2 cross.
+  EXPECT_THROW_MSG(parse_geojson_polygon(R"({"type": "Polygon", "coordinates": [[[0,0],[2,1],[2,0],[0,2],[0,0]]]})", "g.json"),
+                   InputError, "edges cross or touch: ring 0 edge 0 and ring 0 edge 2");
+  EXPECT_THROW_MSG(parse_geojson_polygon(R"({"type": "Polygon", "coordinates": [[[0,0],[1,0],[1,1],[0,1]],
+                                             [[2,2],[3,2],[3,3]]]})", "g.json"),
+                   InputError, "hole 1 lies outside the outer ring");
+  EXPECT_THROW_MSG(parse_geojson_polygon(R"({"type": "Polygon", "coordinates": [[[0,0,1],[1,0,1],[1,1,1]]]})", "g.json"),
+                   InputError, "non-zero z");
+  const Polygon p = parse_geojson_polygon(plate, "plate.geojson");
+  PolygonFill f;
+  f.spacing = 0.2;  // the hole spans 0.4: fewer than 3 particles across
+  EXPECT_THROW_MSG(fill_polygon(p, f), ConfigError, "too large for the geometry");
+  f.spacing = -1;
+  EXPECT_THROW_MSG(fill_polygon(p, f), ConfigError, "spacing must be positive");
+  EXPECT_THROW_MSG(read_geojson_polygon("/nonexistent/shape.geojson"), IoError, "cannot open geometry file");
+}
