@@ -54,8 +54,8 @@ class ArrayWriter {
     out.reserve((in.size() + 2) / 3 * 4);
     std::size_t i = 0;
     for (; i + 3 <= in.size(); i += 3) {
-      const unsigned v = (static_cast<unsigned char>(in[i]) << 16) | (static_cast<unsigned char>(in[i + 1]) << 8) |
-                         static_cast<unsigned char>(in[i + 2]);
+      const auto byte = [&](std::size_t k) { return static_cast<unsigned>(static_cast<unsigned char>(in[k])); };
+      const unsigned v = (byte(i) << 16) | (byte(i + 1) << 8) | byte(i + 2);
       for (int s = 18; s >= 0; s -= 6) out.push_back(table[(v >> s) & 63u]);
     }
     if (const std::size_t rest = in.size() - i) {
