@@ -111,10 +111,16 @@ std::uint64_t header_word(const std::string& bytes, std::size_t k, bool h64, con
 }
 
 // Inflates the blocks of a zlib-compressed array: header [nblocks, block, last, csize...].
-std::string inflate_blocks(const std::string& header, const std::string& data, bool h64, const std::string& where) {
+// expected: the array's size in bytes; the header must promise exactly that, so no size
+// read from the file is allocated before it is known to be the array's own.
+std::string inflate_blocks(const std::string& header, const std::string& data, bool h64, const std::string& where,
+                           std::size_t expected) {
   const std::uint64_t nblocks = header_word(header, 0, h64, where), block = header_word(header, 1, h64, where),
                       last = header_word(header, 2, h64, where);
-  check<InputError>(nblocks < (1u << 30) && block < (std::uint64_t{1} << 40), where, ": implausible compression header");
+  check<InputError>(nblocks < (1u << 30) && block < (std::uint64_t{1} << 40) && last <= block, where,
+                    ": implausible compression header");
+  const std::uint64_t total = nblocks == 0 ? 0 : (nblocks - 1) * block + (last != 0 ? last : block);
+  check<InputError>(total == expected, where, ": the compressed data hold ", total, " bytes, the array needs ", expected);
   std::string out;
   std::size_t at = 0;
   for (std::uint64_t b = 0; b < nblocks; ++b) {
@@ -133,7 +139,7 @@ std::string inflate_blocks(const std::string& header, const std::string& data, b
 }
 
 // The bytes of one binary or appended DataArray (ascii arrays are read in values()).
-std::string array_bytes(const pugi::xml_node& a, const Source& src, const std::string& where) {
+std::string array_bytes(const pugi::xml_node& a, const Source& src, const std::string& where, std::size_t expected) {
   const std::string format = a.attribute("format").as_string("ascii");
   const std::size_t w = src.header64 ? 8 : 4;
   std::string header, data;
@@ -149,7 +155,7 @@ std::string array_bytes(const pugi::xml_node& a, const Source& src, const std::s
       header = base64_decode(text, hpos, (3 + static_cast<std::size_t>(nblocks)) * w, where);
       pos = hpos;
       data = base64_decode(text, pos, std::string::npos, where);
-      return inflate_blocks(header, data, src.header64, where);
+      return inflate_blocks(header, data, src.header64, where, expected);
     }
     // Uncompressed: [byte count][data] in one base64 stream (or two: accept both).
     std::string all = base64_decode(text, pos, std::string::npos, where);
@@ -177,7 +183,7 @@ std::string array_bytes(const pugi::xml_node& a, const Source& src, const std::s
       std::uint64_t total = 0;
       for (std::uint64_t b = 0; b < nblocks; ++b) total += header_word(header, 3 + b, src.header64, where);
       data = base64_decode(text, pos, static_cast<std::size_t>(total), where);
-      return inflate_blocks(header, data, src.header64, where);
+      return inflate_blocks(header, data, src.header64, where, expected);
     }
     std::size_t p0 = pos;
     std::string first = base64_decode(text, p0, w, where);
@@ -195,7 +201,7 @@ std::string array_bytes(const pugi::xml_node& a, const Source& src, const std::s
     check<InputError>(nblocks < (1u << 30) && offset + (3 + nblocks) * w <= raw.size(), where,
                       ": appended data block header is truncated");
     header = raw.substr(offset, (3 + static_cast<std::size_t>(nblocks)) * w);
-    return inflate_blocks(header, raw.substr(offset + header.size()), src.header64, where);
+    return inflate_blocks(header, raw.substr(offset + header.size()), src.header64, where, expected);
   }
   check<InputError>(offset + w <= raw.size(), where, ": appended data block header is truncated");
   const std::uint64_t n = header_word(raw.substr(offset, w), 0, src.header64, where);
@@ -219,8 +225,8 @@ std::vector<Real> values(const pugi::xml_node& a, const Source& src, std::size_t
     }
     return out;
   }
-  const std::string bytes = array_bytes(a, src, where);
   const std::size_t size = type_size(type);
+  const std::string bytes = array_bytes(a, src, where, count * size);
   check<InputError>(bytes.size() >= count * size, where, ": ", bytes.size() / size, " values for ", count, " expected");
   for (std::size_t k = 0; k < count; ++k) out[k] = element(bytes.data() + k * size, type);
   return out;
