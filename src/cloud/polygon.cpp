@@ -99,7 +99,7 @@ Polygon parse_geojson_polygon(const std::string& text, const std::string& name) 
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // syntax errors, and numbers out of range (out_of_range.406)
     throw InputError(detail::concat(name, ": not valid JSON (", e.what(), ")"));
   }
   const json& g = polygon_geometry(doc, name);

@@ -44,6 +44,8 @@ TEST(Polygon, FillsWithOutwardNormalsAndKeepsInteriorOffTheBoundary) {
 
 TEST(Polygon, BadGeometriesAreNamed) {
   EXPECT_THROW_MSG(parse_geojson_polygon("{", "g.json"), InputError, "g.json: not valid JSON");
+  // A number beyond double's range (found by the geojson fuzzer: nlohmann's out_of_range).
+  EXPECT_THROW_MSG(parse_geojson_polygon("11e41441", "g.json"), InputError, "g.json: not valid JSON");
   EXPECT_THROW_MSG(parse_geojson_polygon(R"({"type": "MultiPolygon", "coordinates": []})", "g.json"), InputError,
                    "GeoJSON type 'MultiPolygon' is not a Polygon");
   EXPECT_THROW_MSG(parse_geojson_polygon(R"({"type": "Polygon", "coordinates": [[[0,0],[1,0],[0,0]]]})", "g.json"),
