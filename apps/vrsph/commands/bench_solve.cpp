@@ -56,8 +56,13 @@ AnchorRow run_anchor(const std::string& script, int n, bool perturbed) {
   const int rc = ::pclose(pipe.release());
   check<IoError>(rc == 0 && !out.empty(), "the FEniCSx anchor failed at n = ", n, " (", script,
                  "; it needs Debian's python3-dolfinx-real, python3-petsc4py, python3-mpi4py and python3-scipy)");
-  const auto j = nlohmann::json::parse(out.substr(0, out.find('\n')));
-  return {j.at("total").get<double>(), j.at("error_inf").get<double>(), j.at("iterations").get<int>()};
+  try {
+    const auto j = nlohmann::json::parse(out.substr(0, out.find('\n')));
+    return {j.at("total").get<double>(), j.at("error_inf").get<double>(), j.at("iterations").get<int>()};
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(detail::concat("the FEniCSx anchor at n = ", n, " (", script, ") did not print its JSON line ",
+                                 "(total, error_inf, iterations): ", e.what()));
+  }
 }
 }  // namespace
 
