@@ -127,6 +127,9 @@ std::string inflate_blocks(const std::string& header, const std::string& data, b
     const std::uint64_t csize = header_word(header, 3 + b, h64, where);
     const std::uint64_t usize = (b + 1 == nblocks && last != 0) ? last : block;
     check<InputError>(at + csize <= data.size(), where, ": compressed block ", b, " runs past the end of the data");
+    // zlib cannot expand more than ~1032:1: a block claiming more is corrupt, and is refused
+    // before its buffer is allocated.
+    check<InputError>(usize <= 1032 * csize + 64, where, ": compressed block ", b, " claims ", usize, " bytes from ", csize);
     std::string chunk(static_cast<std::size_t>(usize), '\0');
     uLongf dest = static_cast<uLongf>(usize);
     const int rc = uncompress(reinterpret_cast<Bytef*>(chunk.data()), &dest,
@@ -213,9 +216,13 @@ std::string array_bytes(const pugi::xml_node& a, const Source& src, const std::s
 std::vector<Real> values(const pugi::xml_node& a, const Source& src, std::size_t count, const std::string& where) {
   const std::string type = a.attribute("type").as_string();
   check<InputError>(type_size(type) > 0, where, ": unsupported data type '", type, "'");
-  std::vector<Real> out(count);
+  // Sizes come from the file (NumberOfPoints): nothing is allocated before the data are
+  // known to hold that many values.
   if (std::string(a.attribute("format").as_string("ascii")) == "ascii") {
-    std::istringstream in(a.text().as_string());
+    const std::string text = a.text().as_string();
+    check<InputError>(count <= text.size(), where, ": expected ", count, " values in ", text.size(), " characters");
+    std::vector<Real> out(count);
+    std::istringstream in(text);
     for (std::size_t k = 0; k < count; ++k) {
       std::string token;
       check<InputError>(static_cast<bool>(in >> token), where, ": expected ", count, " values, found ", k);
@@ -228,6 +235,7 @@ std::vector<Real> values(const pugi::xml_node& a, const Source& src, std::size_t
   const std::size_t size = type_size(type);
   const std::string bytes = array_bytes(a, src, where, count * size);
   check<InputError>(bytes.size() >= count * size, where, ": ", bytes.size() / size, " values for ", count, " expected");
+  std::vector<Real> out(count);
   for (std::size_t k = 0; k < count; ++k) out[k] = element(bytes.data() + k * size, type);
   return out;
 }

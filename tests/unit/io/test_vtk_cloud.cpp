@@ -72,7 +72,7 @@ TEST(VtkCloud, BadFilesAreNamed) {
   EXPECT_THROW_MSG(read_vtk_cloud(scratch("bad_tag.vtu", vtu("<DataArray type=\"Int32\" Name=\"tag\" format=\"ascii\">1 7</DataArray>"))),
                    InputError, "tag value 7 is not 0");
   EXPECT_THROW_MSG(read_vtk_cloud(scratch("short.vtu", vtu("<DataArray type=\"Int32\" Name=\"tag\" format=\"ascii\">1</DataArray>"))),
-                   InputError, "expected 2 values, found 1");
+                   InputError, "expected 2 values in 1 characters");
   std::string big = vtu(tag);
   big.replace(big.find("LittleEndian"), 12, "BigEndian");
   EXPECT_THROW_MSG(read_vtk_cloud(scratch("big.vtu", big)), InputError, "big-endian VTK data are not supported");
@@ -86,4 +86,8 @@ TEST(VtkCloud, BadFilesAreNamed) {
   EXPECT_THROW_MSG(read_vtk_cloud(scratch("image.vtu", "<VTKFile type=\"ImageData\"></VTKFile>")), InputError,
                    "VTK file type 'ImageData' is not supported");
   EXPECT_THROW_MSG(read_vtk_cloud(dir + "/missing.vtu"), IoError, "cannot open point cloud file");
+  // A huge NumberOfPoints with little data: refused before anything that size is allocated.
+  std::string huge = vtu(tag);
+  huge.replace(huge.find("NumberOfPoints=\"2\""), 18, "NumberOfPoints=\"900000000000\"");
+  EXPECT_THROW_MSG(read_vtk_cloud(scratch("huge.vtu", huge)), InputError, "expected 2700000000000 values in");
 }
