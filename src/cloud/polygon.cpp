@@ -7,6 +7,7 @@
 #include <sstream>
 #include <vrsph/cloud/polygon.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include "random.hpp"
 
 namespace vrsph {
@@ -167,6 +168,9 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
   const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1);
   check<ResourceError>(lattice < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
                        " lattice points over the geometry: choose a larger spacing");
+  check_memory_estimate(lattice * (2 * sizeof(Vec3) + sizeof(Tag)),
+                        detail::concat("the cloud of the geometry (up to ", lattice, " particles)"),
+                        "choose a larger --spacing");
   PointCloud c;
   c.dim = 2;
   c.spacing = f.spacing;
