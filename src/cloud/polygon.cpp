@@ -118,8 +118,8 @@ Polygon parse_geojson_polygon(const std::string& text, const std::string& name) 
       check<InputError>(pos.size() == 2 || (pos[2].is_number() && pos[2].get<double>() == 0), name, ": ring ", r,
                         " position ", k, " has a non-zero z (a 2D domain is expected)");
       const Vec3 x(pos[0].get<double>(), pos[1].get<double>(), 0);
-      check<InputError>(x.allFinite() && x.cwiseAbs().maxCoeff() < 1e150, name, ": ring ", r, " position ", k,
-                        " is not finite");
+      check<InputError>(x.allFinite() && x.cwiseAbs().maxCoeff() <= max_coordinate, name, ": ring ", r, " position ", k,
+                        " is not finite or beyond +-", max_coordinate, " (rescale the geometry)");
       if (pts.empty() || x != pts.back()) pts.push_back(x);  // repeated vertices collapse
     }
     if (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();  // GeoJSON rings are closed
