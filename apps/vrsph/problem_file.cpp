@@ -1,9 +1,9 @@
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <toml++/toml.h>
 #include <vrsph/core/error.hpp>
+#include <vrsph/io/input_file.hpp>
 #include "problem_file.hpp"
 
 namespace vrsph::cli {
@@ -54,11 +54,7 @@ CLI::Option* add_config_option(CLI::App* cmd, std::string& path) {
 }
 
 void apply_problem_file(CLI::App& cmd, const std::string& path, const std::vector<std::string>& path_options) {
-  std::error_code ec;
-  check<IoError>(!std::filesystem::is_directory(path, ec), "problem file '", path, "' is a directory, not a file");
-  std::ifstream in(path);
-  check<IoError>(static_cast<bool>(in), "cannot open problem file '", path, "'",
-                 std::filesystem::exists(path, ec) ? " (permission denied?)" : " (no such file)");
+  std::ifstream in = open_input(path, "problem file");
   toml::table doc;
   try {
     doc = toml::parse(in, path);

@@ -1,13 +1,11 @@
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <vrsph/cloud/polygon.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
+#include <vrsph/io/input_file.hpp>
 #include "random.hpp"
 
 namespace vrsph {
@@ -130,14 +128,7 @@ Polygon parse_geojson_polygon(const std::string& text, const std::string& name) 
 }
 
 Polygon read_geojson_polygon(const std::string& path) {
-  std::error_code ec;
-  check<IoError>(!std::filesystem::is_directory(path, ec), "geometry file '", path, "' is a directory, not a file");
-  std::ifstream in(path);
-  check<IoError>(static_cast<bool>(in), "cannot open geometry file '", path, "'",
-                 std::filesystem::exists(path, ec) ? " (permission denied?)" : " (no such file)");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_geojson_polygon(text.str(), path);
+  return parse_geojson_polygon(read_file(path, "geometry file"), path);
 }
 
 bool inside_polygon(const Polygon& polygon, const Vec3& x) {

@@ -2,13 +2,12 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <sstream>
-#include <filesystem>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
 #include <vrsph/io/csv.hpp>
+#include <vrsph/io/input_file.hpp>
 #include <vrsph/io/output_file.hpp>
 
 namespace vrsph {
@@ -145,12 +144,7 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim) {
 }
 
 CloudFile read_csv_with_fields(const std::string& path, int dim) {
-  std::error_code ec;
-  check<IoError>(!std::filesystem::is_directory(path, ec), "point cloud file '", path,
-                 "' is a directory, not a file");
-  std::ifstream in(path);
-  check<IoError>(static_cast<bool>(in), "cannot open point cloud file '", path, "'",
-                 std::filesystem::exists(path, ec) ? " (permission denied?)" : " (no such file)");
+  std::ifstream in = open_input(path, "point cloud file");
   return read_csv_with_fields(in, path, dim);
 }
 

@@ -9,12 +9,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <pugixml.hpp>
 #include <sstream>
 #include <zlib.h>
 #include <vrsph/core/error.hpp>
+#include <vrsph/io/input_file.hpp>
 #include <vrsph/io/vtk_cloud.hpp>
 
 namespace vrsph {
@@ -247,15 +246,7 @@ std::string lower(std::string s) {
 }  // namespace
 
 CloudFile read_vtk_cloud(const std::string& path, int dim) {
-  std::error_code ec;
-  check<IoError>(!std::filesystem::is_directory(path, ec), "point cloud file '", path, "' is a directory, not a file");
-  std::ifstream in(path, std::ios::binary);
-  check<IoError>(static_cast<bool>(in), "cannot open point cloud file '", path, "'",
-                 std::filesystem::exists(path, ec) ? " (permission denied?)" : " (no such file)");
-  std::string text(static_cast<std::size_t>(std::filesystem::file_size(path, ec)), '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  check<IoError>(!ec && in.gcount() == static_cast<std::streamsize>(text.size()), "cannot read point cloud file '", path, "'");
-  return parse_vtk_cloud(std::move(text), path, dim);
+  return parse_vtk_cloud(read_file(path, "point cloud file"), path, dim);
 }
 
 CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
