@@ -5,9 +5,9 @@
 #include <benchmark/benchmark.h>
 #include <map>
 #include <vrsph/analysis/study_cloud.hpp>
-#include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/vrsph/moments.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
+#include <vrsph/methods/vrsph/volumes.hpp>
 #include <vrsph/neighbours/search.hpp>
 
 using namespace vrsph;
@@ -33,18 +33,14 @@ const Systems& systems_for(int dim, int n) {
   SearchParams sp;
   sp.radius = 3 * sc.dx;
   const NeighbourList nl = find_neighbours(sc.cloud, sp);
-  const Kernel ker(KernelType::CubicSpline, dim, sp.radius);
+  const Discretisation disc{sc.cloud, nl, KernelType::CubicSpline, sc.dx};
   s.m = moment_rows(MomentConditions::Laplace, dim, MomentRows::Merged);
   for (Index i = 0; i < sc.cloud.size() && s.A.size() < 4096; ++i) {
     if (sc.cloud.tags[static_cast<std::size_t>(i)] != Tag::Interior) continue;
     const auto nbr = nl.of(i);
-    const auto dist = nl.distances_of(i);
-    std::vector<Vec3> x;
-    std::vector<Real> hy;
-    for (std::size_t k = 0; k < nbr.size(); ++k) {
-      x.push_back(sc.cloud.positions[static_cast<std::size_t>(nbr[k])] - sc.cloud.positions[static_cast<std::size_t>(i)]);
-      hy.push_back(-ker.dW_over_r(dist[k]));
-    }
+    std::vector<Vec3> x(nbr.size());
+    std::vector<Real> hy(nbr.size());
+    neighbour_geometry(disc, i, disc.kernel_at(i), x.data(), hy.data());
     std::vector<Real> A(static_cast<std::size_t>(s.m) * nbr.size()), b(static_cast<std::size_t>(s.m));
     build_moment_system(MomentConditions::Laplace, dim, x.data(), hy.data(), static_cast<int>(nbr.size()), A.data(), b.data(),
                         MomentRows::Merged);

@@ -96,15 +96,10 @@ void add_volumes_bench(CLI::App& bench) {
       std::vector<Eigen::MatrixXd> As;
       std::vector<Eigen::VectorXd> bs;
       for (Index i : sample) {
-        const Kernel k = disc.kernel_at(i);
         const auto nbr = nl.of(i);
-        const auto dist = nl.distances_of(i);
-        std::vector<Vec3> xji;
-        std::vector<Real> hy;
-        for (std::size_t q = 0; q < nbr.size(); ++q) {
-          xji.push_back(sc.cloud.positions[static_cast<std::size_t>(nbr[q])] - sc.cloud.positions[static_cast<std::size_t>(i)]);
-          hy.push_back(-k.dW_over_r(dist[q]));
-        }
+        std::vector<Vec3> xji(nbr.size());
+        std::vector<Real> hy(nbr.size());
+        neighbour_geometry(disc, i, disc.kernel_at(i), xji.data(), hy.data());
         As.emplace_back(m, static_cast<Eigen::Index>(nbr.size()));
         bs.emplace_back(m);
         build_moment_system(MomentConditions::Laplace, a->dim, xji.data(), hy.data(), static_cast<int>(nbr.size()),

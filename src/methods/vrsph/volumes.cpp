@@ -4,6 +4,18 @@
 
 namespace vrsph {
 
+void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y) {
+  const auto nbr = disc.neighbours.of(i);
+  const auto dist = disc.neighbours.distances_of(i);
+  const int cnt = static_cast<int>(nbr.size());
+  ker.dW_over_r(dist.data(), half_y, cnt);
+  const Vec3& xi = disc.cloud.positions[static_cast<std::size_t>(i)];
+  for (int k = 0; k < cnt; ++k) {
+    xji[k] = disc.cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - xi;
+    half_y[k] = -half_y[k];
+  }
+}
+
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
                                          std::span<const char> rows, const NnlsOptions& nnls, MomentRows layout) {
   const PointCloud& cloud = disc.cloud;
@@ -44,13 +56,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
       // The kernel changes only with the support radius (the same for every particle unless
       // h varies): rebuilding it per particle (a pow and checks) was ~2% of the volumes.
       if (!ker || nl.radius(i) != ker->support()) ker = disc.kernel_at(i);
-      const auto nbr = nl.of(i);
-      const auto dist = nl.distances_of(i);
-      ker->dW_over_r(dist.data(), half_y.data(), cnt);
-      for (int k = 0; k < cnt; ++k) {
-        xji[static_cast<std::size_t>(k)] = cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - cloud.positions[si];
-        half_y[static_cast<std::size_t>(k)] = -half_y[static_cast<std::size_t>(k)];
-      }
+      neighbour_geometry(disc, i, *ker, xji.data(), half_y.data());
       // Row-major: the layout the solver works on, so it copies nothing.
       build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
       const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, nnls, MatrixOrder::RowMajor);

@@ -19,6 +19,11 @@ struct ReconstructedVolumes {
   std::vector<int> positive;       ///< number of v_j > 0 per row
 };
 
+/// The neighbour geometry of particle i that its moment system is built from:
+/// xji[k] = x_j - x_i and half_y[k] = Y_ij / 2 = -W'(r_ij)/r_ij for its k-th neighbour j
+/// (both arrays hold neighbours.count(i) entries). ker: the kernel of row i.
+void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y);
+
 /// rows: which particles need volumes (empty = every non-ghost particle).
 /// The residual is reported for the literal (Full) system in either layout: merging
 /// identical rows leaves ||A v - b|| unchanged.
