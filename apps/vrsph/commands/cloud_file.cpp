@@ -138,11 +138,10 @@ const std::vector<std::pair<const char*, const char*>> column_options = {
     {"--g-column", "the Dirichlet data g"}, {"--q-column", "the Neumann data a du/dn"}};
 }  // namespace
 
-void plot_solution(const PointCloud& cloud, const Field& u, const Field* error, const std::string& png,
+void plot_solution(const PointCloud& cloud, const Field& u, const Field* exact, const std::string& png,
                    const std::string& title) {
   const auto csv = std::filesystem::temp_directory_path() / ("vrsph-fields-" + std::to_string(::getpid()) + ".csv");
-  const Field exact = error ? Field(u - *error) : Field();
-  write_fields(csv.string(), cloud, u, nullptr, error ? &exact : nullptr);
+  write_fields(csv.string(), cloud, u, nullptr, exact);
   try {
     run_plot_script("plot_field.py",
                     shell_quote(csv.string()) + " " + shell_quote(png) + " --dim " + std::to_string(cloud.dim) +
@@ -192,10 +191,8 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   }
   write_vtu(a.vtu, r.ep.problem.cloud, fields, parse_vtu_format(a.vtu_format));
   if (!file.csv.empty()) write_field_csv(file.csv, r);
-  if (!a.out.plot.empty()) {
-    const Field e = exact ? Field(r.s.u - r.ep.exact) : Field();
-    plot_solution(r.ep.problem.cloud, r.s.u, exact ? &e : nullptr, a.out.plot, methods.front() + " on " + file.path);
-  }
+  if (!a.out.plot.empty())
+    plot_solution(r.ep.problem.cloud, r.s.u, exact ? &r.ep.exact : nullptr, a.out.plot, methods.front() + " on " + file.path);
   Table t;
   t.columns = base_columns;
   if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"});

@@ -212,10 +212,7 @@ void add_solve_command(CLI::App& app) {
     res.col(0) = r.local_residual;
     write_vtu(a->vtu, cloud, {{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}},
               parse_vtu_format(a->vtu_format));
-    if (!a->out.plot.empty()) {
-      const Field e = r.U - r.exact;
-      plot_solution(cloud, r.U, &e, a->out.plot, r.method + " n=" + std::to_string(r.n));
-    }
+    if (!a->out.plot.empty()) plot_solution(cloud, r.U, &r.exact, a->out.plot, r.method + " n=" + std::to_string(r.n));
     Table t;
     t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
                  "solver_iterations", "solver_residual", "seconds_total", "vtu"};

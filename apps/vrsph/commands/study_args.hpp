@@ -35,8 +35,9 @@ SolverOptions solver_options(const StudyArgs& a);
 /// expected on perturbed clouds), every other kind once each.
 void print_warnings(const std::vector<std::string>& warnings);
 
-/// Draws u (and the error, when given) over the cloud into png (share/plot_field.py).
-void plot_solution(const PointCloud& cloud, const Field& u, const Field* error, const std::string& png,
+/// Draws u (and its error, when the exact solution is given) over the cloud into png
+/// (share/plot_field.py).
+void plot_solution(const PointCloud& cloud, const Field& u, const Field* exact, const std::string& png,
                    const std::string& title);
 
 /// --vtu-format: binary (default) or ascii.
