@@ -81,6 +81,36 @@ VRSPH_ALWAYS_INLINE inline Real dot(const Real* __restrict x, const Real* __rest
   return sum;
 }
 
+// out[0:len] = init[0:len] + scale * sum_{j<cnt} c[j] cols[j*stride + 0:len] (init null:
+// zero). Four rows at a time, each block accumulated in a register over the columns:
+// updating out in memory column by column made every column wait for the previous one's
+// store (a store-to-load chain of cnt steps).
+VRSPH_ALWAYS_INLINE inline void combine_columns(Real* __restrict out, const Real* __restrict init, Real scale,
+                                                const Real* __restrict cols, std::size_t stride,
+                                                const Real* __restrict c, int cnt, std::size_t len) {
+  const std::size_t blocks = len / 4 * 4;
+  for (std::size_t i = 0; i < blocks; i += 4) {
+    Real4 acc = {0, 0, 0, 0};
+    for (int j = 0; j < cnt; ++j) {
+      Real4 col;
+      std::memcpy(&col, cols + static_cast<std::size_t>(j) * stride + i, sizeof col);
+      acc += c[j] * col;
+    }
+    acc *= scale;
+    if (init) {
+      Real4 base;
+      std::memcpy(&base, init + i, sizeof base);
+      acc += base;
+    }
+    std::memcpy(out + i, &acc, sizeof acc);
+  }
+  for (std::size_t i = blocks; i < len; ++i) {
+    Real acc = 0;
+    for (int j = 0; j < cnt; ++j) acc += c[j] * cols[static_cast<std::size_t>(j) * stride + i];
+    out[i] = (init ? init[i] : 0) + scale * acc;
+  }
+}
+
 // First index of the largest w_j if that exceeds tol, else -1. Two passes: the maximum with
 // four independent partial maxima (vectorisable; the running arg-max was one dependent
 // compare per column, ~400 cycles per 3D iteration), then the first index holding it.
@@ -124,7 +154,7 @@ void NnlsSolver::reserve(int m, int n) {
   qtb_.resize(M);
   z_.resize(M);
   xp_.resize(M);
-  rinv_.resize(M);
+  Rinv_.resize(M * M);
   r_.resize(M);
   w_.resize(N);
   at_.resize(M * N);
@@ -182,18 +212,23 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   int k = 0;  // passive count
   NnlsResult res;
 
-  // R[0:k,0:k] z = qtb[0:k]; rinv_ holds 1/R_ii (divisions were 8% of the solve). Column
-  // oriented: once z_i is known it is eliminated from all rows above with one independent
-  // axpy, so the only dependent chain is one multiply-add per row (the row-oriented dot
-  // products chained k^2/2 of them).
+  // R[0:k,0:k] z = qtb[0:k] through R^-1, kept column by column beside R (Rinv_: column-major,
+  // zeros below the diagonal): z = R^-1 qtb is then k independent multiply-adds per block of
+  // four rows. Back-substitution chained k dependent steps through memory (~15% of a 2D solve).
+  Real* Rinv = Rinv_.data();
   auto back_substitute = [&]() VRSPH_ALWAYS_INLINE {
-    Real* z = z_.data();
-    for (int i = 0; i < k; ++i) z[i] = qtb[i];
-    for (int i = k - 1; i >= 0; --i) {
-      const Real zi = z[i] * rinv_[static_cast<std::size_t>(i)];
-      z[i] = zi;
-      sub_scaled(z, R + static_cast<std::size_t>(i) * M, zi, static_cast<std::size_t>(i));
-    }
+    combine_columns(z_.data(), nullptr, 1, Rinv, M, qtb, k, static_cast<std::size_t>(k));
+  };
+  // Column j of R^-1 from its columns 0..j-1: R^-1[:, j] = -R^-1[:, 0:j] R[0:j, j] / R_jj with
+  // 1 / R_jj on the diagonal (the rows below stay zero).
+  auto invert_column = [&](int j) VRSPH_ALWAYS_INLINE {
+    const std::size_t jj = static_cast<std::size_t>(j);
+    const Real* Rj = R + jj * M;
+    const Real inv = 1 / Rj[jj];
+    Real* out = Rinv + jj * M;
+    combine_columns(out, nullptr, -inv, Rinv, M, Rj, j, jj);
+    out[jj] = inv;
+    for (std::size_t i = jj + 1; i < M; ++i) out[i] = 0;
   };
   // Apply the rotation (c, s) to rows (p, q) of Q^T, i.e. columns p, q of Q, and to qtb.
   auto rotate_q = [&](int p, int q, Real c, Real s) VRSPH_ALWAYS_INLINE {
@@ -213,8 +248,7 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   // read-modify-write passes over w). The residual norm is not needed here: the result
   // reports the true residual of the returned x, computed once at the end.
   auto gradient = [&]() VRSPH_ALWAYS_INLINE {
-    for (std::size_t i = 0; i < M; ++i) r_[i] = b[i];
-    for (int j = 0; j < k; ++j) sub_scaled(r_.data(), Q + static_cast<std::size_t>(j) * M, qtb[j], M);
+    combine_columns(r_.data(), b, -1, Q, M, qtb, k, M);  // r = b - Q1 (Q1^T b)
     Real* w = w_.data();
     std::size_t j = 0;
     for (; j + 8 <= N; j += 8) {  // eight columns: two independent accumulators per row of A^T
@@ -283,11 +317,11 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
       qb += qk[i] * b[i];
     }
     Rk[k] = vnorm;
-    rinv_[static_cast<std::size_t>(k)] = inv;
     qtb[k] = qb;
     passive_[static_cast<std::size_t>(k)] = t;
     xp_[static_cast<std::size_t>(k)] = 0;  // t comes from the zero set
     in_passive_[static_cast<std::size_t>(t)] = 1;
+    invert_column(k);
     ++k;
     return true;
   };
@@ -313,7 +347,7 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
       }
       rotate_q(j, j + 1, c, s);
     }
-    for (int j = p; j < k; ++j) rinv_[static_cast<std::size_t>(j)] = 1 / R[static_cast<std::size_t>(j) * M + static_cast<std::size_t>(j)];
+    for (int j = p; j < k; ++j) invert_column(j);  // columns 0..p-1 of R, so of R^-1, are unchanged
   };
 
   // One Lawson–Hanson step with entering column t from a feasible x (x_P = argmin on P,
