@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -11,6 +12,24 @@ namespace detail {
 void nearest_particles(const PointCloud& cloud, const std::vector<Vec3>& queries, std::vector<Real>& dist,
                        std::vector<Index>& index);
 }  // namespace detail
+
+namespace {
+// The candidate farthest from its nearest particle.
+CoveringRadius farthest_candidate(const PointCloud& cloud, const std::vector<Vec3>& cand) {
+  std::vector<Real> dist;
+  std::vector<Index> idx;
+  detail::nearest_particles(cloud, cand, dist, idx);
+  CoveringRadius out;
+  out.candidates = static_cast<Index>(cand.size());
+  for (std::size_t k = 0; k < cand.size(); ++k)
+    if (dist[k] > out.radius) {
+      out.radius = dist[k];
+      out.point = cand[k];
+      out.nearest = idx[k];
+    }
+  return out;
+}
+}  // namespace
 
 CoveringRadius covering_radius(const PointCloud& cloud) {
   validate(cloud);
@@ -53,17 +72,28 @@ CoveringRadius covering_radius(const PointCloud& cloud) {
     if (!x.allFinite() || dom.signed_distance(x) < -tol) continue;
     inside.push_back(x);
   }
-  std::vector<Real> dist;
-  std::vector<Index> idx;
-  detail::nearest_particles(cloud, inside, dist, idx);
-  CoveringRadius out;
-  out.candidates = static_cast<Index>(inside.size());
-  for (std::size_t k = 0; k < inside.size(); ++k)
-    if (dist[k] > out.radius) {
-      out.radius = dist[k];
-      out.point = inside[k];
-      out.nearest = idx[k];
-    }
+  return farthest_candidate(cloud, inside);
+}
+
+CoveringRadius covering_radius(const PointCloud& cloud, const std::function<bool(const Vec3&)>& inside,
+                               const std::vector<Vec3>& boundary_sample, Real boundary_step) {
+  validate(cloud);
+  check<InputError>(cloud.dim == 2 || cloud.dim == 3, "the covering radius of a general domain needs a 2D or 3D cloud");
+  check<InputError>(cloud.size() > cloud.dim, "the covering radius needs more than ", cloud.dim, " particles");
+  check<ConfigError>(std::isfinite(boundary_step) && boundary_step >= 0, "the boundary sampling step must be finite and "
+                     ">= 0, got ", boundary_step);
+  // Voronoi vertices only: a box or ball domain's boundary hits are not this domain's.
+  std::optional<PointCloud> unbounded;
+  if (cloud.domain.shape != Domain::Shape::None) {
+    unbounded = cloud;
+    unbounded->domain = Domain{};
+  }
+  std::vector<Vec3> cand;
+  for (const Vec3& x : detail::covering_candidates(unbounded ? *unbounded : cloud))
+    if (x.allFinite() && inside(x)) cand.push_back(x);
+  cand.insert(cand.end(), boundary_sample.begin(), boundary_sample.end());
+  CoveringRadius out = farthest_candidate(cloud, cand);
+  out.uncertainty = boundary_step;
   return out;
 }
 

@@ -16,6 +16,7 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 // Points of the line x0 + t u on the domain boundary (box faces or sphere).
 void line_hits(const Domain& dom, const Vec3& x0, const Vec3& u, std::vector<Vec3>& out) {
+  if (dom.shape == Domain::Shape::None) return;  // a general domain: its boundary is sampled by the caller
   const int d = dom.dim;
   if (dom.shape == Domain::Shape::Box) {
     for (int k = 0; k < d; ++k) {
@@ -36,6 +37,7 @@ void line_hits(const Domain& dom, const Vec3& x0, const Vec3& u, std::vector<Vec
 // 3D: the bisector plane of (p, q) against the box edges, or against the sphere (the
 // point of the plane-sphere circle farthest from p).
 void plane_hits(const Domain& dom, const Vec3& p, const Vec3& q, std::vector<Vec3>& out) {
+  if (dom.shape == Domain::Shape::None) return;
   const Vec3 nrm = q - p, mid = 0.5 * (p + q);
   if (dom.shape == Domain::Shape::Box) {
     for (int axis = 0; axis < 3; ++axis) {  // edges parallel to `axis`

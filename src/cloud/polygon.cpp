@@ -2,6 +2,7 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <vrsph/cloud/blue_noise.hpp>
 #include <vrsph/cloud/polygon.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
@@ -138,6 +139,25 @@ bool inside_polygon(const Polygon& polygon, const Vec3& x) {
   return true;
 }
 
+Real distance_to_polygon_boundary(const Polygon& polygon, const Vec3& x) {
+  Real d = std::numeric_limits<Real>::infinity();
+  for (const auto& ring : polygon.rings)
+    for (std::size_t e = 0; e < ring.size(); ++e) d = std::min(d, distance_to_segment(x, ring[e], ring[(e + 1) % ring.size()]));
+  return d;
+}
+
+std::vector<Vec3> sample_polygon_boundary(const Polygon& polygon, Real step) {
+  check<ConfigError>(std::isfinite(step) && step > 0, "boundary sampling step must be positive, got ", step);
+  std::vector<Vec3> out;
+  for (const auto& ring : polygon.rings)
+    for (std::size_t e = 0; e < ring.size(); ++e) {
+      const Vec3 a = ring[e], b = ring[(e + 1) % ring.size()];
+      const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step)));
+      for (int k = 0; k < pieces; ++k) out.push_back(a + (b - a) * (static_cast<Real>(k) / pieces));
+    }
+  return out;
+}
+
 PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
   check<ConfigError>(std::isfinite(f.spacing) && f.spacing > 0, "the spacing must be positive and finite, got ", f.spacing);
   check<ConfigError>(std::isfinite(f.delta) && f.delta >= 0 && f.delta < 0.5, "the perturbation must be in [0, 0.5), got ",
@@ -191,22 +211,29 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
       for (int k = 1; k < pieces; ++k) put(a + (b - a) * (static_cast<Real>(k) / pieces), Tag::Dirichlet, edge_normal(e));
     }
   }
-  // Interior: lattice points inside, at least half a spacing from every edge.
-  const auto nx = static_cast<long long>((hi[0] - lo[0]) / f.spacing) + 1, ny = static_cast<long long>((hi[1] - lo[1]) / f.spacing) + 1;
-  for (long long j = 0; j <= ny; ++j)
-    for (long long i = 0; i <= nx; ++i) {
-      Vec3 x(lo[0] + static_cast<Real>(i) * f.spacing, lo[1] + static_cast<Real>(j) * f.spacing, 0);
-      if (f.delta > 0) {
-        const auto id = static_cast<std::uint64_t>(j * (nx + 1) + i);
-        for (int k = 0; k < 2; ++k)
-          x[k] += f.delta * f.spacing * (2 * detail::uniform01(f.seed, id, static_cast<std::uint64_t>(k)) - 1);
+  // Interior: at least half a spacing from every edge; a lattice, or blue noise grown from
+  // the boundary particles.
+  const auto admissible = [&](const Vec3& x) {
+    return inside_polygon(p, x) && distance_to_polygon_boundary(p, x) >= 0.5 * f.spacing;
+  };
+  if (f.pattern == FillPattern::BlueNoise) {
+    const std::vector<Vec3> seeds = c.positions;
+    for (const Vec3& x : grow_blue_noise(2, blue_noise_radius_factor(2) * f.spacing, seeds, admissible, f.seed))
+      put(x, Tag::Interior, Vec3::Zero());
+  } else {
+    const auto nx = static_cast<long long>((hi[0] - lo[0]) / f.spacing) + 1,
+               ny = static_cast<long long>((hi[1] - lo[1]) / f.spacing) + 1;
+    for (long long j = 0; j <= ny; ++j)
+      for (long long i = 0; i <= nx; ++i) {
+        Vec3 x(lo[0] + static_cast<Real>(i) * f.spacing, lo[1] + static_cast<Real>(j) * f.spacing, 0);
+        if (f.delta > 0) {
+          const auto id = static_cast<std::uint64_t>(j * (nx + 1) + i);
+          for (int k = 0; k < 2; ++k)
+            x[k] += f.delta * f.spacing * (2 * detail::uniform01(f.seed, id, static_cast<std::uint64_t>(k)) - 1);
+        }
+        if (admissible(x)) put(x, Tag::Interior, Vec3::Zero());
       }
-      if (!inside_polygon(p, x)) continue;
-      Real d = std::numeric_limits<Real>::infinity();
-      for (const auto& ring : p.rings)
-        for (std::size_t e = 0; e < ring.size(); ++e) d = std::min(d, distance_to_segment(x, ring[e], ring[(e + 1) % ring.size()]));
-      if (d >= 0.5 * f.spacing) put(x, Tag::Interior, Vec3::Zero());
-    }
+  }
   validate(c);
   return c;
 }

@@ -2,21 +2,15 @@
 #include <cctype>
 #include <filesystem>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
 #include <vrsph/io/vtk_cloud.hpp>
 
 namespace vrsph {
 
-namespace {
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-}  // namespace
-
 const Field& CloudFile::field(const std::string& name, const std::string& wanted_for) const {
-  const std::string key = lower(name);
+  const std::string key = to_lower(name);
   for (const auto& f : fields)
     if (f.name == key) return f.values;
   std::string have;
@@ -26,7 +20,7 @@ const Field& CloudFile::field(const std::string& name, const std::string& wanted
 }
 
 CloudFile read_cloud_file(const std::string& path, int dim) {
-  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  const std::string ext = to_lower(std::filesystem::path(path).extension().string());
   if (ext == ".vtu" || ext == ".vtp") return read_vtk_cloud(path, dim);
   return read_csv_with_fields(path, dim);
 }

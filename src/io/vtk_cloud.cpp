@@ -13,6 +13,7 @@
 #include <sstream>
 #include <zlib.h>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/io/input_file.hpp>
 #include <vrsph/io/vtk_cloud.hpp>
 
@@ -239,10 +240,6 @@ std::vector<Real> values(const pugi::xml_node& a, const Source& src, std::size_t
   return out;
 }
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 }  // namespace
 
 CloudFile read_vtk_cloud(const std::string& path, int dim) {
@@ -313,7 +310,7 @@ CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
     bool tags = false, normals = false;
     std::vector<std::string> seen;
     for (const pugi::xml_node a : piece.child("PointData").children("DataArray")) {
-      const std::string name = lower(a.attribute("Name").as_string());
+      const std::string name = to_lower(a.attribute("Name").as_string());
       const int comps = a.attribute("NumberOfComponents").as_int(1);
       const std::string where = where_piece + " array '" + name + "'";
       if (name == "tag") {

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <sstream>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include "backends.hpp"
 
 namespace vrsph {
@@ -75,10 +76,6 @@ void start_petsc() {
   std::atexit(finalise_petsc);
 }
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 // Option names (without the dash, lower case) in a PETSc option string: words that start
 // with '-' and a letter (so "-1e-3" is a value).
@@ -86,7 +83,7 @@ std::vector<std::string> option_names(const std::string& s) {
   std::vector<std::string> names;
   std::istringstream in(s);
   for (std::string w; in >> w;)
-    if (w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1]))) names.push_back(lower(w.substr(1)));
+    if (w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1]))) names.push_back(to_lower(w.substr(1)));
   return names;
 }
 
@@ -212,7 +209,7 @@ void solve_petsc(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOption
   call(KSPGetConvergedReason(s.ksp, &reason), "KSP");
   call(KSPGetIterationNumber(s.ksp, &its), "KSP");
   rep.iterations = static_cast<int>(its);
-  rep.reason = lower(KSPConvergedReasons[reason]);
+  rep.reason = to_lower(KSPConvergedReasons[reason]);
   rep.success = reason > 0;
   if (!rep.success)
     rep.message = concat(rep.solver, " stopped without converging: ", rep.reason, " after ", its, " iterations");
@@ -225,7 +222,7 @@ void solve_petsc(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOption
     // Only the caller's: PETSC_OPTIONS also feeds PETSc's start-up (-log_view, -malloc_debug...).
     const std::vector<std::string> given = option_names(o.petsc_options);
     for (PetscInt k = 0; k < left; ++k) {
-      const std::string name = lower(names[k]);
+      const std::string name = to_lower(names[k]);
       if (std::find(given.begin(), given.end(), name) != given.end())
         rep.warnings.push_back(concat("PETSc option -", name, " was given but not used (misspelt, or it does not apply "
                                       "to ", rep.solver, ")"));

@@ -1,5 +1,7 @@
 // `vrsph cloud`: generate a cloud, or read one (--input) and inspect/convert it.
 #include <algorithm>
+#include <filesystem>
+#include <optional>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -7,8 +9,10 @@
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/cloud/polygon.hpp>
+#include <vrsph/cloud/surface.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
 #include <vrsph/io/vtu.hpp>
@@ -35,23 +39,52 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// --geometry: a polygon filled at --spacing; boundary particles Dirichlet unless the
-// expressions say otherwise.
-PointCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
+// A filled geometry with what the covering radius needs: the domain's membership test and a
+// sample of its boundary (every boundary point within `step` of a sample point).
+struct GeometryCloud {
+  PointCloud cloud;
+  std::function<bool(const Vec3&)> inside;
+  std::vector<Vec3> boundary_sample;
+  Real step = 0;
+};
+
+// --geometry: a polygon (GeoJSON) or a closed surface (STL/OFF/OBJ/PLY) filled at
+// --spacing; boundary particles Dirichlet unless the expressions say otherwise.
+GeometryCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
   for (const char* opt : {"--n", "--domain", "--layout", "--ghost-layers", "--perturb-boundary", "--dim"})
-    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --geometry (the polygon is the domain; "
+    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --geometry (the geometry is the domain; "
                        "--spacing sets the resolution)");
   check<ConfigError>(cmd.count("--spacing") > 0, "--geometry needs --spacing (the particle distance)");
-  check<ConfigError>(a.family == "uniform" || a.family == "perturbed", "--family with --geometry must be uniform or "
-                     "perturbed, got '", a.family, "'");
+  check<ConfigError>(a.family == "uniform" || a.family == "perturbed" || a.family == "blue-noise",
+                     "--family with --geometry must be uniform, perturbed or blue-noise, got '", a.family, "'");
+  check<ConfigError>(a.family != "blue-noise" || cmd.count("--delta") == 0,
+                     "--delta applies to the perturbed lattice, not to blue noise");
   check<ConfigError>(a.neumann.empty() || a.dirichlet.empty(), "give --neumann or --dirichlet, not both (the other "
                      "boundary particles get the other kind)");
-  const Polygon polygon = read_geojson_polygon(a.geometry);
-  PolygonFill fill;
+  GeometryFill fill;
   fill.spacing = a.spacing;
   fill.delta = a.family == "perturbed" ? (cmd.count("--delta") ? a.delta : 0.3) : 0;
   fill.seed = a.seed;
-  PointCloud c = fill_polygon(polygon, fill);
+  fill.pattern = a.family == "blue-noise" ? FillPattern::BlueNoise : FillPattern::Lattice;
+  const std::string ext = to_lower(std::filesystem::path(a.geometry).extension().string());
+  GeometryCloud g;
+  if (ext == ".geojson" || ext == ".json") {
+    auto polygon = std::make_shared<Polygon>(read_geojson_polygon(a.geometry));
+    g.cloud = fill_polygon(*polygon, fill);
+    g.step = a.spacing / 16;
+    g.boundary_sample = sample_polygon_boundary(*polygon, g.step);
+    g.inside = [polygon](const Vec3& x) { return inside_polygon(*polygon, x); };
+  } else if (ext == ".stl" || ext == ".off" || ext == ".obj" || ext == ".ply") {
+    auto surface = std::make_shared<ClosedSurface>(read_closed_surface(a.geometry));
+    g.cloud = fill_surface(*surface, fill);
+    g.step = a.spacing / 4;
+    g.boundary_sample = surface->sample(g.step);
+    g.inside = [surface](const Vec3& x) { return surface->contains(x); };
+  } else {
+    throw ConfigError(detail::concat("--geometry ", a.geometry, ": unknown geometry format '", ext, "' (2D: .geojson or "
+                                     ".json, a GeoJSON Polygon; 3D: .stl, .off, .obj or .ply, a closed surface)"));
+  }
+  PointCloud& c = g.cloud;
   if (!a.neumann.empty() || !a.dirichlet.empty()) {
     const Expression select(a.neumann.empty() ? a.dirichlet : a.neumann);
     for (Index i = 0; i < c.size(); ++i) {
@@ -61,7 +94,7 @@ PointCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
       tag = (a.neumann.empty() ? !hit : hit) ? Tag::Neumann : Tag::Dirichlet;
     }
   }
-  return c;
+  return g;
 }
 
 PointCloud generate(const CloudArgs& a) {
@@ -96,7 +129,8 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--vtu-format", a->vtu_format, "With --output .vtu: binary (base64, exact, smaller) or ascii")
       ->capture_default_str();
   cmd->add_option("--format", a->format, "Report format: md, csv or json")->capture_default_str();
-  cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk")->capture_default_str();
+  cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk; with --geometry: "
+                  "uniform, perturbed or blue-noise")->capture_default_str();
   cmd->add_option("--layout", a->layout, "Lattice layout: vertex (A, boundary on faces) or cells (B)")->capture_default_str();
   cmd->add_option("--domain", a->domain, "Box: unit ([0,1]^d) or symmetric ([-1,1]^d)")->capture_default_str();
   cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3 (with --input: 0 = infer from the columns)")->capture_default_str();
@@ -108,8 +142,9 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--h-factor", a->h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
   cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
   cmd->add_option("--geometry", a->geometry,
-                  "Fill this 2D domain (GeoJSON Polygon, holes allowed) with particles: boundary particles along the "
-                  "edges with outward normals, interior ones on a lattice (--family uniform|perturbed)");
+                  "Fill this domain with particles: a 2D GeoJSON Polygon (holes allowed) or a 3D closed surface "
+                  "(STL, OFF, OBJ, PLY); boundary particles on the boundary with outward normals, interior ones on a "
+                  "lattice or as blue noise (--family uniform|perturbed|blue-noise)");
   cmd->add_option("--spacing", a->spacing, "With --geometry: the particle spacing");
   cmd->add_option("--neumann", a->neumann,
                   "With --geometry: boundary particles where this expression is non-zero are Neumann (e.g. \"x^2+y^2<0.3\")");
@@ -118,11 +153,13 @@ void add_cloud_command(CLI::App& app) {
   cmd->callback([a, cmd] {
     const VtuFormat vtu_format = parse_vtu_format(a->vtu_format);  // checked before any work
     PointCloud cloud;
+    std::optional<GeometryCloud> geometry;
     if (!a->input.empty()) {
       const int dim = cmd->count("--dim") ? a->dim : 0;
       cloud = read_cloud_file(a->input, dim).cloud;
     } else if (!a->geometry.empty()) {
-      cloud = from_geometry(*a, *cmd);
+      geometry = from_geometry(*a, *cmd);
+      cloud = std::move(geometry->cloud);
     } else {
       for (const char* opt : {"--spacing", "--neumann", "--dirichlet"})
         check<ConfigError>(cmd->count(opt) == 0, opt, " needs --geometry");
@@ -194,10 +231,14 @@ void add_cloud_command(CLI::App& app) {
       add(std::string("min_") + "xyz"[k], lo[k]);
       add(std::string("max_") + "xyz"[k], hi[k]);
     }
-    if (cloud.domain.shape != Domain::Shape::None) {
-      const CoveringRadius cr = covering_radius(cloud);
+    if (cloud.domain.shape != Domain::Shape::None || geometry) {
+      // A geometry's covering radius is exact inside and sampled on the boundary: the true
+      // value lies within covering_radius_uncertainty above the one reported.
+      const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample, geometry->step)
+                                         : covering_radius(cloud);
       add("covering_radius", cr.radius);
       add("covering_radius_over_spacing", cr.radius / spacing);
+      if (geometry) add("covering_radius_uncertainty", cr.uncertainty);
     }
     if (a->check_brute) add("brute_force_check", std::string("agrees"));
     if (a->format == "json") {

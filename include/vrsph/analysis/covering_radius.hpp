@@ -10,6 +10,8 @@
 // box corners, and antipodal sphere points. Each candidate inside the domain is scored
 // with its true nearest-particle distance (k-d tree), so a superset of candidates can
 // never overestimate. All particles (ghosts included) count as covering points.
+#include <functional>
+#include <vector>
 #include <vrsph/cloud/point_cloud.hpp>
 
 namespace vrsph {
@@ -19,10 +21,20 @@ struct CoveringRadius {
   Vec3 point = Vec3::Zero();  ///< where the maximum is attained
   Index nearest = -1;         ///< the particle nearest to that point
   Index candidates = 0;       ///< candidate points scored
+  Real uncertainty = 0;       ///< the true r_N lies in [radius, radius + uncertainty] (0: exact)
 };
 
 /// Throws InputError for a cloud without a box or ball domain, or with fewer than d+1 particles.
 CoveringRadius covering_radius(const PointCloud& cloud);
+
+/// The covering radius over a general domain (a polygon, a solid bounded by a surface), given
+/// by a membership test and a sample of its boundary in which every boundary point has a
+/// sample point within `boundary_step`. Interior maxima of the nearest-particle distance are
+/// Voronoi vertices, which are all scored, so the interior is exact; on the boundary the
+/// distance (1-Lipschitz) is at most boundary_step above its sampled maximum. Hence
+/// radius <= r_N <= radius + boundary_step, reported as `uncertainty`. 2D and 3D clouds.
+CoveringRadius covering_radius(const PointCloud& cloud, const std::function<bool(const Vec3&)>& inside,
+                               const std::vector<Vec3>& boundary_sample, Real boundary_step);
 
 namespace detail {
 /// Candidate points (see above) for 2D/3D clouds; implemented with CGAL.

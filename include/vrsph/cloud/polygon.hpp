@@ -3,10 +3,11 @@
 // Feature / FeatureCollection holding exactly one; the first ring is the outer boundary, the
 // others holes; ring orientation is not relied on), and filled with particles: boundary
 // particles along every edge at about the requested spacing with the domain's outward unit
-// normals, interior particles on a lattice (optionally perturbed) kept at least half a
-// spacing from the boundary.
+// normals, interior particles on a lattice (optionally perturbed) or as blue noise, kept at
+// least half a spacing from the boundary.
 #include <string>
 #include <vector>
+#include <vrsph/cloud/geometry_fill.hpp>
 #include <vrsph/cloud/point_cloud.hpp>
 
 namespace vrsph {
@@ -21,11 +22,7 @@ struct Polygon {
 Polygon read_geojson_polygon(const std::string& path);
 Polygon parse_geojson_polygon(const std::string& text, const std::string& name);
 
-struct PolygonFill {
-  Real spacing = 0;             ///< particle spacing (> 0)
-  Real delta = 0;               ///< interior perturbation amplitude in units of spacing, [0, 0.5)
-  std::uint64_t seed = 1;
-};
+using PolygonFill = GeometryFill;
 
 /// Boundary particles tagged Dirichlet (see tag_boundary to change them), interior ones
 /// Interior; domain shape None, spacing set. Throws ConfigError when the spacing is not
@@ -34,5 +31,12 @@ PointCloud fill_polygon(const Polygon& polygon, const PolygonFill& fill);
 
 /// True if x lies inside the polygon (inside the outer ring and outside every hole).
 bool inside_polygon(const Polygon& polygon, const Vec3& x);
+
+/// Distance from x to the polygon's boundary (its nearest edge).
+Real distance_to_polygon_boundary(const Polygon& polygon, const Vec3& x);
+
+/// Points along every edge no farther than `step` from any boundary point (vertices
+/// included), e.g. to bound the covering radius.
+std::vector<Vec3> sample_polygon_boundary(const Polygon& polygon, Real step);
 
 }  // namespace vrsph

@@ -4,6 +4,7 @@
 // empty string), so "0.5\0junk" or "3abc" are errors rather than 0.5 or 3.
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vrsph/core/types.hpp>
 
@@ -15,6 +16,9 @@ std::optional<Real> parse_real(std::string_view text);
 /// The value of `text` as a base-10 integer, or nullopt (also on overflow of int64).
 /// "1e3" is not an integer.
 std::optional<std::int64_t> parse_integer(std::string_view text);
+
+/// `text` with ASCII letters in lower case (file extensions, keywords, array names).
+std::string to_lower(std::string text);
 
 /// Printable form of a text for error messages: control bytes (NUL, tab, ...) and
 /// non-ASCII bytes become \\xNN, and long texts are cut at `max_length` characters.

@@ -1,0 +1,260 @@
+// Closed triangle surfaces (CGAL Surface_mesh, AABB tree, Side_of_triangle_mesh) and their
+// particle fill. CGAL stays in this file (compiled in the vrsph_cgal object library).
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/IO/polygon_mesh_io.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/shape_predicates.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vrsph/cloud/blue_noise.hpp>
+#include <vrsph/cloud/surface.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
+#include <vrsph/io/input_file.hpp>
+#include "random.hpp"
+
+namespace vrsph {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Mesh = CGAL::Surface_mesh<K::Point_3>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
+
+struct ClosedSurface::Impl {
+  Mesh mesh;
+  std::optional<Tree> tree;
+  std::optional<CGAL::Side_of_triangle_mesh<Mesh, K>> side;
+  std::vector<Vec3> face_normal;  ///< outward unit normal per face index
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  Real area = 0, volume = 0;
+};
+
+namespace {
+Vec3 vec(const K::Point_3& p) { return {p.x(), p.y(), p.z()}; }
+K::Point_3 point(const Vec3& x) { return {x[0], x[1], x[2]}; }
+
+std::array<Vec3, 3> corners(const Mesh& m, Mesh::Face_index f) {
+  std::array<Vec3, 3> out;
+  int k = 0;
+  for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) out[static_cast<std::size_t>(k++)] = vec(m.point(v));
+  return out;
+}
+
+// Interior angle of face f at its corner v.
+Real corner_angle(const Mesh& m, Mesh::Halfedge_index h) {
+  const Vec3 v = vec(m.point(m.target(h)));
+  const Vec3 a = vec(m.point(m.source(h))) - v, b = vec(m.point(m.target(m.next(h)))) - v;
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+}  // namespace
+
+ClosedSurface::ClosedSurface() : impl_(std::make_unique<Impl>()) {}
+ClosedSurface::ClosedSurface(ClosedSurface&&) noexcept = default;
+ClosedSurface& ClosedSurface::operator=(ClosedSurface&&) noexcept = default;
+ClosedSurface::~ClosedSurface() = default;
+
+std::size_t ClosedSurface::triangles() const { return impl_->mesh.number_of_faces(); }
+Real ClosedSurface::area() const { return impl_->area; }
+Real ClosedSurface::volume() const { return impl_->volume; }
+Vec3 ClosedSurface::lo() const { return impl_->lo; }
+Vec3 ClosedSurface::hi() const { return impl_->hi; }
+bool ClosedSurface::contains(const Vec3& x) const { return (*impl_->side)(point(x)) != CGAL::ON_UNBOUNDED_SIDE; }
+Real ClosedSurface::distance(const Vec3& x) const { return std::sqrt(impl_->tree->squared_distance(point(x))); }
+
+std::vector<Vec3> ClosedSurface::sample(Real step) const {
+  check<ConfigError>(std::isfinite(step) && step > 0, "surface sampling step must be positive, got ", step);
+  std::vector<Vec3> out;
+  for (auto f : impl_->mesh.faces()) {
+    const auto c = corners(impl_->mesh, f);
+    const Real longest = std::max({(c[1] - c[0]).norm(), (c[2] - c[1]).norm(), (c[0] - c[2]).norm()});
+    // A grid of m x m subdivisions: sub-triangles have sides <= longest / m <= step, so every
+    // point of the face is within step of a grid point.
+    const int m = std::max(1, static_cast<int>(std::ceil(longest / step)));
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; i + j <= m; ++j) {
+        const Real a = static_cast<Real>(i) / m, b = static_cast<Real>(j) / m;
+        out.push_back(c[0] + a * (c[1] - c[0]) + b * (c[2] - c[0]));
+      }
+  }
+  return out;
+}
+
+ClosedSurface read_closed_surface(const std::string& path) {
+  (void)open_input(path, "geometry file");  // missing, directory or unreadable: IoError
+  ClosedSurface s;
+  Mesh& m = s.impl_->mesh;
+  bool ok = false;
+  try {
+    ok = CGAL::IO::read_polygon_mesh(path, m, CGAL::parameters::verbose(false));
+  } catch (const std::exception& e) {
+    throw InputError(detail::concat(path, ": not a readable surface (", e.what(), ")"));
+  }
+  check<InputError>(ok && m.number_of_faces() > 0, path, ": cannot read a triangle surface from it (supported: STL "
+                    "ASCII/binary, OFF, OBJ, PLY; the faces must form an orientable surface)");
+  for (auto v : m.vertices()) {
+    const Vec3 x = vec(m.point(v));
+    check<InputError>(x.allFinite() && x.cwiseAbs().maxCoeff() <= max_coordinate, path, ": vertex ",
+                      static_cast<std::size_t>(v), " is not finite or beyond +-", max_coordinate, " (rescale the geometry)");
+  }
+  if (!CGAL::is_triangle_mesh(m)) PMP::triangulate_faces(m);
+  for (auto f : m.faces())
+    check<InputError>(!PMP::is_degenerate_triangle_face(f, m), path, ": face ", static_cast<std::size_t>(f),
+                      " is degenerate (zero area)");
+  std::size_t border = 0;
+  for (auto h : m.halfedges()) border += m.is_border(h) ? 1 : 0;
+  check<InputError>(border == 0, path, ": the surface is not closed (", border, " border edges); a solid needs a "
+                    "watertight surface");
+  if (PMP::does_self_intersect(m)) {
+    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+    PMP::self_intersections(m, std::back_inserter(pairs));
+    const auto f1 = pairs.empty() ? 0u : static_cast<std::size_t>(pairs.front().first),
+               f2 = pairs.empty() ? 0u : static_cast<std::size_t>(pairs.front().second);
+    throw InputError(detail::concat(path, ": the surface intersects itself (", pairs.size(), " face pairs, e.g. faces ",
+                                    f1, " and ", f2, ")"));
+  }
+  if (!PMP::is_outward_oriented(m)) PMP::reverse_face_orientations(m);
+  auto& impl = *s.impl_;
+  impl.volume = PMP::volume(m);
+  impl.area = PMP::area(m);
+  check<InputError>(impl.volume > 0 && std::isfinite(impl.volume), path, ": the surface encloses no volume");
+  impl.face_normal.assign(m.number_of_faces(), Vec3::Zero());
+  for (auto f : m.faces()) impl.face_normal[static_cast<std::size_t>(f)] = vec(CGAL::ORIGIN + PMP::compute_face_normal(f, m));
+  impl.lo = impl.hi = vec(m.point(*m.vertices().begin()));
+  for (auto v : m.vertices()) {
+    impl.lo = impl.lo.cwiseMin(vec(m.point(v)));
+    impl.hi = impl.hi.cwiseMax(vec(m.point(v)));
+  }
+  impl.tree.emplace(m.faces().begin(), m.faces().end(), m);
+  impl.tree->build();
+  impl.tree->accelerate_distance_queries();
+  impl.side.emplace(*impl.tree);
+  return s;
+}
+
+PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
+  check<ConfigError>(std::isfinite(f.spacing) && f.spacing > 0, "the spacing must be positive and finite, got ", f.spacing);
+  check<ConfigError>(std::isfinite(f.delta) && f.delta >= 0 && f.delta < 0.5, "the perturbation must be in [0, 0.5), got ",
+                     f.delta);
+  const auto& impl = surface.impl();
+  const Mesh& m = impl.mesh;
+  const Vec3 lo = impl.lo, hi = impl.hi;
+  const Real smallest = (hi - lo).minCoeff();
+  check<ConfigError>(f.spacing * 3 <= smallest, "the spacing ", f.spacing, " is too large for the geometry: its ",
+                     "bounding box is ", smallest, " thin (at least 3 particles across are needed)");
+  const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1) * ((hi[2] - lo[2]) / f.spacing + 1);
+  const double on_surface = 30 * impl.area / (f.spacing * f.spacing);
+  check<ResourceError>(lattice < 2e9 && on_surface < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
+                       " lattice points over the geometry: choose a larger spacing");
+  check_memory_estimate(lattice * (2 * sizeof(Vec3) + sizeof(Tag)) + on_surface * 2 * sizeof(Vec3),
+                        detail::concat("the cloud of the geometry (up to ", lattice, " particles)"), "choose a larger --spacing");
+
+  // Sharp edges (faces meeting at more than 40 degrees) and their vertices get particles of
+  // their own first, so that edges and corners are resolved and carry a normal between the
+  // faces'; a vertex's normal is its faces' normals weighted by their angles at the vertex
+  // (independent of how the faces are triangulated).
+  const Real sharp_cos = std::cos(40.0 * 3.141592653589793 / 180);
+  std::vector<Vec3> vertex_normal(m.number_of_vertices(), Vec3::Zero());
+  for (auto h : m.halfedges())
+    if (!m.is_border(h))
+      vertex_normal[static_cast<std::size_t>(m.target(h))] += corner_angle(m, h) * impl.face_normal[static_cast<std::size_t>(m.face(h))];
+  for (auto& n : vertex_normal) n.normalize();
+  std::vector<char> corner(m.number_of_vertices(), 0);
+  std::vector<Vec3> edge_pts, edge_nrm;
+  for (auto e : m.edges()) {
+    const auto h = m.halfedge(e);
+    const Vec3 &n1 = impl.face_normal[static_cast<std::size_t>(m.face(h))],
+               &n2 = impl.face_normal[static_cast<std::size_t>(m.face(m.opposite(h)))];
+    if (n1.dot(n2) >= sharp_cos) continue;
+    corner[static_cast<std::size_t>(m.source(h))] = corner[static_cast<std::size_t>(m.target(h))] = 1;
+    const Vec3 a = vec(m.point(m.source(h))), b = vec(m.point(m.target(h)));
+    const Vec3 n = (n1 + n2).normalized();
+    const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (0.1 * f.spacing))));
+    for (int k = 1; k < pieces; ++k) {  // dense candidates, thinned below
+      edge_pts.push_back(a + (b - a) * (static_cast<Real>(k) / pieces));
+      edge_nrm.push_back(n);
+    }
+  }
+  std::vector<Vec3> corner_pts, corner_nrm;
+  for (auto v : m.vertices())
+    if (corner[static_cast<std::size_t>(v)]) {
+      corner_pts.push_back(vec(m.point(v)));
+      corner_nrm.push_back(vertex_normal[static_cast<std::size_t>(v)]);
+    }
+  // Sharp-edge vertices closer than half a spacing (a finely triangulated crease) are thinned too.
+  std::vector<Vec3> fixed, fixed_nrm;
+  for (std::size_t k : thin_to_blue_noise(corner_pts, 0.5 * f.spacing, {}, f.seed)) {
+    fixed.push_back(corner_pts[k]);
+    fixed_nrm.push_back(corner_nrm[k]);
+  }
+  for (std::size_t k : thin_to_blue_noise(edge_pts, blue_noise_radius_factor(1) * f.spacing, fixed, f.seed + 1)) {
+    fixed.push_back(edge_pts[k]);
+    fixed_nrm.push_back(edge_nrm[k]);
+  }
+  // The faces: about 30 random candidates per spacing^2, thinned to a Poisson-disk set.
+  std::vector<Real> cumulative;
+  std::vector<Mesh::Face_index> face_of;
+  Real total = 0;
+  for (auto fc : m.faces()) {
+    total += PMP::face_area(fc, m);
+    cumulative.push_back(total);
+    face_of.push_back(fc);
+  }
+  const auto candidates = static_cast<std::uint64_t>(std::ceil(on_surface));
+  std::vector<Vec3> cand, cand_nrm;
+  cand.reserve(candidates);
+  cand_nrm.reserve(candidates);
+  for (std::uint64_t k = 0; k < candidates; ++k) {
+    const Real u = detail::uniform01(f.seed, k, 0) * total;
+    const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), u);
+    const auto fc = face_of[static_cast<std::size_t>(std::min<std::ptrdiff_t>(it - cumulative.begin(), static_cast<std::ptrdiff_t>(face_of.size()) - 1))];
+    const auto c = corners(m, fc);
+    const Real s = std::sqrt(detail::uniform01(f.seed, k, 1)), t = detail::uniform01(f.seed, k, 2);
+    cand.push_back((1 - s) * c[0] + s * (1 - t) * c[1] + s * t * c[2]);  // uniform on the triangle
+    cand_nrm.push_back(impl.face_normal[static_cast<std::size_t>(fc)]);
+  }
+  PointCloud cloud;
+  cloud.dim = 3;
+  cloud.spacing = f.spacing;
+  const auto put = [&cloud](const Vec3& x, Tag t, const Vec3& n) {
+    cloud.positions.push_back(x);
+    cloud.tags.push_back(t);
+    cloud.normals.push_back(n);
+  };
+  for (std::size_t k = 0; k < fixed.size(); ++k) put(fixed[k], Tag::Dirichlet, fixed_nrm[k]);
+  for (std::size_t k : thin_to_blue_noise(cand, blue_noise_radius_factor(2) * f.spacing, fixed, f.seed + 2))
+    put(cand[k], Tag::Dirichlet, cand_nrm[k]);
+  // Interior: at least half a spacing inside the surface.
+  const auto admissible = [&](const Vec3& x) { return surface.contains(x) && surface.distance(x) >= 0.5 * f.spacing; };
+  if (f.pattern == FillPattern::BlueNoise) {
+    const std::vector<Vec3> seeds = cloud.positions;
+    for (const Vec3& x : grow_blue_noise(3, blue_noise_radius_factor(3) * f.spacing, seeds, admissible, f.seed + 3))
+      put(x, Tag::Interior, Vec3::Zero());
+  } else {
+    const auto n = [&](int k) { return static_cast<long long>((hi[k] - lo[k]) / f.spacing) + 1; };
+    const long long nx = n(0), ny = n(1), nz = n(2);
+    for (long long kz = 0; kz <= nz; ++kz)
+      for (long long ky = 0; ky <= ny; ++ky)
+        for (long long kx = 0; kx <= nx; ++kx) {
+          Vec3 x = lo + f.spacing * Vec3(static_cast<Real>(kx), static_cast<Real>(ky), static_cast<Real>(kz));
+          if (f.delta > 0) {
+            const auto id = static_cast<std::uint64_t>((kz * (ny + 1) + ky) * (nx + 1) + kx);
+            for (int k = 0; k < 3; ++k)
+              x[k] += f.delta * f.spacing * (2 * detail::uniform01(f.seed, id, static_cast<std::uint64_t>(k)) - 1);
+          }
+          if (admissible(x)) put(x, Tag::Interior, Vec3::Zero());
+        }
+  }
+  validate(cloud);
+  return cloud;
+}
+
+}  // namespace vrsph
