@@ -5,6 +5,7 @@
 #include <vrsph/core/parse.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
+#include <vrsph/io/gmsh_cloud.hpp>
 #include <vrsph/io/vtk_cloud.hpp>
 
 namespace vrsph {
@@ -22,6 +23,7 @@ const Field& CloudFile::field(const std::string& name, const std::string& wanted
 CloudFile read_cloud_file(const std::string& path, int dim) {
   const std::string ext = to_lower(std::filesystem::path(path).extension().string());
   if (ext == ".vtu" || ext == ".vtp") return read_vtk_cloud(path, dim);
+  if (ext == ".msh") return read_gmsh_cloud(path, dim);
   return read_csv_with_fields(path, dim);
 }
 

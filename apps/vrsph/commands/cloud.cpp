@@ -124,7 +124,7 @@ PointCloud generate(const CloudArgs& a) {
 void add_cloud_command(CLI::App& app) {
   auto a = std::make_shared<CloudArgs>();
   auto* cmd = app.add_subcommand("cloud", "Generate a point cloud, or inspect/convert one given with --input");
-  cmd->add_option("--input", a->input, "Read this cloud file (CSV x,y,z,tag[,nx,ny,nz][,fields], or VTU/VTP with a point array tag) instead of generating one");
+  cmd->add_option("--input", a->input, "Read this cloud file (CSV x,y,z,tag[,nx,ny,nz][,fields], VTU/VTP with a point array tag, or a Gmsh .msh mesh: its nodes, boundary and normals from the elements, Neumann where a physical group name contains \"neumann\") instead of generating one");
   cmd->add_option("--output", a->output, "Write the cloud to this file (.csv or .vtu)");
   cmd->add_option("--vtu-format", a->vtu_format, "With --output .vtu: binary (base64, exact, smaller) or ascii")
       ->capture_default_str();

@@ -121,7 +121,7 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against dx (log-log) into this PNG file");
   cmd->add_option("--cloud-file", a->cloud_file,
-                  "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., or VTU/VTP) against the exact derivatives of --u: "
+                  "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., VTU/VTP, or Gmsh .msh) against the exact derivatives of --u: "
                   "error over interior particles, and over the tagged boundary particles apart");
   cmd->callback([a, cmd] {
     validate_output(a->out);

@@ -177,7 +177,7 @@ void add_solve_command(CLI::App& app) {
   auto file = std::make_shared<CloudFileArgs>();
   cmd->add_option("--n", *np, "Intervals per direction (layout A, dx = 1/n)")->capture_default_str();
   cmd->add_option("--cloud-file", file->path,
-                  "Solve on this cloud file (CSV x,y,z,tag[,nx,ny,nz][,extra columns], or VTU/VTP with point arrays tag[, normals, ...]) instead of a built-in one: tags and "
+                  "Solve on this cloud file (CSV x,y,z,tag[,nx,ny,nz][,extra columns], VTU/VTP with point arrays tag[, normals, ...], or a Gmsh .msh mesh whose nodes are the particles) instead of a built-in one: tags and "
                   "normals from the file, --f/--g/--q/--a evaluated at its points or taken from its columns "
                   "(--f-column ...), --u optional (errors only with it)");
   cmd->add_option("--h", file->h, "With --cloud-file: absolute support radius (default: --h-factor x the cloud's "

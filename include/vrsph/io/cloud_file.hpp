@@ -23,8 +23,8 @@ struct CloudFile {
   const Field& field(const std::string& name, const std::string& wanted_for) const;
 };
 
-/// Reads a cloud file by its extension: .vtu/.vtp (VTK XML, see vtk_cloud.hpp), anything
-/// else as CSV (see csv.hpp). Throws IoError/InputError naming the file and line or array.
+/// Reads a cloud file by its extension: .vtu/.vtp (VTK XML, see vtk_cloud.hpp), .msh (Gmsh,
+/// see gmsh_cloud.hpp), anything else as CSV (see csv.hpp). Throws IoError/InputError naming the file and line or array.
 CloudFile read_cloud_file(const std::string& path, int dim = 0);
 
 }  // namespace vrsph
