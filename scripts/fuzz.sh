@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-600}
 shift || true
 harnesses=("$@")
-((${#harnesses[@]})) || harnesses=(csv_reader expression method_options vtk_cloud geojson)
+((${#harnesses[@]})) || harnesses=(csv_reader expression method_options vtk_cloud geojson gmsh_cloud surface problem_file)
 bash scripts/setup.sh
 command -v clang++ >/dev/null || apt-get install -y -qq clang libclang-rt-14-dev >/dev/null
 cmake --preset fuzz >/dev/null
