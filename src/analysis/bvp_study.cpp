@@ -326,6 +326,8 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
       for (Real e : einf) row.error_inf += e / k;
       for (Real e : einf) row.error_inf_std += (e - row.error_inf) * (e - row.error_inf);
       row.error_inf_std = einf.size() > 1 ? std::sqrt(row.error_inf_std / (k - 1)) : 0;
+      row.error_inf_min = *std::min_element(einf.begin(), einf.end());
+      row.error_inf_max = *std::max_element(einf.begin(), einf.end());
       row.error_l2 = el2 / k;
       row.error_inf_interior = ein / k;
       row.error_inf_boundary = ebd / k;
@@ -350,7 +352,7 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
 
 Table to_table(const BvpStudyResult& r) {
   Table t;
-  t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "order_inf", "error_l2",
+  t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "error_inf_min", "error_inf_max", "order_inf", "error_l2",
                "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "condition_max", "neighbours_mean",
                "nnz_per_row", "solver", "solver_iterations", "solver_residual", "solver_reason", "seconds_cloud", "seconds_data", "seconds_neighbours", "seconds_stencil",
                "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total", "peak_memory_mib"};
@@ -365,6 +367,8 @@ Table to_table(const BvpStudyResult& r) {
                {"seeds", static_cast<long long>(row.seeds)},
                {"error_inf", row.error_inf},
                {"error_inf_std", row.error_inf_std},
+               {"error_inf_min", row.error_inf_min},
+               {"error_inf_max", row.error_inf_max},
                {"order_inf", row.order_inf},
                {"error_l2", row.error_l2},
                {"order_l2", row.order_l2},

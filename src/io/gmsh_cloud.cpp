@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <string_view>
 #include <unordered_map>
 #include <vrsph/core/error.hpp>
@@ -323,13 +324,18 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       ++seen[key];
     }
   }
-  std::vector<char> neumann(m.nodes.size(), 0), dirichlet(m.nodes.size(), 0);
-  for (const auto& e : m.elements) {  // the kind named by the boundary elements' physical groups
+  // Boundary facets that are Neumann: those a boundary element of a "neumann" group covers.
+  std::set<std::vector<std::size_t>> neumann_facets;
+  for (const auto& e : m.elements) {
     if (element_type(e.type)->dim != mesh_dim - 1 || e.physical == 0) continue;
     const auto it = m.physical_names.find({mesh_dim - 1, e.physical});
-    const bool is_neumann = it != m.physical_names.end() && contains_neumann(it->second);
-    for (std::size_t v : e.nodes) (is_neumann ? neumann : dirichlet)[v] = 1;
+    if (it == m.physical_names.end() || !contains_neumann(it->second)) continue;
+    std::vector<std::size_t> key = e.nodes;
+    std::sort(key.begin(), key.end());
+    neumann_facets.insert(std::move(key));
   }
+  // A node is Neumann only if every boundary facet it is on is.
+  std::vector<char> on_dirichlet_facet(m.nodes.size(), 0);
   Index boundary_facets = 0;
   for (const auto& e : m.elements) {
     const ElementType& et = *element_type(e.type);
@@ -344,6 +350,7 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       std::sort(sorted.begin(), sorted.end());
       if (seen[sorted] != 1) continue;
       ++boundary_facets;
+      const bool neumann_facet = neumann_facets.count(sorted) > 0;
       // Size-weighted normal: the facet's point (1D), edge rotated (2D) or Newell vector (3D).
       Vec3 mid = Vec3::Zero(), n = Vec3::Zero();
       for (std::size_t v : key) mid += m.nodes[v];
@@ -361,7 +368,8 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       for (std::size_t v : key) {
         const auto i = static_cast<std::size_t>(particle[v]);
         c.normals[i] += n;
-        c.tags[i] = dirichlet[v] || !neumann[v] ? Tag::Dirichlet : Tag::Neumann;
+        on_dirichlet_facet[v] |= neumann_facet ? 0 : 1;
+        c.tags[i] = on_dirichlet_facet[v] ? Tag::Dirichlet : Tag::Neumann;
       }
     }
   }

@@ -139,6 +139,59 @@ class Cloud(unittest.TestCase):
             self.assertIn("dimension mismatch", p.stderr)
 
 
+class Geometry(unittest.TestCase):
+    CUBE_OFF = ("OFF\n8 6 0\n" + "".join(f"{k & 1} {(k >> 1) & 1} {(k >> 2) & 1}\n" for k in range(8)) +
+                "4 0 2 3 1\n4 0 1 5 4\n4 0 4 6 2\n4 1 3 7 5\n4 2 6 7 3\n4 4 5 7 6\n")
+
+    def test_stl_off_surface_fill_report_and_solve(self):
+        with tempfile.TemporaryDirectory() as d:
+            off = os.path.join(d, "cube.off")
+            with open(off, "w", encoding="utf-8") as f:
+                f.write(self.CUBE_OFF)
+            errors = []
+            for family in ("perturbed", "blue-noise"):
+                csv = os.path.join(d, f"{family}.csv")
+                info = run_json("cloud", "--geometry", off, "--spacing", "0.1", "--family", family,
+                                "--neumann", "z > 1 - 1e-9", "--output", csv)
+                self.assertEqual(info["dim"], 3)
+                self.assertGreater(info["neumann"], 50)  # the top face
+                self.assertGreater(info["dirichlet"], 400)
+                self.assertLess(info["covering_radius_over_spacing"], 1.3)
+                self.assertGreater(info["covering_radius_uncertainty"], 0)
+                out = run_json("solve", "--cloud-file", csv, "--method", "vrsph", "--u", "exp(x)*sin(y)*cos(z)")
+                errors.append(out["rows"][0]["error_inf"])
+                self.assertTrue(out["rows"][0]["mmatrix"])
+            # Coarse (spacing 0.1) with first-order flux rows on the top face (issue 17): a few
+            # 1e-2; a normal of the wrong sign or a lost face would give O(1) errors.
+            self.assertLess(max(errors), 5e-2)
+
+    def test_gmsh_mesh_as_cloud(self):
+        mesh = ("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 5 \"Neumann wall\"\n$EndPhysicalNames\n"
+                "$Entities\n0 1 1 0\n1 0 0 0 1 0 0 1 5 0\n1 0 0 0 1 1 0 0 0\n$EndEntities\n")
+        n = 8  # an n x n grid of quads; the edge y = 0 is the physical group "Neumann wall"
+        nodes = [(i / n, j / n) for j in range(n + 1) for i in range(n + 1)]
+        mesh += f"$Nodes\n1 {len(nodes)} 1 {len(nodes)}\n2 1 0 {len(nodes)}\n"
+        mesh += "".join(f"{k + 1}\n" for k in range(len(nodes))) + "".join(f"{x} {y} 0\n" for x, y in nodes)
+        quads = [(j * (n + 1) + i + 1, j * (n + 1) + i + 2, (j + 1) * (n + 1) + i + 2, (j + 1) * (n + 1) + i + 1)
+                 for j in range(n) for i in range(n)]
+        mesh += f"$EndNodes\n$Elements\n2 {len(quads) + n} 1 {len(quads) + n}\n1 1 1 {n}\n"
+        mesh += "".join(f"{k + 1} {k + 1} {k + 2}\n" for k in range(n))
+        mesh += f"2 1 3 {len(quads)}\n" + "".join(f"{n + k + 1} {a} {b} {c} {e}\n" for k, (a, b, c, e) in enumerate(quads))
+        mesh += "$EndElements\n"
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "grid.msh")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(mesh)
+            info = run_json("cloud", "--input", path)
+            self.assertEqual(info["particles"], 81)
+            self.assertEqual(info["neumann"], 7)  # y = 0 without its two corners (Dirichlet wins)
+            self.assertEqual(info["dirichlet"], 32 - 7)
+            out = run_json("solve", "--cloud-file", path, "--method", "fpm", "--u", "2*x + 3*y + 1")
+            # A linear u: FPM's Laplacian and its flux rows (through the file's normals) are exact
+            # (VRSPH's one-sided gradient rows on a flat wall are infeasible, issue 17).
+            self.assertLess(out["rows"][0]["error_inf"], 1e-9)
+
+
 class Study(unittest.TestCase):
     def test_qw_ex5_uniform_table3(self):
         out = run_json("study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", "uniform",
@@ -159,6 +212,10 @@ class Study(unittest.TestCase):
         self.assertEqual(out["problem"], "custom")
         self.assertEqual(out["rows"][0]["seeds"], 2)
         self.assertGreater(out["rows"][1]["order_inf"], 1.5)
+        for r in out["rows"]:  # the spread over the seeds, drawn as a band by --plot
+            self.assertLessEqual(r["error_inf_min"], r["error_inf"])
+            self.assertLessEqual(r["error_inf"], r["error_inf_max"])
+            self.assertLess(r["error_inf_min"], r["error_inf_max"])
 
     def test_smoothing_radius_modes(self):
         for mode in ("covering", "knn"):

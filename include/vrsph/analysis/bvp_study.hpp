@@ -96,6 +96,7 @@ struct BvpStudyRow {
   BvpRun first;              ///< the first seed's run (sizes, timings, diagnostics)
   int seeds = 1;
   Real error_inf = 0, error_inf_std = 0, error_l2 = 0;
+  Real error_inf_min = 0, error_inf_max = 0;  ///< spread of the max-norm error over the seeds
   Real error_inf_interior = 0, error_inf_boundary = 0;
   Real order_inf = 0, order_l2 = 0;
   bool m_matrix_all = true;  ///< every seed gave an M-matrix

@@ -4,8 +4,9 @@
 // The boundary is found from those elements (a facet that belongs to one element only), so
 // the file needs no boundary elements; boundary particles get the outward unit normal of
 // their facets (mean weighted by facet size) and the kind of their physical group: a
-// boundary element in a group whose name contains "neumann" (any case) makes its nodes
-// Neumann, every other boundary node is Dirichlet (Dirichlet wins where the two meet).
+// boundary facet covered by a boundary element in a group whose name contains "neumann" (any
+// case) is Neumann, every other boundary facet Dirichlet; a node is Neumann only if all its
+// boundary facets are (Dirichlet wins where the two meet).
 // First-order elements (line, triangle, quadrangle, tetrahedron, hexahedron, prism, pyramid).
 #include <string>
 #include <vrsph/io/cloud_file.hpp>
