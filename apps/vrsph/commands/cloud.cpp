@@ -19,6 +19,7 @@
 #include <vrsph/neighbours/brute_force.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include "../cli_common.hpp"
+#include "../geometry_args.hpp"
 #include "../commands.hpp"
 #include "study_args.hpp"
 
@@ -39,15 +40,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// A filled geometry with what the covering radius needs: the domain's membership test and a
-// sample of its boundary (every boundary point within `step` of a sample point).
-struct GeometryCloud {
-  PointCloud cloud;
-  std::function<bool(const Vec3&)> inside;
-  std::vector<Vec3> boundary_sample;
-  Real step = 0;
-};
-
 // --geometry: a polygon (GeoJSON) or a closed surface (STL/OFF/OBJ/PLY) filled at
 // --spacing; boundary particles Dirichlet unless the expressions say otherwise.
 GeometryCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
@@ -55,46 +47,15 @@ GeometryCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
     check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --geometry (the geometry is the domain; "
                        "--spacing sets the resolution)");
   check<ConfigError>(cmd.count("--spacing") > 0, "--geometry needs --spacing (the particle distance)");
-  check<ConfigError>(a.family == "uniform" || a.family == "perturbed" || a.family == "blue-noise",
-                     "--family with --geometry must be uniform, perturbed or blue-noise, got '", a.family, "'");
-  check<ConfigError>(a.family != "blue-noise" || cmd.count("--delta") == 0,
-                     "--delta applies to the perturbed lattice, not to blue noise");
-  check<ConfigError>(a.neumann.empty() || a.dirichlet.empty(), "give --neumann or --dirichlet, not both (the other "
-                     "boundary particles get the other kind)");
-  GeometryFill fill;
-  fill.spacing = a.spacing;
-  fill.delta = a.family == "perturbed" ? (cmd.count("--delta") ? a.delta : 0.3) : 0;
-  fill.seed = a.seed;
-  fill.pattern = a.family == "blue-noise" ? FillPattern::BlueNoise : FillPattern::Lattice;
-  const std::string ext = to_lower(std::filesystem::path(a.geometry).extension().string());
-  GeometryCloud g;
-  if (ext == ".geojson" || ext == ".json") {
-    auto polygon = std::make_shared<Polygon>(read_geojson_polygon(a.geometry));
-    g.cloud = fill_polygon(*polygon, fill);
-    g.step = a.spacing / 16;
-    g.boundary_sample = sample_polygon_boundary(*polygon, g.step);
-    g.inside = [polygon](const Vec3& x) { return inside_polygon(*polygon, x); };
-  } else if (ext == ".stl" || ext == ".off" || ext == ".obj" || ext == ".ply") {
-    auto surface = std::make_shared<ClosedSurface>(read_closed_surface(a.geometry));
-    g.cloud = fill_surface(*surface, fill);
-    g.step = a.spacing / 4;
-    g.boundary_sample = surface->sample(g.step);
-    g.inside = [surface](const Vec3& x) { return surface->contains(x); };
-  } else {
-    throw ConfigError(detail::concat("--geometry ", a.geometry, ": unknown geometry format '", ext, "' (2D: .geojson or "
-                                     ".json, a GeoJSON Polygon; 3D: .stl, .off, .obj or .ply, a closed surface)"));
-  }
-  PointCloud& c = g.cloud;
-  if (!a.neumann.empty() || !a.dirichlet.empty()) {
-    const Expression select(a.neumann.empty() ? a.dirichlet : a.neumann);
-    for (Index i = 0; i < c.size(); ++i) {
-      auto& tag = c.tags[static_cast<std::size_t>(i)];
-      if (tag == Tag::Interior) continue;
-      const bool hit = select(c.positions[static_cast<std::size_t>(i)]) != 0;
-      tag = (a.neumann.empty() ? !hit : hit) ? Tag::Neumann : Tag::Dirichlet;
-    }
-  }
-  return g;
+  GeometryRequest r;
+  r.path = a.geometry;
+  r.spacing = a.spacing;
+  r.fill = a.family;
+  if (cmd.count("--delta")) r.delta = a.delta;
+  r.seed = a.seed;
+  r.neumann_where = a.neumann;
+  r.dirichlet_where = a.dirichlet;
+  return make_geometry_cloud(r);
 }
 
 PointCloud generate(const CloudArgs& a) {
@@ -234,7 +195,7 @@ void add_cloud_command(CLI::App& app) {
     if (cloud.domain.shape != Domain::Shape::None || geometry) {
       // A geometry's covering radius is exact inside and sampled on the boundary: the true
       // value lies within covering_radius_uncertainty above the one reported.
-      const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample, geometry->step)
+      const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample, geometry->sample_step)
                                          : covering_radius(cloud);
       add("covering_radius", cr.radius);
       add("covering_radius_over_spacing", cr.radius / spacing);

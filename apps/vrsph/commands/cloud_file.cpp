@@ -5,27 +5,64 @@
 #include <filesystem>
 #include <unistd.h>
 #include <iostream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>
 #include <vrsph/problem/from_expressions.hpp>
 #include <vrsph/solve/solver.hpp>
+#include "../geometry_args.hpp"
 #include "study_args.hpp"
 
 namespace vrsph::cli {
 
 namespace {
-// The cloud comes from the file: the generators' options would be silently ignored.
-void reject_generator_options(const CLI::App& cmd, const char* source) {
+// The cloud comes from the file or geometry: the generators' options would be silently ignored
+// (a geometry's fill uses --seed and --delta).
+void reject_generator_options(const CLI::App& cmd, const char* source, bool geometry = false) {
   for (const char* opt : {"--cloud", "--problem", "--seed", "--delta", "--perturb-boundary", "--regular-layer",
-                          "--neumann"})
+                          "--neumann"}) {
+    if (geometry && (std::string(opt) == "--seed" || std::string(opt) == "--delta")) continue;
     check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with ", source,
-                       " (the cloud, its tags and normals come from the file)");
+                       geometry ? " (the geometry is the domain; --neumann-where tags its boundary)"
+                                : " (the cloud, its tags and normals come from the file)");
+  }
+  if (!geometry)
+    for (const char* opt : {"--spacing", "--fill", "--neumann-where", "--dirichlet-where"})
+      check<ConfigError>(cmd.count(opt) == 0, opt, " needs --geometry");
+}
+
+// The cloud of one run: the file, or the geometry filled at `spacing`.
+CloudFile load_cloud(const StudyArgs& a, const CloudFileArgs& file, const std::string& path, double spacing,
+                     const CLI::App& cmd) {
+  if (file.geometry.empty()) return read_cloud_file(path, a.dim_opt->count() ? a.dim : 0);
+  GeometryRequest r;
+  r.path = file.geometry;
+  r.spacing = spacing;
+  r.fill = file.fill;
+  if (cmd.count("--delta")) r.delta = a.delta;
+  r.seed = a.seed;
+  r.neumann_where = file.neumann_where;
+  r.dirichlet_where = file.dirichlet_where;
+  CloudFile cf;
+  cf.source = path;
+  cf.cloud = make_geometry_cloud(r).cloud;
+  check<InputError>(!a.dim_opt->count() || a.dim == cf.cloud.dim, "--dim ", a.dim, " does not match the ",
+                    cf.cloud.dim, "D geometry ", file.geometry);
+  return cf;
+}
+
+// The label of a geometry run, e.g. "torus.stl@0.05".
+std::string geometry_label(const std::string& geometry, double spacing) {
+  std::ostringstream s;
+  s << geometry << '@' << spacing;
+  return s.str();
 }
 
 BvpSolveOptions solve_options(const StudyArgs& a, const std::string& method, const MethodOptions& method_options,
@@ -54,10 +91,10 @@ struct FileRun {
 };
 
 FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::string& path, const std::string& method,
-                    const MethodOptions& method_options, double h) {
+                    const MethodOptions& method_options, double h, double spacing, const CLI::App& cmd) {
   Stopwatch watch;
   FileRun r;
-  CloudFile cf = read_cloud_file(path, a.dim_opt->count() ? a.dim : 0);
+  CloudFile cf = load_cloud(a, file, path, spacing, cmd);
   const auto column = [&](const std::string& name, const char* option) {
     return name.empty() ? nullptr : &cf.field(name, option);
   };
@@ -159,6 +196,20 @@ VtuFormat parse_vtu_format(const std::string& s) {
   return s == "ascii" ? VtuFormat::Ascii : VtuFormat::Binary;
 }
 
+void add_geometry_options(CLI::App* cmd, CloudFileArgs& file, bool study) {
+  cmd->add_option("--geometry", file.geometry,
+                  "Solve in this domain instead: a 2D GeoJSON polygon or a 3D closed surface (STL, OFF, OBJ, PLY), "
+                  "filled at --spacing as `vrsph cloud --geometry` does (boundary Dirichlet unless --neumann-where)");
+  cmd->add_option("--spacing", file.spacing, study ? "With --geometry: comma-separated particle spacings (the refinement list)"
+                                                   : "With --geometry: the particle spacing");
+  cmd->add_option("--fill", file.fill, "With --geometry: interior particles uniform (lattice), perturbed (--delta, default "
+                                       "0.3; --seed) or blue-noise (--seed)")->capture_default_str();
+  cmd->add_option("--neumann-where", file.neumann_where,
+                  "With --geometry: boundary particles where this expression is non-zero are Neumann (e.g. \"z > 0.99\")");
+  cmd->add_option("--dirichlet-where", file.dirichlet_where,
+                  "With --geometry: only boundary particles where this expression is non-zero are Dirichlet, the rest Neumann");
+}
+
 void add_column_options(CLI::App* cmd, CloudFileArgs& file, const std::string& file_option) {
   std::string* targets[] = {&file.u_column, &file.a_column, &file.f_column, &file.g_column, &file.q_column};
   for (std::size_t k = 0; k < column_options.size(); ++k)
@@ -177,12 +228,24 @@ void reject_column_options(const CLI::App& cmd, const std::string& file_option) 
 }
 
 void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {
-  reject_generator_options(cmd, "--cloud-file");
-  check<ConfigError>(cmd.count("--n") == 0, "--n does not apply with --cloud-file (the cloud comes from the file)");
+  const bool geometry = !file.geometry.empty();
+  const char* source = geometry ? "--geometry" : "--cloud-file";
+  check<ConfigError>(!geometry || file.path.empty(), "give --cloud-file or --geometry, not both");
+  reject_generator_options(cmd, source, geometry);
+  check<ConfigError>(cmd.count("--n") == 0, "--n does not apply with ", source,
+                     geometry ? " (--spacing sets the resolution)" : " (the cloud comes from the file)");
+  double spacing = 0;
+  if (geometry) {
+    check<ConfigError>(!file.spacing.empty(), "--geometry needs --spacing (the particle distance)");
+    const auto s = parse_real(file.spacing);
+    check<ConfigError>(s.has_value(), "--spacing of vrsph solve is one number, got '", file.spacing, "'");
+    spacing = *s;
+  }
+  const std::string label = geometry ? geometry_label(file.geometry, spacing) : file.path;
   const auto methods = parse_name_list(a.methods, "--method");
   check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
   const auto options = parse_method_options(a.method_opts, methods);
-  const FileRun r = run_on_file(a, file, file.path, methods.front(), options_for(options, methods.front()), file.h);
+  const FileRun r = run_on_file(a, file, label, methods.front(), options_for(options, methods.front()), file.h, spacing, cmd);
   const bool exact = r.ep.exact.size() > 0;
   std::vector<PointField> fields{{"U", r.s.u}, {"local_residual", r.s.local_residual}};
   if (exact) {
@@ -192,7 +255,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   write_vtu(a.vtu, r.ep.problem.cloud, fields, parse_vtu_format(a.vtu_format));
   if (!file.csv.empty()) write_field_csv(file.csv, r);
   if (!a.out.plot.empty())
-    plot_solution(r.ep.problem.cloud, r.s.u, exact ? &r.ep.exact : nullptr, a.out.plot, methods.front() + " on " + file.path);
+    plot_solution(r.ep.problem.cloud, r.s.u, exact ? &r.ep.exact : nullptr, a.out.plot, methods.front() + " on " + label);
   Table t;
   t.columns = base_columns;
   if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"});
@@ -204,12 +267,29 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
 }
 
 void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {
-  reject_generator_options(cmd, "--cloud-file-pattern");
-  check<ConfigError>(file.pattern.find("{n}") != std::string::npos, "--cloud-file-pattern '", file.pattern,
+  const bool geometry = !file.geometry.empty();
+  check<ConfigError>(!geometry || file.pattern.empty(), "give --cloud-file-pattern or --geometry, not both");
+  reject_generator_options(cmd, geometry ? "--geometry" : "--cloud-file-pattern", geometry);
+  check<ConfigError>(geometry || file.pattern.find("{n}") != std::string::npos, "--cloud-file-pattern '", file.pattern,
                      "' must contain {n}, replaced by each value of --n (e.g. cloud_{n}.csv)");
   check<ConfigError>(!a.u.empty() || !file.u_column.empty(), "a convergence study needs the exact solution --u (or --u-column)");
   const auto methods = parse_name_list(a.methods, "--method");
-  const auto levels = parse_int_list(a.n, "--n");
+  // Levels: the --n list for files; for a geometry the --spacing list (n = 1, 2, ... in the rows).
+  std::vector<int> levels;
+  std::vector<double> spacings;
+  if (geometry) {
+    check<ConfigError>(cmd.count("--n") == 0, "--n does not apply with --geometry (--spacing lists the resolutions)");
+    check<ConfigError>(!file.spacing.empty(), "--geometry needs --spacing (a comma-separated list of particle distances)");
+    std::stringstream ss(file.spacing);
+    for (std::string item; std::getline(ss, item, ',');) {
+      const auto s = parse_real(item);
+      check<ConfigError>(s.has_value(), "--spacing: '", item, "' is not a number");
+      spacings.push_back(*s);
+      levels.push_back(static_cast<int>(levels.size()) + 1);
+    }
+  } else {
+    levels = parse_int_list(a.n, "--n");
+  }
   const auto options = parse_method_options(a.method_opts, methods);
   Table t;
   t.columns = {"n", "file"};
@@ -221,11 +301,13 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
   double done = 0;
   for (const auto& m : methods) {
     std::vector<Real> sizes, einf, el2;
-    for (int n : levels) {
+    for (std::size_t level = 0; level < levels.size(); ++level) {
+      const int n = levels[level];
       std::string path = file.pattern;
-      path.replace(path.find("{n}"), 3, std::to_string(n));
+      if (geometry) path = geometry_label(file.geometry, spacings[level]);
+      else path.replace(path.find("{n}"), 3, std::to_string(n));
       progress.update(m + " " + path, done / static_cast<double>(methods.size() * levels.size()));
-      const FileRun r = run_on_file(a, file, path, m, options_for(options, m), file.h);
+      const FileRun r = run_on_file(a, file, path, m, options_for(options, m), file.h, geometry ? spacings[level] : 0, cmd);
       sizes.push_back(r.s.spacing);
       einf.push_back(r.errors.all.linf);
       el2.push_back(r.errors.all.l2);
@@ -244,10 +326,15 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
     if (sizes.size() > 1) fitted[m] = least_squares_order(sizes, einf);
   }
   nlohmann::ordered_json meta;
-  meta["cloud_file_pattern"] = file.pattern;
+  if (geometry) {
+    meta["geometry"] = file.geometry;
+    meta["fill"] = file.fill;
+  } else {
+    meta["cloud_file_pattern"] = file.pattern;
+  }
   meta["fitted_order_inf"] = fitted;
   meta["u"] = a.u;
-  emit(t, a.out, meta.dump(), "spacing", "error_inf", "method", "cloud files " + file.pattern);
+  emit(t, a.out, meta.dump(), "spacing", "error_inf", "method", geometry ? file.geometry : "cloud files " + file.pattern);
 }
 
 }  // namespace vrsph::cli

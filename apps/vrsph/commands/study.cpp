@@ -135,22 +135,26 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against h (log-log) into this PNG file");
   add_columns_option(cmd, a->out,
-                     {"method", "n", "N", "error_inf", "order_inf", "error_l2", "order_l2", "mmatrix", "infeasible",
-                      "solver_iterations", "seconds_total"});
+                     {"method", "n", "N", "particles", "spacing", "error_inf", "order_inf", "error_l2", "order_l2", "mmatrix",
+                      "infeasible", "solver_iterations", "seconds_total"});  // N: built-in clouds; particles, spacing: files
   auto file = std::make_shared<CloudFileArgs>();
   cmd->add_option("--cloud-file-pattern", file->pattern,
                   "Study on the user's clouds: a CSV file name with {n}, replaced by each --n (e.g. cloud_{n}.csv); "
                   "--u required, --f/--g/--q default from it");
   cmd->add_option("--h", file->h, "With --cloud-file-pattern: absolute support radius (default: --h-factor x the "
                                   "robust spacing of each file)");
+  add_geometry_options(cmd, *file, true);
   add_column_options(cmd, *file, "--cloud-file-pattern");
   auto config = std::make_shared<std::string>();
   add_config_option(cmd, *config);
   cmd->callback([a, file, cmd, config] {
-    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--output", "--plot"});
+    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--geometry", "--output", "--plot"});
     validate_output(a->out);
-    if (file->pattern.empty()) validate_columns(a->out, to_table(BvpStudyResult{}).columns);
-    if (!file->pattern.empty()) return study_cloud_files(*a, *file, *cmd);
+    const bool user_cloud = !file->pattern.empty() || !file->geometry.empty();
+    if (!user_cloud) validate_columns(a->out, to_table(BvpStudyResult{}).columns);
+    if (user_cloud) return study_cloud_files(*a, *file, *cmd);
+    for (const char* opt : {"--spacing", "--fill", "--neumann-where", "--dirichlet-where"})
+      check<ConfigError>(cmd->count(opt) == 0, opt, " needs --geometry");
     reject_column_options(*cmd, "--cloud-file-pattern");
     BvpStudyParams p = to_params(*a, parse_name_list(a->methods, "--method"));
     p.n = parse_int_list(a->n, "--n");
@@ -183,6 +187,7 @@ void add_solve_command(CLI::App& app) {
   cmd->add_option("--h", file->h, "With --cloud-file: absolute support radius (default: --h-factor x the cloud's "
                                   "robust spacing, see README)");
   cmd->add_option("--csv", file->csv, "With --cloud-file: also write the fields as CSV (x,y,z,tag,u,...)");
+  add_geometry_options(cmd, *file, false);
   add_column_options(cmd, *file, "--cloud-file");
   cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
   cmd->add_option("--vtu-format", a->vtu_format, "VTU data: binary (base64, exact, smaller) or ascii")->capture_default_str();
@@ -192,10 +197,12 @@ void add_solve_command(CLI::App& app) {
   auto config = std::make_shared<std::string>();
   add_config_option(cmd, *config);
   cmd->callback([a, np, file, cmd, config] {
-    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file", "--vtu", "--csv", "--plot"});
+    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file", "--geometry", "--vtu", "--csv", "--plot"});
     (void)parse_vtu_format(a->vtu_format);  // checked before any work
     validate_output(a->out);
-    if (!file->path.empty()) return solve_cloud_file(*a, *file, *cmd);
+    if (!file->path.empty() || !file->geometry.empty()) return solve_cloud_file(*a, *file, *cmd);
+    for (const char* opt : {"--spacing", "--fill", "--neumann-where", "--dirichlet-where"})
+      check<ConfigError>(cmd->count(opt) == 0, opt, " needs --geometry");
     reject_column_options(*cmd, "--cloud-file");
     const auto methods = parse_name_list(a->methods, "--method");
     check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");

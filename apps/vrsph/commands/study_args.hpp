@@ -47,10 +47,17 @@ VtuFormat parse_vtu_format(const std::string& s);
 struct CloudFileArgs {
   std::string path, pattern, csv;
   double h = 0;
+  // --geometry: a polygon or closed surface filled at --spacing (a list in study) instead
+  // of a cloud file; --fill, --neumann-where / --dirichlet-where as `vrsph cloud`'s.
+  std::string geometry, spacing, fill = "uniform", neumann_where, dirichlet_where;
   // Extra columns of the file used as per-particle values (--u-column ...), and as the
   // particle volumes weighting the L2 error (--volume-column).
   std::string u_column, a_column, f_column, g_column, q_column, volume_column;
 };
+
+/// Adds --geometry, --spacing, --fill, --neumann-where and --dirichlet-where (a list of
+/// spacings when `study`).
+void add_geometry_options(CLI::App* cmd, CloudFileArgs& file, bool study);
 
 /// Adds --u-column, --a-column, --f-column, --g-column, --q-column and --volume-column.
 void add_column_options(CLI::App* cmd, CloudFileArgs& file, const std::string& file_option);
