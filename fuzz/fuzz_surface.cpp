@@ -1,5 +1,5 @@
-// libFuzzer harness: closed-surface reading through CGAL (STL ASCII/binary, OFF, OBJ, PLY;
-// the first byte picks the format), the closedness / self-intersection / orientation checks,
+// libFuzzer harness: closed surfaces (our STL ASCII/binary, OFF and OBJ readers, then CGAL's
+// soup repair, orientation and mesh building; the first byte picks the format), the closedness / self-intersection / orientation checks,
 // and, for small surfaces, the fill and the boundary sample. Only vrsph::Error may escape;
 // anything else (a crash, a sanitizer report, another exception, a hang) is a finding.
 #include <unistd.h>
@@ -14,10 +14,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  static const char* const ext[] = {".off", ".stl", ".obj", ".ply"};
+  static const char* const ext[] = {".off", ".stl", ".obj"};
   // CGAL reads files: one scratch file per process.
   const auto path = (std::filesystem::temp_directory_path() /
-                     ("vrsph_fuzz_surface_" + std::to_string(::getpid()) + ext[data[0] % 4]))
+                     ("vrsph_fuzz_surface_" + std::to_string(::getpid()) + ext[data[0] % 3]))
                         .string();
   std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
   try {

@@ -18,7 +18,7 @@ GeometryCloud fill_geometry(const std::string& path, const GeometryFill& fill) {
     g.sample_step = fill.spacing / 16;
     g.boundary_sample = sample_polygon_boundary(*polygon, g.sample_step);
     g.inside = [polygon](const Vec3& x) { return inside_polygon(*polygon, x); };
-  } else if (ext == ".stl" || ext == ".off" || ext == ".obj" || ext == ".ply") {
+  } else if (ext == ".stl" || ext == ".off" || ext == ".obj") {
     auto surface = std::make_shared<ClosedSurface>(read_closed_surface(path));
     g.cloud = fill_surface(*surface, fill);
     g.sample_step = fill.spacing / 4;  // a surface sample grows with step^-2: a quarter spacing
@@ -26,7 +26,7 @@ GeometryCloud fill_geometry(const std::string& path, const GeometryFill& fill) {
     g.inside = [surface](const Vec3& x) { return surface->contains(x); };
   } else {
     throw ConfigError(detail::concat("geometry ", path, ": unknown geometry format '", ext, "' (2D: .geojson or .json, a "
-                                     "GeoJSON Polygon; 3D: .stl, .off, .obj or .ply, a closed surface)"));
+                                     "GeoJSON Polygon; 3D: .stl, .off or .obj, a closed surface)"));
   }
   return g;
 }

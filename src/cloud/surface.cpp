@@ -1,10 +1,12 @@
-// Closed triangle surfaces (CGAL Surface_mesh, AABB tree, Side_of_triangle_mesh) and their
-// particle fill. CGAL stays in this file (compiled in the vrsph_cgal object library).
+// Closed triangle surfaces (CGAL Surface_mesh, AABB tree, Side_of_triangle_mesh) built from
+// the polygon soups of polygon_soup.cpp, and their particle fill. CGAL stays in this file (compiled in the vrsph_cgal object library).
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/IO/polygon_mesh_io.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -16,10 +18,10 @@
 #include <cmath>
 #include <optional>
 #include <vrsph/cloud/blue_noise.hpp>
+#include <vrsph/cloud/polygon_soup.hpp>
 #include <vrsph/cloud/surface.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
-#include <vrsph/io/input_file.hpp>
 #include "random.hpp"
 
 namespace vrsph {
@@ -89,23 +91,26 @@ std::vector<Vec3> ClosedSurface::sample(Real step) const {
 }
 
 ClosedSurface read_closed_surface(const std::string& path) {
-  (void)open_input(path, "geometry file");  // missing, directory or unreadable: IoError
+  PolygonSoup soup = read_polygon_soup(path);
+  for (std::size_t k = 0; k < soup.points.size(); ++k)
+    check<InputError>(soup.points[k].cwiseAbs().maxCoeff() <= max_coordinate, path, ": vertex ", k, " is beyond +-",
+                      max_coordinate, " (rescale the geometry)");
+  // The soup (indices validated by the reader) into a mesh: duplicate points merged,
+  // degenerate and repeated faces dropped, faces oriented consistently.
+  std::vector<K::Point_3> points;
+  points.reserve(soup.points.size());
+  for (const Vec3& x : soup.points) points.push_back(point(x));
+  auto& faces = soup.faces;
+  PMP::repair_polygon_soup(points, faces);
+  check<InputError>(!faces.empty(), path, ": every face is degenerate (no area)");
+  check<InputError>(PMP::orient_polygon_soup(points, faces), path, ": the faces do not form an orientable manifold "
+                    "surface (an edge shared by more than two faces, or faces that cannot be oriented alike)");
   ClosedSurface s;
   Mesh& m = s.impl_->mesh;
-  bool ok = false;
-  try {
-    ok = CGAL::IO::read_polygon_mesh(path, m, CGAL::parameters::verbose(false));
-  } catch (const std::exception& e) {
-    throw InputError(detail::concat(path, ": not a readable surface (", e.what(), ")"));
-  }
-  check<InputError>(ok && m.number_of_faces() > 0, path, ": cannot read a triangle surface from it (supported: STL "
-                    "ASCII/binary, OFF, OBJ, PLY; the faces must form an orientable surface)");
-  for (auto v : m.vertices()) {
-    const Vec3 x = vec(m.point(v));
-    check<InputError>(x.allFinite() && x.cwiseAbs().maxCoeff() <= max_coordinate, path, ": vertex ",
-                      static_cast<std::size_t>(v), " is not finite or beyond +-", max_coordinate, " (rescale the geometry)");
-  }
-  if (!CGAL::is_triangle_mesh(m)) PMP::triangulate_faces(m);
+  PMP::polygon_soup_to_polygon_mesh(points, faces, m);
+  check<InputError>(m.number_of_faces() > 0, path, ": no faces left after repair");
+  if (!CGAL::is_triangle_mesh(m))
+    check<InputError>(PMP::triangulate_faces(m), path, ": a polygonal face could not be split into triangles");
   for (auto f : m.faces())
     check<InputError>(!PMP::is_degenerate_triangle_face(f, m), path, ": face ", static_cast<std::size_t>(f),
                       " is degenerate (zero area)");

@@ -40,7 +40,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// --geometry: a polygon (GeoJSON) or a closed surface (STL/OFF/OBJ/PLY) filled at
+// --geometry: a polygon (GeoJSON) or a closed surface (STL/OFF/OBJ) filled at
 // --spacing; boundary particles Dirichlet unless the expressions say otherwise.
 GeometryCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
   for (const char* opt : {"--n", "--domain", "--layout", "--ghost-layers", "--perturb-boundary", "--dim"})
@@ -104,7 +104,7 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
   cmd->add_option("--geometry", a->geometry,
                   "Fill this domain with particles: a 2D GeoJSON Polygon (holes allowed) or a 3D closed surface "
-                  "(STL, OFF, OBJ, PLY); boundary particles on the boundary with outward normals, interior ones on a "
+                  "(STL, OFF, OBJ); boundary particles on the boundary with outward normals, interior ones on a "
                   "lattice or as blue noise (--family uniform|perturbed|blue-noise)");
   cmd->add_option("--spacing", a->spacing, "With --geometry: the particle spacing");
   cmd->add_option("--neumann", a->neumann,

@@ -17,7 +17,7 @@ struct GeometryCloud {
   Real sample_step = 0;
 };
 
-/// .geojson / .json: a GeoJSON polygon (polygon.hpp); .stl / .off / .obj / .ply: a closed
+/// .geojson / .json: a GeoJSON polygon (polygon.hpp); .stl / .off / .obj: a closed
 /// surface (surface.hpp). Throws ConfigError for another extension, and what the readers and
 /// fills throw.
 GeometryCloud fill_geometry(const std::string& path, const GeometryFill& fill);

@@ -1,6 +1,6 @@
 #pragma once
-// 3D domains bounded by a closed triangle surface, read from STL (ASCII or binary), OFF, OBJ
-// or PLY with CGAL, and filled with particles: boundary particles on the surface (on its
+// 3D domains bounded by a closed triangle surface, read from STL (ASCII or binary), OFF or
+// OBJ (polygon_soup.hpp) and built with CGAL, and filled with particles: boundary particles on the surface (on its
 // sharp edges and corners first, then a Poisson-disk set over the faces) with the domain's
 // outward unit normals, interior particles on a lattice (optionally perturbed) or as blue
 // noise, at least half a spacing inside the surface. CGAL stays in surface.cpp.
@@ -40,8 +40,9 @@ class ClosedSurface {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Throws IoError (missing/unreadable file) or InputError naming the file and the problem:
-/// not a readable surface, non-finite or huge coordinates, degenerate triangles, not closed
+/// Throws IoError (missing/unreadable file), ConfigError (not .stl/.off/.obj) or InputError
+/// naming the file and the problem: what polygon_soup.hpp names, huge coordinates, faces that
+/// do not form an orientable manifold, degenerate triangles, not closed
 /// (naming how many border edges), self-intersecting (naming two faces), no enclosed volume.
 /// Inward-oriented surfaces are reversed.
 ClosedSurface read_closed_surface(const std::string& path);

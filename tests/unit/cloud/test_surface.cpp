@@ -86,8 +86,9 @@ TEST(Surface, ReadsABoxAndFillsItWithOutwardNormals) {
 TEST(Surface, BadSurfacesAreNamed) {
   EXPECT_THROW_MSG(read_closed_surface("/nonexistent/solid.stl"), IoError, "cannot open geometry file");
   EXPECT_THROW_MSG(read_closed_surface(write("junk.stl", "solid x\n facet normal banana\n")), InputError,
-                   "cannot read a triangle surface");
-  EXPECT_THROW_MSG(read_closed_surface(write("empty.off", "")), InputError, "cannot read a triangle surface");
+                   "junk.stl: no faces");
+  EXPECT_THROW_MSG(read_closed_surface(write("empty.off", "")), InputError, "empty.off: not an OFF file");
+  EXPECT_THROW_MSG(read_closed_surface(write("shape.ply", "ply\n")), ConfigError, "unknown surface format '.ply'");
   EXPECT_THROW_MSG(read_closed_surface(write("open.off", box_off(1, 1, 1, false, true))), InputError,
                    "not closed (4 border edges)");
   // Two boxes that overlap: closed, but self-intersecting.
@@ -107,7 +108,7 @@ TEST(Surface, BadSurfacesAreNamed) {
   EXPECT_THROW_MSG(read_closed_surface(write("overlap.off", both)), InputError, "intersects itself");
   std::string huge_box = box_off(1, 1, 1);
   huge_box.replace(huge_box.find("1.000000 0.000000 0.000000"), 8, "1e200   ");
-  EXPECT_THROW_MSG(read_closed_surface(write("huge.off", huge_box)), InputError, "is not finite or beyond");
+  EXPECT_THROW_MSG(read_closed_surface(write("huge.off", huge_box)), InputError, "huge.off: vertex 1 is beyond +-1e+150");
   // A binary STL tetrahedron reads; with a NaN coordinate it is refused, by name.
   const auto tetra_stl = [](float z) {
     std::string stl(80, ' ');
@@ -124,7 +125,8 @@ TEST(Surface, BadSurfacesAreNamed) {
     return stl;
   };
   EXPECT_NEAR(read_closed_surface(write("tetra.stl", tetra_stl(1))).volume(), 1.0 / 6, 1e-7);
-  EXPECT_THROW_MSG(read_closed_surface(write("nan.stl", tetra_stl(std::nanf("")))), InputError, "nan.stl: ");
+  EXPECT_THROW_MSG(read_closed_surface(write("nan.stl", tetra_stl(std::nanf("")))), InputError,
+                   "nan.stl: binary STL facet 1 has a coordinate that is not finite");
   const ClosedSurface s = read_closed_surface(write("box2.off", box_off(1, 1, 0.2)));
   GeometryFill f;
   f.spacing = 0.1;  // 0.2 thin: 2 particles across
