@@ -1,4 +1,5 @@
 #include <array>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -66,6 +67,30 @@ void require_faces(const PolygonSoup& s, const std::string& name) {
   check<InputError>(!s.faces.empty(), name, ": no faces (an empty surface)");
 }
 
+// Regions by name, in order of first appearance; `current` is the region of the faces that
+// follow (none: SIZE_MAX).
+struct RegionTracker {
+  PolygonSoup& soup;
+  std::size_t current = static_cast<std::size_t>(-1);
+  void enter(const std::vector<std::string>& words) {  // words[1..]: the name
+    std::string name;
+    for (std::size_t k = 1; k < words.size(); ++k) name += (k > 1 ? " " : "") + words[k];
+    const auto it = std::find(soup.regions.begin(), soup.regions.end(), name);
+    current = static_cast<std::size_t>(it - soup.regions.begin());
+    if (it == soup.regions.end()) soup.regions.push_back(name);
+  }
+  void face_added() {
+    if (soup.regions.empty()) return;
+    // Faces before the first named region get an unnamed one.
+    if (current == static_cast<std::size_t>(-1)) enter({"", ""});
+    soup.face_region.resize(soup.faces.size() - 1, current);
+    soup.face_region.push_back(current);
+  }
+  void finish() {
+    if (!soup.regions.empty()) soup.face_region.resize(soup.faces.size(), current);
+  }
+};
+
 PolygonSoup parse_binary_stl(const std::string& b, const std::string& name) {
   std::uint32_t n = 0;
   std::memcpy(&n, b.data() + 80, 4);
@@ -102,11 +127,19 @@ PolygonSoup parse_stl(const std::string& bytes, const std::string& name) {
                     "STL (84 + 50 x facets bytes)");
   PolygonSoup soup;
   PointMerger merge{soup, {}};
+  RegionTracker regions{soup};
+  std::vector<std::string> first_solid = w;  // its name counts only if a second solid follows
   std::vector<std::size_t> face;
   bool in_loop = false;
   while (lines.next(w)) {
     const std::string& key = w[0];
-    if (key == "facet" || key == "endfacet" || key == "endsolid" || key == "solid") {
+    if (key == "solid" && !in_loop) {  // a multi-solid file: each solid is a region
+      if (soup.regions.empty()) {
+        regions.enter(first_solid);
+        soup.face_region.assign(soup.faces.size(), 0);
+      }
+      regions.enter(w);
+    } else if (key == "facet" || key == "endfacet" || key == "endsolid" || key == "solid") {
       if (in_loop) lines.fail("'", key, "' inside a loop (missing 'endloop')");
     } else if (key == "outer") {
       if (in_loop) lines.fail("'outer loop' inside a loop");
@@ -122,12 +155,14 @@ PolygonSoup parse_stl(const std::string& bytes, const std::string& name) {
       if (!in_loop) lines.fail("'endloop' without 'outer loop'");
       if (face.size() < 3) lines.fail("a facet with ", face.size(), " vertices (at least 3 needed)");
       soup.faces.push_back(face);
+      regions.face_added();
       in_loop = false;
     } else {
       lines.fail("unexpected '", printable(key), "' in an ASCII STL");
     }
   }
   check<InputError>(!in_loop, name, ": the file ends inside a facet's loop");
+  regions.finish();
   require_faces(soup, name);
   return soup;
 }
@@ -175,8 +210,17 @@ PolygonSoup parse_obj(const std::string& text, const std::string& name) {
   Lines lines(text, name);
   std::vector<std::string> w;
   PolygonSoup soup;
+  RegionTracker regions{soup};
+  bool have_groups = false;
   while (lines.next(w)) {
-    if (w[0] == "v") {
+    if ((w[0] == "g" || (w[0] == "o" && !have_groups)) && w.size() > 1) {
+      if (soup.regions.empty() && !soup.faces.empty()) {  // faces so far: an unnamed region
+        regions.enter({"", ""});
+        soup.face_region.assign(soup.faces.size(), 0);
+      }
+      have_groups |= w[0] == "g";
+      regions.enter(w);
+    } else if (w[0] == "v") {
       if (w.size() < 4) lines.fail("'v' needs three coordinates");
       const Vec3 x(lines.real(w[1], "x"), lines.real(w[2], "y"), lines.real(w[3], "z"));
       if (!x.allFinite()) lines.fail("a vertex coordinate is not finite");
@@ -194,9 +238,11 @@ PolygonSoup parse_obj(const std::string& text, const std::string& name) {
         face.push_back(static_cast<std::size_t>(index));
       }
       soup.faces.push_back(std::move(face));
+      regions.face_added();
     }
-    // vt, vn, o, g, s, usemtl, mtllib, l, ...: not needed for the surface.
+    // vt, vn, s, usemtl, mtllib, l, ...: not needed for the surface.
   }
+  regions.finish();
   require_faces(soup, name);
   return soup;
 }

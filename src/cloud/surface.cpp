@@ -2,6 +2,7 @@
 // the polygon soups of polygon_soup.cpp, and their particle fill. CGAL stays in this file (compiled in the vrsph_cgal object library).
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -21,6 +22,7 @@
 #include <vrsph/cloud/polygon_soup.hpp>
 #include <vrsph/cloud/surface.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/core/resources.hpp>
 #include "random.hpp"
 
@@ -30,6 +32,8 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Mesh = CGAL::Surface_mesh<K::Point_3>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
+using Triangles = std::vector<K::Triangle_3>;
+using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>>>;
 
 struct ClosedSurface::Impl {
   Mesh mesh;
@@ -38,6 +42,12 @@ struct ClosedSurface::Impl {
   std::vector<Vec3> face_normal;  ///< outward unit normal per face index
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
   Real area = 0, volume = 0;
+  // Named regions (OBJ groups, STL solids): the triangles of the regions whose name does not
+  // say "neumann", searched when some region does (see fill_surface).
+  std::vector<std::string> regions;
+  bool has_neumann_region = false;
+  Triangles dirichlet_triangles;
+  std::optional<TriangleTree> dirichlet_tree;
 };
 
 namespace {
@@ -71,6 +81,16 @@ Vec3 ClosedSurface::lo() const { return impl_->lo; }
 Vec3 ClosedSurface::hi() const { return impl_->hi; }
 bool ClosedSurface::contains(const Vec3& x) const { return (*impl_->side)(point(x)) != CGAL::ON_UNBOUNDED_SIDE; }
 Real ClosedSurface::distance(const Vec3& x) const { return std::sqrt(impl_->tree->squared_distance(point(x))); }
+const std::vector<std::string>& ClosedSurface::regions() const { return impl_->regions; }
+
+bool ClosedSurface::on_neumann_region(const Vec3& x) const {
+  const auto& impl = *impl_;
+  if (!impl.has_neumann_region) return false;
+  if (!impl.dirichlet_tree) return true;  // every region is Neumann
+  // On a Dirichlet region's face (to round-off): Dirichlet, also where it meets a Neumann one.
+  const Real tol = 1e-9 * (impl.hi - impl.lo).norm();
+  return impl.dirichlet_tree->squared_distance(point(x)) > tol * tol;
+}
 
 std::vector<Vec3> ClosedSurface::sample(Real step) const {
   check<ConfigError>(std::isfinite(step) && step > 0, "surface sampling step must be positive, got ", step);
@@ -100,13 +120,28 @@ ClosedSurface read_closed_surface(const std::string& path) {
   std::vector<K::Point_3> points;
   points.reserve(soup.points.size());
   for (const Vec3& x : soup.points) points.push_back(point(x));
+  ClosedSurface s;
+  auto& impl = *s.impl_;
+  impl.regions = soup.regions;
+  for (const auto& name : soup.regions) impl.has_neumann_region |= to_lower(name).find("neumann") != std::string::npos;
+  if (impl.has_neumann_region) {  // the other regions' faces, fan-triangulated, for the tag of boundary particles
+    for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+      if (to_lower(soup.regions[soup.face_region[f]]).find("neumann") != std::string::npos) continue;
+      const auto& face = soup.faces[f];
+      for (std::size_t k = 1; k + 1 < face.size(); ++k)
+        impl.dirichlet_triangles.emplace_back(points[face[0]], points[face[k]], points[face[k + 1]]);
+    }
+    if (!impl.dirichlet_triangles.empty()) {
+      impl.dirichlet_tree.emplace(impl.dirichlet_triangles.begin(), impl.dirichlet_triangles.end());
+      impl.dirichlet_tree->accelerate_distance_queries();
+    }
+  }
   auto& faces = soup.faces;
   PMP::repair_polygon_soup(points, faces);
   check<InputError>(!faces.empty(), path, ": every face is degenerate (no area)");
   check<InputError>(PMP::orient_polygon_soup(points, faces), path, ": the faces do not form an orientable manifold "
                     "surface (an edge shared by more than two faces, or faces that cannot be oriented alike)");
-  ClosedSurface s;
-  Mesh& m = s.impl_->mesh;
+  Mesh& m = impl.mesh;
   PMP::polygon_soup_to_polygon_mesh(points, faces, m);
   check<InputError>(m.number_of_faces() > 0, path, ": no faces left after repair");
   if (!CGAL::is_triangle_mesh(m))
@@ -127,7 +162,6 @@ ClosedSurface read_closed_surface(const std::string& path) {
                                     f1, " and ", f2, ")"));
   }
   if (!PMP::is_outward_oriented(m)) PMP::reverse_face_orientations(m);
-  auto& impl = *s.impl_;
   impl.volume = PMP::volume(m);
   impl.area = PMP::area(m);
   check<InputError>(impl.volume > 0 && std::isfinite(impl.volume), path, ": the surface encloses no volume");
@@ -234,9 +268,10 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
     cloud.tags.push_back(t);
     cloud.normals.push_back(n);
   };
-  for (std::size_t k = 0; k < fixed.size(); ++k) put(fixed[k], Tag::Dirichlet, fixed_nrm[k]);
+  const auto kind = [&surface](const Vec3& x) { return surface.on_neumann_region(x) ? Tag::Neumann : Tag::Dirichlet; };
+  for (std::size_t k = 0; k < fixed.size(); ++k) put(fixed[k], kind(fixed[k]), fixed_nrm[k]);
   for (std::size_t k : thin_to_blue_noise(cand, blue_noise_radius_factor(2) * f.spacing, fixed, f.seed + 2))
-    put(cand[k], Tag::Dirichlet, cand_nrm[k]);
+    put(cand[k], kind(cand[k]), cand_nrm[k]);
   // Interior: at least half a spacing inside the surface.
   const auto admissible = [&](const Vec3& x) { return surface.contains(x) && surface.distance(x) >= 0.5 * f.spacing; };
   if (f.pattern == FillPattern::BlueNoise) {

@@ -105,7 +105,8 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--geometry", a->geometry,
                   "Fill this domain with particles: a 2D GeoJSON Polygon (holes allowed) or a 3D closed surface "
                   "(STL, OFF, OBJ); boundary particles on the boundary with outward normals, interior ones on a "
-                  "lattice or as blue noise (--family uniform|perturbed|blue-noise)");
+                  "lattice or as blue noise (--family uniform|perturbed|blue-noise); Neumann on surface regions (OBJ groups, "
+                  "STL solids) whose name contains \"neumann\"");
   cmd->add_option("--spacing", a->spacing, "With --geometry: the particle spacing");
   cmd->add_option("--neumann", a->neumann,
                   "With --geometry: boundary particles where this expression is non-zero are Neumann (e.g. \"x^2+y^2<0.3\")");

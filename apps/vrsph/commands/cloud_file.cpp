@@ -199,7 +199,8 @@ VtuFormat parse_vtu_format(const std::string& s) {
 void add_geometry_options(CLI::App* cmd, CloudFileArgs& file, bool study) {
   cmd->add_option("--geometry", file.geometry,
                   "Solve in this domain instead: a 2D GeoJSON polygon or a 3D closed surface (STL, OFF, OBJ), "
-                  "filled at --spacing as `vrsph cloud --geometry` does (boundary Dirichlet unless --neumann-where)");
+                  "filled at --spacing as `vrsph cloud --geometry` does (boundary Dirichlet, Neumann on surface regions named "
+                  "\"...neumann...\" or where --neumann-where holds)");
   cmd->add_option("--spacing", file.spacing, study ? "With --geometry: comma-separated particle spacings (the refinement list)"
                                                    : "With --geometry: the particle spacing");
   cmd->add_option("--fill", file.fill, "With --geometry: interior particles uniform (lattice), perturbed (--delta, default "

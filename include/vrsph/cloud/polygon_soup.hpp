@@ -13,6 +13,11 @@ namespace vrsph {
 struct PolygonSoup {
   std::vector<Vec3> points;
   std::vector<std::vector<std::size_t>> faces;  ///< each at least 3 indices into points
+  /// Named surface regions: OBJ groups (`g name`, else `o name`) and the solids of a
+  /// multi-solid ASCII STL (`solid name`). face_region[f] indexes regions; both empty when
+  /// the file names none.
+  std::vector<std::string> regions;
+  std::vector<std::size_t> face_region;
 };
 
 /// By extension: .stl, .off, .obj (any case). Throws IoError (missing/unreadable file),

@@ -28,6 +28,11 @@ class ClosedSurface {
   bool contains(const Vec3& x) const;
   /// Distance to the surface.
   Real distance(const Vec3& x) const;
+  /// The file's named regions (OBJ groups, the solids of a multi-solid ASCII STL); empty if none.
+  const std::vector<std::string>& regions() const;
+  /// Whether the surface point x lies on a region whose name contains "neumann" (any case)
+  /// and on no other region's face (Dirichlet wins where they meet).
+  bool on_neumann_region(const Vec3& x) const;
   /// Points on every face no farther than `step` from any point of the surface (a
   /// barycentric grid per triangle, its vertices included), e.g. to bound the covering radius.
   std::vector<Vec3> sample(Real step) const;
@@ -47,7 +52,8 @@ class ClosedSurface {
 /// Inward-oriented surfaces are reversed.
 ClosedSurface read_closed_surface(const std::string& path);
 
-/// Boundary particles tagged Dirichlet, interior ones Interior; dim 3, domain shape None,
+/// Boundary particles tagged Dirichlet, or Neumann on the regions named so (on_neumann_region);
+/// interior ones Interior; dim 3, domain shape None,
 /// spacing set. Throws ConfigError when the spacing is not positive or too coarse for the
 /// solid (fewer than 3 particles across its smallest bounding-box side), ResourceError when
 /// the cloud would not fit in memory.

@@ -54,3 +54,16 @@ TEST(PolygonSoup, ProblemsAreNamedWithTheLine) {
   EXPECT_THROW_MSG(read_polygon_soup("/nonexistent/x.stl"), IoError, "cannot open geometry file");
   EXPECT_THROW_MSG(read_polygon_soup("x.ply"), ConfigError, "unknown surface format '.ply'");
 }
+
+TEST(PolygonSoup, RegionsFromObjGroupsAndStlSolids) {
+  const PolygonSoup obj = parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\ng wall\nf 1 2 4\nf 1 4 3\ng Top Neumann\nf 2 3 4\n", "r.obj");
+  EXPECT_EQ(obj.regions, (std::vector<std::string>{"", "wall", "Top Neumann"}));
+  EXPECT_EQ(obj.face_region, (std::vector<std::size_t>{0, 1, 1, 2}));
+  EXPECT_TRUE(parse_obj(tetra_obj, "t.obj").regions.empty());
+  const std::string facet = " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n";
+  const PolygonSoup one = parse_stl("solid only\n" + facet + "endsolid only\n", "one.stl");
+  EXPECT_TRUE(one.regions.empty());  // one solid: no regions to tell apart
+  const PolygonSoup two = parse_stl("solid a\n" + facet + facet + "endsolid a\nsolid b neumann\n" + facet + "endsolid\n", "two.stl");
+  EXPECT_EQ(two.regions, (std::vector<std::string>{"a", "b neumann"}));
+  EXPECT_EQ(two.face_region, (std::vector<std::size_t>{0, 0, 1}));
+}

@@ -83,6 +83,28 @@ TEST(Surface, ReadsABoxAndFillsItWithOutwardNormals) {
   }
 }
 
+TEST(Surface, NeumannRegionsOfAnObjTagTheirParticlesAndDirichletWinsOnTheirEdges) {
+  // The unit cube, its top face (z = 1) the group "top_neumann", the rest "walls".
+  std::string obj;
+  for (int k = 0; k < 8; ++k) obj += "v " + std::to_string(k & 1) + " " + std::to_string((k >> 1) & 1) + " " + std::to_string((k >> 2) & 1) + "\n";
+  obj += "g walls\nf 1 3 4 2\nf 1 2 6 5\nf 1 5 7 3\nf 2 4 8 6\nf 3 7 8 4\ng top_neumann\nf 5 6 8 7\n";
+  const ClosedSurface s = read_closed_surface(write("regions.obj", obj));
+  EXPECT_EQ(s.regions(), (std::vector<std::string>{"walls", "top_neumann"}));
+  GeometryFill f;
+  f.spacing = 0.1;
+  const PointCloud c = fill_surface(s, f);
+  Index neumann = 0;
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Vec3& x = c.positions[si];
+    if (c.tags[si] == Tag::Interior) continue;
+    const bool top_inside = std::abs(x[2] - 1) < 1e-12 && x[0] > 1e-9 && x[0] < 1 - 1e-9 && x[1] > 1e-9 && x[1] < 1 - 1e-9;
+    EXPECT_EQ(c.tags[si], top_inside ? Tag::Neumann : Tag::Dirichlet) << x.transpose();
+    neumann += c.tags[si] == Tag::Neumann;
+  }
+  EXPECT_NEAR(static_cast<Real>(neumann), 81, 15);  // about (1/0.1 - 1)^2 inside the top face
+}
+
 TEST(Surface, BadSurfacesAreNamed) {
   EXPECT_THROW_MSG(read_closed_surface("/nonexistent/solid.stl"), IoError, "cannot open geometry file");
   EXPECT_THROW_MSG(read_closed_surface(write("junk.stl", "solid x\n facet normal banana\n")), InputError,
