@@ -1,0 +1,33 @@
+#pragma once
+// The pybind11 module vrsph._vrsph, split by topic to keep each translation unit small (the
+// pybind11 headers are heavy on a 2-core build). The Python package vrsph (python/vrsph/)
+// wraps it: SciPy matrices, callables and expression strings are handled there.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <memory>
+#include <vector>
+#include <vrsph/cloud/point_cloud.hpp>
+
+namespace vrsph::python {
+
+namespace py = pybind11;
+
+void bind_errors(py::module_& m);
+void bind_clouds(py::module_& m);
+void bind_operators(py::module_& m);
+void bind_problems(py::module_& m);
+
+/// A numpy array that owns `values` (moved into a capsule): no copy of the C++ data.
+template <class T>
+py::array_t<T> owning_array(std::vector<T>&& values) {
+  auto* heap = new std::vector<T>(std::move(values));
+  py::capsule owner(heap, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>({static_cast<py::ssize_t>(heap->size())}, {static_cast<py::ssize_t>(sizeof(T))}, heap->data(), owner);
+}
+
+/// A float64 vector of exactly n values from a Python object (array-like), or InputError
+/// naming `what` and the problem (shape, dtype, non-finite values are left to the library).
+Field field_from(const py::handle& values, Index n, const char* what);
+
+}  // namespace vrsph::python

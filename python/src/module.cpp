@@ -1,0 +1,73 @@
+// vrsph._vrsph: the compiled half of the Python package.
+#include <vrsph/core/error.hpp>
+#include "bindings.hpp"
+
+namespace vrsph::python {
+
+// Exception classes with two bases (vrsph.Error and the built-in that fits), so that
+// `except ValueError` and `except vrsph.Error` both work; the C++ message is kept intact.
+namespace {
+// The exception types (owned by the module; a translator must be a plain function).
+struct ErrorTypes {
+  PyObject *error, *input, *io, *config, *resource, *geometry, *numerical;
+} types;
+}  // namespace
+
+void bind_errors(py::module_& m) {
+  auto make = [&m](const char* name, PyObject* base, PyObject* builtin) {
+    PyObject* bases = builtin ? PyTuple_Pack(2, base, builtin) : PyTuple_Pack(1, base);
+    PyObject* type = PyErr_NewException((std::string("vrsph.") + name).c_str(), bases, nullptr);
+    Py_DECREF(bases);
+    m.add_object(name, py::handle(type));  // the module keeps the reference
+    return type;
+  };
+  types.error = make("Error", PyExc_Exception, nullptr);
+  types.input = make("InputError", types.error, PyExc_ValueError);
+  types.io = make("IoError", types.input, PyExc_OSError);
+  types.config = make("ConfigError", types.error, PyExc_ValueError);
+  types.resource = make("ResourceError", types.config, PyExc_MemoryError);
+  types.geometry = make("GeometryError", types.error, PyExc_ValueError);
+  types.numerical = make("NumericalError", types.error, PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const IoError& e) {  // most derived first
+      PyErr_SetString(types.io, e.what());
+    } catch (const ResourceError& e) {
+      PyErr_SetString(types.resource, e.what());
+    } catch (const InputError& e) {
+      PyErr_SetString(types.input, e.what());
+    } catch (const ConfigError& e) {
+      PyErr_SetString(types.config, e.what());
+    } catch (const GeometryError& e) {
+      PyErr_SetString(types.geometry, e.what());
+    } catch (const NumericalError& e) {
+      PyErr_SetString(types.numerical, e.what());
+    } catch (const Error& e) {
+      PyErr_SetString(types.error, e.what());
+    }
+  });
+}
+
+Field field_from(const py::handle& values, Index n, const char* what) {
+  py::array arr = py::array::ensure(values);
+  check<InputError>(arr && (arr.dtype().kind() == 'f' || arr.dtype().kind() == 'i' || arr.dtype().kind() == 'u'), what,
+                    ": expected an array of numbers");
+  check<InputError>(arr.ndim() == 1 && arr.shape(0) == n, what, ": expected shape (", n, ",), got ",
+                    std::string(py::str(arr.attr("shape"))));
+  auto f64 = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+  Field out(n);
+  std::copy(f64.data(), f64.data() + n, out.data());
+  return out;
+}
+
+}  // namespace vrsph::python
+
+PYBIND11_MODULE(_vrsph, m) {
+  namespace vp = vrsph::python;
+  m.doc() = "vrsph: accurate particle discretisations of elliptic operators (compiled core)";
+  vp::bind_errors(m);
+  vp::bind_clouds(m);
+  vp::bind_operators(m);
+  vp::bind_problems(m);
+}

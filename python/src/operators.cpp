@@ -1,0 +1,140 @@
+// Operators: the method registry, kernels, stencils as CSR arrays (handed to SciPy without a
+// copy by the Python layer), and the covering radius.
+#include <cmath>
+#include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/analysis/smoothing.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/operator_kind.hpp>
+#include "bindings.hpp"
+
+namespace vrsph::python {
+
+namespace {
+MethodOptions method_options(const py::dict& options) {
+  MethodOptions o;
+  for (const auto& [key, value] : options) {
+    std::string text = py::str(value);
+    if (py::isinstance<py::bool_>(value)) text = value.cast<bool>() ? "true" : "false";
+    o.set(py::str(key), text);
+  }
+  return o;
+}
+
+// One stencil over every non-ghost particle: support radius h (> 0) or h_factor x spacing.
+py::dict stencil(const PointCloud& cloud, const std::string& method_name, const std::string& op, double h,
+                 double h_factor, const std::string& kernel, const py::dict& options, const py::object& coefficient,
+                 double infeasible_tol) {
+  validate(cloud);
+  const OperatorKind kind = parse_operator(op);
+  const auto method = builtin_methods().create(method_name, method_options(options));
+  Field a;
+  if (kind == OperatorKind::DivAGrad) {
+    check<ConfigError>(!coefficient.is_none(), "operator div-a-grad needs the coefficient a (an array of N values)");
+    a = field_from(coefficient, cloud.size(), "coefficient");
+  } else {
+    check<ConfigError>(coefficient.is_none(), "a coefficient applies to operator div-a-grad only, not ", op);
+  }
+  check<ConfigError>(std::isfinite(infeasible_tol) && infeasible_tol > 0, "infeasible_tol must be positive, got ",
+                     infeasible_tol);
+  const KernelType kt = parse_kernel(kernel);
+  struct Built {
+    Stencil s;
+    std::vector<Index> infeasible;
+    Real h = 0, spacing = 0;
+  };
+  Built b = [&] {  // the C++ work without the GIL
+    py::gil_scoped_release release;
+    Built r;
+    r.spacing = estimate_spacing(cloud);
+    SearchParams sp;
+    if (h > 0) {
+      check_support_is_local(h, cloud_extent(cloud), 0);
+      sp.radius = h;
+    } else {
+      check<ConfigError>(std::isfinite(h_factor) && h_factor > 0, "h_factor must be positive, got ", h_factor);
+      sp.radius = h_factor * r.spacing;
+      check_support_is_local(sp.radius, cloud_extent(cloud), h_factor);
+    }
+    r.h = sp.radius;
+    const NeighbourList nl = find_neighbours(cloud, sp);
+    StencilRequest req;
+    req.kind = kind;
+    if (kind == OperatorKind::DivAGrad) req.coefficient = &a;
+    r.s = method->build({cloud, nl, kt, r.spacing}, req);
+    // Infeasible rows: a failed local solve, or a relative local residual above the
+    // tolerance (|b| = sqrt(d) for VRSPH's moment systems).
+    for (Index i = 0; i < r.s.rows(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      const bool failed = !r.s.local_failure.empty() && r.s.local_failure[si];
+      const bool residual = !r.s.residual.empty() && r.s.residual[si] / std::sqrt(Real(cloud.dim)) > infeasible_tol;
+      if (failed || residual) r.infeasible.push_back(i);
+    }
+    return r;
+  }();
+  Stencil& s = b.s;
+  py::list data;
+  for (auto& v : s.values) data.append(owning_array(std::move(v)));
+  py::dict out;
+  out["indptr"] = owning_array(std::move(s.row_ptr));
+  out["indices"] = owning_array(std::move(s.col));
+  out["data"] = data;
+  out["residual"] = s.residual.empty() ? py::object(py::none()) : py::object(owning_array(std::move(s.residual)));
+  out["condition"] = s.condition.empty() ? py::object(py::none()) : py::object(owning_array(std::move(s.condition)));
+  out["infeasible"] = owning_array(std::move(b.infeasible));
+  out["h"] = b.h;
+  out["spacing"] = b.spacing;
+  out["n"] = cloud.size();
+  return out;
+}
+}  // namespace
+
+void bind_operators(py::module_& m) {
+  m.def("methods", [] {
+    py::list out;
+    for (const MethodInfo& info : builtin_methods().list()) {
+      py::dict d;
+      d["name"] = info.name;
+      d["paper"] = info.paper;
+      d["description"] = info.description;
+      d["claimed_order"] = info.claimed_order;
+      py::list ops;
+      for (OperatorKind k : info.operators) ops.append(std::string(to_string(k)));
+      d["operators"] = ops;
+      py::dict opts;
+      for (const auto& [key, help] : info.options) opts[py::str(key)] = help;
+      d["options"] = opts;
+      out.append(d);
+    }
+    return out;
+  }, "The method registry: name, paper (seed file), description, claimed order, operators, options.");
+  m.def("kernels", [] {
+    py::list out;
+    for (const KernelInfo& k : kernel_catalogue()) {
+      py::dict d;
+      d["name"] = std::string(k.name);
+      d["description"] = std::string(k.description);
+      d["support_per_smoothing_length"] = k.support_per_smoothing_length;
+      out.append(d);
+    }
+    return out;
+  }, "The kernel catalogue: name, description, support radius per smoothing length.");
+  m.def("_stencil", &stencil, py::arg("cloud"), py::arg("method"), py::arg("operator"), py::arg("h"), py::arg("h_factor"),
+        py::arg("kernel"), py::arg("options"), py::arg("coefficient"), py::arg("infeasible_tol"));
+  m.def("covering_radius", [](const PointCloud& cloud) {
+    const CoveringRadius r = [&] {
+      py::gil_scoped_release release;
+      return covering_radius(cloud);
+    }();
+    py::dict d;
+    d["radius"] = r.radius;
+    d["point"] = py::array_t<double>(cloud.dim, r.point.data());
+    d["nearest"] = r.nearest;
+    d["candidates"] = r.candidates;
+    return d;
+  }, py::arg("cloud"), "The exact covering radius max_x min_i |x - x_i| over the cloud's box or ball domain.");
+}
+
+}  // namespace vrsph::python

@@ -1,0 +1,187 @@
+// Boundary value problems: one solve on a cloud (data as expressions or arrays; the Python
+// layer turns callables into arrays), and the convergence study with the CLI's fields.
+#include <cmath>
+#include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/errors.hpp>
+#include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/io/table.hpp>
+#include <vrsph/problem/from_expressions.hpp>
+#include "bindings.hpp"
+
+namespace vrsph::python {
+
+namespace {
+MethodOptions to_method_options(const py::dict& options) {
+  MethodOptions o;
+  for (const auto& [key, value] : options)
+    o.set(py::str(key), py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "true" : "false") : std::string(py::str(value)));
+  return o;
+}
+
+SolverOptions to_solver(const std::string& solver, const std::string& petsc_options) {
+  SolverOptions o;
+  o.type = parse_solver(solver);
+  o.petsc_options = petsc_options;
+  check<ConfigError>(petsc_options.empty() || o.type == SolverType::Petsc || o.type == SolverType::Auto,
+                     "petsc_options apply to solver 'petsc' or 'auto', not '", solver, "'");
+  return o;
+}
+
+std::string text(const py::dict& d, const char* key) {
+  return d.contains(key) && !d[key].is_none() ? std::string(py::str(d[key])) : std::string();
+}
+
+py::object cell(const TableCell& c) {
+  return std::visit([](const auto& v) -> py::object {
+    using V = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<V, std::monostate>) return py::none();
+    else if constexpr (std::is_same_v<V, double>) return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none());
+    else return py::cast(v);
+  }, c);
+}
+
+py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, const py::dict& values, const py::dict& opt) {
+  const Index n = cloud.size();
+  ProblemExpressions e{text(expressions, "u"), text(expressions, "a"), text(expressions, "f"), text(expressions, "g"),
+                       text(expressions, "q")};
+  // Arrays given for a role replace its expression (problem_from_expressions checks both are not given).
+  Field fu, fa, ff, fg, fq;
+  ProblemValues pv;
+  const auto take = [&](const char* key, Field& store, const Field*& slot) {
+    if (values.contains(key) && !values[key].is_none()) {
+      store = field_from(values[key], n, key);
+      slot = &store;
+    }
+  };
+  take("u", fu, pv.u);
+  take("a", fa, pv.a);
+  take("f", ff, pv.f);
+  take("g", fg, pv.g);
+  take("q", fq, pv.q);
+  BvpSolveOptions o;
+  o.method = opt["method"].cast<std::string>();
+  o.method_options = to_method_options(opt["method_options"].cast<py::dict>());
+  o.kernel = parse_kernel(opt["kernel"].cast<std::string>());
+  o.h = opt["h"].cast<double>();
+  o.h_factor = opt["h_factor"].cast<double>();
+  o.h_mode = parse_smoothing_mode(opt["h_mode"].cast<std::string>());
+  o.solver = to_solver(opt["solver"].cast<std::string>(), opt["petsc_options"].cast<std::string>());
+  o.on_infeasible = parse_infeasible_policy(opt["on_infeasible"].cast<std::string>());
+  o.infeasible_tolerance = opt["infeasible_tol"].cast<double>();
+  const bool fix_constant = opt["fix_constant"].cast<bool>();
+  check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "h must be >= 0 (0: h_factor x spacing), got ", o.h);
+  struct Out {
+    ExpressionProblem ep;
+    BvpSolution s;
+    ErrorReport errors;
+  };
+  Out r = [&] {
+    py::gil_scoped_release release;
+    Out x;
+    x.ep = problem_from_expressions(cloud, e, pv);
+    x.ep.problem.fix_constant = fix_constant;
+    x.s = solve(x.ep.problem, o);
+    if (x.ep.exact.size()) {  // errors over the unknowns, split at one support radius from the boundary
+      const PointCloud& c = x.ep.problem.cloud;
+      Eigen::MatrixXd err(c.size(), 1);
+      err.col(0) = x.s.u - x.ep.exact;
+      const std::vector<Real> volumes(static_cast<std::size_t>(c.size()), std::pow(x.s.spacing, c.dim));
+      x.errors = error_norms(err, unknown_mask(c), c, x.s.h, volumes);
+    }
+    return x;
+  }();
+  const BvpSolution& s = r.s;
+  py::dict d;
+  d["u"] = py::array_t<double>(s.u.size(), s.u.data());
+  d["local_residual"] = py::array_t<double>(s.local_residual.size(), s.local_residual.data());
+  d["particles"] = s.particles;
+  d["unknowns"] = s.unknowns;
+  d["spacing"] = s.spacing;
+  d["h"] = s.h;
+  d["mmatrix"] = s.m_matrix;
+  d["mmatrix_summary"] = s.m_matrix_summary;
+  d["infeasible"] = s.infeasible;
+  d["infeasible_particles"] = s.infeasible_particles;
+  d["condition_max"] = s.condition_max;
+  d["neumann_imbalance"] = s.neumann_imbalance;
+  d["solver"] = s.solve.solver;
+  d["solver_iterations"] = s.solve.iterations;
+  d["solver_residual"] = s.solve.residual;
+  d["solver_reason"] = s.solve.reason;
+  d["warnings"] = s.warnings;
+  d["seconds_neighbours"] = s.seconds_neighbours;
+  d["seconds_stencil"] = s.seconds_stencil;
+  d["seconds_assemble"] = s.seconds_assemble;
+  d["seconds_solve"] = s.seconds_solve;
+  if (r.ep.exact.size()) {
+    d["exact"] = py::array_t<double>(r.ep.exact.size(), r.ep.exact.data());
+    d["error_inf"] = r.errors.all.linf;
+    d["error_l2"] = r.errors.all.l2;
+    d["error_inf_interior"] = r.errors.interior.linf;
+    d["error_inf_boundary"] = r.errors.near_boundary.linf;
+  }
+  return d;
+}
+
+// The study as `vrsph study` runs it: the problem's defaults for what is not given.
+py::dict study(const py::dict& k) {
+  BvpStudyParams p;
+  const std::string u = text(k, "u"), a = text(k, "a"), f = text(k, "f");
+  const bool custom = !u.empty() || !a.empty() || !f.empty();
+  p.problem = k.contains("problem") && !k["problem"].is_none() ? k["problem"].cast<std::string>() : (custom ? "custom" : "qw-ex5");
+  const ProblemDefaults def = problem_defaults(p.problem);
+  const auto given = [&k](const char* key) { return k.contains(key) && !k[key].is_none(); };
+  p.dim = given("dim") ? k["dim"].cast<int>() : def.dim;
+  p.methods = k["methods"].cast<std::vector<std::string>>();
+  if (given("method_options"))
+    for (const auto& [method, opts] : k["method_options"].cast<py::dict>())
+      p.method_options[py::str(method)] = to_method_options(opts.cast<py::dict>());
+  p.cloud = parse_cloud_family(k["cloud"].cast<std::string>());
+  p.n = k["n"].cast<std::vector<int>>();
+  p.h_factor = given("h_factor") ? k["h_factor"].cast<double>() : def.h_factor;
+  p.h_mode = parse_smoothing_mode(k["h_mode"].cast<std::string>());
+  p.delta = given("delta") ? k["delta"].cast<double>() : def.delta;
+  p.perturb_boundary = k["perturb_boundary"].cast<bool>();
+  p.regular_layer = k["regular_layer"].cast<double>();
+  p.kernel = given("kernel") ? parse_kernel(k["kernel"].cast<std::string>()) : def.kernel;
+  if (given("neumann")) p.neumann = k["neumann"].cast<std::vector<std::string>>();
+  p.q = text(k, "q");
+  p.fix_constant = k["fix_constant"].cast<bool>();
+  p.solver = to_solver(k["solver"].cast<std::string>(), k["petsc_options"].cast<std::string>());
+  p.u = u;
+  p.a = a;
+  p.f = f;
+  p.g = text(k, "g");
+  p.on_infeasible = parse_infeasible_policy(k["on_infeasible"].cast<std::string>());
+  p.infeasible_tolerance = k["infeasible_tol"].cast<double>();
+  p.seeds.clear();
+  for (long long s : k["seeds"].cast<std::vector<long long>>()) {
+    check<ConfigError>(s >= 0, "seeds must be >= 0, got ", s);
+    p.seeds.push_back(static_cast<std::uint64_t>(s));
+  }
+  const BvpStudyResult r = [&] {
+    py::gil_scoped_release release;
+    return run_bvp_study(p);
+  }();
+  const Table t = to_table(r);
+  py::list rows;
+  for (const auto& row : t.rows) {
+    py::dict d;
+    for (std::size_t c = 0; c < t.columns.size(); ++c) d[py::str(t.columns[c])] = cell(row[c]);
+    rows.append(d);
+  }
+  py::dict out = py::module_::import("json").attr("loads")(metadata_json(r));
+  out["rows"] = rows;
+  out["warnings"] = r.warnings;
+  return out;
+}
+}  // namespace
+
+void bind_problems(py::module_& m) {
+  m.def("_solve", &solve_problem, py::arg("cloud"), py::arg("expressions"), py::arg("values"), py::arg("options"));
+  m.def("_study", &study, py::arg("params"));
+}
+
+}  // namespace vrsph::python

@@ -1,0 +1,202 @@
+"""vrsph: accurate particle (SPH-family) discretisations of elliptic operators on irregular
+point clouds, and Poisson-type boundary value problems on them.
+
+A thin face of the C++ library: numpy arrays in, numpy arrays and ``scipy.sparse`` matrices
+out (the CSR arrays are the library's own, not copies).
+
+>>> import vrsph
+>>> c = vrsph.cloud.perturbed(dim=2, n=40, seed=1)
+>>> L = vrsph.stencil(c, method="vrsph", operator="laplacian", h_factor=3)
+>>> r = vrsph.solve(c, u="sin(pi*x)*sin(pi*y)")        # f, g derived from u
+>>> rows = vrsph.study(problem="qw-ex5", methods=["vrsph"], cloud="perturbed", n=[20, 40])
+
+Errors are ``vrsph.Error`` subclasses that are also the fitting built-in exception:
+``InputError`` / ``ConfigError`` / ``GeometryError`` (``ValueError``), ``IoError``
+(``OSError``), ``NumericalError`` (``RuntimeError``), ``ResourceError`` (``MemoryError``).
+"""
+from __future__ import annotations
+
+from typing import Any, Callable, Mapping, Sequence, Union
+
+import numpy as np
+import scipy.sparse
+
+from . import _vrsph
+from . import cloud
+from ._vrsph import (  # noqa: F401  (re-exported)
+    DIRICHLET,
+    GHOST,
+    INTERIOR,
+    NEUMANN,
+    Cloud,
+    ConfigError,
+    Error,
+    GeometryError,
+    InputError,
+    IoError,
+    NumericalError,
+    ResourceError,
+    covering_radius,
+    kernels,
+    methods,
+    write_vtu,
+)
+
+__all__ = [
+    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "solve", "Solution", "study",
+    "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
+    "GeometryError", "NumericalError", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
+]
+
+Data = Union[None, str, float, Sequence[float], np.ndarray, Callable[..., Any]]
+
+
+def read_cloud(path: str, dim: int = 0) -> Cloud:
+    """Reads a cloud file (CSV, VTU/VTP, Gmsh .msh) as ``vrsph solve --cloud-file`` does.
+
+    The file's extra columns are in ``cloud.fields`` ({name: (N,) array})."""
+    c, fields = _vrsph._read_cloud(str(path), dim)
+    c.fields = fields
+    return c
+
+
+class Stencil:
+    """A method's operator on a cloud: ``matrix`` (scipy CSR; for the gradient ``matrices``, one
+    per direction over one pattern) and the per-row diagnostics ``residual`` (local problem
+    residual, or None), ``condition`` (local condition number, or None) and ``infeasible``
+    (indices of rows whose local problem failed or exceeds the tolerance)."""
+
+    def __init__(self, raw: dict, n: int):
+        shape = (n, n)
+        self.matrices = tuple(
+            scipy.sparse.csr_matrix((data, raw["indices"], raw["indptr"]), shape=shape, copy=False)
+            for data in raw["data"])
+        self.residual = raw["residual"]
+        self.condition = raw["condition"]
+        self.infeasible = raw["infeasible"]
+        self.h = raw["h"]
+        self.spacing = raw["spacing"]
+
+    @property
+    def matrix(self) -> scipy.sparse.csr_matrix:
+        if len(self.matrices) != 1:
+            raise ConfigError(f"this stencil has {len(self.matrices)} components: use .matrices")
+        return self.matrices[0]
+
+
+def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
+            h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
+            coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False):
+    """The stencil of ``method`` for ``operator`` (value, dx, dy, dz, gradient, laplacian,
+    div-a-grad) on every non-ghost particle, as ``scipy.sparse.csr_matrix`` (N x N); the
+    gradient as a tuple of ``dim`` matrices sharing one pattern.
+
+    The support radius is ``h`` if given, else ``h_factor`` x the cloud's spacing.
+    ``coefficient`` (div-a-grad only): a in div(a grad u), as values, a callable of the
+    coordinates or an expression. ``diagnostics=True`` returns the :class:`Stencil` instead."""
+    a = None
+    if coefficient is not None:
+        a = _values(cloud, coefficient, "coefficient")
+    raw = _vrsph._stencil(cloud, method, operator, 0.0 if h is None else float(h), float(h_factor), kernel,
+                          dict(options or {}), a, float(infeasible_tol))
+    s = Stencil(raw, len(cloud))
+    if diagnostics:
+        return s
+    return s.matrices if operator == "gradient" else s.matrices[0]
+
+
+class Solution(dict):
+    """The result of :func:`solve`: ``u`` and the diagnostics (``mmatrix``, ``infeasible``,
+    ``solver``, ``solver_iterations``, ``solver_residual``, ``h``, ``warnings``, ...), and with
+    an exact ``u`` given: ``exact``, ``error_inf``, ``error_l2``. Keys are also attributes."""
+
+    def __getattr__(self, name: str):
+        try:
+            return self[name]
+        except KeyError as e:
+            raise AttributeError(name) from e
+
+
+def _coordinates(cloud: Cloud):
+    p = cloud.points
+    return tuple(p[:, k] for k in range(cloud.dim))
+
+
+def _values(cloud: Cloud, data: Data, role: str):
+    """Per-particle values of a datum given as a callable f(x[, y[, z]]) of coordinate arrays,
+    a number or an array-like of N values (expressions are handled by the library)."""
+    n = len(cloud)
+    if callable(data):
+        out = data(*_coordinates(cloud))
+        arr = np.asarray(out, dtype=float)
+        if arr.ndim == 0:
+            arr = np.full(n, float(arr))
+        if arr.shape != (n,):
+            raise InputError(f"{role}: the callable returned shape {arr.shape}, expected ({n},)")
+        return np.ascontiguousarray(arr)
+    if np.isscalar(data) and not isinstance(data, str):
+        return np.full(n, float(data))
+    return data  # an array: the library checks dtype and shape
+
+
+def solve(cloud: Cloud, f: Data = None, g: Data = None, q: Data = None, a: Data = None, u: Data = None,
+          method: str = "vrsph", options: Mapping[str, Any] | None = None, h: float | None = None,
+          h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
+          petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
+          infeasible_tol: float = 1e-6) -> Solution:
+    """Solves div(a grad u) = f with u = g on Dirichlet particles and a du/dn = q on Neumann
+    ones (outward normals from the cloud), one call into the library.
+
+    Each datum is an expression string in x, y, z (as the CLI's), a number, an array of N
+    values, or a callable of the coordinate arrays; ``u``, the exact solution, is optional:
+    with it f, g and q default to what u implies and the errors are reported."""
+    expressions, values = {}, {}
+    for role, data in (("u", u), ("a", a), ("f", f), ("g", g), ("q", q)):
+        if data is None:
+            continue
+        if isinstance(data, str):
+            expressions[role] = data
+        else:
+            values[role] = _values(cloud, data, role)
+    opts = dict(method=method, method_options=dict(options or {}), kernel=kernel,
+                h=0.0 if h is None else float(h), h_factor=float(h_factor), h_mode=h_mode, solver=solver,
+                petsc_options=petsc_options, fix_constant=bool(fix_constant), on_infeasible=on_infeasible,
+                infeasible_tol=float(infeasible_tol))
+    return Solution(_vrsph._solve(cloud, expressions, values, opts))
+
+
+def study(problem: str | None = None, methods: Sequence[str] = ("vrsph",), cloud: str = "uniform",
+          n: Sequence[int] = (20, 40, 80, 160), seeds: Sequence[int] = (1,), dim: int | None = None,
+          method_options: Mapping[str, Mapping[str, Any]] | None = None, h_factor: float | None = None,
+          h_mode: str = "fixed", delta: float | None = None, kernel: str | None = None,
+          neumann: Sequence[str] | None = None, u: str | None = None, a: str | None = None, f: str | None = None,
+          g: str | None = None, q: str | None = None, fix_constant: bool = False, solver: str = "auto",
+          petsc_options: str = "", perturb_boundary: bool = False, regular_layer: float = 0.0,
+          on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> list[dict]:
+    """A convergence study as ``vrsph study`` runs it (same defaults, same numbers): one row
+    per (method, n) with the fields of the CLI's JSON (``error_inf``, ``order_inf``,
+    ``mmatrix``, ``solver_iterations``, ...), the mean over ``seeds`` for random clouds.
+
+    The study's metadata (fitted orders, warnings) is in ``vrsph.study_report(...)``."""
+    return study_report(**{k: v for k, v in locals().items()})["rows"]
+
+
+def study_report(problem: str | None = None, methods: Sequence[str] = ("vrsph",), cloud: str = "uniform",
+                 n: Sequence[int] = (20, 40, 80, 160), seeds: Sequence[int] = (1,), dim: int | None = None,
+                 method_options: Mapping[str, Mapping[str, Any]] | None = None, h_factor: float | None = None,
+                 h_mode: str = "fixed", delta: float | None = None, kernel: str | None = None,
+                 neumann: Sequence[str] | None = None, u: str | None = None, a: str | None = None,
+                 f: str | None = None, g: str | None = None, q: str | None = None, fix_constant: bool = False,
+                 solver: str = "auto", petsc_options: str = "", perturb_boundary: bool = False,
+                 regular_layer: float = 0.0, on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> dict:
+    """:func:`study` with the metadata: ``{"rows": [...], "fitted_order_inf": {...}, "warnings": [...], ...}``."""
+    params = dict(locals())
+    if isinstance(params["methods"], str):
+        params["methods"] = [params["methods"]]
+    params["methods"] = list(params["methods"])
+    params["n"] = [int(v) for v in params["n"]]
+    params["seeds"] = [int(v) for v in params["seeds"]]
+    params["method_options"] = {m: dict(o) for m, o in (method_options or {}).items()}
+    if neumann is not None:
+        params["neumann"] = [neumann] if isinstance(neumann, str) else list(neumann)
+    return _vrsph._study(params)

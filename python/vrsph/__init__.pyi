@@ -1,0 +1,82 @@
+from typing import Any, Callable, Mapping, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+import scipy.sparse
+
+from . import cloud as cloud
+
+INTERIOR: int
+DIRICHLET: int
+NEUMANN: int
+GHOST: int
+
+class Error(Exception): ...
+class InputError(Error, ValueError): ...
+class IoError(InputError, OSError): ...
+class ConfigError(Error, ValueError): ...
+class ResourceError(ConfigError, MemoryError): ...
+class GeometryError(Error, ValueError): ...
+class NumericalError(Error, RuntimeError): ...
+
+class Cloud:
+    dim: int
+    fields: dict[str, npt.NDArray[np.float64]]
+    @property
+    def spacing(self) -> float: ...
+    @property
+    def points(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def normals(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def tags(self) -> npt.NDArray[np.uint8]: ...
+    def count(self, tag: int) -> int: ...
+    def __len__(self) -> int: ...
+
+Data = Union[None, str, float, Sequence[float], npt.NDArray[Any], Callable[..., Any]]
+
+def read_cloud(path: str, dim: int = 0) -> Cloud: ...
+def methods() -> list[dict[str, Any]]: ...
+def kernels() -> list[dict[str, Any]]: ...
+def covering_radius(cloud: Cloud) -> dict[str, Any]: ...
+def write_vtu(path: str, cloud: Cloud, fields: Mapping[str, npt.ArrayLike] = ..., ascii: bool = False) -> None: ...
+
+class Stencil:
+    matrices: tuple[scipy.sparse.csr_matrix, ...]
+    residual: npt.NDArray[np.float64] | None
+    condition: npt.NDArray[np.float64] | None
+    infeasible: npt.NDArray[np.int32]
+    h: float
+    spacing: float
+    @property
+    def matrix(self) -> scipy.sparse.csr_matrix: ...
+
+def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
+            h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
+            coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False) -> Any: ...
+
+class Solution(dict[str, Any]):
+    u: npt.NDArray[np.float64]
+    mmatrix: bool
+    infeasible: int
+    solver: str
+    solver_iterations: int
+    solver_residual: float
+    h: float
+    warnings: list[str]
+    def __getattr__(self, name: str) -> Any: ...
+
+def solve(cloud: Cloud, f: Data = None, g: Data = None, q: Data = None, a: Data = None, u: Data = None,
+          method: str = "vrsph", options: Mapping[str, Any] | None = None, h: float | None = None,
+          h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
+          petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
+          infeasible_tol: float = 1e-6) -> Solution: ...
+
+def study(problem: str | None = None, methods: Sequence[str] = ..., cloud: str = "uniform", n: Sequence[int] = ...,
+          seeds: Sequence[int] = ..., dim: int | None = None, method_options: Mapping[str, Mapping[str, Any]] | None = None,
+          h_factor: float | None = None, h_mode: str = "fixed", delta: float | None = None, kernel: str | None = None,
+          neumann: Sequence[str] | None = None, u: str | None = None, a: str | None = None, f: str | None = None,
+          g: str | None = None, q: str | None = None, fix_constant: bool = False, solver: str = "auto",
+          petsc_options: str = "", perturb_boundary: bool = False, regular_layer: float = 0.0,
+          on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> list[dict[str, Any]]: ...
+def study_report(**kwargs: Any) -> dict[str, Any]: ...

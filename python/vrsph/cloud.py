@@ -1,0 +1,49 @@
+"""Point clouds: the built-in families of the papers' studies, clouds from arrays and
+geometries (the same generators as ``vrsph cloud``)."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _vrsph
+from ._vrsph import Cloud
+
+__all__ = ["Cloud", "lattice", "perturbed", "centroids", "disk", "from_arrays", "from_geometry"]
+
+
+def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vertex") -> Cloud:
+    """The uniform lattice of n intervals per direction on [0,1]^d (``domain="unit"``) or
+    [-1,1]^d (``"symmetric"``); layout "vertex" ([QW] layout A, boundary particles on the
+    faces) or "cells" (layout B)."""
+    return _vrsph._generated("uniform", dim, n, domain, layout, 0.5, 1, False, 0.0)
+
+
+def perturbed(dim: int = 2, n: int = 20, delta: float = 0.5, seed: int = 1, domain: str = "unit",
+              layout: str = "vertex", perturb_boundary: bool = False, regular_layer: float = 0.0) -> Cloud:
+    """The lattice with interior particles moved by U(-delta dx, delta dx) per coordinate
+    ([QW]'s perturbed clouds; the same seed gives the CLI's cloud)."""
+    return _vrsph._generated("perturbed", dim, n, domain, layout, delta, seed, perturb_boundary, regular_layer)
+
+
+def centroids(dim: int = 2, n: int = 20, seed: int = 1, domain: str = "unit") -> Cloud:
+    """Centroids of a Delaunay mesh of a jittered lattice ([QW] §5's third family)."""
+    return _vrsph._generated("centroids", dim, n, domain, "vertex", 0.5, seed, False, 0.0)
+
+
+def disk(dim: int = 2, n: int = 20) -> Cloud:
+    """Particles in the disk (ball) inscribed in the unit box, boundary particles with radial normals."""
+    return _vrsph._generated("disk", dim, n, "unit", "vertex", 0.5, 1, False, 0.0)
+
+
+def from_arrays(points, tags, normals=None) -> Cloud:
+    """A cloud from an (N, d) float array of positions, N integer tags (0 interior, 1 Dirichlet,
+    2 Neumann, 3 ghost) and, for Neumann particles, (N, d) outward unit normals.
+
+    Integer ``points`` are refused (convert them deliberately); non-contiguous arrays are
+    copied; NaN, duplicate-free checks and the rest are the library's."""
+    return _vrsph._from_arrays(points, np.asarray(tags), normals)
+
+
+def from_geometry(path: str, spacing: float, fill: str = "uniform", delta: float = 0.3, seed: int = 1) -> Cloud:
+    """A geometry filled with particles as ``vrsph cloud --geometry`` does: a 2D GeoJSON polygon
+    or a 3D closed surface (STL, OFF, OBJ); fill "uniform", "perturbed" (delta) or "blue-noise"."""
+    return _vrsph._geometry(str(path), float(spacing), fill, float(delta), int(seed))
