@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/errors.hpp>
+#include <vrsph/analysis/operator_study.hpp>
 #include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
@@ -125,6 +126,20 @@ py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, con
   return d;
 }
 
+// Rows (the CLI's JSON fields) and metadata of a study's table.
+template <class Result>
+py::dict report(const Result& r, const Table& t) {
+  py::list rows;
+  for (const auto& row : t.rows) {
+    py::dict d;
+    for (std::size_t c = 0; c < t.columns.size(); ++c) d[py::str(t.columns[c])] = cell(row[c]);
+    rows.append(d);
+  }
+  py::dict out = py::module_::import("json").attr("loads")(metadata_json(r));
+  out["rows"] = rows;
+  return out;
+}
+
 // The study as `vrsph study` runs it: the problem's defaults for what is not given.
 py::dict study(const py::dict& k) {
   BvpStudyParams p;
@@ -165,21 +180,46 @@ py::dict study(const py::dict& k) {
     py::gil_scoped_release release;
     return run_bvp_study(p);
   }();
-  const Table t = to_table(r);
-  py::list rows;
-  for (const auto& row : t.rows) {
-    py::dict d;
-    for (std::size_t c = 0; c < t.columns.size(); ++c) d[py::str(t.columns[c])] = cell(row[c]);
-    rows.append(d);
-  }
-  py::dict out = py::module_::import("json").attr("loads")(metadata_json(r));
-  out["rows"] = rows;
+  py::dict out = report(r, to_table(r));
   out["warnings"] = r.warnings;
   return out;
+}
+// The operator study as `vrsph operator` runs it.
+py::dict operator_study(const py::dict& k) {
+  OperatorStudyParams p;
+  const auto given = [&k](const char* key) { return k.contains(key) && !k[key].is_none(); };
+  p.problem = k["problem"].cast<std::string>();
+  const ProblemDefaults def = problem_defaults(p.problem);
+  p.dim = given("dim") ? k["dim"].cast<int>() : def.dim;
+  p.methods = k["methods"].cast<std::vector<std::string>>();
+  if (given("method_options"))
+    for (const auto& [method, opts] : k["method_options"].cast<py::dict>())
+      p.method_options[py::str(method)] = to_method_options(opts.cast<py::dict>());
+  p.op = parse_operator(k["operator"].cast<std::string>());
+  p.cloud = parse_cloud_family(k["cloud"].cast<std::string>());
+  p.n = k["n"].cast<std::vector<int>>();
+  const long long seed = k["seed"].cast<long long>();
+  check<ConfigError>(seed >= 0, "seed must be >= 0, got ", seed);
+  p.seed = static_cast<std::uint64_t>(seed);
+  p.h_factor = given("h_factor") ? k["h_factor"].cast<double>() : def.h_factor;
+  p.h_mode = parse_smoothing_mode(k["h_mode"].cast<std::string>());
+  p.delta = given("delta") ? k["delta"].cast<double>() : def.delta;
+  p.ghosts = given("ghosts") ? k["ghosts"].cast<bool>() : def.ghosts;
+  p.regular_layer = k["regular_layer"].cast<double>();
+  p.kernel = given("kernel") ? parse_kernel(k["kernel"].cast<std::string>()) : def.kernel;
+  p.u = text(k, "u");
+  p.exact = text(k, "exact");
+  p.a = text(k, "a");
+  const OperatorStudyResult r = [&] {
+    py::gil_scoped_release release;
+    return run_operator_study(p);
+  }();
+  return report(r, to_table(r));
 }
 }  // namespace
 
 void bind_problems(py::module_& m) {
+  m.def("_operator_study", &operator_study, py::arg("params"));
   m.def("_solve", &solve_problem, py::arg("cloud"), py::arg("expressions"), py::arg("values"), py::arg("options"));
   m.def("_study", &study, py::arg("params"));
 }

@@ -44,7 +44,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 
 __all__ = [
     "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "solve", "Solution", "study",
-    "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
+    "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "GeometryError", "NumericalError", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
 
@@ -200,3 +200,18 @@ def study_report(problem: str | None = None, methods: Sequence[str] = ("vrsph",)
     if neumann is not None:
         params["neumann"] = [neumann] if isinstance(neumann, str) else list(neumann)
     return _vrsph._study(params)
+
+
+def operator_study(problem: str = "qw-trunc", methods: Sequence[str] = ("sph",), operator: str = "laplacian",
+                   cloud: str = "uniform", n: Sequence[int] = (8, 16, 32, 64, 128), seed: int = 1,
+                   dim: int | None = None, method_options: Mapping[str, Mapping[str, Any]] | None = None,
+                   h_factor: float | None = None, h_mode: str = "fixed", delta: float | None = None,
+                   ghosts: bool | None = None, regular_layer: float = 0.0, kernel: str | None = None,
+                   u: str | None = None, exact: str | None = None, a: str | None = None) -> dict:
+    """An operator (truncation-error) study as ``vrsph operator`` runs it: ``{"rows": [...],
+    "fitted_order_inf": {...}, ...}`` with the fields of the CLI's JSON."""
+    params = dict(locals())
+    params["methods"] = [methods] if isinstance(methods, str) else list(methods)
+    params["n"] = [int(v) for v in n]
+    params["method_options"] = {m: dict(o) for m, o in (method_options or {}).items()}
+    return _vrsph._operator_study(params)

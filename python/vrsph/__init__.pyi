@@ -80,3 +80,9 @@ def study(problem: str | None = None, methods: Sequence[str] = ..., cloud: str =
           petsc_options: str = "", perturb_boundary: bool = False, regular_layer: float = 0.0,
           on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> list[dict[str, Any]]: ...
 def study_report(**kwargs: Any) -> dict[str, Any]: ...
+def operator_study(problem: str = "qw-trunc", methods: Sequence[str] = ..., operator: str = "laplacian",
+                   cloud: str = "uniform", n: Sequence[int] = ..., seed: int = 1, dim: int | None = None,
+                   method_options: Mapping[str, Mapping[str, Any]] | None = None, h_factor: float | None = None,
+                   h_mode: str = "fixed", delta: float | None = None, ghosts: bool | None = None,
+                   regular_layer: float = 0.0, kernel: str | None = None, u: str | None = None,
+                   exact: str | None = None, a: str | None = None) -> dict[str, Any]: ...

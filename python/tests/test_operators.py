@@ -1,0 +1,71 @@
+"""Stencils as SciPy matrices (no copy), exactness, diagnostics, the registry, the operator study."""
+import numpy as np
+import pytest
+import scipy.sparse
+
+import vrsph
+
+
+def test_interface_of_the_issue():
+    c = vrsph.cloud.perturbed(dim=2, n=40, seed=1)
+    L = vrsph.stencil(c, method="vrsph", operator="laplacian", h_factor=3)
+    assert isinstance(L, scipy.sparse.csr_matrix) and L.shape == (1681, 1681) and L.nnz > 1681 * 20
+
+
+def test_csr_arrays_are_the_librarys_and_gradient_components_share_the_pattern():
+    c = vrsph.cloud.perturbed(dim=2, n=20, seed=3)
+    s = vrsph.stencil(c, method="vrsph", operator="gradient", diagnostics=True)
+    gx, gy = s.matrices
+    assert gx.indices.dtype == np.int32 and not gx.indices.flags.owndata  # SciPy kept our array
+    assert not gx.data.flags.owndata
+    assert np.shares_memory(gx.indices, gy.indices) and np.shares_memory(gx.indptr, gy.indptr)
+    x, y = c.points[:, 0], c.points[:, 1]
+    interior = c.tags == vrsph.INTERIOR
+    u = 2 * x - 3 * y + 1  # VRSPH's gradient is exact on linear fields
+    assert np.abs((gx @ u)[interior] - 2).max() < 1e-9
+    assert np.abs((gy @ u)[interior] + 3).max() < 1e-9
+    assert s.residual is not None and s.residual.shape == (len(c),)
+
+
+def test_vrsph_laplacian_is_exact_on_quadratics_and_minus_l_has_m_matrix_signs():
+    c = vrsph.cloud.lattice(dim=2, n=16)
+    L = vrsph.stencil(c, method="vrsph").tocoo()
+    x, y = c.points.T
+    interior = c.tags == vrsph.INTERIOR
+    assert np.abs((L @ (x * x + 3 * y * y))[interior] - 8).max() < 1e-8
+    off = L.row != L.col
+    assert (L.data[off] >= 0).all() and (L.data[~off] <= 0).all()
+
+
+def test_div_a_grad_takes_a_callable_coefficient_and_bad_arguments_raise():
+    c = vrsph.cloud.lattice(dim=2, n=10)
+    A = vrsph.stencil(c, method="sph", operator="div-a-grad", coefficient=lambda x, y: 1 + x * x)
+    assert A.shape == (121, 121)
+    with pytest.raises(vrsph.ConfigError, match="needs the coefficient"):
+        vrsph.stencil(c, method="sph", operator="div-a-grad")
+    with pytest.raises(vrsph.ConfigError, match="unknown method"):
+        vrsph.stencil(c, method="nope")
+    with pytest.raises(ValueError):  # ConfigError is a ValueError too
+        vrsph.stencil(c, operator="curl")
+    with pytest.raises(vrsph.InputError, match=r"coefficient: expected shape \(121,\)"):
+        vrsph.stencil(c, method="sph", operator="div-a-grad", coefficient=np.ones(5))
+    with pytest.raises(vrsph.ConfigError, match="exceeds the extent"):
+        vrsph.stencil(c, h=100.0)
+
+
+def test_registry_and_kernels():
+    names = {m["name"]: m for m in vrsph.methods()}
+    assert "vrsph" in names and "laplacian" in names["vrsph"]["operators"]
+    assert names["vrsph"]["paper"].startswith("000_")
+    assert {"cubic", "gaussian"} <= {k["name"] for k in vrsph.kernels()}
+
+
+def test_operator_study_equals_the_cli(cli):
+    mine = vrsph.operator_study(problem="qw-trunc", methods=["vrsph", "sph"], cloud="perturbed", n=[16, 32], seed=2)
+    theirs = cli("operator", "--problem", "qw-trunc", "--method", "vrsph,sph", "--cloud", "perturbed",
+                 "--n", "16,32", "--seed", "2", "--format", "json")
+    assert len(mine["rows"]) == len(theirs["rows"]) == 4
+    for a, b in zip(mine["rows"], theirs["rows"]):
+        assert a["method"] == b["method"] and a["n"] == b["n"]
+        assert a["error_inf"] == pytest.approx(b["error_inf"], rel=1e-12, abs=0)
+        assert a["error_l2"] == pytest.approx(b["error_l2"], rel=1e-12, abs=0)

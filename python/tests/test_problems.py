@@ -1,0 +1,85 @@
+"""solve() and study(): equal to the CLI, data as strings/arrays/callables, every exception type."""
+import numpy as np
+import pytest
+
+import vrsph
+
+U = "exp(x)*sin(y) + x*y"
+
+
+def test_study_equals_the_cli_for_example_5(cli):
+    rows = vrsph.study(problem="qw-ex5", methods=["vrsph"], cloud="perturbed", n=[20, 40], seeds=[1])
+    theirs = cli("study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", "perturbed", "--n", "20,40",
+                 "--seed", "1", "--format", "json")["rows"]
+    assert [r["n"] for r in rows] == [20, 40]
+    for a, b in zip(rows, theirs):
+        assert set(b) <= set(a)  # the CLI's fields
+        for key in ("error_inf", "error_l2", "order_inf", "h", "N", "unknowns", "mmatrix", "infeasible"):
+            if isinstance(b[key], float):
+                assert a[key] == pytest.approx(b[key], rel=1e-12, abs=0), key
+            else:
+                assert a[key] == b[key], key
+    report = vrsph.study_report(problem="qw-ex5", methods="vrsph", cloud="uniform", n=[20, 40])
+    assert report["fitted_order_inf"]["vrsph"] == pytest.approx(2, abs=0.1)
+
+
+def test_solve_equals_the_cli_on_a_file_cloud(cli, tmp_path):
+    path = str(tmp_path / "c.csv")
+    cli("cloud", "--family", "perturbed", "--n", "24", "--seed", "3", "--output", path)
+    theirs = cli("solve", "--cloud-file", path, "--method", "vrsph", "--u", U, "--a", "1+x^2",
+                 "--vtu", str(tmp_path / "u.vtu"), "--format", "json")["rows"][0]
+    mine = vrsph.solve(vrsph.read_cloud(path), u=U, a="1+x^2")
+    assert mine.error_inf == pytest.approx(theirs["error_inf"], rel=1e-12, abs=0)
+    assert mine.mmatrix and mine.unknowns == theirs["unknowns"]
+
+
+def test_data_as_strings_arrays_and_callables_agree():
+    c = vrsph.cloud.perturbed(dim=2, n=20, seed=5)
+    x, y = c.points.T
+    exact = np.exp(x) * np.sin(y)
+    by_string = vrsph.solve(c, f="0", g="exp(x)*sin(y)")
+    by_array = vrsph.solve(c, f=np.zeros(len(c)), g=exact)
+    by_callable = vrsph.solve(c, f=0.0, g=lambda x, y: np.exp(x) * np.sin(y))
+    assert np.abs(by_string.u - by_array.u).max() < 1e-13
+    assert np.abs(by_string.u - by_callable.u).max() < 1e-13
+    assert np.abs(by_string.u - exact).max() < 1e-3
+    assert "error_inf" not in by_string  # no exact solution given
+
+
+def test_neumann_data_and_a_pure_neumann_problem():
+    # The unit square, Neumann everywhere, u fixed at one particle.
+    c0 = vrsph.cloud.lattice(dim=2, n=32)
+    tags = np.where(c0.tags == vrsph.DIRICHLET, vrsph.NEUMANN, c0.tags)
+    c = vrsph.cloud.from_arrays(c0.points.copy(), tags, normals=c0.normals.copy())
+    r = vrsph.solve(c, u="cos(pi*x)*cos(pi*y)", method="fpm", options={"gradient_order": 2}, fix_constant=True)
+    assert r.error_inf < 2e-2  # 7.2e-3 measured
+
+
+def test_exceptions_keep_the_library_message_and_have_fitting_types():
+    c = vrsph.cloud.perturbed(dim=2, n=10, seed=1)
+    with pytest.raises(vrsph.ConfigError, match="unknown method 'nope'"):
+        vrsph.solve(c, u=U, method="nope")
+    with pytest.raises(vrsph.InputError, match="cannot parse expression .exp\\(x.: Missing parenthesis"):
+        vrsph.solve(c, u="exp(x")
+    with pytest.raises(vrsph.NumericalError) as e:  # perturbed: infeasible rows next to the wall
+        vrsph.solve(c, u=U, on_infeasible="error")
+    assert isinstance(e.value, RuntimeError) and isinstance(e.value, vrsph.Error)
+    sparse = vrsph.cloud.from_arrays(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.2, 0.2], [0.9, 0.9]]),
+                                     [1, 1, 1, 0, 1])
+    with pytest.raises(vrsph.GeometryError):
+        vrsph.solve(sparse, u=U, h=0.05)
+    with pytest.raises(vrsph.InputError, match=r"f: the callable returned shape \(3,\)"):
+        vrsph.solve(c, f=lambda x, y: np.zeros(3), g=0.0)
+
+    class Boom(Exception):
+        pass
+
+    def boom(x, y):
+        raise Boom("from the user's coefficient")
+
+    with pytest.raises(Boom, match="from the user's coefficient"):
+        vrsph.solve(c, a=boom, f=1.0, g=0.0)
+    with pytest.raises(vrsph.InputError, match="not positive|a must be"):
+        vrsph.solve(c, a=-np.ones(len(c)), f=1.0, g=0.0)
+    with pytest.raises(vrsph.InputError, match="not finite"):
+        vrsph.solve(c, f=np.full(len(c), np.nan), g=0.0)
