@@ -83,3 +83,7 @@ def test_exceptions_keep_the_library_message_and_have_fitting_types():
         vrsph.solve(c, a=-np.ones(len(c)), f=1.0, g=0.0)
     with pytest.raises(vrsph.InputError, match="not finite"):
         vrsph.solve(c, f=np.full(len(c), np.nan), g=0.0)
+    with pytest.raises(vrsph.InputError, match="f: expected an array of numbers"):
+        vrsph.solve(c, f=np.array(["a"] * len(c)), g=0.0)
+    with pytest.raises(vrsph.InputError, match=r"g: expected shape \(121,\), got \(121, 1\)"):
+        vrsph.solve(c, f=0.0, g=np.zeros((len(c), 1)))

@@ -1,6 +1,7 @@
 # Builds and runs the consumer project against vrsph twice: installed (cmake --install into
 # WORK_DIR/prefix, found through CMAKE_PREFIX_PATH) and straight from the build tree
-# (vrsph_DIR=BUILD_DIR, nothing installed).
+# (vrsph_DIR=BUILD_DIR, nothing installed). The installed Python package, when the build has
+# one, must import from the prefix and solve.
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix RESULT_VARIABLE rc OUTPUT_QUIET)
 if(rc)
@@ -30,3 +31,14 @@ foreach(kind installed build-tree)
     endif()
   endforeach()
 endforeach()
+
+set(python_dir ${WORK_DIR}/prefix/lib/python3/dist-packages)
+if(PYTHON AND EXISTS ${python_dir}/vrsph)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${python_dir} ${PYTHON} -c
+                          "import vrsph; c = vrsph.cloud.perturbed(dim=2, n=20); print(vrsph.solve(c, u='x*y + exp(x)').error_inf)"
+                  WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message(STATUS "installed Python package says: ${out}")
+  if(rc)
+    message(FATAL_ERROR "the installed Python package failed: ${err}")
+  endif()
+endif()
