@@ -69,3 +69,29 @@ def test_operator_study_equals_the_cli(cli):
         assert a["method"] == b["method"] and a["n"] == b["n"]
         assert a["error_inf"] == pytest.approx(b["error_inf"], rel=1e-12, abs=0)
         assert a["error_l2"] == pytest.approx(b["error_l2"], rel=1e-12, abs=0)
+
+
+def test_the_gil_is_released_while_the_library_works():
+    # A long stencil build in a worker thread: the main thread keeps running Python meanwhile
+    # (with the GIL held by the worker it would advance only at the interpreter's switch interval).
+    import sys
+    import threading
+    import time
+
+    c = vrsph.cloud.perturbed(dim=2, n=400, seed=1)
+    old = sys.getswitchinterval()
+    sys.setswitchinterval(1.0)  # a GIL holder would block the main thread for up to 1 s at a time
+    try:
+        done = threading.Event()
+        worker = threading.Thread(target=lambda: (vrsph.stencil(c, method="vrsph"), done.set()))
+        ticks, start = 0, time.perf_counter()
+        worker.start()
+        while not done.is_set():
+            ticks += 1
+            time.sleep(0.001)
+        worker.join()
+        elapsed = time.perf_counter() - start
+    finally:
+        sys.setswitchinterval(old)
+    assert elapsed > 0.05
+    assert ticks > 0.3 * elapsed / 0.0011, (ticks, elapsed)  # most of the 1 ms ticks happened
