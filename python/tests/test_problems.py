@@ -44,6 +44,10 @@ def test_data_as_strings_arrays_and_callables_agree():
     assert np.abs(by_string.u - by_callable.u).max() < 1e-13
     assert np.abs(by_string.u - exact).max() < 1e-3
     assert "error_inf" not in by_string  # no exact solution given
+    by_problem = vrsph.solve(vrsph.Problem(c, f=0.0, g="exp(x)*sin(y)"))
+    assert np.array_equal(by_problem.u, by_string.u)
+    with pytest.raises(vrsph.ConfigError, match="not both"):
+        vrsph.solve(vrsph.Problem(c, f=0.0, g=0.0), f=1.0)
 
 
 def test_neumann_data_and_a_pure_neumann_problem():

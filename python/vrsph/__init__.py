@@ -16,6 +16,7 @@ Errors are ``vrsph.Error`` subclasses that are also the fitting built-in excepti
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Sequence, Union
 
 import numpy as np
@@ -43,7 +44,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 )
 
 __all__ = [
-    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "solve", "Solution", "study",
+    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "GeometryError", "NumericalError", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
@@ -139,7 +140,19 @@ def _values(cloud: Cloud, data: Data, role: str):
     return data  # an array: the library checks dtype and shape
 
 
-def solve(cloud: Cloud, f: Data = None, g: Data = None, q: Data = None, a: Data = None, u: Data = None,
+@dataclass
+class Problem:
+    """div(a grad u) = f on ``cloud``: u = g on Dirichlet particles, a du/dn = q on Neumann ones;
+    ``u`` the exact solution if known. Each datum as :func:`solve` takes it."""
+    cloud: Cloud
+    f: Data = None
+    g: Data = None
+    q: Data = None
+    a: Data = None
+    u: Data = None
+
+
+def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None, a: Data = None, u: Data = None,
           method: str = "vrsph", options: Mapping[str, Any] | None = None, h: float | None = None,
           h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
@@ -149,7 +162,12 @@ def solve(cloud: Cloud, f: Data = None, g: Data = None, q: Data = None, a: Data 
 
     Each datum is an expression string in x, y, z (as the CLI's), a number, an array of N
     values, or a callable of the coordinate arrays; ``u``, the exact solution, is optional:
-    with it f, g and q default to what u implies and the errors are reported."""
+    with it f, g and q default to what u implies and the errors are reported. A
+    :class:`Problem` may stand for the cloud and the data: ``solve(Problem(cloud, f=..., g=...))``."""
+    if isinstance(cloud, Problem):
+        if any(d is not None for d in (f, g, q, a, u)):
+            raise ConfigError("give the data in the Problem or as arguments, not both")
+        cloud, f, g, q, a, u = cloud.cloud, cloud.f, cloud.g, cloud.q, cloud.a, cloud.u
     expressions, values = {}, {}
     for role, data in (("u", u), ("a", a), ("f", f), ("g", g), ("q", q)):
         if data is None:

@@ -66,7 +66,17 @@ class Solution(dict[str, Any]):
     warnings: list[str]
     def __getattr__(self, name: str) -> Any: ...
 
-def solve(cloud: Cloud, f: Data = None, g: Data = None, q: Data = None, a: Data = None, u: Data = None,
+class Problem:
+    cloud: Cloud
+    f: Data
+    g: Data
+    q: Data
+    a: Data
+    u: Data
+    def __init__(self, cloud: Cloud, f: Data = None, g: Data = None, q: Data = None, a: Data = None,
+                 u: Data = None) -> None: ...
+
+def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None, a: Data = None, u: Data = None,
           method: str = "vrsph", options: Mapping[str, Any] | None = None, h: float | None = None,
           h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
