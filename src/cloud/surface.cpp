@@ -1,5 +1,6 @@
 // Closed triangle surfaces (CGAL Surface_mesh, AABB tree, Side_of_triangle_mesh) built from
-// the polygon soups of polygon_soup.cpp, and their particle fill. CGAL stays in this file (compiled in the vrsph_cgal object library).
+// the polygon soups of polygon_soup.cpp, and their particle fill. CGAL stays in this file
+// (compiled in the vrsph_cgal object library).
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -128,8 +129,10 @@ ClosedSurface read_closed_surface(const std::string& path) {
     for (std::size_t f = 0; f < soup.faces.size(); ++f) {
       if (to_lower(soup.regions[soup.face_region[f]]).find("neumann") != std::string::npos) continue;
       const auto& face = soup.faces[f];
-      for (std::size_t k = 1; k + 1 < face.size(); ++k)
-        impl.dirichlet_triangles.emplace_back(points[face[0]], points[face[k]], points[face[k + 1]]);
+      for (std::size_t k = 1; k + 1 < face.size(); ++k) {
+        const K::Triangle_3 t(points[face[0]], points[face[k]], points[face[k + 1]]);
+        if (!t.is_degenerate()) impl.dirichlet_triangles.push_back(t);  // no area: nothing to be near
+      }
     }
     if (!impl.dirichlet_triangles.empty()) {
       impl.dirichlet_tree.emplace(impl.dirichlet_triangles.begin(), impl.dirichlet_triangles.end());
