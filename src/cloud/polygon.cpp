@@ -2,12 +2,11 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <vrsph/cloud/blue_noise.hpp>
 #include <vrsph/cloud/polygon.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/io/input_file.hpp>
-#include "random.hpp"
+#include "interior_fill.hpp"
 
 namespace vrsph {
 
@@ -216,24 +215,7 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
   const auto admissible = [&](const Vec3& x) {
     return inside_polygon(p, x) && distance_to_polygon_boundary(p, x) >= 0.5 * f.spacing;
   };
-  if (f.pattern == FillPattern::BlueNoise) {
-    const std::vector<Vec3> seeds = c.positions;
-    for (const Vec3& x : grow_blue_noise(2, blue_noise_radius_factor(2) * f.spacing, seeds, admissible, f.seed))
-      put(x, Tag::Interior, Vec3::Zero());
-  } else {
-    const auto nx = static_cast<long long>((hi[0] - lo[0]) / f.spacing) + 1,
-               ny = static_cast<long long>((hi[1] - lo[1]) / f.spacing) + 1;
-    for (long long j = 0; j <= ny; ++j)
-      for (long long i = 0; i <= nx; ++i) {
-        Vec3 x(lo[0] + static_cast<Real>(i) * f.spacing, lo[1] + static_cast<Real>(j) * f.spacing, 0);
-        if (f.delta > 0) {
-          const auto id = static_cast<std::uint64_t>(j * (nx + 1) + i);
-          for (int k = 0; k < 2; ++k)
-            x[k] += f.delta * f.spacing * (2 * detail::uniform01(f.seed, id, static_cast<std::uint64_t>(k)) - 1);
-        }
-        if (admissible(x)) put(x, Tag::Interior, Vec3::Zero());
-      }
-  }
+  detail::add_interior_particles(c, lo, hi, f, f.seed, admissible);
   validate(c);
   return c;
 }

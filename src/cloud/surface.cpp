@@ -25,6 +25,7 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
 #include <vrsph/core/resources.hpp>
+#include "interior_fill.hpp"
 #include "random.hpp"
 
 namespace vrsph {
@@ -277,25 +278,7 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
     put(cand[k], kind(cand[k]), cand_nrm[k]);
   // Interior: at least half a spacing inside the surface.
   const auto admissible = [&](const Vec3& x) { return surface.contains(x) && surface.distance(x) >= 0.5 * f.spacing; };
-  if (f.pattern == FillPattern::BlueNoise) {
-    const std::vector<Vec3> seeds = cloud.positions;
-    for (const Vec3& x : grow_blue_noise(3, blue_noise_radius_factor(3) * f.spacing, seeds, admissible, f.seed + 3))
-      put(x, Tag::Interior, Vec3::Zero());
-  } else {
-    const auto n = [&](int k) { return static_cast<long long>((hi[k] - lo[k]) / f.spacing) + 1; };
-    const long long nx = n(0), ny = n(1), nz = n(2);
-    for (long long kz = 0; kz <= nz; ++kz)
-      for (long long ky = 0; ky <= ny; ++ky)
-        for (long long kx = 0; kx <= nx; ++kx) {
-          Vec3 x = lo + f.spacing * Vec3(static_cast<Real>(kx), static_cast<Real>(ky), static_cast<Real>(kz));
-          if (f.delta > 0) {
-            const auto id = static_cast<std::uint64_t>((kz * (ny + 1) + ky) * (nx + 1) + kx);
-            for (int k = 0; k < 3; ++k)
-              x[k] += f.delta * f.spacing * (2 * detail::uniform01(f.seed, id, static_cast<std::uint64_t>(k)) - 1);
-          }
-          if (admissible(x)) put(x, Tag::Interior, Vec3::Zero());
-        }
-  }
+  detail::add_interior_particles(cloud, lo, hi, f, f.seed + 3, admissible);
   validate(cloud);
   return cloud;
 }

@@ -1,0 +1,46 @@
+#pragma once
+// The interior particles of a geometry fill, shared by the polygon (polygon.cpp) and the closed
+// surface (surface.cpp): the same lattice or blue-noise rule in 2D and 3D.
+#include <cstdint>
+#include <vrsph/cloud/blue_noise.hpp>
+#include <vrsph/cloud/geometry_fill.hpp>
+#include <vrsph/cloud/point_cloud.hpp>
+#include "random.hpp"
+
+namespace vrsph::detail {
+
+/// Appends Interior particles (zero normals) to `cloud`, which holds the boundary particles
+/// with their normals: blue noise grown from those boundary particles (random stream
+/// `blue_noise_seed`), or the lattice of the spacing from `lo` over [lo, hi], perturbed by
+/// fill.delta (stream fill.seed, counter = lattice index); only points where admissible(x).
+template <class Admissible>
+void add_interior_particles(PointCloud& cloud, const Vec3& lo, const Vec3& hi, const GeometryFill& f,
+                            std::uint64_t blue_noise_seed, const Admissible& admissible) {
+  const int dim = cloud.dim;
+  const auto put = [&cloud](const Vec3& x) {
+    cloud.positions.push_back(x);
+    cloud.tags.push_back(Tag::Interior);
+    cloud.normals.push_back(Vec3::Zero());
+  };
+  if (f.pattern == FillPattern::BlueNoise) {
+    const std::vector<Vec3> seeds = cloud.positions;
+    for (const Vec3& x : grow_blue_noise(dim, blue_noise_radius_factor(dim) * f.spacing, seeds, admissible, blue_noise_seed))
+      put(x);
+    return;
+  }
+  const auto n = [&](int k) { return k < dim ? static_cast<long long>((hi[k] - lo[k]) / f.spacing) + 1 : 0; };
+  const long long nx = n(0), ny = n(1), nz = n(2);
+  for (long long kz = 0; kz <= nz; ++kz)
+    for (long long ky = 0; ky <= ny; ++ky)
+      for (long long kx = 0; kx <= nx; ++kx) {
+        Vec3 x = lo + f.spacing * Vec3(static_cast<Real>(kx), static_cast<Real>(ky), static_cast<Real>(kz));
+        if (f.delta > 0) {
+          const auto id = static_cast<std::uint64_t>((kz * (ny + 1) + ky) * (nx + 1) + kx);
+          for (int k = 0; k < dim; ++k)
+            x[k] += f.delta * f.spacing * (2 * uniform01(f.seed, id, static_cast<std::uint64_t>(k)) - 1);
+        }
+        if (admissible(x)) put(x);
+      }
+}
+
+}  // namespace vrsph::detail
