@@ -5,9 +5,12 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 #include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/methods/options.hpp>
 
 namespace vrsph::python {
 
@@ -29,5 +32,10 @@ py::array_t<T> owning_array(std::vector<T>&& values) {
 /// A float64 vector of exactly n values from a Python object (array-like), or InputError
 /// naming `what` and the problem (shape, dtype, non-finite values are left to the library).
 Field field_from(const py::handle& values, Index n, const char* what);
+
+/// Method options from {key: value} (booleans as "true"/"false", everything else as str()).
+MethodOptions method_options_from(const py::dict& options);
+/// {method: {key: value}} as the studies take them (None: no options).
+std::map<std::string, MethodOptions> per_method_options(const py::handle& options);
 
 }  // namespace vrsph::python

@@ -61,6 +61,20 @@ Field field_from(const py::handle& values, Index n, const char* what) {
   return out;
 }
 
+MethodOptions method_options_from(const py::dict& options) {
+  MethodOptions o;
+  for (const auto& [key, value] : options)
+    o.set(py::str(key), py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "true" : "false") : std::string(py::str(value)));
+  return o;
+}
+
+std::map<std::string, MethodOptions> per_method_options(const py::handle& options) {
+  std::map<std::string, MethodOptions> out;
+  if (!options.is_none())
+    for (const auto& [method, opts] : options.cast<py::dict>()) out[py::str(method)] = method_options_from(opts.cast<py::dict>());
+  return out;
+}
+
 }  // namespace vrsph::python
 
 PYBIND11_MODULE(_vrsph, m) {

@@ -1,5 +1,6 @@
 // Operators: the method registry, kernels, stencils as CSR arrays (handed to SciPy without a
 // copy by the Python layer), and the covering radius.
+#include <algorithm>
 #include <cmath>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/smoothing.hpp>
@@ -8,28 +9,19 @@
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/operator_kind.hpp>
+#include <vrsph/stencil/properties.hpp>
 #include "bindings.hpp"
 
 namespace vrsph::python {
 
 namespace {
-MethodOptions method_options(const py::dict& options) {
-  MethodOptions o;
-  for (const auto& [key, value] : options) {
-    std::string text = py::str(value);
-    if (py::isinstance<py::bool_>(value)) text = value.cast<bool>() ? "true" : "false";
-    o.set(py::str(key), text);
-  }
-  return o;
-}
-
 // One stencil over every non-ghost particle: support radius h (> 0) or h_factor x spacing.
 py::dict stencil(const PointCloud& cloud, const std::string& method_name, const std::string& op, double h,
                  double h_factor, const std::string& kernel, const py::dict& options, const py::object& coefficient,
                  double infeasible_tol) {
   validate(cloud);
   const OperatorKind kind = parse_operator(op);
-  const auto method = builtin_methods().create(method_name, method_options(options));
+  const auto method = builtin_methods().create(method_name, method_options_from(options));
   Field a;
   if (kind == OperatorKind::DivAGrad) {
     check<ConfigError>(!coefficient.is_none(), "operator div-a-grad needs the coefficient a (an array of N values)");
@@ -64,14 +56,12 @@ py::dict stencil(const PointCloud& cloud, const std::string& method_name, const 
     req.kind = kind;
     if (kind == OperatorKind::DivAGrad) req.coefficient = &a;
     r.s = method->build({cloud, nl, kt, r.spacing}, req);
-    // Infeasible rows: a failed local solve, or a relative local residual above the
-    // tolerance (|b| = sqrt(d) for VRSPH's moment systems).
-    for (Index i = 0; i < r.s.rows(); ++i) {
-      const auto si = static_cast<std::size_t>(i);
-      const bool failed = !r.s.local_failure.empty() && r.s.local_failure[si];
-      const bool residual = !r.s.residual.empty() && r.s.residual[si] / std::sqrt(Real(cloud.dim)) > infeasible_tol;
-      if (failed || residual) r.infeasible.push_back(i);
-    }
+    // Infeasible rows, as the studies count them: a failed local solve, or a relative local
+    // residual above the tolerance; listed in row order.
+    const std::vector<char> every_row(static_cast<std::size_t>(r.s.rows()), 1);
+    const LocalResidualSummary sum = summarise_local_residuals(r.s, every_row, infeasible_tol, every_row.size());
+    for (const auto& [residual, row] : sum.worst) r.infeasible.push_back(row);
+    std::sort(r.infeasible.begin(), r.infeasible.end());
     return r;
   }();
   Stencil& s = b.s;

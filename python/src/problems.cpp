@@ -14,13 +14,6 @@
 namespace vrsph::python {
 
 namespace {
-MethodOptions to_method_options(const py::dict& options) {
-  MethodOptions o;
-  for (const auto& [key, value] : options)
-    o.set(py::str(key), py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "true" : "false") : std::string(py::str(value)));
-  return o;
-}
-
 SolverOptions to_solver(const std::string& solver, const std::string& petsc_options) {
   SolverOptions o;
   o.type = parse_solver(solver);
@@ -63,7 +56,7 @@ py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, con
   take("q", fq, pv.q);
   BvpSolveOptions o;
   o.method = opt["method"].cast<std::string>();
-  o.method_options = to_method_options(opt["method_options"].cast<py::dict>());
+  o.method_options = method_options_from(opt["method_options"].cast<py::dict>());
   o.kernel = parse_kernel(opt["kernel"].cast<std::string>());
   o.h = opt["h"].cast<double>();
   o.h_factor = opt["h_factor"].cast<double>();
@@ -150,9 +143,7 @@ py::dict study(const py::dict& k) {
   const auto given = [&k](const char* key) { return k.contains(key) && !k[key].is_none(); };
   p.dim = given("dim") ? k["dim"].cast<int>() : def.dim;
   p.methods = k["methods"].cast<std::vector<std::string>>();
-  if (given("method_options"))
-    for (const auto& [method, opts] : k["method_options"].cast<py::dict>())
-      p.method_options[py::str(method)] = to_method_options(opts.cast<py::dict>());
+  if (k.contains("method_options")) p.method_options = per_method_options(k["method_options"]);
   p.cloud = parse_cloud_family(k["cloud"].cast<std::string>());
   p.n = k["n"].cast<std::vector<int>>();
   p.h_factor = given("h_factor") ? k["h_factor"].cast<double>() : def.h_factor;
@@ -192,9 +183,7 @@ py::dict operator_study(const py::dict& k) {
   const ProblemDefaults def = problem_defaults(p.problem);
   p.dim = given("dim") ? k["dim"].cast<int>() : def.dim;
   p.methods = k["methods"].cast<std::vector<std::string>>();
-  if (given("method_options"))
-    for (const auto& [method, opts] : k["method_options"].cast<py::dict>())
-      p.method_options[py::str(method)] = to_method_options(opts.cast<py::dict>());
+  if (k.contains("method_options")) p.method_options = per_method_options(k["method_options"]);
   p.op = parse_operator(k["operator"].cast<std::string>());
   p.cloud = parse_cloud_family(k["cloud"].cast<std::string>());
   p.n = k["n"].cast<std::vector<int>>();
