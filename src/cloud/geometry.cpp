@@ -16,13 +16,13 @@ GeometryCloud fill_geometry(const std::string& path, const GeometryFill& fill) {
     g.cloud = fill_polygon(*polygon, fill);
     // Edges are sampled finely (cheap in 2D): the covering radius is known to spacing / 16.
     g.sample_step = fill.spacing / 16;
-    g.boundary_sample = sample_polygon_boundary(*polygon, g.sample_step);
+    g.boundary_sample = [polygon, step = g.sample_step] { return sample_polygon_boundary(*polygon, step); };
     g.inside = [polygon](const Vec3& x) { return inside_polygon(*polygon, x); };
   } else if (ext == ".stl" || ext == ".off" || ext == ".obj") {
     auto surface = std::make_shared<ClosedSurface>(read_closed_surface(path));
     g.cloud = fill_surface(*surface, fill);
     g.sample_step = fill.spacing / 4;  // a surface sample grows with step^-2: a quarter spacing
-    g.boundary_sample = surface->sample(g.sample_step);
+    g.boundary_sample = [surface, step = g.sample_step] { return surface->sample(step); };
     g.inside = [surface](const Vec3& x) { return surface->contains(x); };
   } else {
     throw ConfigError(detail::concat("geometry ", path, ": unknown geometry format '", ext, "' (2D: .geojson or .json, a "

@@ -196,7 +196,7 @@ void add_cloud_command(CLI::App& app) {
     if (cloud.domain.shape != Domain::Shape::None || geometry) {
       // A geometry's covering radius is exact inside and sampled on the boundary: the true
       // value lies within covering_radius_uncertainty above the one reported.
-      const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample, geometry->sample_step)
+      const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample(), geometry->sample_step)
                                          : covering_radius(cloud);
       add("covering_radius", cr.radius);
       add("covering_radius_over_spacing", cr.radius / spacing);

@@ -13,7 +13,9 @@ namespace vrsph {
 struct GeometryCloud {
   PointCloud cloud;                          ///< boundary particles Dirichlet (see tag_boundary)
   std::function<bool(const Vec3&)> inside;   ///< the domain (closed)
-  std::vector<Vec3> boundary_sample;         ///< every boundary point within sample_step of one of these
+  /// Points with every boundary point within sample_step of one of them; computed on call
+  /// (only the covering radius needs them, and a fine surface gives millions).
+  std::function<std::vector<Vec3>()> boundary_sample;
   Real sample_step = 0;
 };
 
