@@ -16,16 +16,33 @@ void check_request(const MethodInfo& info, const Discretisation& disc, const Ste
                     " rows for ", disc.cloud.size(), " particles (size mismatch)");
   check<InputError>(request.rows.empty() || static_cast<Index>(request.rows.size()) == disc.cloud.size(),
                     "row mask has ", request.rows.size(), " entries for ", disc.cloud.size(), " particles (size mismatch)");
-  if (request.kind == OperatorKind::DivAGrad) {
-    check<InputError>(request.coefficient != nullptr, "operator div-a-grad needs the coefficient a at every particle");
-    const Field& a = *request.coefficient;
-    check<InputError>(a.size() == disc.cloud.size(), "coefficient a has ", a.size(), " values for ", disc.cloud.size(),
-                      " particles (size mismatch)");
-    for (Index i = 0; i < a.size(); ++i) {
-      const Vec3& x = disc.cloud.positions[static_cast<std::size_t>(i)];
-      check<InputError>(std::isfinite(a[i]) && a[i] > 0, "coefficient a must be positive and finite: a = ", a[i],
-                        " at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
-    }
+  if (request.kind != OperatorKind::DivAGrad) return;
+  if (request.mobility) {
+    check<ConfigError>(info.tensor_mobility, "method ", info.name,
+                       " cannot take a tensor (diagonal anisotropic) mobility; give a scalar coefficient, or use one "
+                       "of the [SPE] schemes (brookshaw, cb-sph, s-sph, m-sph)");
+    check<InputError>(request.coefficient == nullptr, "operator div-a-grad: give either a scalar coefficient or a "
+                      "tensor mobility, not both");
+    const Eigen::MatrixXd& m = *request.mobility;
+    check<InputError>(m.rows() == disc.cloud.size() && m.cols() == disc.cloud.dim, "mobility has ", m.rows(), " x ",
+                      m.cols(), " values for ", disc.cloud.size(), " particles in ", disc.cloud.dim,
+                      "D (size mismatch: one value per particle and direction)");
+    for (Index i = 0; i < m.rows(); ++i)
+      for (Index k = 0; k < m.cols(); ++k) {
+        const Vec3& x = disc.cloud.positions[static_cast<std::size_t>(i)];
+        check<InputError>(std::isfinite(m(i, k)) && m(i, k) > 0, "mobility m_", k + 1, " must be positive and finite: ",
+                          m(i, k), " at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
+      }
+    return;
+  }
+  check<InputError>(request.coefficient != nullptr, "operator div-a-grad needs the coefficient a at every particle");
+  const Field& a = *request.coefficient;
+  check<InputError>(a.size() == disc.cloud.size(), "coefficient a has ", a.size(), " values for ", disc.cloud.size(),
+                    " particles (size mismatch)");
+  for (Index i = 0; i < a.size(); ++i) {
+    const Vec3& x = disc.cloud.positions[static_cast<std::size_t>(i)];
+    check<InputError>(std::isfinite(a[i]) && a[i] > 0, "coefficient a must be positive and finite: a = ", a[i],
+                      " at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
   }
 }
 

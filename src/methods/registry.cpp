@@ -3,6 +3,7 @@
 #include <vrsph/methods/aar/modified_fpm.hpp>
 #include <vrsph/methods/aar/nested.hpp>
 #include <vrsph/methods/sph/sph.hpp>
+#include <vrsph/methods/spe/spe.hpp>
 #include <vrsph/methods/taylor/cspm.hpp>
 #include <vrsph/methods/taylor/fpm.hpp>
 #include <vrsph/methods/vrsph/vrsph.hpp>
@@ -53,6 +54,10 @@ void register_builtin_methods(MethodRegistry& r) {
   r.add(rkpm2_info(), make_rkpm2);
   r.add(mfpm_info(), make_mfpm);
   r.add(fpm2o_info(), make_fpm2o);
+  r.add(brookshaw_info(), make_brookshaw);
+  r.add(cb_sph_info(), make_cb_sph);
+  r.add(s_sph_info(), make_s_sph);
+  r.add(m_sph_info(), make_m_sph);
 }
 
 const MethodRegistry& builtin_methods() {

@@ -29,6 +29,13 @@ struct MethodInfo {
   /// div(a grad u) = a Δu + ∇a·∇u (no flux form, METHODS §3.0): the method reads
   /// StencilRequest::coefficient_gradient when given, so callers sample ∇a only for these.
   bool uses_coefficient_gradient = false;
+  /// div(M grad u) with a diagonal tensor mobility M = diag(m_1..m_d) per particle
+  /// (StencilRequest::mobility); methods without it refuse one with ConfigError.
+  bool tensor_mobility = false;
+  /// The scheme is designed to give non-negative off-diagonal weights (a two-point-flux,
+  /// monotone matrix: SPH/Morris, VRSPH, Brookshaw, M-SPH); the BVP layer warns, naming the
+  /// rows, when a stencil of such a method has negative ones all the same.
+  bool monotone = false;
   bool supports(OperatorKind k) const;
 };
 
@@ -52,6 +59,9 @@ struct StencilRequest {
   /// Rows to compute (1) or leave empty (0); empty span = every non-ghost particle.
   /// A boundary value problem asks only for its unknowns' rows.
   std::span<const char> rows = {};
+  /// DivAGrad with a diagonal tensor mobility: N x dim values m_k(x_i) > 0, in place of
+  /// `coefficient` (exactly one of the two is given); only MethodInfo::tensor_mobility methods.
+  const Eigen::MatrixXd* mobility = nullptr;
 };
 
 class Method {

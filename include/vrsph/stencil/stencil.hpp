@@ -36,6 +36,10 @@ struct Stencil {
   /// row/column equilibration (FPM, KGF, CSPM, RKPM, [AAR] FPM variants); empty for
   /// methods without one.
   std::vector<Real> condition;
+  /// Per-row monotonicity diagnostic of the [SPE] schemes (94): max_J ξ_I·Δ_J with
+  /// ξ_I = C_Iᵀ Ñ_I. The factors 1 - ξ_I·Δ_J of S/M-SPH are all positive iff it is < 1
+  /// ((93)); empty for other methods.
+  std::vector<Real> xi;
 
   Index rows() const { return static_cast<Index>(row_ptr.size()) - 1; }
   Index nnz() const { return row_ptr.back(); }

@@ -5,7 +5,7 @@
 namespace vrsph {
 
 MethodInfo sph_info() {
-  return {"sph",
+  MethodInfo info{"sph",
           "000_906375e5ed7c9bb7.txt ([QW] §2.1)",
           "traditional SPH: kernel-gradient gradient, Brookshaw Laplacian, Morris div(a grad)",
           "O(h^2) smoothing + O((dx/h)^{p+2}) discretisation error on lattices; gradient non-convergent and "
@@ -13,6 +13,8 @@ MethodInfo sph_info() {
           {OperatorKind::Value, OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient,
            OperatorKind::Laplacian, OperatorKind::DivAGrad},
           {{"volume", "dx (v_j = dx^d) | shepard (v_j = 1/sum_k W_jk); default dx"}}};
+  info.monotone = true;
+  return info;
 }
 
 std::vector<Real> sph_volumes(const Discretisation& disc, SphVolume mode) {

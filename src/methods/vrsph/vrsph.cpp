@@ -5,7 +5,7 @@
 namespace vrsph {
 
 MethodInfo vrsph_info() {
-  return {"vrsph",
+  MethodInfo info{"vrsph",
           "000_906375e5ed7c9bb7.txt ([QW] §4-5)",
           "volume-reconstruction SPH: per-particle NNLS volumes satisfying the moment conditions (4.1)/(4.2)",
           "O(h^2) gradient and Laplacian on uniform, perturbed and centroid particles; O(h^2) Poisson; -L an M-matrix",
@@ -15,6 +15,8 @@ MethodInfo vrsph_info() {
            {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"},
            {"rows", "merged (identical moment rows merged with sqrt(multiplicity) weights: same objective, "
                     "smaller system; default) | full (the literal 3/12/30 rows)"}}};
+  info.monotone = true;
+  return info;
 }
 
 namespace {

@@ -1,0 +1,326 @@
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/spe/ingredients.hpp>
+#include <vrsph/methods/spe/spe.hpp>
+#include <vrsph/methods/taylor/local_system.hpp>
+#include <vrsph/neighbours/search.hpp>
+
+namespace vrsph {
+
+NeighbourList symmetrised_pairs(const PointCloud& cloud, const NeighbourList& nl) {
+  const Real hmax = *std::max_element(nl.radii.begin(), nl.radii.end());
+  SearchParams sp;
+  sp.radii.resize(nl.radii.size());
+  for (std::size_t i = 0; i < nl.radii.size(); ++i) sp.radii[i] = 0.5 * (nl.radii[i] + hmax);
+  sp.radius = hmax;
+  sp.min_neighbours = 0;  // the caller's search has checked the counts already
+  const NeighbourList wide = find_neighbours(cloud, sp);
+  NeighbourList out;
+  out.radii = nl.radii;
+  out.offsets.assign(static_cast<std::size_t>(wide.size()) + 1, 0);
+  std::vector<Index> idx;
+  std::vector<Real> dist;
+  for (Index i = 0; i < wide.size(); ++i) {
+    const auto nbr = wide.of(i);
+    const auto d = wide.distances_of(i);
+    for (std::size_t k = 0; k < nbr.size(); ++k)
+      if (d[k] < 0.5 * (nl.radius(i) + nl.radius(nbr[k]))) {
+        idx.push_back(nbr[k]);
+        dist.push_back(d[k]);
+      }
+    out.offsets[static_cast<std::size_t>(i) + 1] = static_cast<Index>(idx.size());
+  }
+  out.indices.assign(idx.begin(), idx.end());
+  out.distances.assign(dist.begin(), dist.end());
+  return out;
+}
+
+namespace {
+
+enum class Scheme { Brookshaw, CorrectedBrookshaw, Schwaiger, Monotone };
+enum class Anisotropy { Consistent, Paper };
+
+using spe::GradientOption;
+using spe::RowGeometry;
+using spe::RowIngredients;
+using taylor::SmallMatrix;
+using taylor::SmallVector;
+
+bool radii_differ(const NeighbourList& nl) {
+  return std::any_of(nl.radii.begin(), nl.radii.end(), [&](Real h) { return h != nl.radii.front(); });
+}
+
+// Mobility of particle i in direction k: tensor, scalar coefficient, or 1 (Laplacian).
+struct Mobility {
+  const Eigen::MatrixXd* tensor = nullptr;
+  const Field* scalar = nullptr;
+  Real operator()(Index i, int k) const {
+    return tensor ? (*tensor)(i, k) : scalar ? (*scalar)[i] : 1.0;
+  }
+};
+
+// The consistent anisotropic weights (spe.hpp): per direction k, c^k_J = β_J φ(J)·θ_k with
+// φ = (e_a e_b for a <= b, Δ_a/h), θ_k from the moment conditions. Returns the relative
+// residual of the conditions (0 when they are met) and fills coef (dim x p).
+struct ConsistentCorrection {
+  int dim = 2, p = 5;
+  SmallMatrix theta;  // p x dim
+
+  static int basis_size(int d) { return d * (d + 1) / 2 + d; }
+  static void basis(const Vec3& delta, Real r, Real h, int d, Real* phi) {
+    int m = 0;
+    for (int a = 0; a < d; ++a)
+      for (int b = a; b < d; ++b) phi[m++] = delta[a] * delta[b] / (r * r);
+    for (int a = 0; a < d; ++a) phi[m++] = delta[a] / h;
+  }
+  // Conditions: first moments Δ_a/h (d rows), second moments Δ_aΔ_b/h² (a <= b).
+  static void conditions(const Vec3& delta, Real h, int d, Real* mu) {
+    int m = 0;
+    for (int a = 0; a < d; ++a) mu[m++] = delta[a] / h;
+    for (int a = 0; a < d; ++a)
+      for (int b = a; b < d; ++b) mu[m++] = delta[a] * delta[b] / (h * h);
+  }
+
+  Real solve(const RowGeometry& row, const std::vector<Real>& beta, Real h) {
+    const int d = row.dim;
+    p = basis_size(d);
+    SmallMatrix Q = SmallMatrix::Zero(p, p);
+    Real phi[9], mu[9];
+    for (std::size_t k = 0; k < row.size(); ++k) {
+      basis(row.delta[k], row.r[k], h, d, phi);
+      conditions(row.delta[k], h, d, mu);
+      for (int c = 0; c < p; ++c)
+        for (int m = 0; m < p; ++m) Q(c, m) += beta[k] * mu[c] * phi[m];
+    }
+    SmallMatrix rhs = SmallMatrix::Zero(p, d);
+    for (int k = 0, m = d; k < d; ++k) {  // the (k,k) second-moment row
+      rhs(m, k) = 1;
+      m += d - k;
+    }
+    // Columns scaled to unit norm; rank-revealing least squares keeps sparse supports
+    // (e.g. only the 2d face neighbours, where e_x e_y vanishes) solvable.
+    SmallVector scale(p);
+    for (int m = 0; m < p; ++m) {
+      const Real nrm = Q.col(m).norm();
+      scale[m] = nrm > 0 ? 1 / nrm : 0;
+    }
+    const SmallMatrix Qs = Q * scale.asDiagonal();
+    Eigen::CompleteOrthogonalDecomposition<SmallMatrix> cod(Qs);
+    cod.setThreshold(1e-10);
+    theta = scale.asDiagonal() * cod.solve(rhs);
+    if (!theta.allFinite()) return std::numeric_limits<Real>::infinity();
+    theta /= h * h;  // the second-moment rows were written in Δ/h
+    const Real res = (Q * theta * (h * h) - rhs).norm() / std::sqrt(static_cast<Real>(d));
+    return std::isfinite(res) ? res : std::numeric_limits<Real>::infinity();
+  }
+
+  // c^k_J for neighbour J (k < dim).
+  Real weight(const RowGeometry& row, std::size_t J, Real beta, Real h, int k) const {
+    Real phi[9];
+    basis(row.delta[J], row.r[J], h, row.dim, phi);
+    Real s = 0;
+    for (int m = 0; m < p; ++m) s += theta(m, k) * phi[m];
+    return beta * s;
+  }
+};
+
+class SpeScheme final : public Method {
+ public:
+  SpeScheme(MethodInfo info, Scheme scheme, const MethodOptions& o)
+      : info_(std::move(info)), scheme_(scheme),
+        gradient_(spe::parse_gradient_option(o.get_choice("gradient", "g1", {"g1", "g2", "g3", "g4"}))),
+        anisotropy_(o.get_choice("anisotropy", "consistent", {"consistent", "paper"}) == "paper" ? Anisotropy::Paper
+                                                                                                 : Anisotropy::Consistent),
+        volume_(o.get_choice("volume", "dx", {"dx", "shepard"})), policy_(taylor::read_singular_policy(o)) {}
+  const MethodInfo& info() const override { return info_; }
+
+  Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
+    check_request(info_, disc, req);
+    const auto& cloud = disc.cloud;
+    const int dim = cloud.dim;
+    const Index n = cloud.size();
+    const auto V = taylor::method_volumes(disc, volume_);
+    NeighbourList own;
+    const bool symmetrise = radii_differ(disc.neighbours);
+    if (symmetrise) own = symmetrised_pairs(cloud, disc.neighbours);
+    const NeighbourList& nl = symmetrise ? own : disc.neighbours;
+    Stencil s = make_stencil_pattern(nl, req.kind, dim, info_.name);
+    s.condition.assign(static_cast<std::size_t>(n), 0);
+    const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
+    const bool consistent = second && req.mobility && anisotropy_ == Anisotropy::Consistent;
+    if (second) s.xi.assign(static_cast<std::size_t>(n), 0);
+    if (consistent) s.residual.assign(static_cast<std::size_t>(n), 0);
+    const Mobility mob{req.mobility, req.kind == OperatorKind::DivAGrad ? req.coefficient : nullptr};
+    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+
+#pragma omp parallel
+    {
+      RowGeometry row;
+      RowIngredients in;
+      std::vector<Real> beta;
+      Eigen::Matrix3d gamma_star;
+      ConsistentCorrection corr;
+      row.dim = dim;
+#pragma omp for schedule(dynamic, 128)
+      for (Index i = 0; i < n; ++i) {
+        if (!taylor::wants_row(cloud, req, i)) continue;
+        const auto si = static_cast<std::size_t>(i);
+        const auto nbr = nl.of(i);
+        const Vec3& xi = cloud.positions[si];
+        const Real hi = nl.radius(i);
+        const Kernel self_kernel(disc.kernel, dim, hi);
+        row.resize(nbr.size());
+        row.volume_self = V[si];
+        row.W_self = self_kernel.W(0);
+        for (std::size_t k = 0; k < nbr.size(); ++k) {
+          const auto sj = static_cast<std::size_t>(nbr[k]);
+          row.delta[k] = cloud.positions[sj] - xi;
+          row.r[k] = row.delta[k].norm();
+          row.volume[k] = V[sj];
+          const Kernel pair = symmetrise ? Kernel(disc.kernel, dim, 0.5 * (hi + nl.radius(nbr[k]))) : self_kernel;
+          row.W[k] = pair.W(row.r[k]);
+          row.dW_over_r[k] = pair.dW_over_r(row.r[k]);
+        }
+        spe::compute_ingredients(row, gradient_, in);
+        Real cond = in.condition;
+        if (!std::isfinite(cond)) {
+          s.condition[si] = cond;
+          continue;
+        }
+        if (!second) {
+          s.condition[si] = cond;
+          for (std::size_t k = 0; k < nbr.size(); ++k) {
+            const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
+            const Vec3 g = row.volume[k] * in.gstar[k];
+            if (req.kind == OperatorKind::Gradient)
+              for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
+            else
+              s.values[0][slot] = g[axis];
+          }
+          continue;
+        }
+        // The scheme's bracket (unit mobility), the vector it subtracts, and its multiplier.
+        Vec3 X = Vec3::Zero();
+        Real factor = 1;
+        switch (scheme_) {
+          case Scheme::Brookshaw: break;
+          case Scheme::CorrectedBrookshaw: factor = spe::trace_of_inverse_over_dim(in.A, dim); break;
+          case Scheme::Schwaiger:
+            X = in.N;
+            factor = spe::trace_of_inverse_over_dim(in.Gamma, dim);
+            break;
+          case Scheme::Monotone: {
+            X = in.Ntilde;
+            std::vector<Real>& T = beta;
+            spe::monotone_transmissibilities(row, in, T, gamma_star);
+            const bool admissible = spe::gamma_star_admissible(gamma_star, in.Gamma, dim);
+            factor = spe::trace_of_inverse_over_dim(admissible ? gamma_star : in.Gamma, dim);
+            break;
+          }
+        }
+        Real reach = -std::numeric_limits<Real>::infinity();
+        for (std::size_t k = 0; k < nbr.size(); ++k) reach = std::max(reach, in.xi.dot(row.delta[k]));
+        s.xi[si] = nbr.empty() ? 0 : reach;
+        if (!std::isfinite(factor) || factor <= 0) {
+          s.condition[si] = std::numeric_limits<Real>::infinity();
+          continue;
+        }
+        s.condition[si] = cond;
+        if (consistent) {
+          beta.resize(nbr.size());
+          for (std::size_t k = 0; k < nbr.size(); ++k)
+            beta[k] = row.volume[k] * (in.radial[k] - X.dot(in.gstar[k]));
+          const Real res = corr.solve(row, beta, hi);
+          s.residual[si] = res;
+          if (!std::isfinite(res)) {
+            s.condition[si] = res;
+            continue;
+          }
+          for (std::size_t k = 0; k < nbr.size(); ++k) {
+            Real w = 0;
+            for (int c = 0; c < dim; ++c) w += corr.weight(row, k, beta[k], hi, c) * (mob(i, c) + mob(nbr[k], c));
+            s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = w;
+          }
+          continue;
+        }
+        // Printed form: (m_I + m_J) a·b becomes aᵀ(M_I + M_J) b in both terms (§3.7.5).
+        for (std::size_t k = 0; k < nbr.size(); ++k) {
+          const Vec3& D = row.delta[k];
+          Real w = 0;
+          for (int c = 0; c < dim; ++c) {
+            const Real mbar = mob(i, c) + mob(nbr[k], c);
+            w += mbar * (D[c] * in.g[k][c] / (row.r[k] * row.r[k]) - X[c] * in.gstar[k][c]);
+          }
+          s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = factor * row.volume[k] * w;
+        }
+      }
+    }
+    set_difference_diagonal(s);
+    taylor::enforce_condition(s, policy_, cloud);
+    return s;
+  }
+
+ private:
+  MethodInfo info_;
+  Scheme scheme_;
+  GradientOption gradient_;
+  Anisotropy anisotropy_;
+  std::string volume_;
+  taylor::SingularPolicy policy_;
+};
+
+MethodInfo spe_info(std::string name, std::string description, std::string claimed, bool monotone) {
+  MethodInfo info{std::move(name),
+                  "003_b74f9306775dfa57.txt ([SPE] §3, METHODS §3.7)",
+                  std::move(description),
+                  std::move(claimed),
+                  {OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient, OperatorKind::Laplacian,
+                   OperatorKind::DivAGrad},
+                  {}};
+  info.options = {{"gradient", "kernel gradient g1 (15, default) | g2 (16) | g3 (17) | g4 (18)"},
+                  {"anisotropy", "consistent (default: exact on quadratics for constant diagonal M) | paper (the "
+                                 "printed pair weight, inconsistent when m_1 != m_2, METHODS R22); tensor mobility only"}};
+  for (auto& o : taylor::corrected_method_options()) info.options.push_back(o);
+  info.tensor_mobility = true;
+  info.monotone = monotone;
+  return info;
+}
+
+}  // namespace
+
+MethodInfo brookshaw_info() {
+  return spe_info("brookshaw", "Brookshaw two-point-flux scheme [SPE](27) (Morris with g1 and a scalar coefficient)",
+                  "not consistent on disordered particles (leading error 2m ∇u·N, [SPE](32)); monotone", true);
+}
+MethodInfo cb_sph_info() {
+  return spe_info("cb-sph", "corrected Brookshaw [SPE](51): Brookshaw times tr(A^-1)/d",
+                  "C Δx^ω/h̃ + O(h̃²), 0 <= ω < 2 ([SPE] Thm 1); monotone for radial gradients", true);
+}
+MethodInfo s_sph_info() {
+  return spe_info("s-sph", "Schwaiger's scheme [SPE](52)-(55): corrected-gradient bracket times tr(Γ^-1)/d",
+                  "C Δx^ω/h̃, 1 <= ω < 2 far from the boundary ([SPE] Thm 2); exact on quadratics on lattices; "
+                  "not monotone", false);
+}
+MethodInfo m_sph_info() {
+  return spe_info("m-sph", "the monotone M-SPH scheme [SPE](69)-(73), transmissibility form (90)-(91), Γ* with "
+                  "the admissibility fallback of METHODS §3.7.5",
+                  "C Δx^ω/h̃, 1 <= ω < 2 far from the boundary ([SPE] Thm 3); equals S-SPH on lattices; "
+                  "monotone where (92)/(93) hold", true);
+}
+std::unique_ptr<Method> make_brookshaw(const MethodOptions& o) {
+  return std::make_unique<SpeScheme>(brookshaw_info(), Scheme::Brookshaw, o);
+}
+std::unique_ptr<Method> make_cb_sph(const MethodOptions& o) {
+  return std::make_unique<SpeScheme>(cb_sph_info(), Scheme::CorrectedBrookshaw, o);
+}
+std::unique_ptr<Method> make_s_sph(const MethodOptions& o) {
+  return std::make_unique<SpeScheme>(s_sph_info(), Scheme::Schwaiger, o);
+}
+std::unique_ptr<Method> make_m_sph(const MethodOptions& o) {
+  return std::make_unique<SpeScheme>(m_sph_info(), Scheme::Monotone, o);
+}
+
+}  // namespace vrsph
