@@ -187,6 +187,22 @@ std::vector<std::string> parse_name_list(const std::string& text, const std::str
   return out;
 }
 
+std::vector<std::string> parse_expression_list(const std::string& text, const std::string& option) {
+  std::vector<std::string> out{""};
+  int depth = 0;
+  for (char c : text) {
+    depth += c == '(' ? 1 : c == ')' ? -1 : 0;
+    check<ConfigError>(depth >= 0, "option ", option, ": unbalanced ')' in '", printable(text), "'");
+    if (c == ',' && depth == 0) out.emplace_back();
+    else out.back() += c;
+  }
+  check<ConfigError>(depth == 0, "option ", option, ": unbalanced '(' in '", printable(text), "'");
+  for (const auto& e : out)
+    check<ConfigError>(e.find_first_not_of(" \t") != std::string::npos, "option ", option, ": empty expression in '",
+                       printable(text), "'");
+  return out;
+}
+
 std::map<std::string, MethodOptions> parse_method_options(const std::vector<std::string>& items,
                                                           const std::vector<std::string>& methods) {
   std::map<std::string, MethodOptions> out;

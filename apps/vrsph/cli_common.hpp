@@ -39,6 +39,8 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
 /// "8,16,32" -> {8,16,32}; throws ConfigError naming the option on bad input.
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);
 std::vector<std::string> parse_name_list(const std::string& text, const std::string& option);
+/// Comma-separated expressions; commas inside parentheses (max(x, y)) do not split.
+std::vector<std::string> parse_expression_list(const std::string& text, const std::string& option);
 
 /// --method-opt items: "key=value" applies to every method, "method:key=value" to one
 /// (which must be in `methods`). Throws ConfigError on malformed items.

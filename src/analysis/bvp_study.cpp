@@ -8,6 +8,8 @@
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/functions.hpp>
+#include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/analysis/spe_problems.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
@@ -23,9 +25,14 @@ namespace {
 
 struct ProblemFunctions {
   std::unique_ptr<ScalarFunction> u, a, f_owned, g_owned;
+  std::vector<std::unique_ptr<ScalarFunction>> m;  ///< diagonal mobility (empty: scalar a)
   const ScalarFunction* f = nullptr;
   const ScalarFunction* g = nullptr;
+  /// Neumann data of a problem that defines them itself (x, outward normal); else from u.
+  std::function<Real(const Vec3&, const Vec3&)> flux;
 };
+
+bool is_spe_problem(const std::string& problem) { return problem == "spe-dirichlet" || problem == "spe-mixed"; }
 
 ProblemFunctions problem_functions(const BvpStudyParams& p) {
   ProblemFunctions pf;
@@ -41,6 +48,25 @@ ProblemFunctions problem_functions(const BvpStudyParams& p) {
     pf.g = pf.u.get();
     return pf;
   }
+  check<ConfigError>(p.mobility.empty() || p.problem == "custom", "--mobility defines a custom problem: use it without "
+                     "--problem ", p.problem);
+  if (is_spe_problem(p.problem)) {
+    check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty() && p.g.empty(),
+                       "--u/--a/--f/--g define a custom problem: use them without --problem ", p.problem);
+    check<ConfigError>(p.dim == 2, "problem ", p.problem, " is two-dimensional (--dim 2)");
+    pf.u = make_spe_function(p.problem);
+    pf.a = make_function("one", 2);
+    pf.f_owned = make_expression_function("0", 2);
+    pf.f = pf.f_owned.get();
+    if (p.problem == "spe-dirichlet") {
+      pf.g_owned = make_spe_function("spe-dirichlet-boundary");
+      pf.g = pf.g_owned.get();
+    } else {
+      pf.g = pf.u.get();  // u(x, 0) = ψ1 exactly
+      pf.flux = [](const Vec3& x, const Vec3&) { return spe_mixed_flux(x, SpeBoundaryData{}); };
+    }
+    return pf;
+  }
   if (p.problem == "qw-ex5") {
     check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty(),
                        "--u/--a/--f define a custom problem: use them without --problem qw-ex5");
@@ -50,11 +76,22 @@ ProblemFunctions problem_functions(const BvpStudyParams& p) {
     check<ConfigError>(!p.u.empty(), "a custom problem needs the exact solution --u (used for errors and g)");
     pf.u = make_function_or_expression(p.u, p.dim);
     pf.a = make_function_or_expression(p.a.empty() ? "one" : p.a, p.dim);
+    if (!p.mobility.empty()) {
+      check<ConfigError>(p.a.empty(), "--a (scalar coefficient) and --mobility (diagonal tensor) exclude each other");
+      check<ConfigError>(static_cast<int>(p.mobility.size()) == p.dim, "--mobility needs one expression per direction (",
+                         p.dim, " in ", p.dim, "D), got ", p.mobility.size());
+      for (const auto& m : p.mobility) pf.m.push_back(make_function_or_expression(m, p.dim));
+    }
   } else {
-    throw ConfigError("unknown boundary value problem '" + p.problem + "' (known: qw-ex5, aar-static, custom)");
+    throw ConfigError("unknown boundary value problem '" + p.problem +
+                      "' (known: qw-ex5, aar-static, spe-dirichlet, spe-mixed, custom)");
   }
   if (!p.f.empty()) {
     pf.f_owned = make_function_or_expression(p.f, p.dim);
+  } else if (!pf.m.empty()) {
+    std::vector<const ScalarFunction*> m;
+    for (const auto& mk : pf.m) m.push_back(mk.get());
+    pf.f_owned = std::make_unique<DivMGradOf>(*pf.u, std::move(m));
   } else {
     pf.f_owned = std::make_unique<DivAGradOf>(*pf.u, *pf.a);
   }
@@ -71,6 +108,7 @@ ProblemFunctions problem_functions(const BvpStudyParams& p) {
 std::vector<std::string> neumann_faces(const BvpStudyParams& p) {
   if (!p.neumann.empty()) return p.neumann;
   if (p.problem == "aar-static") return {"x1"};
+  if (p.problem == "spe-mixed") return {"x0", "x1", "y1"};
   return {};
 }
 
@@ -126,6 +164,11 @@ Index apply_neumann_faces(PointCloud& cloud, const std::array<bool, 6>& on, Real
   return count;
 }
 
+}  // namespace
+
+Real support_factor(const BvpStudyParams& p) { return p.h_factor * problem_defaults(p.problem).support_per_h_factor; }
+
+namespace {
 void validate_params(const BvpStudyParams& p) {
   check_study_settings(p.dim, p.h_factor, p.delta, p.regular_layer);
   check<ConfigError>(!p.methods.empty(), "no method given");
@@ -138,6 +181,9 @@ void validate_params(const BvpStudyParams& p) {
   for (const auto& m : p.methods) {
     check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::DivAGrad), "method ", m,
                        " does not provide div-a-grad");
+    check<ConfigError>(p.mobility.empty() || builtin_methods().info(m).tensor_mobility, "method ", m,
+                       " cannot take a tensor (diagonal anisotropic) mobility --mobility; use brookshaw, cb-sph, s-sph "
+                       "or m-sph, or a scalar --a");
     (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   (void)problem_functions(p);  // parse expressions now
@@ -153,6 +199,17 @@ void validate_params(const BvpStudyParams& p) {
                          " has no gradient stencil for Neumann rows");
 }
 
+// The flux of the exact solution: a ∇u·n, or n·M∇u with a diagonal mobility, or the
+// problem's own data.
+Real natural_flux(const ProblemFunctions& pf, const Vec3& x, const Vec3& normal) {
+  if (pf.flux) return pf.flux(x, normal);
+  const Vec3 gu = pf.u->gradient(x);
+  if (pf.m.empty()) return pf.a->value(x) * gu.dot(normal);
+  Real q = 0;
+  for (std::size_t k = 0; k < pf.m.size(); ++k) q += normal[static_cast<int>(k)] * pf.m[k]->value(x) * gu[static_cast<int>(k)];
+  return q;
+}
+
 // div(a grad u) = f with a du/dn = q everywhere has a solution only if the flux
 // balances the source; otherwise the pinned solve returns a meaningless field.
 void check_neumann_compatibility(const BvpStudyParams& p, const ProblemFunctions& pf, const Domain& domain) {
@@ -161,7 +218,7 @@ void check_neumann_compatibility(const BvpStudyParams& p, const ProblemFunctions
   const NeumannBalance nb = neumann_balance(
       domain, [&](const Vec3& x) { return pf.f->value(x); },
       [&](const Vec3& x, const Vec3& normal) {
-        return q_expr ? (*q_expr)(x) : pf.a->value(x) * pf.u->gradient(x).dot(normal);
+        return q_expr ? (*q_expr)(x) : natural_flux(pf, x, normal);
       });
   check<InputError>(std::isfinite(nb.flux) && std::isfinite(nb.source), "the Neumann data q or the source f is not "
                     "finite somewhere on the domain (integral of q = ", nb.flux, ", of f = ", nb.source, ")");
@@ -181,20 +238,20 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   run.seed = seed;
   Stopwatch watch;
   {
-    check_support_is_local(p.h_factor / n, std::sqrt(static_cast<Real>(p.dim)), p.h_factor);  // [0,1]^d's diameter
+    check_support_is_local(support_factor(p) / n, std::sqrt(static_cast<Real>(p.dim)), p.h_factor);  // [0,1]^d's diameter
     const double per_side = p.cloud == CloudFamily::Disk ? n / 2.0 : n + 1.0;
     const double particles = p.cloud == CloudFamily::Disk
                                  ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
                                                                            : 4.2 * per_side * per_side * per_side)
                                  : std::pow(per_side, p.dim);
-    check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, 1, true, p.solver.type),
+    check_run_footprint(estimate_run_footprint(p.dim, particles, support_factor(p), 1, true, p.solver.type),
                         detail::concat("n = ", n));
   }
   CloudSpec spec;
   spec.family = p.cloud;
   spec.box = Domain::unit_box(p.dim);
   spec.n = n;
-  spec.layout = Layout::Vertex;
+  spec.layout = p.layout;
   spec.delta = p.delta;
   spec.seed = seed;
   spec.perturb_boundary = p.perturb_boundary;
@@ -218,10 +275,16 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   // u first: a u that is not finite must be named as the user wrote it, not through
   // the derived f = div(a grad u).
   const Field exact = sample(*pf.u, cloud, "the exact solution u (--u)");
-  bvp.a = sample(*pf.a, cloud, "the coefficient a (--a)");
+  if (pf.m.empty()) {
+    bvp.a = sample(*pf.a, cloud, "the coefficient a (--a)");
+  } else {
+    bvp.mobility.resize(cloud.size(), p.dim);
+    for (int k = 0; k < p.dim; ++k)
+      bvp.mobility.col(k) = sample(*pf.m[static_cast<std::size_t>(k)], cloud, detail::concat("the mobility m_", k + 1, " (--mobility)"));
+  }
   // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0);
   // sampled only for them (an expression's gradient costs 4d evaluations per particle).
-  if (builtin_methods().info(method_name).uses_coefficient_gradient) bvp.grad_a = sample_gradient(*pf.a, cloud);
+  if (pf.m.empty() && builtin_methods().info(method_name).uses_coefficient_gradient) bvp.grad_a = sample_gradient(*pf.a, cloud);
   bvp.f = sample(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
   bvp.g = sample(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
   if (run.neumann_particles > 0) {
@@ -230,7 +293,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     for (Index i = 0; i < cloud.size(); ++i) {
       if (cloud.tags[static_cast<std::size_t>(i)] != Tag::Neumann) continue;
       const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-      bvp.q[i] = q_expr ? (*q_expr)(x) : bvp.a[i] * pf.u->gradient(x).dot(cloud.normals[static_cast<std::size_t>(i)]);
+      bvp.q[i] = q_expr ? (*q_expr)(x) : natural_flux(pf, x, cloud.normals[static_cast<std::size_t>(i)]);
     }
     if (cloud.count(Tag::Dirichlet) == 0) check_neumann_compatibility(p, pf, cloud.domain);
   }
@@ -241,7 +304,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   so.method = method_name;
   so.method_options = options_for(p.method_options, method_name);
   so.kernel = p.kernel;
-  so.h_factor = p.h_factor;
+  so.h_factor = support_factor(p);
   so.h_mode = p.h_mode;
   so.h_knn = p.h_knn;
   so.spacing = sc.dx;
@@ -265,6 +328,8 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   run.condition_max = sol.condition_max;
   run.m_matrix = sol.m_matrix;
   run.m_matrix_summary = sol.m_matrix_summary;
+  run.negative_transmissibilities = sol.negative_transmissibilities;
+  run.xi_max = sol.xi_max;
   run.solve = sol.solve;
   run.seconds_neighbours = sol.seconds_neighbours;
   run.seconds_stencil = sol.seconds_stencil;
@@ -277,6 +342,18 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   err.col(0) = U - exact;
   const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
   run.errors = error_norms(err, unknown_mask(cloud), cloud, run.h, vol);
+  {  // [SPE](95), equal volumes, over the interior particles: [SPE]'s DoF are the n^d cells
+    Real sum = 0;
+    Index count = 0;
+    for (Index i = 0; i < cloud.size(); ++i)
+      if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior) {
+        const Real rel = exact[i] != 0 ? (U[i] - exact[i]) / exact[i] : std::nan("");
+        sum += rel * rel;
+        ++count;
+      }
+    run.error_rel = count ? std::sqrt(sum / static_cast<Real>(count)) : std::nan("");
+    run.dof = count;
+  }
   run.seconds_data += watch.seconds();
   if (keep_fields) {
     run.U = U;
@@ -307,11 +384,14 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
     std::vector<BvpStudyRow> rows;
     for (int n : p.n) {
       BvpStudyRow row;
-      std::vector<Real> einf;
+      std::vector<Real> einf, erel;
       Real el2 = 0, ein = 0, ebd = 0;
       for (std::size_t s = 0; s < seeds.size(); ++s) {
         BvpRun r = run_validated(p, m, n, seeds[s], false, &result.warnings, nullptr);
         einf.push_back(r.errors.all.linf);
+        erel.push_back(r.error_rel);
+        row.negative_transmissibilities_max = std::max(row.negative_transmissibilities_max, r.negative_transmissibilities);
+        row.xi_max = s == 0 ? r.xi_max : std::max(row.xi_max, r.xi_max);
         el2 += r.errors.all.l2;
         ein += r.errors.interior.count ? r.errors.interior.linf : 0;
         ebd += r.errors.near_boundary.count ? r.errors.near_boundary.linf : 0;
@@ -329,20 +409,25 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
       row.error_inf_min = *std::min_element(einf.begin(), einf.end());
       row.error_inf_max = *std::max_element(einf.begin(), einf.end());
       row.error_l2 = el2 / k;
+      for (Real e : erel) row.error_rel += e / k;
+      for (Real e : erel) row.error_rel_std += (e - row.error_rel) * (e - row.error_rel);
+      row.error_rel_std = erel.size() > 1 ? std::sqrt(row.error_rel_std / (k - 1)) : 0;
       row.error_inf_interior = ein / k;
       row.error_inf_boundary = ebd / k;
       rows.push_back(std::move(row));
     }
-    std::vector<Real> sizes, einf, el2;
+    std::vector<Real> sizes, einf, el2, erel;
     for (const auto& r : rows) {
       sizes.push_back(r.first.dx);
       einf.push_back(r.error_inf);
       el2.push_back(r.error_l2);
+      erel.push_back(r.error_rel);
     }
-    const auto oi = pairwise_orders(sizes, einf), o2 = pairwise_orders(sizes, el2);
+    const auto oi = pairwise_orders(sizes, einf), o2 = pairwise_orders(sizes, el2), orel = pairwise_orders(sizes, erel);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       rows[k].order_inf = oi[k];
       rows[k].order_l2 = o2[k];
+      rows[k].order_rel = orel[k];
     }
     result.fitted_order_inf[m] = least_squares_order(sizes, einf);
     for (auto& r : rows) result.rows.push_back(std::move(r));
@@ -352,8 +437,9 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
 
 Table to_table(const BvpStudyResult& r) {
   Table t;
-  t.columns = {"method", "n", "N", "unknowns", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "error_inf_min", "error_inf_max", "order_inf", "error_l2",
-               "order_l2", "error_inf_interior", "error_inf_boundary", "mmatrix", "infeasible", "condition_max", "neighbours_mean",
+  t.columns = {"method", "n", "N", "unknowns", "dof", "h", "covering_radius", "seeds", "error_inf", "error_inf_std", "error_inf_min", "error_inf_max", "order_inf", "error_l2",
+               "order_l2", "error_rel", "error_rel_std", "order_rel", "error_inf_interior", "error_inf_boundary", "mmatrix",
+               "negative_transmissibilities", "xi_max", "infeasible", "condition_max", "neighbours_mean",
                "nnz_per_row", "solver", "solver_iterations", "solver_residual", "solver_reason", "seconds_cloud", "seconds_data", "seconds_neighbours", "seconds_stencil",
                "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total", "peak_memory_mib"};
   for (const auto& row : r.rows) {
@@ -362,6 +448,7 @@ Table to_table(const BvpStudyResult& r) {
                {"n", static_cast<long long>(f.n)},
                {"N", static_cast<long long>(f.particles)},
                {"unknowns", static_cast<long long>(f.unknowns)},
+               {"dof", static_cast<long long>(f.dof)},
                {"h", f.h},
                {"covering_radius", f.covering_radius > 0 ? f.covering_radius : std::nan("")},
                {"seeds", static_cast<long long>(row.seeds)},
@@ -372,9 +459,14 @@ Table to_table(const BvpStudyResult& r) {
                {"order_inf", row.order_inf},
                {"error_l2", row.error_l2},
                {"order_l2", row.order_l2},
+               {"error_rel", row.error_rel},
+               {"error_rel_std", row.error_rel_std},
+               {"order_rel", row.order_rel},
                {"error_inf_interior", row.error_inf_interior},
                {"error_inf_boundary", row.error_inf_boundary},
                {"mmatrix", row.m_matrix_all},
+               {"negative_transmissibilities", static_cast<long long>(row.negative_transmissibilities_max)},
+               {"xi_max", row.xi_max},
                {"infeasible", static_cast<long long>(row.infeasible_max)},
                {"condition_max", f.condition_max > 0 ? f.condition_max : std::nan("")},
                {"neighbours_mean", f.neighbours_mean},
@@ -404,6 +496,8 @@ std::string metadata_json(const BvpStudyResult& r) {
   j["dim"] = p.dim;
   j["cloud"] = to_string(p.cloud);
   j["h_factor"] = p.h_factor;
+  j["support_factor"] = support_factor(p);
+  j["layout"] = p.layout == Layout::Vertex ? "vertex" : "cells";
   j["h_mode"] = to_string(p.h_mode);
   j["kernel"] = std::string(kernel_info(p.kernel).name);
   j["solver"] = to_string(p.solver.type);
@@ -415,7 +509,8 @@ std::string metadata_json(const BvpStudyResult& r) {
   j["fix_constant"] = p.fix_constant;
   if (p.problem == "custom") {
     j["u"] = p.u;
-    j["a"] = p.a.empty() ? "one" : p.a;
+    if (p.mobility.empty()) j["a"] = p.a.empty() ? "one" : p.a;
+    else j["mobility"] = p.mobility;
     j["f"] = p.f.empty() ? "div(a grad u) of u and a" : p.f;
     j["g"] = p.g.empty() ? "u" : p.g;
   }

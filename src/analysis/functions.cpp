@@ -243,6 +243,42 @@ std::unique_ptr<ScalarFunction> DivAGradOf::clone() const {
   return std::unique_ptr<ScalarFunction>(new DivAGradOf(std::move(u), std::move(a)));
 }
 
+Real second_derivative(const ScalarFunction& u, const Vec3& x, int k) {
+  const Real h = 1e-3 * std::max<Real>(1, std::abs(x[k]));
+  Vec3 p = x;
+  const auto at = [&](Real t) {
+    p[k] = x[k] + t * h;
+    return u.value(p);
+  };
+  return (-at(2) + 16 * at(1) - 30 * at(0) + 16 * at(-1) - at(-2)) / (12 * h * h);
+}
+
+Real DivMGradOf::value(const Vec3& x) const {
+  const Vec3 gu = u_.gradient(x);
+  Real f = 0;
+  for (int k = 0; k < dim; ++k) {
+    const ScalarFunction& m = *m_[static_cast<std::size_t>(k)];
+    f += m.gradient(x)[k] * gu[k] + m.value(x) * second_derivative(u_, x, k);
+  }
+  return f;
+}
+
+std::unique_ptr<ScalarFunction> DivMGradOf::clone() const {
+  std::shared_ptr<const ScalarFunction> u = u_.clone();
+  if (!u) return nullptr;
+  std::vector<std::shared_ptr<const ScalarFunction>> owned{u};
+  std::vector<const ScalarFunction*> m;
+  for (const ScalarFunction* mk : m_) {
+    std::shared_ptr<const ScalarFunction> c = mk->clone();
+    if (!c) return nullptr;
+    m.push_back(c.get());
+    owned.push_back(std::move(c));
+  }
+  auto out = std::make_unique<DivMGradOf>(*u, std::move(m));
+  out->owned_ = std::move(owned);
+  return out;
+}
+
 namespace {
 // Below this many particles the copies cost more than the threads save.
 constexpr Index parallel_sampling_threshold = 4096;

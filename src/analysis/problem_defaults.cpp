@@ -11,6 +11,14 @@ ProblemDefaults problem_defaults(const std::string& problem) {
     d.delta = 0.25;
     d.ghosts = false;
   }
+  if (problem == "spe-dirichlet" || problem == "spe-mixed") {
+    d.kernel = KernelType::CubicSplineSPE;
+    d.h_factor = 1.001;
+    d.delta = 0.1001;
+    d.cell_layout = true;
+    d.support_per_h_factor = 2;
+    d.ghosts = false;
+  }
   return d;
 }
 

@@ -68,6 +68,8 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     check<InputError>(G->rows() == n && G->components() == cloud.dim && G->kind == OperatorKind::Gradient,
                       "flux stencil must be a gradient stencil with ", n, " rows and ", cloud.dim, " components");
     check<InputError>(!boundary->coefficient || boundary->coefficient->size() == n, "flux coefficient size mismatch");
+    check<InputError>(!boundary->mobility || (boundary->mobility->rows() == n && boundary->mobility->cols() == cloud.dim),
+                      "flux mobility must be ", n, " x ", cloud.dim);
   }
   const Index m = sys.size();
   sys.known = Field::Zero(n);
@@ -83,8 +85,10 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     if (&R == &L) return L.values[0][sk];
     const auto si = static_cast<std::size_t>(sys.particle_of_dof[static_cast<std::size_t>(d)]);
     const Real scale = boundary->coefficient ? (*boundary->coefficient)[static_cast<Index>(si)] : 1;
+    const Eigen::MatrixXd* M = boundary->mobility;
     Real w = 0;
-    for (int c = 0; c < cloud.dim; ++c) w += scale * cloud.normals[si][c] * R.values[static_cast<std::size_t>(c)][sk];
+    for (int c = 0; c < cloud.dim; ++c)
+      w += (M ? (*M)(static_cast<Index>(si), c) : scale) * cloud.normals[si][c] * R.values[static_cast<std::size_t>(c)][sk];
     return w;
   };
 

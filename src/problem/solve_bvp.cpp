@@ -80,6 +80,21 @@ void check_neumann_balance(const PointCloud& cloud, const Field& f, const Field&
         " (particle quadrature; ", s.neumann_imbalance, " of their size); a solution exists only if they are equal, so "
         "this one is not meaningful: check q and f"));
 }
+
+// Negative off-diagonal weights of the interior rows and the [SPE] ξ diagnostic.
+void summarise_transmissibilities(const Stencil& L, const std::vector<char>& interior, BvpSolution& s) {
+  for (Index i = 0; i < L.rows(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (!interior[si]) continue;
+    Index neg = 0;
+    const Real scale = std::abs(L.values[0][static_cast<std::size_t>(L.diag[si])]);
+    for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
+      neg += L.col[static_cast<std::size_t>(k)] != i && L.values[0][static_cast<std::size_t>(k)] < -1e-12 * scale;
+    s.negative_transmissibilities += neg;
+    if (neg > 0 && s.negative_rows.size() < 10) s.negative_rows.push_back(i);
+    if (!L.xi.empty()) s.xi_max = std::isnan(s.xi_max) ? L.xi[si] : std::max(s.xi_max, L.xi[si]);
+  }
+}
 }  // namespace
 
 BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
@@ -98,6 +113,9 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                           unknown = unknown_mask(cloud);
   s.neumann_particles = static_cast<Index>(std::count(flux.begin(), flux.end(), 1));
   if (s.neumann_particles > 0) check_field(p.q, n, "q", true);
+  const bool tensor = p.mobility.size() > 0;
+  check<InputError>(!tensor || p.a.size() == 0, "boundary value problem: give either a scalar coefficient a or a "
+                    "tensor mobility, not both");
   const Field a = p.a.size() ? p.a : Field(Field::Ones(n));
 
   // Peak memory per stage: the peak since the last mark.
@@ -134,8 +152,9 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                      " has no gradient stencil for Neumann rows");
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
-  req.coefficient = &a;
-  if (p.grad_a.size()) {
+  req.coefficient = tensor ? nullptr : &a;
+  req.mobility = tensor ? &p.mobility : nullptr;
+  if (p.grad_a.size() && !tensor) {
     check<InputError>(p.grad_a.rows() == n && p.grad_a.cols() == cloud.dim, "grad_a must be ", n, " x ", cloud.dim,
                       ", got ", p.grad_a.rows(), " x ", p.grad_a.cols());
     check<InputError>(p.grad_a.allFinite(), "the gradient of the coefficient a is not finite");
@@ -186,6 +205,15 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     if (interior[si] && !L.condition.empty()) s.condition_max = std::max(s.condition_max, L.condition[si]);
     if (flux[si] && !G.condition.empty()) s.condition_max = std::max(s.condition_max, G.condition[si]);
   }
+  summarise_transmissibilities(L, interior, s);
+  if (method->info().monotone && s.negative_transmissibilities > 0) {
+    std::string rows;
+    for (std::size_t k = 0; k < s.negative_rows.size(); ++k) rows += detail::concat(k ? ", " : "", s.negative_rows[k]);
+    s.warnings.push_back(detail::concat(
+        o.label.empty() ? o.method : o.label, ": ", s.negative_transmissibilities, " negative off-diagonal weight(s) "
+        "in interior rows of a scheme meant to be monotone: the maximum principle does not hold there (strong "
+        "anisotropy or disorder; [SPE] (92)/(93), xi_max = ", s.xi_max, "); first rows: ", rows));
+  }
   if (o.check_m_matrix) {
     const MMatrixReport mm = check_m_matrix(L, s.neumann_particles > 0 ? std::span<const char>(interior) : unknown);
     s.m_matrix = mm.is_m_matrix();
@@ -197,7 +225,8 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   BoundaryRows bc;
   if (s.neumann_particles > 0) {
     bc.gradient = &G;
-    bc.coefficient = &a;
+    bc.coefficient = tensor ? nullptr : &a;
+    bc.mobility = tensor ? &p.mobility : nullptr;
     bc.q = p.q;
   }
   bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(cloud, interior) : -1;

@@ -17,8 +17,9 @@ namespace {
 
 void add_common(CLI::App* cmd, StudyArgs& a) {
   a.problem_opt = cmd->add_option("--problem", a.problem,
-                  "qw-ex5 ([QW] Example 5), aar-static ([AAR] rod: -u'' = e^x, u(0) = 0, u'(1) = 0) or custom "
-                  "(with --u --a --f); --u implies custom")
+                  "qw-ex5 ([QW] Example 5), aar-static ([AAR] rod: -u'' = e^x, u(0) = 0, u'(1) = 0), spe-dirichlet / "
+                  "spe-mixed ([SPE] §5 Laplace problems, relative error (95) in error_rel) or custom "
+                  "(with --u --a --f, or --mobility); --u implies custom")
       ->capture_default_str();
   a.dim_opt = cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (qw-ex5 in 3D: sin sin sin, a = 1 + |x|^2; aar-static: 1)")
                   ->capture_default_str();
@@ -26,7 +27,8 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value (repeatable)");
   cmd->add_option("--cloud", a.cloud, "uniform, perturbed, centroids or disk")->capture_default_str();
   cmd->add_option("--seed", a.seed, "Random seed (perturbed, centroids)")->check(seed_validator())->capture_default_str();
-  a.h_factor_opt = cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx (default 3; aar-static: 6 = Gaussian with l = dx)")
+  a.h_factor_opt = cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx (default 3; aar-static: 6 = Gaussian with l = dx). For "
+                       "spe-dirichlet/spe-mixed it is the paper's f = l/dx and the support is 2 f dx (default 1.001)")
                        ->capture_default_str();
   cmd->add_option("--h-mode", a.h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
       ->capture_default_str();
@@ -57,6 +59,12 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   cmd->add_flag("--monitor", a.monitor, "Print the iterative solver's residual at every iteration (stderr)");
   cmd->add_option("--u", a.u, "Exact solution u(x,y,z): expression or catalogue name (custom problem)");
   cmd->add_option("--a", a.a, "Coefficient a(x,y,z) > 0 (custom problem; default 1)");
+  cmd->add_option("--mobility", a.mobility,
+                  "Diagonal tensor mobility M = diag(m1, .., md): comma-separated expressions > 0, one per direction, "
+                  "instead of --a (custom problem: f = div(M grad u), Neumann q = n.M grad u; [SPE] schemes only)");
+  a.layout_opt = cmd->add_option("--layout", a.layout,
+                                 "vertex (layout A: lattice vertices, default) or cells (layout B: cell centres plus "
+                                 "boundary particles at face centres and corners; default of spe-*)");
   cmd->add_option("--f", a.f, "Right-hand side f = div(a grad u) (custom; default: computed from u and a)");
   cmd->add_option("--g", a.g, "Dirichlet data g (default: u)");
   cmd->add_option("--on-infeasible", a.on_infeasible, "Particles whose moment conditions cannot be met: warn or error")
@@ -69,7 +77,7 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   BvpStudyParams p;
   // Any of --u/--a/--f implies a custom problem unless --problem says otherwise (then the
   // problem's own check names the conflict); a custom problem without --u says it needs u.
-  const bool custom_data = !a.u.empty() || !a.a.empty() || !a.f.empty();
+  const bool custom_data = !a.u.empty() || !a.a.empty() || !a.f.empty() || !a.mobility.empty();
   p.problem = (custom_data && !a.problem_opt->count()) ? "custom" : a.problem;
   const ProblemDefaults def = problem_defaults(p.problem);
   p.dim = a.dim_opt->count() ? a.dim : def.dim;
@@ -92,6 +100,13 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.a = a.a;
   p.f = a.f;
   p.g = a.g;
+  if (!a.mobility.empty()) p.mobility = parse_expression_list(a.mobility, "--mobility");
+  if (a.layout_opt->count()) {
+    check<ConfigError>(a.layout == "vertex" || a.layout == "cells", "--layout must be vertex or cells, got '", a.layout, "'");
+    p.layout = a.layout == "cells" ? Layout::CellCentred : Layout::Vertex;
+  } else {
+    p.layout = def.cell_layout ? Layout::CellCentred : Layout::Vertex;
+  }
   p.on_infeasible = parse_infeasible_policy(a.on_infeasible);
   p.infeasible_tolerance = a.infeasible_tol;
   p.seeds = {a.seed};
@@ -135,8 +150,9 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot error_inf against h (log-log) into this PNG file");
   add_columns_option(cmd, a->out,
-                     {"method", "n", "N", "particles", "spacing", "error_inf", "order_inf", "error_l2", "order_l2", "mmatrix",
-                      "infeasible", "solver_iterations", "seconds_total"});  // N: built-in clouds; particles, spacing: files
+                     {"method", "n", "N", "particles", "spacing", "error_inf", "order_inf", "error_l2", "order_l2", "error_rel",
+                      "order_rel", "mmatrix", "negative_transmissibilities", "infeasible", "solver_iterations",
+                      "seconds_total"});  // N: built-in clouds; particles, spacing: files
   auto file = std::make_shared<CloudFileArgs>();
   cmd->add_option("--cloud-file-pattern", file->pattern,
                   "Study on the user's clouds: a CSV file name with {n}, replaced by each --n (e.g. cloud_{n}.csv); "

@@ -19,12 +19,12 @@ struct StudyArgs {
   double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
   bool perturb_boundary = false, fix_constant = false, monitor = false;
   std::string vtu_format = "binary";
-  std::string neumann, q;
+  std::string neumann, q, mobility, layout;
   std::vector<std::string> method_opts;
   OutputOptions out;
   // Set by the user (else the problem's default applies, see problem_defaults.hpp).
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
-              *h_knn_opt = nullptr, *problem_opt = nullptr;
+              *h_knn_opt = nullptr, *problem_opt = nullptr, *layout_opt = nullptr;
 };
 
 /// The linear solver settings of --solver, --petsc-options and --monitor (which prints

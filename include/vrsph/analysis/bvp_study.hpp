@@ -11,7 +11,12 @@
 //            [0,1], u(0) = 0, u'(1) = 0 (traction-free end: Neumann particle), exact
 //            u = -e^x + e x + 1; defaults: Gaussian kernel with l = dx (support 6 dx),
 //            perturbation U(-dx/4, dx/4).
-//   custom   [0,1]^d with user expressions u, a, f (and optionally g; default g = u).
+//   spe-dirichlet, spe-mixed  [SPE] §5 Laplace problems on the unit square (analysis/spe_problems.hpp):
+//            layout B, the [SPE] cubic spline with --h-factor = f (support 2 f dx), random
+//            sets U(-0.1001 dx, 0.1001 dx); relative error (95) in error_rel.
+//   custom   [0,1]^d with user expressions u, a, f (and optionally g; default g = u), or a
+//            diagonal mobility M = diag(m_1..m_d) (`mobility`, one expression per direction)
+//            instead of a: f = div(M grad u), q = n·M grad u.
 // Boundary conditions: boundary particles are Dirichlet (u = g) unless every box face
 // they lie on is listed in `neumann` (faces x0, x1, y0, y1, z0, z1 or all): then they
 // carry a flux row a ∂u/∂n = q built from the method's own gradient stencil (corner
@@ -52,6 +57,8 @@ struct BvpStudyParams {
   KernelType kernel = KernelType::CubicSpline;
   SolverOptions solver;
   std::string u, a, f, g;            ///< custom problem: expressions or catalogue names
+  std::vector<std::string> mobility; ///< custom problem: m_1..m_d (diagonal tensor), instead of a
+  Layout layout = Layout::Vertex;    ///< layout A (vertex lattice) or B (cell centres + boundary particles)
   std::vector<std::string> neumann;  ///< Neumann faces (empty: the problem's default)
   std::string q;                     ///< Neumann data a ∂u/∂n (expression; default from u)
   bool fix_constant = false;         ///< pin the unknown nearest the centre to g (pure Neumann problems)
@@ -71,6 +78,12 @@ struct BvpRun {
   Real dx = 0, h = 0;        ///< h: support radius (mean of per-particle radii in knn mode)
   Real covering_radius = 0;  ///< r_N when h_mode = covering
   ErrorReport errors;        ///< over the unknowns, |U_i - u(x_i)|
+  /// [SPE](95): sqrt(Σ V_K ((U_K - u_K)/u_K)² / Σ V_K) over the interior particles (NaN if
+  /// some u_K = 0); dof = their count ([SPE]'s DoF: n^d cells, Neumann particles not counted)
+  Real error_rel = 0;
+  Index dof = 0;
+  Index negative_transmissibilities = 0;  ///< negative off-diagonal weights in interior rows
+  Real xi_max = 0;                        ///< [SPE](94) max_J ξ_I·Δ_J over interior rows (NaN: not [SPE])
   bool m_matrix = false;
   std::string m_matrix_summary;
   Real neighbours_mean = 0, nnz_per_row = 0;
@@ -99,6 +112,9 @@ struct BvpStudyRow {
   Real error_inf_min = 0, error_inf_max = 0;  ///< spread of the max-norm error over the seeds
   Real error_inf_interior = 0, error_inf_boundary = 0;
   Real order_inf = 0, order_l2 = 0;
+  Real error_rel = 0, error_rel_std = 0, order_rel = 0;  ///< [SPE](95): mean, std over seeds, order in dx
+  Index negative_transmissibilities_max = 0;              ///< over the seeds
+  Real xi_max = 0;                                        ///< over the seeds
   bool m_matrix_all = true;  ///< every seed gave an M-matrix
   Index infeasible_max = 0;
 };
@@ -113,6 +129,8 @@ struct BvpStudyResult {
 /// Throws ConfigError/InputError/GeometryError for bad input, NumericalError for a failed
 /// solve or (with InfeasiblePolicy::Error) infeasible local problems.
 BvpStudyResult run_bvp_study(const BvpStudyParams& params);
+/// Support radius over dx of the study: h_factor, times 2 for the [SPE] problems (f = l/dx).
+Real support_factor(const BvpStudyParams& params);
 /// A single solve; keep_fields fills U, exact and local_residual.
 BvpRun run_bvp(const BvpStudyParams& params, const std::string& method, int n, std::uint64_t seed, bool keep_fields,
                std::vector<std::string>* warnings = nullptr, PointCloud* cloud_out = nullptr);

@@ -78,6 +78,26 @@ class DivAGradOf final : public ScalarFunction {
   std::shared_ptr<const ScalarFunction> owned_u_, owned_a_;  // set in clones only
 };
 
+/// f = div(M grad u) = Σ_k ∂_k(m_k ∂_k u) for a diagonal mobility M = diag(m_1..m_d), the
+/// exact right-hand side of `--mobility` problems. ∂_k u and ∂_k m_k come from the functions'
+/// gradients, ∂_kk u from 4th-order central differences of u (step 1e-3 max(1, |x_k|);
+/// ~1e-10 relative for smooth u). Keeps references like DivAGradOf.
+class DivMGradOf final : public ScalarFunction {
+ public:
+  DivMGradOf(const ScalarFunction& u, std::vector<const ScalarFunction*> m) : u_(u), m_(std::move(m)) { dim = u.dim; }
+  std::string name() const override { return "div(M grad u)"; }
+  Real value(const Vec3& x) const override;
+  std::unique_ptr<ScalarFunction> clone() const override;
+
+ private:
+  const ScalarFunction& u_;
+  std::vector<const ScalarFunction*> m_;
+  std::vector<std::shared_ptr<const ScalarFunction>> owned_;  // set in clones only
+};
+
+/// Second derivative ∂²u/∂x_k² by 4th-order central differences of u.
+Real second_derivative(const ScalarFunction& u, const Vec3& x, int k);
+
 /// u at every particle; throws InputError naming the particle if a value is not finite.
 Field sample(const ScalarFunction& u, const PointCloud& cloud);
 /// The same, with the function's role in the problem first in the message (e.g. "the

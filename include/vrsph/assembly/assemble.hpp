@@ -38,6 +38,8 @@ struct BoundaryRows {
   const Stencil* gradient = nullptr;  ///< the method's Gradient stencil, rows of the Neumann particles computed
   Field q;                            ///< flux data a ∂u/∂n at every particle (used at Neumann particles)
   const Field* coefficient = nullptr; ///< a at every particle (nullptr: a = 1)
+  /// Diagonal mobility (N x dim) instead of a: the flux row is n_i·M_i (G u)_i = q_i.
+  const Eigen::MatrixXd* mobility = nullptr;
   Index pinned = -1;                  ///< unknown particle whose row becomes U = g (fixes a pure-Neumann constant)
 };
 

@@ -15,6 +15,7 @@
 // f = -s). Neumann data are the outward flux q = a ∂u/∂n at Neumann particles, whose
 // `normals` must be outward unit normals. Dirichlet particles carry u = g. Ghost
 // particles are neither unknowns nor data.
+#include <cmath>
 #include <string>
 #include <vector>
 #include <vrsph/analysis/smoothing.hpp>
@@ -33,6 +34,10 @@ InfeasiblePolicy parse_infeasible_policy(const std::string& name);
 struct BoundaryValueProblem {
   PointCloud cloud;
   Field a;                 ///< coefficient a > 0 at every particle (empty: a = 1)
+  /// Diagonal tensor mobility M = diag(m_1..m_d) (N x dim, m_k > 0) in place of a: the PDE
+  /// is div(M grad u) = f and the Neumann data are q = n·M grad u. Empty: scalar a. Only
+  /// methods with MethodInfo::tensor_mobility take it (the [SPE] schemes).
+  Eigen::MatrixXd mobility;
   Eigen::MatrixXd grad_a;  ///< optional exact grad a (N x dim) for the Taylor-type methods
   Field f;                 ///< right-hand side at every particle (read at interior particles)
   Field g;                 ///< Dirichlet values (read at Dirichlet particles and at the pinned one)
@@ -76,6 +81,11 @@ struct BvpSolution {
   Real max_local_residual = 0;
   Real condition_max = 0;          ///< largest local-system condition number (0: none)
   bool m_matrix = false;           ///< -L is an M-matrix on the unknowns' rows
+  /// Off-diagonal entries L_ij < 0 in the interior rows (negative transmissibilities: the
+  /// two-point-flux structure and the maximum principle are lost there), and the rows.
+  Index negative_transmissibilities = 0;
+  std::vector<Index> negative_rows;  ///< the first few interior particles with one
+  Real xi_max = std::nan("");       ///< [SPE](94) max over interior rows of max_J ξ_I·Δ_J (NaN: not an [SPE] scheme)
   std::string m_matrix_summary;
   SolveReport solve;
   Field local_residual;            ///< per particle (interior rows), zeros for methods without one

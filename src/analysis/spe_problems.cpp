@@ -1,0 +1,145 @@
+#include <cmath>
+#include <numbers>
+#include <vrsph/analysis/spe_problems.hpp>
+#include <vrsph/core/error.hpp>
+
+namespace vrsph {
+
+namespace {
+constexpr Real pi = std::numbers::pi;
+constexpr Real boundary_tol = 1e-12;
+
+// sin(nθ) for n = n0, n0 + s, n0 + 2s, ... by sin((n+s)θ) = 2 cos(sθ) sin(nθ) - sin((n-s)θ).
+struct SineRecurrence {
+  Real prev, cur, two_cos;
+  SineRecurrence(Real theta, Real n0, Real step)
+      : prev(std::sin((n0 - step) * theta)), cur(std::sin(n0 * theta)), two_cos(2 * std::cos(step * theta)) {}
+  Real next() {
+    const Real out = cur;
+    const Real nxt = two_cos * cur - prev;
+    prev = cur;
+    cur = nxt;
+    return out;
+  }
+};
+}  // namespace
+
+Real spe_dirichlet_solution(const Vec3& p, const SpeBoundaryData& d, int terms) {
+  const Real x = p[0], y = p[1];
+  // sinh(nπt)/sinh(nπ) = e^{-nπ(1-t)} (1 - e^{-2nπt}) / (1 - e^{-2nπ}) for t = 1-y, y, x, 1-x.
+  const std::array<Real, 4> t{1 - y, x, y, 1 - x};  // ψ1, ψ2, ψ3, ψ4
+  std::array<Real, 4> decay{}, decay_step{}, twin{}, twin_step{};
+  for (std::size_t k = 0; k < 4; ++k) {
+    decay[k] = std::exp(-pi * (1 - t[k]));  // n = 1
+    decay_step[k] = std::exp(-2 * pi * (1 - t[k]));
+    twin[k] = std::exp(-2 * pi * t[k]);
+    twin_step[k] = std::exp(-4 * pi * t[k]);
+  }
+  Real big = 0;
+  for (Real v : d.psi) big = std::max(big, std::abs(v));
+  SineRecurrence sx(pi * x, 1, 2), sy(pi * y, 1, 2);
+  Real sum = 0, den = std::exp(-2 * pi);
+  const Real den_step = std::exp(-4 * pi);
+  for (int m = 0; m < terms; ++m) {
+    const Real n = 2 * m + 1;
+    const Real sinx = sx.next(), siny = sy.next();
+    const Real inv = 1 / (1 - den);
+    Real term = 0;
+    Real largest = 0;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Real ratio = decay[k] * (1 - twin[k]) * inv;
+      term += d.psi[k] * (k == 0 || k == 2 ? sinx : siny) * ratio;
+      largest = std::max(largest, decay[k]);
+      decay[k] *= decay_step[k];
+      twin[k] *= twin_step[k];
+    }
+    sum += 4 / (n * pi) * term;
+    den *= den_step;
+    if (largest * big < 1e-17 * big) break;
+  }
+  return sum;
+}
+
+Real spe_dirichlet_boundary(const Vec3& p, const SpeBoundaryData& d) {
+  Real sum = 0;
+  int sides = 0;
+  const auto side = [&](bool on, Real psi) {
+    if (on) {
+      sum += psi;
+      ++sides;
+    }
+  };
+  side(std::abs(p[1]) < boundary_tol, d.psi[0]);
+  side(std::abs(p[0] - 1) < boundary_tol, d.psi[1]);
+  side(std::abs(p[1] - 1) < boundary_tol, d.psi[2]);
+  side(std::abs(p[0]) < boundary_tol, d.psi[3]);
+  return sides ? sum / sides : spe_dirichlet_solution(p, d);
+}
+
+Real spe_mixed_solution(const Vec3& p, const SpeBoundaryData& d, int terms) {
+  const Real x = p[0], y = p[1];
+  // λ_n = (2n-1)π/2; cosh(λx)/sinh(λ) = e^{-λ(1-x)} (1 + e^{-2λx}) / (1 - e^{-2λ}).
+  Real a = std::exp(-0.5 * pi * (1 - x)), a_step = std::exp(-pi * (1 - x));        // e^{-λ(1-x)}
+  Real b = std::exp(-0.5 * pi * x), b_step = std::exp(-pi * x);                    // e^{-λx}
+  Real ta = std::exp(-pi * x), ta_step = std::exp(-2 * pi * x);                    // e^{-2λx}
+  Real tb = std::exp(-pi * (1 - x)), tb_step = std::exp(-2 * pi * (1 - x));        // e^{-2λ(1-x)}
+  Real den = std::exp(-pi), den_step = std::exp(-2 * pi);                          // e^{-2λ}
+  SineRecurrence sy(0.5 * pi * y, 1, 2);
+  Real sum = 0;
+  for (int n = 1; n <= terms; ++n) {
+    const Real lambda = (2 * n - 1) * pi / 2;
+    const Real s = sy.next();
+    const Real inv = 1 / (1 - den);
+    const Real ch_x = a * (1 + ta) * inv, ch_1mx = b * (1 + tb) * inv;
+    sum += (2 * d.psi[1] * ch_x + 2 * d.psi[3] * ch_1mx) / (lambda * lambda) * s;
+    a *= a_step;
+    b *= b_step;
+    ta *= ta_step;
+    tb *= tb_step;
+    den *= den_step;
+    if (a < 1e-17 && b < 1e-17) break;
+  }
+  return d.psi[0] + d.psi[2] * y + sum;
+}
+
+Real spe_mixed_flux(const Vec3& p, const SpeBoundaryData& d) {
+  Real sum = 0;
+  int sides = 0;
+  const auto side = [&](bool on, Real g) {
+    if (on) {
+      sum += g;
+      ++sides;
+    }
+  };
+  side(std::abs(p[0] - 1) < boundary_tol, d.psi[1]);
+  side(std::abs(p[1] - 1) < boundary_tol, d.psi[2]);
+  side(std::abs(p[0]) < boundary_tol, d.psi[3]);
+  check<InputError>(sides > 0, "spe-mixed: flux requested off the Neumann sides at (", p[0], ", ", p[1], ")");
+  return sides == 1 ? sum : sum / std::sqrt(2.0);
+}
+
+namespace {
+class SpeFunction final : public ScalarFunction {
+ public:
+  SpeFunction(std::string which, SpeBoundaryData data) : which_(std::move(which)), data_(data) { dim = 2; }
+  std::string name() const override { return which_; }
+  Real value(const Vec3& x) const override {
+    if (which_ == "spe-dirichlet") return spe_dirichlet_solution(x, data_);
+    if (which_ == "spe-dirichlet-boundary") return spe_dirichlet_boundary(x, data_);
+    return spe_mixed_solution(x, data_);
+  }
+  std::unique_ptr<ScalarFunction> clone() const override { return std::make_unique<SpeFunction>(which_, data_); }
+
+ private:
+  std::string which_;
+  SpeBoundaryData data_;
+};
+}  // namespace
+
+std::unique_ptr<ScalarFunction> make_spe_function(const std::string& which, const SpeBoundaryData& data) {
+  check<ConfigError>(which == "spe-dirichlet" || which == "spe-dirichlet-boundary" || which == "spe-mixed",
+                     "unknown [SPE] function '", which, "'");
+  return std::make_unique<SpeFunction>(which, data);
+}
+
+}  // namespace vrsph

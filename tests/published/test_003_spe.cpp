@@ -1,0 +1,137 @@
+// [SPE] (seed 003_b74f9306775dfa57.txt) steady problems, METHODS §5.3: the exact series, and
+// what is reproducible of Tables 2–9 (§6 R15, R19): CB-SPH clearly worse than S and M, S ≡ M
+// on uniform sets, S and M converging with an order between 1 and 2, a monotone matrix; and
+// the manufactured anisotropic problems of METHODS R22 in 2D and 3D.
+#include <cmath>
+#include <numbers>
+#include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/spe_problems.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+Real laplacian5(Real (*u)(const Vec3&), const Vec3& x, Real h) {
+  const Vec3 ex(h, 0, 0), ey(0, h, 0);
+  return (u(x + ex) + u(x - ex) + u(x + ey) + u(x - ey) - 4 * u(x)) / (h * h);
+}
+Real dirichlet(const Vec3& x) { return spe_dirichlet_solution(x, {}); }
+Real mixed(const Vec3& x) { return spe_mixed_solution(x, {}); }
+
+BvpStudyParams spe_params(const std::string& problem, Real f, CloudFamily cloud, std::vector<int> n) {
+  BvpStudyParams p;
+  p.problem = problem;
+  p.methods = {"cb-sph", "s-sph", "m-sph"};
+  p.cloud = cloud;
+  p.n = std::move(n);
+  p.h_factor = f;
+  p.kernel = KernelType::CubicSplineSPE;
+  p.delta = 0.1001;
+  p.layout = Layout::CellCentred;
+  return p;
+}
+const BvpStudyRow& row(const BvpStudyResult& r, const std::string& m, int n) {
+  for (const auto& x : r.rows)
+    if (x.first.method == m && x.first.n == n) return x;
+  throw std::runtime_error("row not found");
+}
+}  // namespace
+
+TEST(SpeSeries, DirichletSeriesIsHarmonicAndMeetsItsSides) {
+  for (const Vec3& x : {Vec3(0.3, 0.4, 0), Vec3(0.15, 0.7, 0), Vec3(0.8, 0.25, 0)})
+    EXPECT_LT(std::abs(laplacian5(dirichlet, x, 1e-3)), 1e-3 * 150) << x.transpose();
+  EXPECT_NEAR(dirichlet(Vec3(0.5, 1e-4, 0)), 150, 0.1);
+  EXPECT_NEAR(dirichlet(Vec3(1 - 1e-4, 0.5, 0)), 90, 0.1);
+  EXPECT_NEAR(dirichlet(Vec3(0.5, 1 - 1e-4, 0)), 150, 0.1);
+  EXPECT_NEAR(dirichlet(Vec3(1e-4, 0.5, 0)), 200, 0.1);
+  EXPECT_DOUBLE_EQ(spe_dirichlet_boundary(Vec3(0, 0, 0), {}), 175);  // corner: mean of ψ1 and ψ4
+}
+
+TEST(SpeSeries, MixedSeriesIsHarmonicAndMeetsItsFluxes) {
+  for (const Vec3& x : {Vec3(0.3, 0.4, 0), Vec3(0.1, 0.8, 0), Vec3(0.9, 0.2, 0)})
+    EXPECT_LT(std::abs(laplacian5(mixed, x, 1e-3)), 1e-3 * 150) << x.transpose();
+  const Real h = 1e-5;
+  EXPECT_NEAR(mixed(Vec3(0.4, 0, 0)), 150, 1e-9);
+  EXPECT_NEAR((mixed(Vec3(1, 0.5, 0)) - mixed(Vec3(1 - h, 0.5, 0))) / h, 90, 0.05);     // +∂x at x = 1
+  EXPECT_NEAR((mixed(Vec3(0.5, 1, 0)) - mixed(Vec3(0.5, 1 - h, 0))) / h, 150, 0.05);    // +∂y at y = 1
+  EXPECT_NEAR(-(mixed(Vec3(h, 0.5, 0)) - mixed(Vec3(0, 0.5, 0))) / h, 200, 0.05);       // -∂x at x = 0
+  // Truncation: 2·10^4 terms agree with 10^5 at a particle next to the x = 1 side.
+  const Vec3 near(1 - 1.0 / 320, 1.0 / 320, 0);
+  EXPECT_NEAR(spe_mixed_solution(near, {}, 20000), spe_mixed_solution(near, {}, 100000), 1e-6);
+}
+
+TEST(SpeTables, DirichletUniformRankingAndIdentities) {
+  // Tables 2/3 setting: uniform layout B, f = 0.5005 and 1.001.
+  for (Real f : {0.5005, 1.001}) {
+    const BvpStudyResult r = run_bvp_study(spe_params("spe-dirichlet", f, CloudFamily::Uniform, {5, 10, 20, 40}));
+    for (int n : {5, 10, 20, 40}) {
+      EXPECT_EQ(row(r, "s-sph", n).first.dof, n * n);
+      // S ≡ M on uniform sets (identical solutions: row-scaling facts, METHODS §3.7.5).
+      EXPECT_NEAR(row(r, "s-sph", n).error_rel, row(r, "m-sph", n).error_rel, 1e-9 * row(r, "s-sph", n).error_rel);
+      // CB-SPH clearly worse: 1.9x at n = 5 growing to 7x at n = 40 (f = 1.001), 13–25x (f = 0.5005).
+      EXPECT_GT(row(r, "cb-sph", n).error_rel, 1.5 * row(r, "s-sph", n).error_rel) << "f " << f << " n " << n;
+      EXPECT_TRUE(row(r, "m-sph", n).m_matrix_all);
+    }
+    for (const auto* m : {"s-sph", "m-sph"}) {
+      const Real order = row(r, m, 40).order_rel;
+      EXPECT_GT(order, 0.9) << m << " f " << f;
+      EXPECT_LT(order, 2.1) << m << " f " << f;
+    }
+  }
+}
+
+TEST(SpeTables, MixedUniformMatchesTheIndependentComputation) {
+  // METHODS R15: with layout B and L = H = 1, f = 1.001: S = New ≈ 4.1e-3, 1.1e-3, 2.5e-4 and
+  // CB-SPH ≈ 0.11–0.20, not convergent (published 1.078e-1, 1.488e-2, 2.244e-3 and ≈ 1.2).
+  const BvpStudyResult r = run_bvp_study(spe_params("spe-mixed", 1.001, CloudFamily::Uniform, {5, 10, 20}));
+  const Real expected[] = {4.1e-3, 1.1e-3, 2.5e-4};
+  for (int k = 0; k < 3; ++k) {
+    const int n = 5 << k;
+    EXPECT_NEAR(row(r, "s-sph", n).error_rel, expected[k], 0.05 * expected[k]) << n;
+    EXPECT_NEAR(row(r, "s-sph", n).error_rel, row(r, "m-sph", n).error_rel, 1e-10 * expected[k]);
+    EXPECT_GT(row(r, "cb-sph", n).error_rel, 0.1) << n;
+  }
+  EXPECT_GT(row(r, "cb-sph", 20).error_rel, row(r, "cb-sph", 5).error_rel);  // (51) does not converge
+}
+
+TEST(SpeTables, RandomSetsKeepTheRankingWithSpread) {
+  // Tables 4/5 setting (5 of the 30 realisations): CB worse, S and M converge, M monotone.
+  BvpStudyParams p = spe_params("spe-dirichlet", 1.2012, CloudFamily::Perturbed, {10, 20, 40});
+  p.seeds = {1, 2, 3, 4, 5};
+  const BvpStudyResult r = run_bvp_study(p);
+  for (int n : {10, 20, 40}) {
+    EXPECT_GT(row(r, "cb-sph", n).error_rel, 2 * row(r, "m-sph", n).error_rel) << n;
+    EXPECT_GT(row(r, "m-sph", n).error_rel_std, 0) << n;
+    EXPECT_TRUE(row(r, "m-sph", n).m_matrix_all) << n;
+    EXPECT_EQ(row(r, "m-sph", n).negative_transmissibilities_max, 0) << n;
+  }
+  EXPECT_GT(row(r, "m-sph", 40).order_rel, 0.8);
+}
+
+TEST(SpeAnisotropy, ConsistentFormConvergesAtSecondOrderAndPaperFormDoesNot) {
+  // METHODS R22: div(M grad u) = f with M = diag(1 + x², 2 + y) (2D) and a third entry 1.5 + z
+  // (3D) on perturbed clouds: the consistent default converges at order 2, the printed
+  // pair weight stalls at an O(1) error.
+  for (int dim : {2, 3}) {
+    BvpStudyParams p;
+    p.problem = "custom";
+    p.dim = dim;
+    p.u = dim == 2 ? "sin(pi*x)*cos(2*y)+x*y" : "sin(pi*x)*cos(2*y)+x*y*z";
+    p.mobility = {"1+x*x", "2+y"};
+    if (dim == 3) p.mobility.push_back("1.5+z");
+    p.methods = {"m-sph"};
+    p.cloud = CloudFamily::Perturbed;
+    p.delta = 0.25;
+    p.kernel = KernelType::CubicSplineSPE;
+    p.h_factor = 3;
+    p.n = dim == 2 ? std::vector<int>{20, 40, 80} : std::vector<int>{8, 12, 16};
+    const BvpStudyResult consistent = run_bvp_study(p);
+    const Real order = consistent.rows.back().order_inf;
+    EXPECT_GT(order, 1.7) << dim;
+    EXPECT_LT(order, 2.5) << dim;
+    p.method_options["m-sph"].set("anisotropy", "paper");
+    const BvpStudyResult paper = run_bvp_study(p);
+    EXPECT_GT(paper.rows.back().error_inf, 5 * consistent.rows.back().error_inf) << dim;
+    EXPECT_LT(std::abs(paper.rows.back().order_inf), 0.5) << dim;
+  }
+}
