@@ -3,9 +3,48 @@
 #include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/spe/ingredients.hpp>
-#include <vrsph/methods/taylor/local_system.hpp>
 
 namespace vrsph::spe {
+
+namespace {
+// Inverse of the top-left d x d block (d <= 3) after row and column equilibration, in
+// closed form (the per-particle hot path: no dynamic allocation, no pivoting loop); returns
+// the 1-norm condition number of the equilibrated block, +inf if it is singular.
+Real small_inverse(const Eigen::Matrix3d& M, int d, Eigen::Matrix3d& inv) {
+  inv.setZero();
+  Vec3 r = Vec3::Ones(), c = Vec3::Ones();
+  for (int i = 0; i < d; ++i) {
+    const Real m = M.row(i).head(d).cwiseAbs().maxCoeff();
+    if (!(m > 0) || !std::isfinite(m)) return std::numeric_limits<Real>::infinity();
+    r[i] = 1 / m;
+  }
+  Eigen::Matrix3d E = r.asDiagonal() * M;
+  for (int j = 0; j < d; ++j) {
+    const Real m = E.col(j).head(d).cwiseAbs().maxCoeff();
+    if (!(m > 0)) return std::numeric_limits<Real>::infinity();
+    c[j] = 1 / m;
+  }
+  E = E * c.asDiagonal();
+  Eigen::Matrix3d Einv = Eigen::Matrix3d::Zero();
+  Real det = 0;
+  if (d == 1) {
+    det = E(0, 0);
+    Einv(0, 0) = 1 / det;
+  } else if (d == 2) {
+    const Eigen::Matrix2d e = E.topLeftCorner<2, 2>();
+    det = e.determinant();
+    Einv.topLeftCorner<2, 2>() = e.inverse();
+  } else {
+    det = E.determinant();
+    Einv = E.inverse();
+  }
+  if (!(std::abs(det) > 1e-300) || !Einv.allFinite()) return std::numeric_limits<Real>::infinity();
+  const auto norm1 = [d](const Eigen::Matrix3d& X) { return X.topLeftCorner(d, d).cwiseAbs().colwise().sum().maxCoeff(); };
+  const Real cond = norm1(E) * norm1(Einv);
+  inv = c.asDiagonal() * Einv * r.asDiagonal();  // M = R^-1 E C^-1
+  return std::isfinite(cond) ? cond : std::numeric_limits<Real>::infinity();
+}
+}  // namespace
 
 GradientOption parse_gradient_option(const std::string& name) {
   if (name == "g1") return GradientOption::G1;
@@ -58,10 +97,10 @@ void compute_ingredients(const RowGeometry& row, GradientOption option, RowIngre
     out.Gamma += V * out.radial[k] * D * D.transpose();  // (55)
   }
   // C = A^-T (METHODS R4: (24)'s A^-1 satisfies (25) only for symmetric A).
-  taylor::SmallMatrix Ad = out.A.topLeftCorner(d, d), Ainv;
-  out.condition = taylor::equilibrated_inverse(Ad, Ainv);
+  Eigen::Matrix3d Ainv;
+  out.condition = small_inverse(out.A, d, Ainv);
   out.C.setZero();
-  if (std::isfinite(out.condition)) out.C.topLeftCorner(d, d) = Ainv.transpose();
+  if (std::isfinite(out.condition)) out.C.topLeftCorner(d, d) = Ainv.topLeftCorner(d, d).transpose();
   for (std::size_t k = 0; k < n; ++k) out.gstar[k] = out.C * out.g[k];
   out.xi = out.C.transpose() * out.Ntilde;  // (94)
 }
@@ -83,16 +122,24 @@ bool gamma_star_admissible(const Eigen::Matrix3d& gs, const Eigen::Matrix3d& gam
       if (b != a) off += std::abs(gs(a, b));
     if (!(gs(a, a) > off)) return false;
   }
-  const Eigen::MatrixXd sym = 0.5 * (gs.topLeftCorner(d, d) + gs.topLeftCorner(d, d).transpose());
-  const Real lmin = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
+  const Eigen::Matrix3d sym = 0.5 * (gs + gs.transpose());
+  Real lmin = sym(0, 0);
+  if (d == 2) {
+    const Real m = 0.5 * (sym(0, 0) + sym(1, 1)), q = 0.5 * (sym(0, 0) - sym(1, 1));
+    lmin = m - std::sqrt(q * q + sym(0, 1) * sym(0, 1));
+  } else if (d == 3) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(sym, Eigen::EigenvaluesOnly);
+    lmin = es.eigenvalues().minCoeff();
+  }
   return lmin > 0.1 * gamma.topLeftCorner(d, d).trace() / d;
 }
 
 Real trace_of_inverse_over_dim(const Eigen::Matrix3d& M, int d) {
-  taylor::SmallMatrix Md = M.topLeftCorner(d, d), inv;
-  const Real cond = taylor::equilibrated_inverse(Md, inv);
+  Eigen::Matrix3d inv;
+  const Real cond = small_inverse(M, d, inv);
   if (!std::isfinite(cond)) return std::numeric_limits<Real>::infinity();
-  return inv.trace() / d;
+  return inv.topLeftCorner(d, d).trace() / d;
 }
 
 }  // namespace vrsph::spe
