@@ -205,6 +205,18 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     if (interior[si] && !L.condition.empty()) s.condition_max = std::max(s.condition_max, L.condition[si]);
     if (flux[si] && !G.condition.empty()) s.condition_max = std::max(s.condition_max, G.condition[si]);
   }
+  // A coefficient near the floating-point range (1e300) overflows the weights: say so here
+  // rather than let the solver report a NaN residual.
+  for (Index i = 0; i < n; ++i) {
+    if (!interior[static_cast<std::size_t>(i)]) continue;
+    for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
+      if (!std::isfinite(L.values[0][static_cast<std::size_t>(k)])) {
+        const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+        throw NumericalError(detail::concat(o.label.empty() ? o.method : o.label, ": the stencil row of particle ", i,
+                                            " (", x[0], ", ", x[1], ", ", x[2], ") is not finite: the coefficient or "
+                                            "mobility (or 1/h^2) overflows; rescale the problem"));
+      }
+  }
   summarise_transmissibilities(L, interior, s);
   if (method->info().monotone && s.negative_transmissibilities > 0) {
     std::string rows;
@@ -249,7 +261,9 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   s.warnings.insert(s.warnings.end(), s.solve.warnings.begin(), s.solve.warnings.end());
   if (!s.solve.success)
     throw NumericalError(detail::concat("solver ", s.solve.solver, " failed for ", o.label.empty() ? o.method : o.label,
-                                        ": ", s.solve.message, " (relative residual ", s.solve.residual, ")"));
+                                        ": ", s.solve.message, " (relative residual ", s.solve.residual, ")",
+                                        std::isfinite(s.solve.residual) ? "" : "; the arithmetic overflowed: coefficient, "
+                                        "mobility or data near the floating-point range? rescale the problem"));
   s.u = expand(sys, x);
   if (s.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0) check_neumann_balance(cloud, p.f, p.q, s.spacing, s);
   return s;
