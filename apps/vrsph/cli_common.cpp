@@ -147,13 +147,18 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
     write_file(out.output, "output file", [&](std::ostream& f) { f << text; });
   }
   if (out.plot.empty()) return;
+  plot_table(table, extra_json, out.plot, plot_x, plot_y, plot_group, plot_title, loglog);
+}
+
+void plot_table(const Table& table, const std::string& extra_json, const std::string& png, const std::string& plot_x,
+                const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   const auto json_path = std::filesystem::temp_directory_path() / ("vrsph-plot-" + std::to_string(::getpid()) + ".json");
   write_file(json_path.string(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra_json); });
-  const std::string args = shell_quote(json_path.string()) + " " + shell_quote(out.plot) + " --x " + plot_x + " --y " +
+  const std::string args = shell_quote(json_path.string()) + " " + shell_quote(png) + " --x " + plot_x + " --y " +
                            plot_y + " --group " + plot_group + " --title " + shell_quote(plot_title) +
                            (loglog ? "" : " --linear");
   try {
-    run_python(find_plot_script(), args, out.plot);
+    run_python(find_plot_script(), args, png);
   } catch (...) {
     std::filesystem::remove(json_path);
     throw;

@@ -35,6 +35,9 @@ void validate_output(const OutputOptions& out);
 /// plot_x/plot_y name the columns to plot (log-log), grouped by plot_group.
 void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
           const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog = true);
+/// The plot part of emit alone: plot_y against plot_x per plot_group of `table` into png.
+void plot_table(const Table& table, const std::string& extra_json, const std::string& png, const std::string& plot_x,
+                const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog);
 
 /// "8,16,32" -> {8,16,32}; throws ConfigError naming the option on bad input.
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);

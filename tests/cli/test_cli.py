@@ -372,6 +372,45 @@ class Solvers(unittest.TestCase):
         self.assertIn("umfpack", out["slope_iterations"])
 
 
+class SpeFamily(unittest.TestCase):
+    """[SPE] (seed 003): the patch figures, the steady tables' interface, and --mobility."""
+
+    def test_patch_figure_table_profile_and_plot(self):
+        with tempfile.TemporaryDirectory() as d:
+            png, prof = os.path.join(d, "fig3.png"), os.path.join(d, "fig3.csv")
+            j = run_json("operator", "--problem", "spe-patch", "--profile", prof, "--plot", png)
+            self.assertEqual(len(j["rows"]), 12)  # CB, S, M x g1..g4
+            for row in j["rows"]:
+                self.assertLess(row["max_deep"], 1e-9, row["variant"])
+            with open(prof, encoding="utf-8") as f:
+                self.assertEqual(f.readline().strip(), "variant,x,value,exact,error")
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        p = run("operator", "--problem", "spe-patch", "--n", "8", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("does not apply to --problem spe-patch", p.stderr)
+
+    def test_steady_tables_interface(self):
+        j = run_json("study", "--problem", "spe-dirichlet", "--method", "cb-sph,s-sph,m-sph", "--cloud", "perturbed",
+                     "--n", "5,10", "--seeds", "1,2,3")
+        keys = {"method", "n", "dof", "error_rel", "error_rel_std", "order_rel", "mmatrix", "negative_transmissibilities"}
+        for row in j["rows"]:
+            self.assertTrue(keys <= set(row), keys - set(row))
+            self.assertEqual(row["dof"], row["n"] ** 2)
+            self.assertGreater(row["error_rel_std"], 0)
+        self.assertEqual(j["support_factor"], 2 * j["h_factor"])
+        self.assertEqual(j["layout"], "cells")
+
+    def test_mobility_consistent_and_paper(self):
+        base = ["study", "--u", "x*x+3*y*y", "--mobility", "1,2+x", "--method", "m-sph", "--n", "10,20",
+                "--kernel", "cubic-spe"]
+        consistent = run_json(*base)
+        paper = run_json(*base, "--method-opt", "anisotropy=paper")
+        self.assertLess(consistent["rows"][-1]["error_inf"], 1e-3)
+        self.assertGreater(paper["rows"][-1]["error_inf"], 100 * consistent["rows"][-1]["error_inf"])
+        self.assertEqual(consistent["mobility"], ["1", "2+x"])
+
+
 class AarFamily(unittest.TestCase):
     def test_derivative_operator_all_particles(self):
         out = run_json("operator", "--problem", "aar-derivative", "--method", "fpm2o", "--operator",

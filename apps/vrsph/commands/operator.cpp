@@ -13,6 +13,7 @@
 #include <vrsph/stencil/apply.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
+#include "spe_patch_args.hpp"
 
 namespace vrsph::cli {
 
@@ -29,6 +30,7 @@ struct OperatorArgs {
   double regular_layer = 0;
   std::vector<std::string> method_opts;
   std::string cloud_file;
+  SpePatchArgs patch;
   OutputOptions out;
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
               *ghosts_opt = nullptr, *h_knn_opt = nullptr;
@@ -87,8 +89,8 @@ void add_operator_command(CLI::App& app) {
   auto a = std::make_shared<OperatorArgs>();
   auto* cmd = app.add_subcommand("operator", "Truncation-error study: method x operator x cloud x refinement list");
   cmd->add_option("--problem", a->problem,
-                  "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d), unit-box ([0,1]^d) or aar-derivative ([AAR] e^x on [0,1], "
-                  "all particles)")
+                  "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d), unit-box ([0,1]^d), aar-derivative ([AAR] e^x on [0,1], "
+                  "all particles) or spe-patch ([SPE] §4 operator tests along a cross-section, see --test)")
       ->capture_default_str();
   a->dim_opt = cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3 (aar-derivative: 1)")->capture_default_str();
   cmd->add_option("--method", a->methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
@@ -123,8 +125,15 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--cloud-file", a->cloud_file,
                   "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., VTU/VTP, or Gmsh .msh) against the exact derivatives of --u: "
                   "error over interior particles, and over the tagged boundary particles apart");
+  add_spe_patch_options(cmd, a->patch);
   cmd->callback([a, cmd] {
     validate_output(a->out);
+    if (a->problem == "spe-patch") {
+      check<ConfigError>(a->cloud_file.empty(), "--cloud-file does not apply to --problem spe-patch");
+      return run_spe_patch_command(a->patch, *cmd, a->dim, a->h_factor, a->delta, a->seed, a->out);
+    }
+    for (const char* opt : {"--test", "--exponent", "--rotated", "--variant", "--profile"})
+      check<ConfigError>(cmd->count(opt) == 0, opt, " applies to --problem spe-patch only");
     if (!a->cloud_file.empty()) return operator_on_cloud_file(*a, *cmd);
     OperatorStudyParams p;
     p.problem = a->problem;

@@ -134,6 +134,7 @@ class SpeScheme final : public Method {
         gradient_(spe::parse_gradient_option(o.get_choice("gradient", "g1", {"g1", "g2", "g3", "g4"}))),
         anisotropy_(o.get_choice("anisotropy", "consistent", {"consistent", "paper"}) == "paper" ? Anisotropy::Paper
                                                                                                  : Anisotropy::Consistent),
+        corrected_pair_(o.get_choice("pair_gradient", "plain", {"plain", "corrected"}) == "corrected"),
         volume_(o.get_choice("volume", "dx", {"dx", "shepard"})), policy_(taylor::read_singular_policy(o)) {}
   const MethodInfo& info() const override { return info_; }
 
@@ -232,7 +233,7 @@ class SpeScheme final : public Method {
         if (consistent) {
           beta.resize(nbr.size());
           for (std::size_t k = 0; k < nbr.size(); ++k)
-            beta[k] = row.volume[k] * (in.radial[k] - X.dot(in.gstar[k]));
+            beta[k] = row.volume[k] * (pair_term(row, in, k) - X.dot(in.gstar[k]));
           const Real res = corr.solve(row, beta, hi);
           s.residual[si] = res;
           if (!std::isfinite(res)) {
@@ -249,10 +250,11 @@ class SpeScheme final : public Method {
         // Printed form: (m_I + m_J) a·b becomes aᵀ(M_I + M_J) b in both terms (§3.7.5).
         for (std::size_t k = 0; k < nbr.size(); ++k) {
           const Vec3& D = row.delta[k];
+          const Vec3& gp = corrected_pair_ ? in.gstar[k] : in.g[k];
           Real w = 0;
           for (int c = 0; c < dim; ++c) {
             const Real mbar = mob(i, c) + mob(nbr[k], c);
-            w += mbar * (D[c] * in.g[k][c] / (row.r[k] * row.r[k]) - X[c] * in.gstar[k][c]);
+            w += mbar * (D[c] * gp[c] / (row.r[k] * row.r[k]) - X[c] * in.gstar[k][c]);
           }
           s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = factor * row.volume[k] * w;
         }
@@ -264,10 +266,16 @@ class SpeScheme final : public Method {
   }
 
  private:
+  // The pair term Δ·g/r² of the bracket, or Δ·g*/r² with pair_gradient=corrected.
+  Real pair_term(const RowGeometry& row, const RowIngredients& in, std::size_t k) const {
+    return corrected_pair_ ? row.delta[k].dot(in.gstar[k]) / (row.r[k] * row.r[k]) : in.radial[k];
+  }
+
   MethodInfo info_;
   Scheme scheme_;
   GradientOption gradient_;
   Anisotropy anisotropy_;
+  bool corrected_pair_;  // Δ·g*/r² in the pair term ([SPE] Figs. 1-2 "corrected kernel ∇*W")
   std::string volume_;
   taylor::SingularPolicy policy_;
 };
@@ -282,7 +290,9 @@ MethodInfo spe_info(std::string name, std::string description, std::string claim
                   {}};
   info.options = {{"gradient", "kernel gradient g1 (15, default) | g2 (16) | g3 (17) | g4 (18)"},
                   {"anisotropy", "consistent (default: exact on quadratics for constant diagonal M) | paper (the "
-                                 "printed pair weight, inconsistent when m_1 != m_2, METHODS R22); tensor mobility only"}};
+                                 "printed pair weight, inconsistent when m_1 != m_2, METHODS R22); tensor mobility only"},
+                  {"pair_gradient", "plain (default: Δ·g/r²) | corrected (Δ·g*/r², the \"corrected kernel\" of [SPE] "
+                                    "Figs. 1-2)"}};
   for (auto& o : taylor::corrected_method_options()) info.options.push_back(o);
   info.tensor_mobility = true;
   info.monotone = monotone;
