@@ -40,6 +40,8 @@ py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, con
   const Index n = cloud.size();
   ProblemExpressions e{text(expressions, "u"), text(expressions, "a"), text(expressions, "f"), text(expressions, "g"),
                        text(expressions, "q")};
+  if (expressions.contains("mobility") && !expressions["mobility"].is_none())
+    e.mobility = expressions["mobility"].cast<std::vector<std::string>>();
   // Arrays given for a role replace its expression (problem_from_expressions checks both are not given).
   Field fu, fa, ff, fg, fq;
   ProblemValues pv;
@@ -137,7 +139,8 @@ py::dict report(const Result& r, const Table& t) {
 py::dict study(const py::dict& k) {
   BvpStudyParams p;
   const std::string u = text(k, "u"), a = text(k, "a"), f = text(k, "f");
-  const bool custom = !u.empty() || !a.empty() || !f.empty();
+  const bool has_mobility = k.contains("mobility") && !k["mobility"].is_none();
+  const bool custom = !u.empty() || !a.empty() || !f.empty() || has_mobility;
   p.problem = k.contains("problem") && !k["problem"].is_none() ? k["problem"].cast<std::string>() : (custom ? "custom" : "qw-ex5");
   const ProblemDefaults def = problem_defaults(p.problem);
   const auto given = [&k](const char* key) { return k.contains(key) && !k[key].is_none(); };
@@ -160,6 +163,10 @@ py::dict study(const py::dict& k) {
   p.a = a;
   p.f = f;
   p.g = text(k, "g");
+  if (has_mobility) p.mobility = k["mobility"].cast<std::vector<std::string>>();
+  const std::string layout = given("layout") ? k["layout"].cast<std::string>() : (def.cell_layout ? "cells" : "vertex");
+  check<ConfigError>(layout == "vertex" || layout == "cells", "layout must be 'vertex' or 'cells', got '", layout, "'");
+  p.layout = layout == "cells" ? Layout::CellCentred : Layout::Vertex;
   p.on_infeasible = parse_infeasible_policy(k["on_infeasible"].cast<std::string>());
   p.infeasible_tolerance = k["infeasible_tol"].cast<double>();
   p.seeds.clear();

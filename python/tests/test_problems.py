@@ -91,3 +91,23 @@ def test_exceptions_keep_the_library_message_and_have_fitting_types():
         vrsph.solve(c, f=np.array(["a"] * len(c)), g=0.0)
     with pytest.raises(vrsph.InputError, match=r"g: expected shape \(121,\), got \(121, 1\)"):
         vrsph.solve(c, f=0.0, g=np.zeros((len(c), 1)))
+
+
+def test_spe_schemes_with_a_diagonal_mobility_and_the_spe_problems(cli, tmp_path):
+    # A tensor mobility through solve() equals the CLI's --cloud-file --mobility, and the [SPE]
+    # problems get their defaults (layout B, f, kernel) as `vrsph study` gives them.
+    path = str(tmp_path / "c.csv")
+    cli("cloud", "--family", "perturbed", "--n", "20", "--seed", "2", "--delta", "0.2", "--output", path)
+    theirs = cli("solve", "--cloud-file", path, "--method", "m-sph", "--u", U, "--mobility", "1+x*x,2+y",
+                 "--kernel", "cubic-spe", "--vtu", str(tmp_path / "u.vtu"), "--format", "json")["rows"][0]
+    mine = vrsph.solve(vrsph.read_cloud(path), u=U, mobility=["1+x*x", "2+y"], method="m-sph", kernel="cubic-spe")
+    assert mine.error_inf == pytest.approx(theirs["error_inf"], rel=1e-12, abs=0)
+    assert mine.error_inf < 1e-3
+    with pytest.raises(vrsph.ConfigError, match="cannot take a tensor"):
+        vrsph.solve(vrsph.read_cloud(path), u=U, mobility=["1", "2"], method="vrsph")
+    rows = vrsph.study(problem="spe-mixed", methods=["s-sph", "m-sph"], n=[5, 10], h_factor=1.001)
+    cli_rows = cli("study", "--problem", "spe-mixed", "--method", "s-sph,m-sph", "--n", "5,10", "--h-factor", "1.001",
+                   "--format", "json")["rows"]
+    for a, b in zip(rows, cli_rows):
+        assert a["dof"] == b["dof"] and a["error_rel"] == pytest.approx(b["error_rel"], rel=1e-12)
+    assert rows[0]["error_rel"] == pytest.approx(4.1e-3, rel=0.05)  # METHODS R15

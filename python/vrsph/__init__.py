@@ -153,17 +153,20 @@ class Problem:
 
 
 def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None, a: Data = None, u: Data = None,
-          method: str = "vrsph", options: Mapping[str, Any] | None = None, h: float | None = None,
-          h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
+          method: str = "vrsph", options: Mapping[str, Any] | None = None,
+          h: float | None = None, h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
-          infeasible_tol: float = 1e-6) -> Solution:
+          infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None) -> Solution:
     """Solves div(a grad u) = f with u = g on Dirichlet particles and a du/dn = q on Neumann
     ones (outward normals from the cloud), one call into the library.
 
     Each datum is an expression string in x, y, z (as the CLI's), a number, an array of N
     values, or a callable of the coordinate arrays; ``u``, the exact solution, is optional:
     with it f, g and q default to what u implies and the errors are reported. A
-    :class:`Problem` may stand for the cloud and the data: ``solve(Problem(cloud, f=..., g=...))``."""
+    :class:`Problem` may stand for the cloud and the data: ``solve(Problem(cloud, f=..., g=...))``.
+    ``mobility``: a diagonal tensor M = diag(m_1..m_d) as one expression per direction instead
+    of ``a`` (the [SPE] schemes brookshaw, cb-sph, s-sph, m-sph); f and q then default to
+    div(M grad u) and n.M grad u."""
     if isinstance(cloud, Problem):
         if any(d is not None for d in (f, g, q, a, u)):
             raise ConfigError("give the data in the Problem or as arguments, not both")
@@ -176,6 +179,8 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
             expressions[role] = data
         else:
             values[role] = _values(cloud, data, role)
+    if mobility is not None:
+        expressions["mobility"] = [mobility] if isinstance(mobility, str) else [str(m) for m in mobility]
     opts = dict(method=method, method_options=dict(options or {}), kernel=kernel,
                 h=0.0 if h is None else float(h), h_factor=float(h_factor), h_mode=h_mode, solver=solver,
                 petsc_options=petsc_options, fix_constant=bool(fix_constant), on_infeasible=on_infeasible,
@@ -190,6 +195,7 @@ def study(problem: str | None = None, methods: Sequence[str] = ("vrsph",), cloud
           neumann: Sequence[str] | None = None, u: str | None = None, a: str | None = None, f: str | None = None,
           g: str | None = None, q: str | None = None, fix_constant: bool = False, solver: str = "auto",
           petsc_options: str = "", perturb_boundary: bool = False, regular_layer: float = 0.0,
+          mobility: Sequence[str] | None = None, layout: str | None = None,
           on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> list[dict]:
     """A convergence study as ``vrsph study`` runs it (same defaults, same numbers): one row
     per (method, n) with the fields of the CLI's JSON (``error_inf``, ``order_inf``,
@@ -206,7 +212,8 @@ def study_report(problem: str | None = None, methods: Sequence[str] = ("vrsph",)
                  neumann: Sequence[str] | None = None, u: str | None = None, a: str | None = None,
                  f: str | None = None, g: str | None = None, q: str | None = None, fix_constant: bool = False,
                  solver: str = "auto", petsc_options: str = "", perturb_boundary: bool = False,
-                 regular_layer: float = 0.0, on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> dict:
+                 regular_layer: float = 0.0, mobility: Sequence[str] | None = None, layout: str | None = None,
+                 on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> dict:
     """:func:`study` with the metadata: ``{"rows": [...], "fitted_order_inf": {...}, "warnings": [...], ...}``."""
     params = dict(locals())
     if isinstance(params["methods"], str):
@@ -217,6 +224,8 @@ def study_report(problem: str | None = None, methods: Sequence[str] = ("vrsph",)
     params["method_options"] = {m: dict(o) for m, o in (method_options or {}).items()}
     if neumann is not None:
         params["neumann"] = [neumann] if isinstance(neumann, str) else list(neumann)
+    if mobility is not None:
+        params["mobility"] = [mobility] if isinstance(mobility, str) else [str(m) for m in mobility]
     return _vrsph._study(params)
 
 

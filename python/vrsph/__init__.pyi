@@ -80,7 +80,7 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
           method: str = "vrsph", options: Mapping[str, Any] | None = None, h: float | None = None,
           h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
-          infeasible_tol: float = 1e-6) -> Solution: ...
+          infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None) -> Solution: ...
 
 def study(problem: str | None = None, methods: Sequence[str] = ..., cloud: str = "uniform", n: Sequence[int] = ...,
           seeds: Sequence[int] = ..., dim: int | None = None, method_options: Mapping[str, Mapping[str, Any]] | None = None,
@@ -88,6 +88,7 @@ def study(problem: str | None = None, methods: Sequence[str] = ..., cloud: str =
           neumann: Sequence[str] | None = None, u: str | None = None, a: str | None = None, f: str | None = None,
           g: str | None = None, q: str | None = None, fix_constant: bool = False, solver: str = "auto",
           petsc_options: str = "", perturb_boundary: bool = False, regular_layer: float = 0.0,
+          mobility: Sequence[str] | None = None, layout: str | None = None,
           on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> list[dict[str, Any]]: ...
 def study_report(**kwargs: Any) -> dict[str, Any]: ...
 def operator_study(problem: str = "qw-trunc", methods: Sequence[str] = ..., operator: str = "laplacian",

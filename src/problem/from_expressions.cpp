@@ -45,19 +45,36 @@ ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpres
                                      std::pair{v.g, "the Dirichlet data g (--g-column)"},
                                      std::pair{v.q, "the Neumann data q (--q-column)"}})
     if (values) check_values(*values, cloud, role);
+  if (!e.mobility.empty()) {
+    check<ConfigError>(e.a.empty() && !v.a, "a scalar coefficient a and a mobility (--mobility) exclude each other");
+    check<ConfigError>(static_cast<int>(e.mobility.size()) == dim, "--mobility needs one expression per direction (",
+                       dim, " in ", dim, "D), got ", e.mobility.size());
+  }
   const auto u = e.u.empty() ? nullptr : make_function_or_expression(e.u, dim);
+  std::vector<std::unique_ptr<ScalarFunction>> mob;
+  for (const auto& m : e.mobility) mob.push_back(make_function_or_expression(m, dim));
   const auto a = v.a ? nullptr : make_function_or_expression(e.a.empty() ? "one" : e.a, dim);
   ExpressionProblem out;
   BoundaryValueProblem& p = out.problem;
   if (u) out.exact = sample(*u, cloud, "the exact solution u (--u)");
   else if (v.u) out.exact = *v.u;
-  p.a = v.a ? *v.a : sample(*a, cloud, "the coefficient a (--a)");
+  if (mob.empty()) {
+    p.a = v.a ? *v.a : sample(*a, cloud, "the coefficient a (--a)");
+  } else {
+    p.mobility.resize(cloud.size(), dim);
+    for (int k = 0; k < dim; ++k)
+      p.mobility.col(k) = sample(*mob[static_cast<std::size_t>(k)], cloud, detail::concat("the mobility m_", k + 1, " (--mobility)"));
+  }
   if (v.f) {
     p.f = *v.f;
+  } else if (!e.f.empty()) {
+    p.f = sample(*make_function_or_expression(e.f, dim), cloud, "the right-hand side f (--f)");
+  } else if (mob.empty()) {
+    p.f = sample(DivAGradOf(*u, *a), cloud, "the right-hand side f = div(a grad u)");
   } else {
-    const auto f = e.f.empty() ? std::unique_ptr<ScalarFunction>(std::make_unique<DivAGradOf>(*u, *a))
-                               : make_function_or_expression(e.f, dim);
-    p.f = sample(*f, cloud, e.f.empty() ? "the right-hand side f = div(a grad u)" : "the right-hand side f (--f)");
+    std::vector<const ScalarFunction*> m;
+    for (const auto& mk : mob) m.push_back(mk.get());
+    p.f = sample(DivMGradOf(*u, std::move(m)), cloud, "the right-hand side f = div(M grad u)");
   }
   if (v.g) p.g = *v.g;
   else if (!e.g.empty()) p.g = sample(*make_function_or_expression(e.g, dim), cloud, "the Dirichlet data g (--g)");
@@ -70,7 +87,16 @@ ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpres
       const auto si = static_cast<std::size_t>(i);
       if (cloud.tags[si] != Tag::Neumann) continue;
       const Vec3& x = cloud.positions[si];
-      p.q[i] = v.q ? (*v.q)[i] : q ? q->value(x) : p.a[i] * u->gradient(x).dot(cloud.normals[si]);
+      if (v.q) {
+        p.q[i] = (*v.q)[i];
+      } else if (q) {
+        p.q[i] = q->value(x);
+      } else {
+        const Vec3 gu = u->gradient(x);
+        p.q[i] = 0;
+        if (mob.empty()) p.q[i] = p.a[i] * gu.dot(cloud.normals[si]);
+        for (int k = 0; k < static_cast<int>(mob.size()); ++k) p.q[i] += cloud.normals[si][k] * p.mobility(i, k) * gu[k];
+      }
       check<InputError>(std::isfinite(p.q[i]), "the Neumann data q", q ? " (--q)" : " = a du/dn", " is not finite at particle ",
                         i, " (", x[0], ", ", x[1], ", ", x[2], ")");
     }

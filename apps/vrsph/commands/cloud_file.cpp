@@ -109,7 +109,9 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
                         ") at particle ", i);
     volumes.assign(v.data(), v.data() + v.size());
   }
-  r.ep = problem_from_expressions(cf.cloud, {a.u, a.a, a.f, a.g, a.q}, values);
+  ProblemExpressions expressions{a.u, a.a, a.f, a.g, a.q};
+  if (!a.mobility.empty()) expressions.mobility = parse_expression_list(a.mobility, "--mobility");
+  r.ep = problem_from_expressions(cf.cloud, expressions, values);
   r.ep.problem.fix_constant = a.fix_constant;
   BvpSolveOptions o = solve_options(a, method, method_options, h);
   o.label = method + " on " + path;

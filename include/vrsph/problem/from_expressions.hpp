@@ -5,6 +5,7 @@
 // defaults to div(a grad u), g to u and q to a grad(u).n; without u, f, g (when the
 // cloud has Dirichlet particles) and q (when it has Neumann particles) are required.
 #include <string>
+#include <vector>
 #include <vrsph/problem/boundary_value_problem.hpp>
 
 namespace vrsph {
@@ -13,6 +14,9 @@ struct ProblemExpressions {
   std::string u;  ///< exact solution (optional)
   std::string a;  ///< coefficient (default 1)
   std::string f, g, q;
+  /// Diagonal mobility m_1..m_d instead of a (one expression per direction): f defaults to
+  /// div(M grad u) and q to n·M grad u.
+  std::vector<std::string> mobility = {};
 };
 
 /// Per-particle values given directly (e.g. columns of the cloud file, `--f-column`); each
