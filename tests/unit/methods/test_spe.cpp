@@ -210,3 +210,27 @@ TEST(SpeSchemes, SymmetrisedSmoothingLengthGivesSymmetricPairs) {
   const Stencil s = builtin_methods().create("m-sph")->build({c, nl, KernelType::CubicSplineSPE, c.spacing}, {OperatorKind::Laplacian});
   EXPECT_EQ(s.nnz(), sym.total() + sym.size());
 }
+
+TEST(SpeSchemes, SingularCorrectionMatrixNamesTheParticleOrFlagsTheRow) {
+  // Particles 0..10 on a line: their A (and Γ) has no y-row, it is singular (METHODS X4).
+  PointCloud c;
+  c.dim = 2;
+  c.spacing = 0.1;
+  for (int k = 0; k <= 10; ++k) c.positions.emplace_back(0.1 * k, 0, 0);
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) c.positions.emplace_back(5 + 0.1 * i, 5 + 0.1 * j, 0);
+  c.tags.assign(c.positions.size(), Tag::Interior);
+  SearchParams sp;
+  sp.radius = 0.25;
+  const NeighbourList nl = find_neighbours(c, sp);
+  const Discretisation disc{c, nl, KernelType::CubicSplineSPE, c.spacing};
+  EXPECT_THROW_MSG(builtin_methods().create("m-sph")->build(disc, {OperatorKind::Laplacian}), NumericalError, "particle");
+  MethodOptions warn;
+  warn.set("on_singular", "warn");
+  const Stencil s = builtin_methods().create("s-sph", warn)->build(disc, {OperatorKind::Laplacian});
+  ASSERT_EQ(s.local_failure.size(), c.positions.size());
+  for (Index i = 0; i <= 10; ++i) EXPECT_TRUE(s.local_failure[static_cast<std::size_t>(i)]) << i;
+  for (const auto& v : s.values)
+    for (Real x : v) EXPECT_TRUE(std::isfinite(x));
+  EXPECT_FALSE(s.local_failure[15]);
+}
