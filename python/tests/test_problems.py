@@ -104,7 +104,7 @@ def test_spe_schemes_with_a_diagonal_mobility_and_the_spe_problems(cli, tmp_path
     assert mine.error_inf == pytest.approx(theirs["error_inf"], rel=1e-12, abs=0)
     assert mine.error_inf < 1e-3
     with pytest.raises(vrsph.ConfigError, match="cannot take a tensor"):
-        vrsph.solve(vrsph.read_cloud(path), u=U, mobility=["1", "2"], method="vrsph")
+        vrsph.solve(vrsph.read_cloud(path), u=U, mobility=["1", "2"], method="fpm")
     rows = vrsph.study(problem="spe-mixed", methods=["s-sph", "m-sph"], n=[5, 10], h_factor=1.001)
     cli_rows = cli("study", "--problem", "spe-mixed", "--method", "s-sph,m-sph", "--n", "5,10", "--h-factor", "1.001",
                    "--format", "json")["rows"]

@@ -165,7 +165,7 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
     with it f, g and q default to what u implies and the errors are reported. A
     :class:`Problem` may stand for the cloud and the data: ``solve(Problem(cloud, f=..., g=...))``.
     ``mobility``: a diagonal tensor M = diag(m_1..m_d) as one expression per direction instead
-    of ``a`` (the [SPE] schemes brookshaw, cb-sph, s-sph, m-sph); f and q then default to
+    of ``a`` (vrsph and the [SPE] schemes brookshaw, cb-sph, s-sph, m-sph); f and q then default to
     div(M grad u) and n.M grad u."""
     if isinstance(cloud, Problem):
         if any(d is not None for d in (f, g, q, a, u)):

@@ -182,8 +182,8 @@ void validate_params(const BvpStudyParams& p) {
     check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::DivAGrad), "method ", m,
                        " does not provide div-a-grad");
     check<ConfigError>(p.mobility.empty() || builtin_methods().info(m).tensor_mobility, "method ", m,
-                       " cannot take a tensor (diagonal anisotropic) mobility --mobility; use brookshaw, cb-sph, s-sph "
-                       "or m-sph, or a scalar --a");
+                       " cannot take a tensor (diagonal anisotropic) mobility --mobility; use vrsph, brookshaw, cb-sph, "
+                       "s-sph or m-sph, or a scalar --a");
     (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   (void)problem_functions(p);  // parse expressions now

@@ -19,8 +19,8 @@ void check_request(const MethodInfo& info, const Discretisation& disc, const Ste
   if (request.kind != OperatorKind::DivAGrad) return;
   if (request.mobility) {
     check<ConfigError>(info.tensor_mobility, "method ", info.name,
-                       " cannot take a tensor (diagonal anisotropic) mobility; give a scalar coefficient, or use one "
-                       "of the [SPE] schemes (brookshaw, cb-sph, s-sph, m-sph)");
+                       " cannot take a tensor (diagonal anisotropic) mobility; give a scalar coefficient, or use vrsph "
+                       "or one of the [SPE] schemes (brookshaw, cb-sph, s-sph, m-sph)");
     check<InputError>(request.coefficient == nullptr, "operator div-a-grad: give either a scalar coefficient or a "
                       "tensor mobility, not both");
     const Eigen::MatrixXd& m = *request.mobility;

@@ -61,7 +61,7 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   cmd->add_option("--a", a.a, "Coefficient a(x,y,z) > 0 (custom problem; default 1)");
   cmd->add_option("--mobility", a.mobility,
                   "Diagonal tensor mobility M = diag(m1, .., md): comma-separated expressions > 0, one per direction, "
-                  "instead of --a (custom problem: f = div(M grad u), Neumann q = n.M grad u; [SPE] schemes only)");
+                  "instead of --a (custom problem: f = div(M grad u), Neumann q = n.M grad u; vrsph and the [SPE] schemes)");
   a.layout_opt = cmd->add_option("--layout", a.layout,
                                  "vertex (layout A: lattice vertices, default) or cells (layout B: cell centres plus "
                                  "boundary particles at face centres and corners; default of spe-*)");

@@ -143,4 +143,30 @@ void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Rea
   }
 }
 
+void moment_targets(int dim, MomentRows layout, const MomentTarget& t, Real* b) {
+  // Row (beta, alpha) of the literal system: Σ v (Y/2) x^(alpha + e_beta); its target is
+  // first_beta / 2 for alpha = 0 (Σ w x_beta = first_beta) and second_beta for alpha = e_beta.
+  const auto target = [&](const std::array<int, 3>& gamma) -> Real {
+    const int degree = gamma[0] + gamma[1] + gamma[2];
+    for (int k = 0; k < dim; ++k) {
+      if (degree == 1 && gamma[static_cast<std::size_t>(k)] == 1) return 0.5 * t.first[k];
+      if (degree == 2 && gamma[static_cast<std::size_t>(k)] == 2) return t.second[k];
+    }
+    return 0;
+  };
+  if (layout == MomentRows::Merged) {
+    const auto& rows = merged_rows(MomentConditions::Laplace, dim);
+    for (std::size_t r = 0; r < rows.size(); ++r) b[r] = rows[r].weight * target(rows[r].gamma);
+    return;
+  }
+  const auto& alphas = moment_exponents(MomentConditions::Laplace, dim);
+  for (int beta = 0; beta < dim; ++beta)
+    for (std::size_t a = 0; a < alphas.size(); ++a) {
+      std::array<int, 3> g = alphas[a];
+      ++g[static_cast<std::size_t>(beta)];
+      // Only (beta, alpha = 0) reaches gamma = e_beta and (beta, e_beta) reaches 2 e_beta.
+      b[static_cast<std::size_t>(beta) * alphas.size() + a] = target(g);
+    }
+}
+
 }  // namespace vrsph

@@ -17,13 +17,16 @@ void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, 
 }
 
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
-                                         std::span<const char> rows, const NnlsOptions& nnls, MomentRows layout) {
+                                         std::span<const char> rows, const NnlsOptions& nnls, MomentRows layout,
+                                         std::span<const MomentTarget> targets) {
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const Index n = cloud.size();
   check<InputError>(rows.empty() || static_cast<Index>(rows.size()) == n, "volume reconstruction: row mask has ",
                     rows.size(), " entries for ", n, " particles");
   check<InputError>(nl.distances.size() == nl.indices.size(), "VRSPH needs neighbour lists with cached distances");
+  check<InputError>(targets.empty() || (conditions == MomentConditions::Laplace && static_cast<Index>(targets.size()) == n),
+                    "volume reconstruction: ", targets.size(), " moment targets for ", n, " particles (Laplace only)");
   const int dim = cloud.dim;
   const int m = moment_rows(conditions, dim, layout);
   ReconstructedVolumes out;
@@ -59,6 +62,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
       neighbour_geometry(disc, i, *ker, xji.data(), half_y.data());
       // Row-major: the layout the solver works on, so it copies nothing.
       build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
+      if (!targets.empty()) moment_targets(dim, layout, targets[si], b.data());
       const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, nnls, MatrixOrder::RowMajor);
       out.residual[si] = r.residual;
       out.failed[si] = r.status != NnlsStatus::Converged;

@@ -1,5 +1,7 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/volumes.hpp>
+#include <Eigen/LU>
+#include <cmath>
 #include <vrsph/methods/vrsph/vrsph.hpp>
 
 namespace vrsph {
@@ -16,10 +18,43 @@ MethodInfo vrsph_info() {
            {"rows", "merged (identical moment rows merged with sqrt(multiplicity) weights: same objective, "
                     "smaller system; default) | full (the literal 3/12/30 rows)"}}};
   info.monotone = true;
+  info.tensor_mobility = true;  // div(M grad u) by anisotropic moment targets (beyond [QW], docs/methods.md)
   return info;
 }
 
 namespace {
+
+// Anisotropic targets for div(M grad u), M = diag(m_k): second moments 2 m_k(x_i) and first
+// moments (∂_k m_k)(x_i), the latter from the kernel-corrected gradient Σ_j (m_j - m_i) A^-T ∇W
+// (exact for linear m; A = Σ_j x_ji ⊗ ∇W_ij). A singular A leaves the first moments 0.
+std::vector<MomentTarget> mobility_targets(const Discretisation& disc, const Eigen::MatrixXd& M, std::span<const char> rows) {
+  const PointCloud& cloud = disc.cloud;
+  const int dim = cloud.dim;
+  std::vector<MomentTarget> t(static_cast<std::size_t>(cloud.size()));
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (rows.empty() ? cloud.tags[si] == Tag::Ghost : !rows[si]) continue;
+    for (int k = 0; k < dim; ++k) t[si].second[k] = M(i, k);
+    const Kernel ker = disc.kernel_at(i);
+    const auto nbr = disc.neighbours.of(i);
+    const auto dist = disc.neighbours.distances_of(i);
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d G = Eigen::Matrix3d::Zero();  // column k: Σ (m_k,j - m_k,i) ∇W
+    for (std::size_t n = 0; n < nbr.size(); ++n) {
+      const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[n])] - cloud.positions[si];
+      const Vec3 g = -ker.dW_over_r(dist[n]) * xji;  // ∇_i W_ij points to j
+      A += xji * g.transpose();
+      for (int k = 0; k < dim; ++k) G.col(k) += (M(nbr[n], k) - M(i, k)) * g;
+    }
+    const Eigen::MatrixXd Ad = A.topLeftCorner(dim, dim);
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(Ad);
+    if (!lu.isInvertible()) continue;
+    const Eigen::MatrixXd grad = lu.inverse().transpose() * G.topLeftCorner(dim, dim);  // column k: ∇m_k
+    for (int k = 0; k < dim; ++k) t[si].first[k] = grad(k, k);
+  }
+  return t;
+}
 
 class Vrsph final : public Method {
  public:
@@ -40,8 +75,16 @@ class Vrsph final : public Method {
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);
     const bool laplace = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
-    const ReconstructedVolumes vol =
-        reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient, req.rows, nnls_, rows_);
+    const bool tensor = req.kind == OperatorKind::DivAGrad && req.mobility != nullptr;
+    const std::vector<MomentTarget> targets = tensor ? mobility_targets(disc, *req.mobility, req.rows) : std::vector<MomentTarget>{};
+    ReconstructedVolumes vol = reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
+                                                   req.rows, nnls_, rows_, targets);
+    if (tensor)  // residuals relative to |b| as for the Laplacian (|b| = sqrt(d)), so one tolerance serves both
+      for (std::size_t i = 0; i < targets.size(); ++i) {
+        const MomentTarget& t = targets[i];
+        const Real bnorm = std::sqrt((0.5 * t.first).squaredNorm() + t.second.squaredNorm());
+        if (bnorm > 0) vol.residual[i] *= std::sqrt(static_cast<Real>(disc.cloud.dim)) / bnorm;
+      }
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name);
     const auto& cloud = disc.cloud;
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
@@ -59,7 +102,10 @@ class Vrsph final : public Method {
         const Real f = ker.dW_over_r(dist[k]);  // F_ij = W'/r = -Y/2
         switch (req.kind) {
           case OperatorKind::Laplacian: s.values[0][slot] = -2 * v[k] * f; break;
-          case OperatorKind::DivAGrad: s.values[0][slot] = -v[k] * ((*req.coefficient)[i] + (*req.coefficient)[static_cast<Eigen::Index>(j)]) * f; break;
+          case OperatorKind::DivAGrad:
+            s.values[0][slot] = tensor ? -2 * v[k] * f  // w = v Y with the anisotropic moment targets
+                                       : -v[k] * ((*req.coefficient)[i] + (*req.coefficient)[static_cast<Eigen::Index>(j)]) * f;
+            break;
           default: {
             const Vec3 g = v[k] * f * (cloud.positions[si] - cloud.positions[j]);  // v_j grad_i W_ij
             if (req.kind == OperatorKind::Gradient)

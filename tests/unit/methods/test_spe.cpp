@@ -186,7 +186,7 @@ TEST(SpeSchemes, ConsistentAnisotropyExactOnQuadraticsAndPaperFormIsNot) {
 TEST(SpeSchemes, TensorMobilityRefusedByMethodsWithoutIt) {
   const Patch p(2, 0);
   Eigen::MatrixXd M = Eigen::MatrixXd::Ones(p.cloud.size(), 2);
-  EXPECT_THROW(p.build("vrsph", OperatorKind::DivAGrad, {}, nullptr, &M), ConfigError);
+  EXPECT_THROW(p.build("fpm", OperatorKind::DivAGrad, {}, nullptr, &M), ConfigError);
   M(5, 1) = -1;
   EXPECT_THROW_MSG(p.build("m-sph", OperatorKind::DivAGrad, {}, nullptr, &M), InputError, "particle 5");
   EXPECT_THROW(p.build("m-sph", OperatorKind::Laplacian, opts({{"gradient", "g5"}})), ConfigError);

@@ -6,6 +6,8 @@
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/stencil/properties.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include <vrsph/cloud/generate.hpp>
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -91,4 +93,36 @@ TEST(Vrsph, OneSidedSupportIsReportedAsInfeasible) {
   EXPECT_NEAR(sum.max_relative, sum.worst[0].first, 1e-15);
   for (const auto& [r, i] : sum.worst) EXPECT_NE(i, 60);
   EXPECT_THROW_MSG(summarise_local_residuals(lap, std::vector<char>(2, 1), 1e-6), InputError, "mask has 2 entries");
+}
+
+TEST(Vrsph, AnisotropicMomentTargetsExactOnQuadraticsWithNonNegativeWeights) {
+  // div(M grad u) for constant M = diag(1, R): the NNLS meets Σ w ΔΔᵀ = 2M with w >= 0 on a
+  // lattice for any R (axis neighbours carry the anisotropy), so the stencil is exact on
+  // quadratics and keeps its M-matrix sign structure.
+  PointCloud c = vertex_lattice(Domain::unit_box(2), 16);
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList nl = find_neighbours(c, sp);
+  for (Real R : {1.0, 4.0, 16.0}) {
+    Eigen::MatrixXd M(c.size(), 2);
+    M.col(0).setOnes();
+    M.col(1).setConstant(R);
+    StencilRequest req{OperatorKind::DivAGrad};
+    req.mobility = &M;
+    const Stencil s = builtin_methods().create("vrsph")->build({c, nl, KernelType::CubicSpline, c.spacing}, req);
+    Field u(c.size());
+    for (Index i = 0; i < c.size(); ++i) {
+      const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+      u[i] = x[0] * x[0] + x[0] * x[1] + 3 * x[1] * x[1];
+    }
+    const Field Lu = apply_component(s, u, 0);
+    for (Index i = 0; i < c.size(); ++i) {
+      if (c.tags[static_cast<std::size_t>(i)] != Tag::Interior) continue;
+      EXPECT_NEAR(Lu[i], 2 + 6 * R, 1e-8 * (2 + 6 * R)) << "R " << R << " particle " << i;
+      for (Index k = s.row_begin(i); k < s.row_end(i); ++k)
+        if (s.col[static_cast<std::size_t>(k)] != i) {
+          EXPECT_GE(s.values[0][static_cast<std::size_t>(k)], 0);
+        }
+    }
+  }
 }

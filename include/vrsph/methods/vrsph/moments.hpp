@@ -32,6 +32,18 @@ int moment_rows(MomentConditions c, int dim);
 enum class MomentRows { Merged, Full };
 int moment_rows(MomentConditions c, int dim, MomentRows layout);
 
+/// Right-hand side of the Laplace system for an anisotropic target (beyond [QW]): with
+/// w_j = v_j Y_ij the weights satisfy Σ_j w_j x_ji = first and Σ_j w_j x_ji x_jiᵀ =
+/// 2 diag(second), third moments 0, so Σ_j w_j (u_j - u_i) ≈ first·∇u + Σ_k second_k ∂_kk u:
+/// div(M grad u) for a diagonal M with second = (m_k) and first = (∂_k m_k). The default
+/// target (0, 1) is the Laplacian's b of build_moment_system.
+struct MomentTarget {
+  Vec3 first = Vec3::Zero();
+  Vec3 second = Vec3::Ones();
+};
+/// Overwrites b (rows of the given layout) with the target's right-hand side (Laplace only).
+void moment_targets(int dim, MomentRows layout, const MomentTarget& target, Real* b);
+
 /// Fills the rows x n matrix A (column j for neighbour j; column-major, or row-major as the
 /// NNLS solver works on it) and b (rows). xji[j] = x_j - x_i, half_y[j] = Y_ij / 2 =
 /// -W'(r_ij)/r_ij >= 0.

@@ -27,8 +27,10 @@ void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, 
 /// rows: which particles need volumes (empty = every non-ghost particle).
 /// The residual is reported for the literal (Full) system in either layout: merging
 /// identical rows leaves ||A v - b|| unchanged.
+/// targets: per-particle anisotropic Laplace targets (size N; empty = the Laplacian's).
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
                                          std::span<const char> rows = {}, const NnlsOptions& nnls = {},
-                                         MomentRows layout = MomentRows::Merged);
+                                         MomentRows layout = MomentRows::Merged,
+                                         std::span<const MomentTarget> targets = {});
 
 }  // namespace vrsph
