@@ -45,8 +45,11 @@ def value(r, kind):
 
 
 COMMON_BVP = {
-    "--problem": ["qw-ex5", "aar-static", "custom", "nope"], "--dim": "int", "--method":
-    ["sph", "vrsph", "fpm", "kgf", "cspm", "sph,vrsph", "mfpm", "fpm2o", "nope", "rkpm1"],
+    "--problem": ["qw-ex5", "aar-static", "spe-dirichlet", "spe-mixed", "custom", "nope"], "--dim": "int", "--method":
+    ["sph", "vrsph", "fpm", "kgf", "cspm", "sph,vrsph", "mfpm", "fpm2o", "nope", "rkpm1", "m-sph", "s-sph,cb-sph",
+     "brookshaw"],
+    "--mobility": ["1,2", "1+x*x,2+y", "1,2,3", "1,-1", "1,0/0", "1e300,1", "max(1,y),1", "1,(2", "x"],
+    "--layout": ["vertex", "cells", "hex"],
     "--cloud": ["uniform", "perturbed", "centroids", "disk", "nope"], "--seed": "int", "--h-factor": "real",
     "--h-mode": ["fixed", "covering", "knn", "x"], "--h-knn": "int", "--delta": "real",
     "--kernel": ["cubic", "gaussian", "quintic", "wendland-c2", "wendland-c4", "cubic-spe", "box"],
@@ -54,7 +57,8 @@ COMMON_BVP = {
     "--g": "expr", "--solver": ["sparselu", "umfpack", "bicgstab", "x"], "--on-infeasible": ["warn", "error", "x"],
     "--infeasible-tol": "real", "--regular-layer": "real",
     "--method-opt": ["nnls_tolerance=1e-12", "nnls_max_iterations=0", "volume=shepard", "rows=full", "x=1", "foo",
-                     "max_condition=nan", "gradient_order=2", "on_singular=warn"],
+                     "max_condition=nan", "gradient_order=2", "on_singular=warn", "gradient=g2", "gradient=g9",
+                     "anisotropy=paper", "anisotropy=x", "pair_gradient=corrected"],
     "--format": ["md", "csv", "json", "xml"],
 }
 COMMANDS = {
@@ -67,9 +71,11 @@ COMMANDS = {
                           "{fx}/bom.csv", "{fx}/identical_points.csv", "{fx}/binary.csv"],
               "--output": ["{tmp}/c.csv", "{tmp}/c.vtu", "{tmp}/c.txt", "/dev/full", "{tmp}"], "--check": None,
               "--perturb-boundary": None},
-    "operator": {**{k: v for k, v in COMMON_BVP.items() if k not in ("--neumann", "--q", "--f", "--g", "--solver",
+    "operator": {**{k: v for k, v in COMMON_BVP.items() if k not in ("--neumann", "--q", "--f", "--g", "--solver", "--mobility", "--layout",
                                                                       "--on-infeasible", "--infeasible-tol")},
-                 "--problem": ["qw-trunc", "unit-box", "aar-derivative", "x"],
+                 "--problem": ["qw-trunc", "unit-box", "aar-derivative", "spe-patch", "x"],
+                 "--test": ["r2", "power-sum", "product", "heterogeneous", "x"], "--exponent": "int",
+                 "--rotated": None, "--variant": ["m-sph", "s-sph:gradient=g2", "vrsph", "fpm", "x:y=z", "m-sph:foo"],
                  "--operator": ["value", "dx", "dy", "dz", "gradient", "laplacian", "div-a-grad",
                                 "second-derivative", "curl"], "--n": "n", "--exact": "expr", "--no-ghosts": None},
     "study": {**COMMON_BVP, "--n": "n", "--seeds": "n", "--fix-constant": None, "--perturb-boundary": None,
