@@ -153,7 +153,7 @@ class SpeScheme final : public Method {
     const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
     const bool consistent = second && req.mobility && anisotropy_ == Anisotropy::Consistent;
     if (second) s.xi.assign(static_cast<std::size_t>(n), 0);
-    if (consistent) s.residual.assign(static_cast<std::size_t>(n), 0);
+    if (second) s.residual.assign(static_cast<std::size_t>(n), 0);
     const Mobility mob{req.mobility, req.kind == OperatorKind::DivAGrad ? req.coefficient : nullptr};
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 
@@ -230,12 +230,30 @@ class SpeScheme final : public Method {
           continue;
         }
         s.condition[si] = cond;
+        // With only d neighbours in general position the first-moment correction annihilates
+        // the whole bracket (Σ T̄ Δ = 0 forces T̄ = 0), leaving round-off of either sign. Such a
+        // row falls back to the uncorrected pair term (the Brookshaw bracket, monotone) and is
+        // reported as infeasible (residual 1) so that the studies count and name it.
+        Real degenerate = 0;
+        if (X.squaredNorm() > 0) {
+          Real kept = 0, scale = 0;
+          for (std::size_t k = 0; k < nbr.size(); ++k) {
+            const Real pair = pair_term(row, in, k);
+            kept += std::abs(row.volume[k] * (pair - X.dot(in.gstar[k])));
+            scale += std::abs(row.volume[k] * pair);
+          }
+          if (!(kept > 1e-6 * scale)) {
+            X.setZero();
+            degenerate = 1;
+          }
+        }
+        s.residual[si] = degenerate;
         if (consistent) {
           beta.resize(nbr.size());
           for (std::size_t k = 0; k < nbr.size(); ++k)
             beta[k] = row.volume[k] * (pair_term(row, in, k) - X.dot(in.gstar[k]));
           const Real res = corr.solve(row, beta, hi);
-          s.residual[si] = res;
+          s.residual[si] = std::max(res, degenerate);
           if (!std::isfinite(res)) {
             s.condition[si] = res;
             continue;

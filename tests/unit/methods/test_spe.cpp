@@ -234,3 +234,30 @@ TEST(SpeSchemes, SingularCorrectionMatrixNamesTheParticleOrFlagsTheRow) {
     for (Real x : v) EXPECT_TRUE(std::isfinite(x));
   EXPECT_FALSE(s.local_failure[15]);
 }
+
+TEST(SpeSchemes, RowWithOnlyDimNeighboursFallsBackToTheBrookshawBracketAndIsReported) {
+  // Particle 0 sees exactly two neighbours (2D): Σ T̄ Δ = 0 forces T̄ = 0, the corrected bracket
+  // is round-off. S and M fall back to the pair term (positive weights) and flag the row.
+  PointCloud c;
+  c.dim = 2;
+  c.spacing = 0.1;
+  c.positions = {Vec3(0, 0, 0), Vec3(0.1, 0.02, 0), Vec3(-0.03, 0.09, 0), Vec3(0.5, 0.5, 0), Vec3(0.6, 0.5, 0),
+                 Vec3(0.5, 0.6, 0), Vec3(0.42, 0.45, 0)};
+  c.tags.assign(c.positions.size(), Tag::Interior);
+  SearchParams sp;
+  sp.radius = 0.125;
+  sp.min_neighbours = 0;
+  const NeighbourList nl = find_neighbours(c, sp);
+  ASSERT_EQ(nl.count(0), 2);
+  const Discretisation disc{c, nl, KernelType::CubicSplineSPE, c.spacing};
+  std::vector<char> rows(c.positions.size(), 0);
+  rows[0] = 1;  // the others have one neighbour: a singular A, not this test's subject
+  for (const auto* m : {"s-sph", "m-sph"}) {
+    const Stencil s = builtin_methods().create(m)->build(disc, {OperatorKind::Laplacian, nullptr, nullptr, rows});
+    EXPECT_EQ(s.residual[0], 1) << m;
+    for (Index k = s.row_begin(0); k < s.row_end(0); ++k)
+      if (s.col[static_cast<std::size_t>(k)] != 0) {
+        EXPECT_GT(s.values[0][static_cast<std::size_t>(k)], 0) << m;
+      }
+  }
+}
