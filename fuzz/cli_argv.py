@@ -62,6 +62,11 @@ COMMON_BVP = {
     "--format": ["md", "csv", "json", "xml"],
 }
 COMMANDS = {
+    "stability": {"--method": ["m-sph", "s-sph,cb-sph", "vrsph", "fpm2o", "nope"], "--dim": "int", "--n": "int",
+                  "--cloud": ["uniform", "perturbed", "disk"], "--layout": ["vertex", "cells", "x"], "--tau": "real",
+                  "--k": "int", "--h-factor": "real", "--delta": "real", "--xi-statistics": None,
+                  "--neighbours": ["4,8", "1", "x"], "--configurations": "int", "--format": ["md", "csv", "json"],
+                  "--plot": ["{tmp}/s.png", "{tmp}/s.txt", "/dev/full"]},
     "methods": {"--format": ["md", "csv", "json", "x"]},
     "kernels": {},
     "cloud": {"--family": ["uniform", "perturbed", "centroids", "disk", "x"], "--layout": ["vertex", "cells", "x"],

@@ -401,6 +401,20 @@ class SpeFamily(unittest.TestCase):
         self.assertEqual(j["support_factor"], 2 * j["h_factor"])
         self.assertEqual(j["layout"], "cells")
 
+    def test_stability_growth_factors_and_xi_statistics(self):
+        with tempfile.TemporaryDirectory() as d:
+            png = os.path.join(d, "fig5.png")
+            j = run_json("stability", "--method", "m-sph,brookshaw", "--n", "12", "--plot", png)
+            self.assertEqual([r["method"] for r in j["rows"]], ["m-sph", "brookshaw"])
+            for row in j["rows"]:
+                self.assertLessEqual(row["max_abs_interior"], 1 + 1e-12)
+                self.assertLess(row["max_imag_interior"], 1e-12)
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        x = run_json("stability", "--xi-statistics", "--neighbours", "8,64,500", "--configurations", "20")
+        means = [r["xi_mean"] for r in x["rows"]]
+        self.assertEqual(means, sorted(means, reverse=True))
+
     def test_mobility_consistent_and_paper(self):
         base = ["study", "--u", "x*x+3*y*y", "--mobility", "1,2+x", "--method", "m-sph", "--n", "10,20",
                 "--kernel", "cubic-spe"]

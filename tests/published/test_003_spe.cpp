@@ -7,6 +7,7 @@
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/spe_patch.hpp>
 #include <vrsph/analysis/spe_problems.hpp>
+#include <vrsph/analysis/stability.hpp>
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -218,4 +219,33 @@ TEST(SpePatch, NormalisedFullGradientIsTheBestMonotoneVariantIn3D) {
   const auto r = patch("power-sum", 3, {"m-sph:gradient=g1", "m-sph:gradient=g2", "m-sph:gradient=g3", "m-sph:gradient=g4"}, 3);
   for (const auto* g : {"m-sph g1", "m-sph g3", "m-sph g4"}) EXPECT_LT(summary(r, "m-sph g2").rms, summary(r, g).rms) << g;
   for (const auto& s : r.summary) EXPECT_LT(s.max_deep, 1e-8) << s.label;
+}
+
+TEST(SpeStability, Figure5GrowthFactorsRealInsideOnLatticesAndInsideTheUnitDisc) {
+  // [SPE] §4.3: uniform sets give real λ with |λ| <= 1; pseudo-random sets a complex cloud inside
+  // the unit disc except possibly at boundary particles (τ = 0.25, METHODS §3.7.9 reading).
+  StabilityParams p;
+  p.methods = {"m-sph", "s-sph"};
+  p.n = 16;
+  const StabilityResult uniform = run_stability(p);
+  for (const auto& row : uniform.rows) {
+    EXPECT_LT(row.max_imag_interior, 1e-12) << row.method;
+    EXPECT_LE(row.max_abs_interior, 1 + 1e-12) << row.method;
+    EXPECT_EQ(row.unstable_interior, 0) << row.method;
+  }
+  p.cloud = CloudFamily::Perturbed;
+  const StabilityResult random = run_stability(p);
+  for (const auto& row : random.rows) {
+    EXPECT_GT(row.max_imag_interior, 1e-6) << row.method;  // complex now
+    EXPECT_EQ(row.unstable_interior, 0) << row.method;
+  }
+  p.tau = 0.5;  // well beyond the explicit bound: interior particles grow
+  EXPECT_GT(run_stability(p).rows.front().unstable_interior, 0);
+}
+
+TEST(SpeStability, Figure6XiDecreasesWithTheNeighbourCount) {
+  const auto rows = xi_statistics(2, {4, 16, 64, 250, 500}, 50, 3);
+  for (std::size_t k = 1; k < rows.size(); ++k) EXPECT_LT(rows[k].mean, rows[k - 1].mean) << rows[k].neighbours;
+  EXPECT_LT(rows.back().mean, 0.2);  // (92)/(93) hold statistically for many neighbours
+  EXPECT_GT(rows.front().mean, 1);
 }
