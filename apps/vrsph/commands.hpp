@@ -14,5 +14,6 @@ void add_study_command(CLI::App& app);
 void add_solve_command(CLI::App& app);
 void add_spectrum_command(CLI::App& app);
 void add_stability_command(CLI::App& app);
+void add_diffuse_command(CLI::App& app);
 
 }  // namespace vrsph::cli

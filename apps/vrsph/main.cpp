@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
   vrsph::cli::add_solve_command(app);
   vrsph::cli::add_spectrum_command(app);
   vrsph::cli::add_stability_command(app);
+  vrsph::cli::add_diffuse_command(app);
   vrsph::cli::add_bench_command(app);
   try {
     app.parse(argc, argv);

@@ -1,6 +1,7 @@
 #include <cmath>
 #include <numbers>
 #include <vrsph/analysis/spe_problems.hpp>
+#include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 
 namespace vrsph {
@@ -116,6 +117,49 @@ Real spe_mixed_flux(const Vec3& p, const SpeBoundaryData& d) {
   side(std::abs(p[0]) < boundary_tol, d.psi[3]);
   check<InputError>(sides > 0, "spe-mixed: flux requested off the Neumann sides at (", p[0], ", ", p[1], ")");
   return sides == 1 ? sum : sum / std::sqrt(2.0);
+}
+
+Real spe_plate_velocity(Real y, Real t) {
+  Real sum = 0;
+  for (int n = 0; n < 100000; ++n) {
+    const Real k = (2 * n + 1) * pi / 2;
+    const Real decay = std::exp(-k * k * t);
+    const Real term = (n % 2 ? -1.0 : 1.0) / ((2.0 * n + 1) * (2.0 * n + 1) * (2.0 * n + 1)) * std::cos(k * y) * decay;
+    sum += term;
+    if (decay / ((2.0 * n + 1) * (2.0 * n + 1) * (2.0 * n + 1)) < 1e-18) break;
+  }
+  return 0.5 * (1 - y * y) - 16 / (pi * pi * pi) * sum;
+}
+
+DiffusionProblem spe_plate_problem(Real dx) {
+  check<ConfigError>(std::isfinite(dx) && dx > 0 && dx <= 0.5, "plate flow: spacing dx must be in (0, 0.5], got ", dx);
+  const Real intervals = 2 / dx;
+  check<ConfigError>(std::abs(intervals - std::round(intervals)) < 1e-9 * intervals && intervals <= 4000,
+                     "plate flow: dx must divide the side 2 (2/dx an integer up to 4000), got dx = ", dx);
+  Domain box = Domain::unit_box(2);
+  box.lo = Vec3(0, -1, 0);
+  box.hi = Vec3(2, 1, 0);
+  DiffusionProblem p;
+  p.cloud = vertex_lattice(box, static_cast<int>(std::round(intervals)));
+  p.u0 = Field::Zero(p.cloud.size());
+  p.source = [](const Vec3&, Real) { return 1.0; };
+  p.boundary = [](const Vec3& x, Real t) { return spe_plate_velocity(x[1], t); };
+  p.exact = p.boundary;
+  return p;
+}
+
+const std::array<std::array<Real, 4>, 10>& spe_plate_table1() {
+  static const std::array<std::array<Real, 4>, 10> t{{{-3.790, -4.099, -3.699, -3.608},
+                                                      {-4.825, -5.137, -4.738, -3.296},
+                                                      {-5.894, -6.206, -5.807, -2.098},
+                                                      {-6.965, -7.277, -6.878, -0.900},
+                                                      {-8.037, -8.349, -7.950, 0.298},
+                                                      {-9.108, -9.420, -9.021, 1.496},
+                                                      {-10.180, -10.491, -10.092, 2.693},
+                                                      {-11.256, -11.554, -11.161, 3.891},
+                                                      {-12.379, -12.539, -12.195, 5.089},
+                                                      {-12.975, -13.019, -12.922, 6.287}}};
+  return t;
 }
 
 namespace {

@@ -415,6 +415,23 @@ class SpeFamily(unittest.TestCase):
         means = [r["xi_mean"] for r in x["rows"]]
         self.assertEqual(means, sorted(means, reverse=True))
 
+    def test_diffuse_plate_table1_history_and_vtu_series(self):
+        with tempfile.TemporaryDirectory() as d:
+            hist, prefix = os.path.join(d, "h.csv"), os.path.join(d, "plate")
+            j = run_json("diffuse", "--nu", "0.2", "--t-end", "3", "--history", hist, "--vtu-series", prefix)
+            rows = j["rows"]
+            self.assertEqual([r["t"] for r in rows], [1, 2, 3])
+            for r in rows:  # the published column beside ours, and the same decay
+                self.assertIsNotNone(r["paper_log10_error"])
+            self.assertAlmostEqual(rows[0]["log10_error"] - rows[2]["log10_error"], 2 * 1.07, delta=0.1)
+            with open(prefix + ".pvd", encoding="utf-8") as f:
+                self.assertEqual(f.read().count("<DataSet"), 4)  # t = 0, 1, 2, 3
+            with open(hist, encoding="utf-8") as f:
+                self.assertEqual(f.readline().strip(), "nu,t,error_inf")
+        p = run("diffuse", "--nu", "0.3", "--t-end", "1", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("--allow-unstable", p.stderr)
+
     def test_mobility_consistent_and_paper(self):
         base = ["study", "--u", "x*x+3*y*y", "--mobility", "1,2+x", "--method", "m-sph", "--n", "10,20",
                 "--kernel", "cubic-spe"]

@@ -8,6 +8,7 @@
 #include <vrsph/analysis/spe_patch.hpp>
 #include <vrsph/analysis/spe_problems.hpp>
 #include <vrsph/analysis/stability.hpp>
+#include <vrsph/core/error.hpp>
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -248,4 +249,74 @@ TEST(SpeStability, Figure6XiDecreasesWithTheNeighbourCount) {
   for (std::size_t k = 1; k < rows.size(); ++k) EXPECT_LT(rows[k].mean, rows[k - 1].mean) << rows[k].neighbours;
   EXPECT_LT(rows.back().mean, 0.2);  // (92)/(93) hold statistically for many neighbours
   EXPECT_GT(rows.front().mean, 1);
+}
+
+namespace {
+DiffusionResult plate(TimeScheme scheme, Real nu, Real t_end, Real dx = 0.1, bool allow = false) {
+  const DiffusionProblem p = spe_plate_problem(dx);
+  DiffusionOptions o;
+  o.scheme = scheme;
+  o.h_factor = 2 * 1.001;
+  o.spacing = dx;
+  const Real ell = 1.001 * dx;
+  o.dt = nu * ell * ell;
+  o.t_end = t_end;
+  o.allow_unstable = allow;
+  for (int k = 1; k <= static_cast<int>(t_end); ++k) o.report_times.push_back(k);
+  return diffuse(p, o);
+}
+}  // namespace
+
+TEST(SpeDiffusion, PlateFlowStableColumnsDecayAtTheSlowestModeRate) {
+  // [SPE] Table 1 / METHODS §5.3: the stable columns lose (π/2)²/ln 10 ≈ 1.07 decades per time
+  // unit until the steady profile's own (tiny) discretisation error is reached.
+  const DiffusionResult r = plate(TimeScheme::Explicit, 0.2, 6);
+  ASSERT_EQ(r.report_error.size(), 6u);
+  const Real rate = (std::log10(r.report_error[0]) - std::log10(r.report_error[3])) / 3;
+  EXPECT_NEAR(rate, std::pow(std::numbers::pi / 2, 2) / std::log(10.0), 0.03);
+  EXPECT_LT(r.report_error[5], 1e-7);  // the steady parabola (1.1e-8 measured)
+  EXPECT_FALSE(r.diverged);
+}
+
+TEST(SpeDiffusion, ExplicitBoundRefusedUnlessAllowedAndInstabilityShows) {
+  EXPECT_THROW(plate(TimeScheme::Explicit, 0.3, 1), ConfigError);
+  // With f = 1.001 the stencil has diagonal neighbours: its explicit bound is ν ≈ 0.37–0.40 (von
+  // Neumann), above [SPE]'s 0.25; far beyond it the run grows without bound.
+  const DiffusionResult r = plate(TimeScheme::Explicit, 0.5, 2, 0.1, true);
+  EXPECT_TRUE(r.diverged || r.report_error.back() > 1);
+  EXPECT_FALSE(r.warnings.empty());
+}
+
+TEST(SpeDiffusion, ImplicitStableAtLargeStepsWithFirstAndSecondOrderInTime) {
+  // ν = 10 (40x the explicit bound): both implicit schemes stay bounded and reach the steady
+  // profile; in dt they converge to a reference (Crank–Nicolson, dt = 1/512) at first (backward
+  // Euler) and second (Crank–Nicolson) order. dx = 0.2, steps that divide t_end = 1.
+  for (TimeScheme s : {TimeScheme::Implicit, TimeScheme::CrankNicolson}) {
+    const DiffusionResult r = plate(s, 10, 4, 0.2);
+    EXPECT_FALSE(r.diverged);
+    // Crank–Nicolson damps the stiffest modes only like (1 - ν c)/(1 + ν c) -> -1: slower (1.5e-3).
+    EXPECT_LT(r.report_error.back(), s == TimeScheme::Implicit ? 1e-4 : 1e-2) << to_string(s);
+  }
+  const auto run = [](TimeScheme s, Real dt) {
+    const DiffusionProblem p = spe_plate_problem(0.2);
+    DiffusionOptions o;
+    o.scheme = s;
+    o.h_factor = 2.002;
+    o.spacing = 0.2;
+    o.dt = dt;
+    o.t_end = 1;
+    return diffuse(p, o).u;
+  };
+  const Field reference = run(TimeScheme::CrankNicolson, 1.0 / 512);
+  Real prev_e = 0, prev_c = 0;
+  for (Real dt : {1.0 / 8, 1.0 / 16, 1.0 / 32}) {
+    const Real e = (run(TimeScheme::Implicit, dt) - reference).cwiseAbs().maxCoeff();
+    const Real c = (run(TimeScheme::CrankNicolson, dt) - reference).cwiseAbs().maxCoeff();
+    if (prev_e > 0) {
+      EXPECT_NEAR(std::log2(prev_e / e), 1, 0.2) << dt;
+      EXPECT_NEAR(std::log2(prev_c / c), 2, 0.2) << dt;
+    }
+    prev_e = e;
+    prev_c = c;
+  }
 }

@@ -13,6 +13,7 @@
 #include <array>
 #include <memory>
 #include <vrsph/analysis/functions.hpp>
+#include <vrsph/problem/diffusion.hpp>
 
 namespace vrsph {
 
@@ -31,6 +32,16 @@ Real spe_mixed_solution(const Vec3& x, const SpeBoundaryData& data, int terms = 
 /// Outward flux ∂u/∂n of spe-mixed at a Neumann particle on x = 0, x = 1 or y = 1 (corners:
 /// (g1 + g2)/√2).
 Real spe_mixed_flux(const Vec3& x, const SpeBoundaryData& data);
+
+/// [SPE] §4.4 plate flow (84)–(89) with Re = 1 and Δw/L = 1: the start-up of a channel flow,
+/// v(y, t) = ½(1 - y²) - (16/π³) Σ_n (-1)^n/(2n+1)³ cos((2n+1)πy/2) e^{-((2n+1)π/2)² t}.
+Real spe_plate_velocity(Real y, Real t);
+/// The plate-flow diffusion problem ∂v/∂t = ∇²v + 1 on [0, 2] x [-1, 1] (uniform lattice of
+/// spacing dx; the walls y = ±1 and the inlet/outlet x = 0, 2 carry the analytic profile),
+/// v = 0 at t = 0, exact solution v^a.
+DiffusionProblem spe_plate_problem(Real dx);
+/// [SPE] Table 1: log10 E^n at t = 1..10 for ν = 0.1, 0.2, 0.25, 0.26 (row t-1, column ν).
+const std::array<std::array<Real, 4>, 10>& spe_plate_table1();
 
 /// The two solutions (and the Dirichlet data) as ScalarFunctions for the studies.
 std::unique_ptr<ScalarFunction> make_spe_function(const std::string& which, const SpeBoundaryData& data = {});

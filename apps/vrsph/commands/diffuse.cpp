@@ -1,0 +1,174 @@
+// `vrsph diffuse`: time-dependent diffusion ([SPE] §4.4 plate flow, Table 1) with explicit
+// Euler, backward Euler or Crank–Nicolson, an error history (CSV), a VTU time series (.pvd)
+// and Table 1 beside the published values.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <vrsph/analysis/spe_problems.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
+#include <vrsph/io/output_file.hpp>
+#include <vrsph/io/vtu.hpp>
+#include <vrsph/problem/diffusion.hpp>
+#include "../cli_common.hpp"
+#include "../commands.hpp"
+
+namespace vrsph::cli {
+
+namespace {
+struct DiffuseArgs {
+  std::string problem = "spe-plate", methods = "m-sph", scheme = "explicit", nu, report_times, history, vtu_series,
+              kernel = "cubic-spe";
+  std::vector<std::string> method_opts;
+  double dx = 0.1, f = 1.001, dt = 0, t_end = 10, nu_limit = 0.25;
+  bool allow_unstable = false;
+  OutputOptions out;
+};
+
+std::vector<double> parse_real_list(const std::string& text, const std::string& option) {
+  std::vector<double> out;
+  for (const auto& item : parse_name_list(text, option)) {
+    const auto v = parse_real(item);
+    check<ConfigError>(v && std::isfinite(*v), "option ", option, ": '", item, "' is not a finite number");
+    out.push_back(*v);
+  }
+  return out;
+}
+
+// PREFIX_0000.vtu ... and PREFIX.pvd listing them with their times (ParaView's time series).
+class VtuSeries {
+ public:
+  VtuSeries(std::string prefix, const PointCloud& cloud) : prefix_(std::move(prefix)), cloud_(cloud) {}
+  void write(Real t, const Field& u, const Field* exact) {
+    const std::string name = detail::concat(prefix_, "_", std::string(4 - std::min<std::size_t>(4, std::to_string(files_.size()).size()), '0'),
+                                            files_.size(), ".vtu");
+    Eigen::MatrixXd U(u.size(), 1);
+    U.col(0) = u;
+    std::vector<PointField> fields{{"u", U}};
+    Eigen::MatrixXd E;
+    if (exact) {
+      E.resize(u.size(), 1);
+      E.col(0) = u - *exact;
+      fields.push_back({"error", E});
+    }
+    write_vtu(name, cloud_, fields, VtuFormat::Binary);
+    files_.emplace_back(t, std::filesystem::path(name).filename().string());
+  }
+  void finish() const {
+    write_file(prefix_ + ".pvd", "VTU time series", [&](std::ostream& f) {
+      f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
+      for (const auto& [t, file] : files_) f << "    <DataSet timestep=\"" << t << "\" file=\"" << file << "\"/>\n";
+      f << "  </Collection>\n</VTKFile>\n";
+    });
+  }
+
+ private:
+  std::string prefix_;
+  const PointCloud& cloud_;
+  std::vector<std::pair<Real, std::string>> files_;
+};
+}  // namespace
+
+void add_diffuse_command(CLI::App& app) {
+  auto a = std::make_shared<DiffuseArgs>();
+  auto* cmd = app.add_subcommand("diffuse", "Time-dependent diffusion du/dt = div(a grad u) + s: [SPE] plate flow "
+                                            "(Table 1) with explicit, implicit or Crank-Nicolson steps");
+  cmd->add_option("--problem", a->problem, "spe-plate ([SPE] §4.4: start-up channel flow on [0,2]x[-1,1], Re = 1)")
+      ->capture_default_str();
+  cmd->add_option("--method", a->methods, "Method (div-a-grad stencil)")->capture_default_str();
+  cmd->add_option("--method-opt", a->method_opts, "Method option key=value (repeatable)");
+  cmd->add_option("--scheme", a->scheme, "explicit (Euler), implicit (backward Euler) or cn (Crank-Nicolson)")
+      ->capture_default_str();
+  cmd->add_option("--nu", a->nu, "Comma-separated stability numbers nu = dt/(Re l^2), one run each ([SPE] Table 1: "
+                                 "0.1,0.2,0.25,0.26); default 0.2");
+  cmd->add_option("--dt", a->dt, "Time step instead of --nu");
+  cmd->add_option("--t-end", a->t_end, "End time (the run stops at the first step at or after it)")->capture_default_str();
+  cmd->add_option("--dx", a->dx, "Particle spacing (METHODS R17 recommends 0.1)")->capture_default_str();
+  cmd->add_option("--h-factor", a->f, "[SPE]'s f = l/dx: support radius 2 f dx (METHODS R17: 1.001)")->capture_default_str();
+  cmd->add_option("--kernel", a->kernel, "Kernel")->capture_default_str();
+  cmd->add_option("--nu-limit", a->nu_limit, "Largest nu the explicit scheme accepts")->capture_default_str();
+  cmd->add_flag("--allow-unstable", a->allow_unstable, "Run the explicit scheme above --nu-limit anyway (stability study)");
+  cmd->add_option("--report-times", a->report_times, "Times of the error table (default 1, 2, ..., t_end)");
+  cmd->add_option("--history", a->history, "Write the error after every step to this CSV file (nu, t, error_inf)");
+  cmd->add_option("--vtu-series", a->vtu_series, "Write u and its error at the report times as PREFIX_NNNN.vtu and a "
+                                                 "PREFIX.pvd collection for ParaView (first --nu only)");
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->add_option("--plot", a->out.plot, "Also plot log10 of the error against time per nu (PNG)");
+  cmd->callback([a, cmd] {
+    validate_output(a->out);
+    check<ConfigError>(a->problem == "spe-plate", "unknown diffusion problem '", a->problem, "' (known: spe-plate)");
+    check<ConfigError>(!(cmd->count("--dt") && cmd->count("--nu")), "give --dt or --nu, not both");
+    check<ConfigError>(std::isfinite(a->f) && a->f > 0, "--h-factor must be positive and finite, got ", a->f);
+    DiffusionProblem problem = spe_plate_problem(a->dx);
+    DiffusionOptions o;
+    o.method = a->methods;
+    o.method_options = options_for(parse_method_options(a->method_opts, {a->methods}), a->methods);
+    o.kernel = parse_kernel(a->kernel);
+    o.h_factor = 2 * a->f;
+    o.spacing = a->dx;
+    o.scheme = parse_time_scheme(a->scheme);
+    o.t_end = a->t_end;
+    o.nu_limit = a->nu_limit;
+    o.allow_unstable = a->allow_unstable;
+    check<ConfigError>(std::isfinite(a->t_end) && a->t_end > 0 && a->t_end <= 1e6, "--t-end must be in (0, 1e6], got ",
+                       a->t_end);
+    if (a->report_times.empty())
+      for (int k = 1; k <= static_cast<int>(std::floor(a->t_end + 1e-9)); ++k) o.report_times.push_back(k);
+    else
+      o.report_times = parse_real_list(a->report_times, "--report-times");
+    const Real ell = a->f * a->dx;  // a = 1/Re = 1
+    std::vector<double> nus = a->nu.empty() ? std::vector<double>{0.2} : parse_real_list(a->nu, "--nu");
+    if (cmd->count("--dt")) {
+      check<ConfigError>(std::isfinite(a->dt) && a->dt > 0, "--dt must be positive and finite, got ", a->dt);
+      nus = {a->dt / (ell * ell)};
+    }
+    for (double nu : nus) check<ConfigError>(nu > 0, "--nu must be positive, got ", nu);
+    const bool paper_columns = o.scheme == TimeScheme::Explicit && std::abs(a->dx - 0.1) < 1e-12;
+    Table t;
+    t.columns = {"scheme", "nu", "dt", "t", "error_inf", "log10_error", "paper_log10_error", "steps", "seconds"};
+    std::string history;
+    Progress progress;
+    for (std::size_t run = 0; run < nus.size(); ++run) {
+      o.dt = nus[run] * ell * ell;
+      std::unique_ptr<VtuSeries> series;
+      if (!a->vtu_series.empty() && run == 0) series = std::make_unique<VtuSeries>(a->vtu_series, problem.cloud);
+      std::size_t next_report = 0;
+      o.on_step = [&](Real time, const Field& u) {
+        if (!series) return;
+        // The first step at or after each report time (and t = 0).
+        if (time == 0 || (next_report < o.report_times.size() && time >= o.report_times[next_report] - 1e-12)) {
+          Field ex(u.size());
+          for (Index i = 0; i < u.size(); ++i) ex[i] = problem.exact(problem.cloud.positions[static_cast<std::size_t>(i)], time);
+          series->write(time, u, &ex);
+          if (time > 0) ++next_report;
+        }
+      };
+      o.progress = [&](double f) { progress.update(detail::concat("nu = ", nus[run]), (static_cast<double>(run) + f) / static_cast<double>(nus.size())); };
+      const DiffusionResult r = diffuse(problem, o);
+      if (series) series->finish();
+      for (const auto& w : r.warnings) std::cerr << "vrsph: warning: " << w << '\n';
+      for (std::size_t k = 0; k < r.times.size(); ++k) history += detail::concat(nus[run], ",", r.times[k], ",", r.error_inf[k], "\n");
+      const auto& table1 = spe_plate_table1();
+      const std::array<double, 4> table_nu{0.1, 0.2, 0.25, 0.26};
+      int column = -1;
+      for (int c = 0; c < 4; ++c)
+        if (std::abs(nus[run] - table_nu[static_cast<std::size_t>(c)]) < 1e-12) column = c;
+      for (std::size_t k = 0; k < o.report_times.size(); ++k) {
+        const Real T = o.report_times[k], e = r.report_error[k];
+        const int row = static_cast<int>(std::lround(T)) - 1;
+        const bool published = paper_columns && column >= 0 && std::abs(T - std::round(T)) < 1e-12 && row >= 0 && row < 10;
+        t.add_row({{"scheme", to_string(o.scheme)}, {"nu", nus[run]}, {"dt", o.dt}, {"t", T}, {"error_inf", e},
+                   {"log10_error", e > 0 ? std::log10(e) : std::nan("")},
+                   {"paper_log10_error", published ? table1[static_cast<std::size_t>(row)][static_cast<std::size_t>(column)]
+                                                   : std::nan("")},
+                   {"steps", static_cast<long long>(r.steps)}, {"seconds", r.seconds}});
+      }
+    }
+    if (!a->history.empty())
+      write_file(a->history, "error history", [&](std::ostream& f) { f << "nu,t,error_inf\n" << history; });
+    emit(t, a->out, "{\"problem\":\"spe-plate\"}", "t", "log10_error", "nu", "plate flow, " + a->scheme, false);
+  });
+}
+
+}  // namespace vrsph::cli

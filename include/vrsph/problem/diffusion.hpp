@@ -1,0 +1,77 @@
+#pragma once
+// Time-dependent diffusion on a point cloud (issue 11; [SPE] §4.4, METHODS §3.7.9):
+//   ∂u/∂t = div(a grad u) + s(x, t)   (or div(M grad u) with a diagonal mobility)
+//   u = g(x, t) on Dirichlet particles, u(x, 0) = u0,
+// with the method's div(a grad) stencil L on the interior particles, and one of
+//   explicit  u^{n+1} = u^n + Δt (L u^n + s^n)                         (stable for ν <= ~0.25)
+//   implicit  (I - Δt L) u^{n+1} = u^n + Δt s^{n+1}                    (backward Euler, 1st order)
+//   cn        (I - Δt/2 L) u^{n+1} = (I + Δt/2 L) u^n + Δt/2 (s^n + s^{n+1})  (Crank–Nicolson, 2nd order)
+// where the Dirichlet neighbours enter L u with their values at the time of the term. The
+// implicit matrices are factorised once (sparse LU) and reused at every step.
+//
+// Stability number ν = Δt max(a) / ℓ_min² (METHODS §3.7.9: Δt/(Re h̃²_min), ℓ the kernel's
+// smoothing length, the support over the kernel's support-per-smoothing-length ratio). The
+// explicit scheme refuses ν above `nu_limit` (default 0.25, the bound [SPE] Table 1 reports)
+// unless allow_unstable, which runs it anyway with a warning (the stability study).
+// Neumann particles are not supported yet (flux rows make the explicit scheme a DAE).
+#include <functional>
+#include <string>
+#include <vector>
+#include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/options.hpp>
+
+namespace vrsph {
+
+enum class TimeScheme { Explicit, Implicit, CrankNicolson };
+/// "explicit" | "implicit" | "cn"; throws ConfigError otherwise.
+TimeScheme parse_time_scheme(const std::string& name);
+std::string to_string(TimeScheme s);
+
+using SpaceTimeFunction = std::function<Real(const Vec3& x, Real t)>;
+
+struct DiffusionProblem {
+  PointCloud cloud;
+  Field a;                   ///< coefficient > 0 at every particle (empty: 1)
+  Eigen::MatrixXd mobility;  ///< or a diagonal mobility (N x dim)
+  SpaceTimeFunction source;    ///< s(x, t) (empty: 0)
+  SpaceTimeFunction boundary;  ///< g(x, t) at Dirichlet particles (required)
+  Field u0;                    ///< initial values at every particle
+  SpaceTimeFunction exact;     ///< optional: errors against it
+};
+
+struct DiffusionOptions {
+  std::string method = "m-sph";
+  MethodOptions method_options;
+  KernelType kernel = KernelType::CubicSplineSPE;
+  Real h_factor = 2.002;  ///< support radius / dx
+  Real spacing = 0;       ///< dx (0: cloud.spacing, else estimated)
+  TimeScheme scheme = TimeScheme::Explicit;
+  Real dt = 0;            ///< time step (> 0)
+  Real t_end = 1;
+  Real nu_limit = 0.25;
+  bool allow_unstable = false;
+  std::vector<Real> report_times;  ///< errors reported at these times (cubic interpolation between steps)
+  /// Called at the start and after every step with (t, u at every particle).
+  std::function<void(Real, const Field&)> on_step;
+  std::function<void(double)> progress;  ///< fraction of t_end done
+};
+
+struct DiffusionResult {
+  Field u;                      ///< at t_end
+  Index steps = 0;
+  Real dt = 0, nu = 0, smoothing_length_min = 0;
+  std::vector<Real> times;      ///< t_0 = 0, t_1, ... (with an exact solution)
+  std::vector<Real> error_inf;  ///< max over the interior particles of |u - exact| at each time
+  std::vector<Real> report_error;  ///< at DiffusionOptions::report_times
+  bool diverged = false;        ///< the solution stopped being finite (an unstable explicit run)
+  std::vector<std::string> warnings;
+  double seconds = 0;
+};
+
+/// Throws ConfigError (dt <= 0, t_end <= 0, an unstable explicit step without allow_unstable,
+/// Neumann particles), InputError (sizes, data that are not finite), NumericalError (a failed
+/// factorisation).
+DiffusionResult diffuse(const DiffusionProblem& problem, const DiffusionOptions& options);
+
+}  // namespace vrsph
