@@ -60,6 +60,7 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
   check<ConfigError>(std::isfinite(o.dt) && o.dt > 0, "time step --dt must be positive and finite, got ", o.dt);
   check<ConfigError>(std::isfinite(o.t_end) && o.t_end > 0, "end time --t-end must be positive and finite, got ", o.t_end);
   check<ConfigError>(o.t_end / o.dt <= 1e8, "t_end / dt = ", o.t_end / o.dt, " steps is more than 1e8");
+  check<ConfigError>(o.dt <= o.t_end, "time step dt = ", o.dt, " is longer than the run (t_end = ", o.t_end, ")");
   check<ConfigError>(cloud.count(Tag::Neumann) == 0, "diffusion with Neumann particles is not supported yet (",
                      cloud.count(Tag::Neumann), " in the cloud); give Dirichlet data on the whole boundary");
   check<InputError>(p.u0.size() == n, "initial values u0: ", p.u0.size(), " values for ", n, " particles");
