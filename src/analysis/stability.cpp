@@ -83,8 +83,11 @@ StabilityResult run_stability(const StabilityParams& p) {
     row.particles = cloud.size();
     std::vector<Real> worst(static_cast<std::size_t>(cloud.size()), 0);
     std::vector<Real> imag(static_cast<std::size_t>(cloud.size()), 0);
+    // Kept λ for plots: every particle's, or every stride-th particle's beyond 2e6 values.
+    const std::size_t total = static_cast<std::size_t>(cloud.size()) * waves.size();
+    const std::size_t stride = std::max<std::size_t>(1, total / 2000000 + (total % 2000000 != 0 && total > 2000000));
     if (p.keep_samples) {
-      row.samples.resize(static_cast<std::size_t>(cloud.size()) * waves.size());
+      row.samples.resize((static_cast<std::size_t>(cloud.size()) / stride + 1) * waves.size());
       row.sample_is_boundary.resize(row.samples.size());
     }
 #pragma omp parallel for schedule(dynamic, 64)
@@ -101,9 +104,9 @@ StabilityResult run_stability(const StabilityParams& p) {
         const std::complex<Real> lambda = 1.0 + scale * sum;
         worst[sj] = std::max(worst[sj], std::abs(lambda));
         imag[sj] = std::max(imag[sj], std::abs(lambda.imag()));
-        if (p.keep_samples) {
-          row.samples[sj * waves.size() + w] = lambda;
-          row.sample_is_boundary[sj * waves.size() + w] = boundary[sj];
+        if (p.keep_samples && sj % stride == 0) {
+          row.samples[sj / stride * waves.size() + w] = lambda;
+          row.sample_is_boundary[sj / stride * waves.size() + w] = boundary[sj];
         }
       }
     }
@@ -121,6 +124,11 @@ StabilityResult run_stability(const StabilityParams& p) {
         row.max_imag_interior = std::max(row.max_imag_interior, imag[sj]);
         row.unstable_interior += unstable;
       }
+    }
+    if (p.keep_samples) {  // drop the unused tail slots
+      const std::size_t used = (static_cast<std::size_t>(cloud.size() - 1) / stride + 1) * waves.size();
+      row.samples.resize(used);
+      row.sample_is_boundary.resize(used);
     }
     r.rows.push_back(std::move(row));
   }

@@ -46,7 +46,7 @@ struct StabilityRow {
   Index particles = 0, interior = 0;  ///< interior: support inside the domain
   Real max_abs = 0, max_abs_interior = 0, max_abs_boundary = 0, max_imag = 0, max_imag_interior = 0;
   Index unstable_interior = 0, unstable_boundary = 0;  ///< particles with some |λ| > 1 + 1e-12
-  std::vector<std::complex<Real>> samples;            ///< with keep_samples
+  std::vector<std::complex<Real>> samples;            ///< with keep_samples (every particle's, thinned beyond 2e6)
   std::vector<char> sample_is_boundary;
 };
 
