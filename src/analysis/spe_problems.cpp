@@ -23,6 +23,11 @@ struct SineRecurrence {
     return out;
   }
 };
+// The sides of the unit square a point lies on, in ψ order: y = 0, x = 1, y = 1, x = 0.
+std::array<bool, 4> sides_of(const Vec3& p) {
+  return {std::abs(p[1]) < boundary_tol, std::abs(p[0] - 1) < boundary_tol, std::abs(p[1] - 1) < boundary_tol,
+          std::abs(p[0]) < boundary_tol};
+}
 }  // namespace
 
 Real spe_dirichlet_solution(const Vec3& p, const SpeBoundaryData& d, int terms) {
@@ -36,8 +41,6 @@ Real spe_dirichlet_solution(const Vec3& p, const SpeBoundaryData& d, int terms) 
     twin[k] = std::exp(-2 * pi * t[k]);
     twin_step[k] = std::exp(-4 * pi * t[k]);
   }
-  Real big = 0;
-  for (Real v : d.psi) big = std::max(big, std::abs(v));
   SineRecurrence sx(pi * x, 1, 2), sy(pi * y, 1, 2);
   Real sum = 0, den = std::exp(-2 * pi);
   const Real den_step = std::exp(-4 * pi);
@@ -56,24 +59,20 @@ Real spe_dirichlet_solution(const Vec3& p, const SpeBoundaryData& d, int terms) 
     }
     sum += 4 / (n * pi) * term;
     den *= den_step;
-    if (largest * big < 1e-17 * big) break;
+    if (largest < 1e-17) break;
   }
   return sum;
 }
 
 Real spe_dirichlet_boundary(const Vec3& p, const SpeBoundaryData& d) {
+  const auto on = sides_of(p);
   Real sum = 0;
   int sides = 0;
-  const auto side = [&](bool on, Real psi) {
-    if (on) {
-      sum += psi;
+  for (std::size_t k = 0; k < 4; ++k)
+    if (on[k]) {
+      sum += d.psi[k];
       ++sides;
     }
-  };
-  side(std::abs(p[1]) < boundary_tol, d.psi[0]);
-  side(std::abs(p[0] - 1) < boundary_tol, d.psi[1]);
-  side(std::abs(p[1] - 1) < boundary_tol, d.psi[2]);
-  side(std::abs(p[0]) < boundary_tol, d.psi[3]);
   return sides ? sum / sides : spe_dirichlet_solution(p, d);
 }
 
@@ -104,17 +103,14 @@ Real spe_mixed_solution(const Vec3& p, const SpeBoundaryData& d, int terms) {
 }
 
 Real spe_mixed_flux(const Vec3& p, const SpeBoundaryData& d) {
+  const auto on = sides_of(p);
   Real sum = 0;
   int sides = 0;
-  const auto side = [&](bool on, Real g) {
-    if (on) {
-      sum += g;
+  for (std::size_t k = 1; k < 4; ++k)  // the Neumann sides x = 1, y = 1, x = 0
+    if (on[k]) {
+      sum += d.psi[k];
       ++sides;
     }
-  };
-  side(std::abs(p[0] - 1) < boundary_tol, d.psi[1]);
-  side(std::abs(p[1] - 1) < boundary_tol, d.psi[2]);
-  side(std::abs(p[0]) < boundary_tol, d.psi[3]);
   check<InputError>(sides > 0, "spe-mixed: flux requested off the Neumann sides at (", p[0], ", ", p[1], ")");
   return sides == 1 ? sum : sum / std::sqrt(2.0);
 }

@@ -111,18 +111,26 @@ TEST(SpeTables, RandomSetsKeepTheRankingWithSpread) {
   EXPECT_GT(row(r, "m-sph", 40).order_rel, 0.8);
 }
 
+namespace {
+// div(M grad u) = f with M = diag(1 + x², 2 + y) (2D; third entry 1.5 + z in 3D) on perturbed clouds.
+BvpStudyParams anisotropic_problem(int dim) {
+  BvpStudyParams p;
+  p.problem = "custom";
+  p.dim = dim;
+  p.u = dim == 2 ? "sin(pi*x)*cos(2*y)+x*y" : "sin(pi*x)*cos(2*y)+x*y*z";
+  p.mobility = {"1+x*x", "2+y"};
+  if (dim == 3) p.mobility.push_back("1.5+z");
+  p.cloud = CloudFamily::Perturbed;
+  return p;
+}
+}  // namespace
+
 TEST(SpeAnisotropy, VrsphWithAnisotropicTargetsIsSecondOrderAndMonotone) {
   // Beyond the paper: VRSPH's NNLS with the targets Σ w ΔΔᵀ = 2M, Σ w Δ = (∂_k m_k): every
   // weight >= 0 (an M-matrix in every run) and second order on perturbed clouds in 2D and 3D.
   for (int dim : {2, 3}) {
-    BvpStudyParams p;
-    p.problem = "custom";
-    p.dim = dim;
-    p.u = dim == 2 ? "sin(pi*x)*cos(2*y)+x*y" : "sin(pi*x)*cos(2*y)+x*y*z";
-    p.mobility = {"1+x*x", "2+y"};
-    if (dim == 3) p.mobility.push_back("1.5+z");
+    BvpStudyParams p = anisotropic_problem(dim);
     p.methods = {"vrsph"};
-    p.cloud = CloudFamily::Perturbed;
     p.n = dim == 2 ? std::vector<int>{20, 40, 80} : std::vector<int>{8, 12, 16};
     const BvpStudyResult r = run_bvp_study(p);
     for (const auto& row : r.rows) {
@@ -139,14 +147,8 @@ TEST(SpeAnisotropy, ConsistentFormConvergesAtSecondOrderAndPaperFormDoesNot) {
   // (3D) on perturbed clouds: the consistent default converges at order 2, the printed
   // pair weight stalls at an O(1) error.
   for (int dim : {2, 3}) {
-    BvpStudyParams p;
-    p.problem = "custom";
-    p.dim = dim;
-    p.u = dim == 2 ? "sin(pi*x)*cos(2*y)+x*y" : "sin(pi*x)*cos(2*y)+x*y*z";
-    p.mobility = {"1+x*x", "2+y"};
-    if (dim == 3) p.mobility.push_back("1.5+z");
+    BvpStudyParams p = anisotropic_problem(dim);
     p.methods = {"m-sph"};
-    p.cloud = CloudFamily::Perturbed;
     p.delta = 0.25;
     p.kernel = KernelType::CubicSplineSPE;
     p.h_factor = 3;
