@@ -152,18 +152,19 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
 
 void plot_table(const Table& table, const std::string& extra_json, const std::string& png, const std::string& plot_x,
                 const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
-  const auto json_path = std::filesystem::temp_directory_path() / ("vrsph-plot-" + std::to_string(::getpid()) + ".json");
-  write_file(json_path.string(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra_json); });
-  const std::string args = shell_quote(json_path.string()) + " " + shell_quote(png) + " --x " + plot_x + " --y " +
-                           plot_y + " --group " + plot_group + " --title " + shell_quote(plot_title) +
-                           (loglog ? "" : " --linear");
-  try {
-    run_python(find_plot_script(), args, png);
-  } catch (...) {
-    std::filesystem::remove(json_path);
-    throw;
-  }
-  std::filesystem::remove(json_path);
+  const TemporaryFile data("vrsph-plot", ".json");
+  write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra_json); });
+  const std::string args = shell_quote(data.path()) + " " + shell_quote(png) + " --x " + plot_x + " --y " + plot_y +
+                           " --group " + plot_group + " --title " + shell_quote(plot_title) + (loglog ? "" : " --linear");
+  run_python(find_plot_script(), args, png);
+}
+
+TemporaryFile::TemporaryFile(const std::string& stem, const std::string& extension)
+    : path_((std::filesystem::temp_directory_path() / (stem + "-" + std::to_string(::getpid()) + extension)).string()) {}
+
+TemporaryFile::~TemporaryFile() {
+  std::error_code ec;
+  std::filesystem::remove(path_, ec);
 }
 
 std::vector<int> parse_int_list(const std::string& text, const std::string& option) {
@@ -189,6 +190,17 @@ std::vector<std::string> parse_name_list(const std::string& text, const std::str
     out.push_back(item);
   }
   check<ConfigError>(!out.empty(), "option ", option, " needs at least one name");
+  return out;
+}
+
+std::vector<double> parse_real_list(const std::string& text, const std::string& option) {
+  std::vector<double> out;
+  for (const auto& item : parse_name_list(text, option)) {
+    const auto v = parse_real(item);
+    check<ConfigError>(v.has_value(), "option ", option, ": '", printable(item), "' is not a number");
+    check<ConfigError>(std::isfinite(*v), "option ", option, ": '", printable(item), "' is not finite");
+    out.push_back(*v);
+  }
   return out;
 }
 

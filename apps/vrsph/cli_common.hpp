@@ -42,6 +42,8 @@ void plot_table(const Table& table, const std::string& extra_json, const std::st
 /// "8,16,32" -> {8,16,32}; throws ConfigError naming the option on bad input.
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);
 std::vector<std::string> parse_name_list(const std::string& text, const std::string& option);
+/// Comma-separated finite numbers; ConfigError naming the option and the item otherwise.
+std::vector<double> parse_real_list(const std::string& text, const std::string& option);
 /// Comma-separated expressions; commas inside parentheses (max(x, y)) do not split.
 std::vector<std::string> parse_expression_list(const std::string& text, const std::string& option);
 
@@ -73,6 +75,19 @@ std::string python_interpreter();
 /// Runs share/<script> with the arguments (already shell-quoted) under python_interpreter();
 /// a failure is an IoError naming png and Python's last line of error output.
 void run_plot_script(const std::string& script, const std::string& args, const std::string& png);
+/// A file in the temporary directory named <stem>-<pid><extension>, removed when the object
+/// goes out of scope (also when the plot that reads it fails).
+class TemporaryFile {
+ public:
+  TemporaryFile(const std::string& stem, const std::string& extension);
+  ~TemporaryFile();
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 /// s in single quotes for /bin/sh.
 std::string shell_quote(const std::string& s);
 

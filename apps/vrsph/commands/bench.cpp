@@ -162,12 +162,8 @@ void add_stencils_bench(CLI::App& bench) {
   cmd->callback([a, methods, factors] {
     auto names = parse_name_list(*methods, "--method");
     if (std::find(names.begin(), names.end(), "sph") == names.end()) names.insert(names.begin(), "sph");
-    std::vector<double> kappas;
-    for (const auto& f : parse_name_list(*factors, "--h-factor")) {
-      char* end = nullptr;
-      kappas.push_back(std::strtod(f.c_str(), &end));
-      check<ConfigError>(end && *end == '\0' && kappas.back() > 0, "--h-factor: '", f, "' is not a positive number");
-    }
+    const std::vector<double> kappas = parse_real_list(*factors, "--h-factor");
+    for (double k : kappas) check<ConfigError>(k > 0, "--h-factor: '", k, "' is not a positive number");
     // [QW] Table 1 seconds (h/dx = 3, 4, 5), for the comparison column.
     const std::map<std::string, std::array<double, 3>> paper{{"vrsph", {28.2344, 42.4219, 55.9844}},
                                                              {"sph", {9.5312, 17.6094, 26.75}},

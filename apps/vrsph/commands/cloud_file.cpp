@@ -2,8 +2,6 @@
 // problems on the user's own clouds (CSV with tags and normals), data from expressions
 // evaluated at the file's points, each solve one library call (problem/).
 #include <cmath>
-#include <filesystem>
-#include <unistd.h>
 #include <iostream>
 #include <sstream>
 #include <nlohmann/json.hpp>
@@ -179,18 +177,12 @@ const std::vector<std::pair<const char*, const char*>> column_options = {
 
 void plot_solution(const PointCloud& cloud, const Field& u, const Field* exact, const std::string& png,
                    const std::string& title) {
-  const auto csv = std::filesystem::temp_directory_path() / ("vrsph-fields-" + std::to_string(::getpid()) + ".csv");
-  write_fields(csv.string(), cloud, u, nullptr, exact);
-  try {
-    run_plot_script("plot_field.py",
-                    shell_quote(csv.string()) + " " + shell_quote(png) + " --dim " + std::to_string(cloud.dim) +
-                        " --title " + shell_quote(title),
-                    png);
-  } catch (...) {
-    std::filesystem::remove(csv);
-    throw;
-  }
-  std::filesystem::remove(csv);
+  const TemporaryFile csv("vrsph-fields", ".csv");
+  write_fields(csv.path(), cloud, u, nullptr, exact);
+  run_plot_script("plot_field.py",
+                  shell_quote(csv.path()) + " " + shell_quote(png) + " --dim " + std::to_string(cloud.dim) + " --title " +
+                      shell_quote(title),
+                  png);
 }
 
 VtuFormat parse_vtu_format(const std::string& s) {
@@ -283,13 +275,8 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
   if (geometry) {
     check<ConfigError>(cmd.count("--n") == 0, "--n does not apply with --geometry (--spacing lists the resolutions)");
     check<ConfigError>(!file.spacing.empty(), "--geometry needs --spacing (a comma-separated list of particle distances)");
-    std::stringstream ss(file.spacing);
-    for (std::string item; std::getline(ss, item, ',');) {
-      const auto s = parse_real(item);
-      check<ConfigError>(s.has_value(), "--spacing: '", item, "' is not a number");
-      spacings.push_back(*s);
-      levels.push_back(static_cast<int>(levels.size()) + 1);
-    }
+    spacings = parse_real_list(file.spacing, "--spacing");
+    for (std::size_t k = 0; k < spacings.size(); ++k) levels.push_back(static_cast<int>(k) + 1);
   } else {
     levels = parse_int_list(a.n, "--n");
   }

@@ -6,7 +6,6 @@
 #include <iostream>
 #include <vrsph/analysis/spe_problems.hpp>
 #include <vrsph/core/error.hpp>
-#include <vrsph/core/parse.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>
 #include <vrsph/problem/diffusion.hpp>
@@ -24,16 +23,6 @@ struct DiffuseArgs {
   bool allow_unstable = false;
   OutputOptions out;
 };
-
-std::vector<double> parse_real_list(const std::string& text, const std::string& option) {
-  std::vector<double> out;
-  for (const auto& item : parse_name_list(text, option)) {
-    const auto v = parse_real(item);
-    check<ConfigError>(v && std::isfinite(*v), "option ", option, ": '", item, "' is not a finite number");
-    out.push_back(*v);
-  }
-  return out;
-}
 
 // PREFIX_0000.vtu ... and PREFIX.pvd listing them with their times (ParaView's time series).
 class VtuSeries {

@@ -1,9 +1,6 @@
 // `vrsph stability`: von Neumann growth factors of a method's Laplacian ([SPE] Fig. 5) and the
 // statistics of the monotonicity diagnostic ξ ([SPE] Fig. 6).
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 #include <vrsph/analysis/stability.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/output_file.hpp>
@@ -34,15 +31,9 @@ void plot_growth_factors(const StabilityResult& r, const std::string& png, const
       pts.push_back({row.samples[s].real(), row.samples[s].imag(), row.sample_is_boundary[s] ? 1 : 0});
     j["methods"][row.method] = pts;
   }
-  const auto path = std::filesystem::temp_directory_path() / ("vrsph-stability-" + std::to_string(::getpid()) + ".json");
-  write_file(path.string(), "temporary plot data", [&](std::ostream& f) { f << j.dump(); });
-  try {
-    run_plot_script("plot_stability.py", shell_quote(path.string()) + " " + shell_quote(png), png);
-  } catch (...) {
-    std::filesystem::remove(path);
-    throw;
-  }
-  std::filesystem::remove(path);
+  const TemporaryFile data("vrsph-stability", ".json");
+  write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << j.dump(); });
+  run_plot_script("plot_stability.py", shell_quote(data.path()) + " " + shell_quote(png), png);
 }
 }  // namespace
 
