@@ -11,6 +11,7 @@
 #include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/analysis/spe_problems.hpp>
 #include <vrsph/assembly/assemble.hpp>
+#include <vrsph/cloud/box_faces.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/core/stopwatch.hpp>
@@ -128,42 +129,6 @@ std::array<bool, 6> parse_faces(const std::vector<std::string>& faces, int dim) 
   return on;
 }
 
-// Retags boundary particles whose every face is a Neumann face; returns their count.
-Index apply_neumann_faces(PointCloud& cloud, const std::array<bool, 6>& on, Real dx) {
-  if (std::none_of(on.begin(), on.end(), [](bool b) { return b; })) return 0;
-  const Domain& box = cloud.domain;
-  Index count = 0;
-  if (!cloud.has_normals()) cloud.normals.assign(static_cast<std::size_t>(cloud.size()), Vec3::Zero());
-  const Real tol = 1e-9 * dx;
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const auto si = static_cast<std::size_t>(i);
-    if (cloud.tags[si] != Tag::Dirichlet) continue;
-    const Vec3& x = cloud.positions[si];
-    if (box.shape == Domain::Shape::Ball) {  // a curved boundary has one "face"
-      if (on[0]) {
-        cloud.tags[si] = Tag::Neumann;
-        ++count;
-      }
-      continue;
-    }
-    Vec3 normal = Vec3::Zero();
-    bool all_neumann = true, any = false;
-    for (int k = 0; k < cloud.dim; ++k)
-      for (int side = 0; side < 2; ++side) {
-        const Real face = side == 0 ? box.lo[k] : box.hi[k];
-        if (std::abs(x[k] - face) > tol) continue;
-        any = true;
-        all_neumann = all_neumann && on[static_cast<std::size_t>(2 * k + side)];
-        normal[k] += side == 0 ? -1 : 1;
-      }
-    if (!any || !all_neumann) continue;
-    cloud.tags[si] = Tag::Neumann;
-    cloud.normals[si] = normal.normalized();
-    ++count;
-  }
-  return count;
-}
-
 }  // namespace
 
 Real support_factor(const BvpStudyParams& p) { return p.h_factor * problem_defaults(p.problem).support_per_h_factor; }
@@ -262,7 +227,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     reset_peak_resident_memory();
   }
   StudyCloud sc = make_study_cloud(spec);
-  run.neumann_particles = apply_neumann_faces(sc.cloud, parse_faces(neumann_faces(p), p.dim), sc.dx);
+  run.neumann_particles = retag_neumann_faces(sc.cloud, parse_faces(neumann_faces(p), p.dim), sc.dx);
   BoundaryValueProblem bvp;
   bvp.cloud = std::move(sc.cloud);
   const PointCloud& cloud = bvp.cloud;

@@ -11,7 +11,8 @@ ProblemDefaults problem_defaults(const std::string& problem) {
     d.delta = 0.25;
     d.ghosts = false;
   }
-  if (problem == "spe-dirichlet" || problem == "spe-mixed") {
+  if (problem == "spe-dirichlet" || problem == "spe-mixed" || problem == "spe-channel" || problem == "spe-lognormal" ||
+      problem == "spe10") {
     d.kernel = KernelType::CubicSplineSPE;
     d.h_factor = 1.001;
     d.delta = 0.1001;

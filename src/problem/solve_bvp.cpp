@@ -242,8 +242,9 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     bc.q = p.q;
   }
   bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(cloud, interior) : -1;
-  const LinearSystem sys = assemble(L, cloud, unknown, p.f, p.g, &bc);
+  LinearSystem sys = assemble(L, cloud, unknown, p.f, p.g, &bc);
   // The stencils are in the system now; keep only the local residuals for the report.
+  if (o.keep_matrices) s.operator_rows = as_eigen(L);
   s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
   L = Stencil();
   G = Stencil();
@@ -265,6 +266,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                                         std::isfinite(s.solve.residual) ? "" : "; the arithmetic overflowed: coefficient, "
                                         "mobility or data near the floating-point range? rescale the problem"));
   s.u = expand(sys, x);
+  if (o.keep_matrices) s.system = std::move(sys);
   if (s.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0) check_neumann_balance(cloud, p.f, p.q, s.spacing, s);
   return s;
 }

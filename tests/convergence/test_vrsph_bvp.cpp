@@ -41,6 +41,29 @@ TEST(VrsphBvp, InhomogeneousDirichletDataOnPerturbedParticles) {
   expect_orders(run_bvp_study(p), 1.8, "inhomogeneous Dirichlet");
 }
 
+// The harmonic pair coefficient (methods/pair_mean.hpp), meant for jumps of a, keeps
+// second order for a smooth, strongly varying a (it differs from a_i + a_j by O(r²)), and
+// the M-matrix structure.
+TEST(VrsphBvp, HarmonicPairMeanKeepsSecondOrderForSmoothCoefficients) {
+  BvpStudyParams p;
+  p.problem = "custom";
+  p.u = "exp(x)*sin(2*y) + x^2";
+  p.a = "exp(3*x - 2*y)";
+  p.cloud = CloudFamily::Perturbed;
+  p.n = {20, 40, 80};
+  p.methods = {"vrsph", "sph"};
+  p.method_options["vrsph"].set("mean", "harmonic");
+  p.method_options["sph"].set("mean", "harmonic");
+  const BvpStudyResult r = run_bvp_study(p);
+  std::cout << to_markdown(to_table(r));
+  for (const auto& row : r.rows) {
+    EXPECT_TRUE(row.m_matrix_all) << row.first.method << " n=" << row.first.n;
+    if (row.first.method == "vrsph" && row.first.n != 20) {
+      EXPECT_GE(row.order_inf, 1.8) << "n=" << row.first.n;
+    }
+  }
+}
+
 TEST(VrsphBvp, DiskDomain) {
   BvpStudyParams p;
   p.problem = "custom";

@@ -3,12 +3,14 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/heterogeneous_study.hpp>
 #include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/vtu.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "../problem_file.hpp"
+#include "heterogeneous_args.hpp"
 #include "study_args.hpp"
 
 namespace vrsph::cli {
@@ -18,7 +20,8 @@ namespace {
 void add_common(CLI::App* cmd, StudyArgs& a) {
   a.problem_opt = cmd->add_option("--problem", a.problem,
                   "qw-ex5 ([QW] Example 5), aar-static ([AAR] rod: -u'' = e^x, u(0) = 0, u'(1) = 0), spe-dirichlet / "
-                  "spe-mixed ([SPE] §5 Laplace problems, relative error (95) in error_rel) or custom "
+                  "spe-mixed ([SPE] §5 Laplace problems, relative error (95) in error_rel), spe-channel / spe-lognormal / spe10 "
+                  "([SPE] §5.3 heterogeneous media against TPFA, see the group below) or custom "
                   "(with --u --a --f, or --mobility); --u implies custom")
       ->capture_default_str();
   a.dim_opt = cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (qw-ex5 in 3D: sin sin sin, a = 1 + |x|^2; aar-static: 1)")
@@ -160,11 +163,17 @@ void add_study_command(CLI::App& app) {
                                   "robust spacing of each file)");
   add_geometry_options(cmd, *file, true);
   add_column_options(cmd, *file, "--cloud-file-pattern");
+  auto het = std::make_shared<HeterogeneousArgs>();
+  add_heterogeneous_options(cmd, *het);
   auto config = std::make_shared<std::string>();
   add_config_option(cmd, *config);
-  cmd->callback([a, file, cmd, config] {
+  cmd->callback([a, file, het, cmd, config] {
     if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--geometry", "--output", "--plot"});
     validate_output(a->out);
+    if (is_heterogeneous_problem(a->problem)) return study_heterogeneous(*a, *het, *cmd);
+    for (const auto* o : cmd->get_options())
+      check<ConfigError>(o->get_group() != heterogeneous_group || o->count() == 0, o->get_name(),
+                         " applies to --problem spe-channel, spe-lognormal or spe10 only");
     const bool user_cloud = !file->pattern.empty() || !file->geometry.empty();
     if (!user_cloud) validate_columns(a->out, to_table(BvpStudyResult{}).columns);
     if (user_cloud) return study_cloud_files(*a, *file, *cmd);

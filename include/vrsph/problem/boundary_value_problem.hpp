@@ -68,6 +68,9 @@ struct BvpSolveOptions {
   /// Measure each stage's peak resident memory (BvpSolution::stage_peak_bytes); it resets
   /// the process's peak counter, so the process-wide peak is lost.
   bool measure_memory = false;
+  /// Keep the interior operator rows and the assembled system in the solution
+  /// (BvpSolution::operator_rows, ::system): boundary fluxes and solver studies need them.
+  bool keep_matrices = false;
 };
 
 struct BvpSolution {
@@ -100,6 +103,10 @@ struct BvpSolution {
   struct StagePeaks {
     std::size_t neighbours = 0, stencil = 0, assemble = 0, solve = 0;
   } stage_peak_bytes;
+  /// With BvpSolveOptions::keep_matrices: the div(a grad) rows of the interior particles
+  /// over every particle (other rows empty), and the linear system that was solved.
+  SparseMatrix operator_rows;
+  LinearSystem system;
 };
 
 /// Masks over the particles: 1 where the tag is one of `tags`.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/pair_mean.hpp>
 #include <vrsph/methods/spe/ingredients.hpp>
 #include <vrsph/methods/spe/spe.hpp>
 #include <vrsph/methods/taylor/local_system.hpp>
@@ -135,7 +136,8 @@ class SpeScheme final : public Method {
         anisotropy_(o.get_choice("anisotropy", "consistent", {"consistent", "paper"}) == "paper" ? Anisotropy::Paper
                                                                                                  : Anisotropy::Consistent),
         corrected_pair_(o.get_choice("pair_gradient", "plain", {"plain", "corrected"}) == "corrected"),
-        volume_(o.get_choice("volume", "dx", {"dx", "shepard"})), policy_(taylor::read_singular_policy(o)) {}
+        volume_(o.get_choice("volume", "dx", {"dx", "shepard"})), policy_(taylor::read_singular_policy(o)),
+        mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
@@ -260,7 +262,7 @@ class SpeScheme final : public Method {
           }
           for (std::size_t k = 0; k < nbr.size(); ++k) {
             Real w = 0;
-            for (int c = 0; c < dim; ++c) w += corr.weight(row, k, beta[k], hi, c) * (mob(i, c) + mob(nbr[k], c));
+            for (int c = 0; c < dim; ++c) w += corr.weight(row, k, beta[k], hi, c) * pair_sum(mean_, mob(i, c), mob(nbr[k], c));
             s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = w;
           }
           continue;
@@ -271,7 +273,7 @@ class SpeScheme final : public Method {
           const Vec3& gp = corrected_pair_ ? in.gstar[k] : in.g[k];
           Real w = 0;
           for (int c = 0; c < dim; ++c) {
-            const Real mbar = mob(i, c) + mob(nbr[k], c);
+            const Real mbar = pair_sum(mean_, mob(i, c), mob(nbr[k], c));
             w += mbar * (D[c] * gp[c] / (row.r[k] * row.r[k]) - X[c] * in.gstar[k][c]);
           }
           s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = factor * row.volume[k] * w;
@@ -296,6 +298,7 @@ class SpeScheme final : public Method {
   bool corrected_pair_;  // Δ·g*/r² in the pair term ([SPE] Figs. 1-2 "corrected kernel ∇*W")
   std::string volume_;
   taylor::SingularPolicy policy_;
+  PairMean mean_;
 };
 
 MethodInfo spe_info(std::string name, std::string description, std::string claimed, bool monotone) {
@@ -310,7 +313,8 @@ MethodInfo spe_info(std::string name, std::string description, std::string claim
                   {"anisotropy", "consistent (default: exact on quadratics for constant diagonal M) | paper (the "
                                  "printed pair weight, inconsistent when m_1 != m_2, METHODS R22); tensor mobility only"},
                   {"pair_gradient", "plain (default: Δ·g/r²) | corrected (Δ·g*/r², the \"corrected kernel\" of [SPE] "
-                                    "Figs. 1-2)"}};
+                                    "Figs. 1-2)"},
+                  pair_mean_option()};
   for (auto& o : taylor::corrected_method_options()) info.options.push_back(o);
   info.tensor_mobility = true;
   info.monotone = monotone;

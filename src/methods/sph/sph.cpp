@@ -1,5 +1,6 @@
 #include <cmath>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/pair_mean.hpp>
 #include <vrsph/methods/sph/sph.hpp>
 
 namespace vrsph {
@@ -12,7 +13,7 @@ MethodInfo sph_info() {
           "Laplacian divergent on perturbed particles; 1st order Poisson with boundary truncation",
           {OperatorKind::Value, OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient,
            OperatorKind::Laplacian, OperatorKind::DivAGrad},
-          {{"volume", "dx (v_j = dx^d) | shepard (v_j = 1/sum_k W_jk); default dx"}}};
+          {{"volume", "dx (v_j = dx^d) | shepard (v_j = 1/sum_k W_jk); default dx"}, pair_mean_option()}};
   info.monotone = true;
   return info;
 }
@@ -40,7 +41,8 @@ class Sph final : public Method {
  public:
   explicit Sph(const MethodOptions& o)
       : info_(sph_info()),
-        volume_(o.get_choice("volume", "dx", {"dx", "shepard"}) == "dx" ? SphVolume::Spacing : SphVolume::Shepard) {}
+        volume_(o.get_choice("volume", "dx", {"dx", "shepard"}) == "dx" ? SphVolume::Spacing : SphVolume::Shepard),
+        mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
@@ -83,7 +85,7 @@ class Sph final : public Method {
             break;
           case OperatorKind::DivAGrad: {
             const Field& a = *req.coefficient;
-            s.values[0][slot] = -v[j] * (a[i] + a[static_cast<Eigen::Index>(j)]) * ker.dW_over_r(r);
+            s.values[0][slot] = -v[j] * pair_sum(mean_, a[i], a[static_cast<Eigen::Index>(j)]) * ker.dW_over_r(r);
             break;
           }
         }
@@ -98,6 +100,7 @@ class Sph final : public Method {
  private:
   MethodInfo info_;
   SphVolume volume_;
+  PairMean mean_;
 };
 
 }  // namespace

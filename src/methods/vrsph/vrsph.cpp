@@ -2,6 +2,7 @@
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <Eigen/LU>
 #include <cmath>
+#include <vrsph/methods/pair_mean.hpp>
 #include <vrsph/methods/vrsph/vrsph.hpp>
 
 namespace vrsph {
@@ -16,7 +17,8 @@ MethodInfo vrsph_info() {
           {{"nnls_tolerance", "NNLS tolerance; default 10 eps ||A||_1 max(m,n) (METHODS §3.0)"},
            {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"},
            {"rows", "merged (identical moment rows merged with sqrt(multiplicity) weights: same objective, "
-                    "smaller system; default) | full (the literal 3/12/30 rows)"}}};
+                    "smaller system; default) | full (the literal 3/12/30 rows)"},
+           pair_mean_option()}};
   info.monotone = true;
   info.tensor_mobility = true;  // div(M grad u) by anisotropic moment targets (beyond [QW], docs/methods.md)
   return info;
@@ -69,6 +71,7 @@ class Vrsph final : public Method {
                        "method option nnls_max_iterations=0 would stop the NNLS before it computes any volume "
                        "(every row empty); give >= 1, or omit it for the default 3 x neighbours");
     rows_ = o.get_choice("rows", "merged", {"merged", "full"}) == "merged" ? MomentRows::Merged : MomentRows::Full;
+    mean_ = read_pair_mean(o);
   }
   const MethodInfo& info() const override { return info_; }
 
@@ -76,6 +79,10 @@ class Vrsph final : public Method {
     check_request(info_, disc, req);
     const bool laplace = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
     const bool tensor = req.kind == OperatorKind::DivAGrad && req.mobility != nullptr;
+    check<ConfigError>(!tensor || mean_ == PairMean::Arithmetic,
+                       "vrsph: mean=harmonic applies to a scalar coefficient; with a tensor mobility the weights come "
+                       "from anisotropic moment targets and have no pair coefficient (give the scalar a when K is "
+                       "isotropic)");
     const std::vector<MomentTarget> targets = tensor ? mobility_targets(disc, *req.mobility, req.rows) : std::vector<MomentTarget>{};
     ReconstructedVolumes vol = reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
                                                    req.rows, nnls_, rows_, targets);
@@ -104,7 +111,7 @@ class Vrsph final : public Method {
           case OperatorKind::Laplacian: s.values[0][slot] = -2 * v[k] * f; break;
           case OperatorKind::DivAGrad:
             s.values[0][slot] = tensor ? -2 * v[k] * f  // w = v Y with the anisotropic moment targets
-                                       : -v[k] * ((*req.coefficient)[i] + (*req.coefficient)[static_cast<Eigen::Index>(j)]) * f;
+                                       : -v[k] * pair_sum(mean_, (*req.coefficient)[i], (*req.coefficient)[static_cast<Eigen::Index>(j)]) * f;
             break;
           default: {
             const Vec3 g = v[k] * f * (cloud.positions[si] - cloud.positions[j]);  // v_j grad_i W_ij
@@ -126,6 +133,7 @@ class Vrsph final : public Method {
   MethodInfo info_;
   NnlsOptions nnls_;
   MomentRows rows_ = MomentRows::Merged;
+  PairMean mean_ = PairMean::Arithmetic;  // scalar coefficient only: the tensor path has no pair coefficient
 };
 
 }  // namespace
