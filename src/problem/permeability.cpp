@@ -4,6 +4,7 @@
 #include <numbers>
 #include <ostream>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/io/input_file.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/problem/permeability.hpp>
@@ -52,6 +53,10 @@ namespace {
 PermeabilityField empty_field(int dim, int n) {
   check<ConfigError>(dim >= 1 && dim <= 3, "permeability field: dimension must be 1, 2 or 3, got ", dim);
   check<ConfigError>(n >= 1 && n <= 4096, "permeability field: cells per axis must be in 1..4096, got ", n);
+  const double cells = std::pow(static_cast<double>(n), dim);
+  check<ConfigError>(cells <= 1e8, "permeability field: ", n, "^", dim, " = ", cells, " cells is more than 1e8");
+  // The values, and the padded noise of the log-normal generator (up to twice as many).
+  check_memory_estimate(3 * cells * dim * sizeof(Real), "permeability field", "use fewer cells per axis");
   PermeabilityField f;
   f.dim = dim;
   f.n = n;

@@ -442,6 +442,70 @@ class SpeFamily(unittest.TestCase):
         self.assertEqual(consistent["mobility"], ["1", "2+x"])
 
 
+class Heterogeneous(unittest.TestCase):
+    """[SPE] §5.3: heterogeneous media against TPFA, and the Krylov study (Figs. 11-12)."""
+
+    def test_channel_interface_against_tpfa(self):
+        j = run_json("study", "--problem", "spe-channel", "--dim", "2", "--method", "m-sph,s-sph,vrsph,tpfa", "--n", "24")
+        self.assertEqual([r["method"] for r in j["rows"]], ["m-sph", "s-sph", "vrsph", "tpfa"])
+        for r in j["rows"]:
+            for key in ("error_rel_vs_tpfa", "outlet_flux", "mmatrix", "min_u", "max_u", "solver_iterations"):
+                self.assertIn(key, r)
+            self.assertTrue(r["mmatrix"], r["method"])
+            self.assertGreaterEqual(r["min_u"], 0)  # the discrete maximum principle
+            self.assertLessEqual(r["max_u"], 1)
+            self.assertGreater(r["outlet_flux"], 0)
+        self.assertEqual(j["rows"][-1]["error_rel_vs_tpfa"], 0)
+        self.assertGreaterEqual(j["contrast"], 1e6)
+        self.assertTrue(j["substitute_for_spe10"])
+        self.assertEqual(j["cells"], 24 * 24)
+
+    def test_krylov_study_table_history_and_plot(self):
+        with tempfile.TemporaryDirectory() as d:
+            png, hist = os.path.join(d, "fig11.png"), os.path.join(d, "h.csv")
+            j = run_json("study", "--problem", "spe-lognormal", "--n", "16", "--method", "m-sph,tpfa",
+                         "--krylov", "none,ilu,amg", "--krylov-restart", "20", "--history", hist, "--plot", png)
+            rows = j["krylov_rows"]
+            self.assertEqual([(r["method"], r["preconditioner"]) for r in rows],
+                             [(m, p) for m in ("m-sph", "tpfa") for p in ("none", "ilu", "amg")])
+            self.assertEqual(j["krylov"]["restart"], 20)
+            for r in rows:
+                if r["preconditioner"] == "amg":
+                    self.assertTrue(r["converged"])
+            with open(hist, encoding="utf-8") as f:
+                self.assertEqual(f.readline().strip(), "method,preconditioner,iteration,residual")
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_spe10_file_and_its_bad_inputs(self):
+        with tempfile.TemporaryDirectory() as d:
+            perm = os.path.join(d, "perm.dat")
+            with open(perm, "w", encoding="utf-8") as f:  # 6 x 6 x 2, k_x = k_y, k_z: layered in J
+                for block in range(3):
+                    f.write(" ".join(str(10.0 ** (j % 3)) for k in range(2) for j in range(6) for i in range(6)) + "\n")
+            base = ["study", "--problem", "spe10", "--perm-file", perm, "--perm-grid", "6,6,2", "--method", "vrsph,tpfa"]
+            j = run_json(*base, "--perm-subset", "1:6,1:6,2:2")
+            self.assertEqual(j["cells"], 36)
+            self.assertFalse(j["substitute_for_spe10"])
+            with open(perm, "a", encoding="utf-8") as f:
+                f.write("1\n")
+            p = run(*base, "--perm-subset", "1:6,1:6,2:2", check=False)
+            self.assertEqual(p.returncode, 3)
+            self.assertIn("has 217 values", p.stderr)
+        p = run("study", "--problem", "spe10", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("needs --perm-file", p.stderr)
+        for args, message in ((["--n", "20,40"], "one number of cells"), (["--krylov", "mg"], "unknown preconditioner"),
+                              (["--cloud", "perturbed"], "does not apply to spe-channel"),
+                              (["--sigma-ln", "2"], "spe-lognormal only"), (["--history", "h.csv"], "needs --krylov")):
+            p = run("study", "--problem", "spe-channel", *args, check=False)
+            self.assertEqual(p.returncode, 2, args)
+            self.assertIn(message, p.stderr)
+        p = run("study", "--contrast", "10", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("applies to --problem spe-channel, spe-lognormal or spe10 only", p.stderr)
+
+
 class AarFamily(unittest.TestCase):
     def test_derivative_operator_all_particles(self):
         out = run_json("operator", "--problem", "aar-derivative", "--method", "fpm2o", "--operator",
