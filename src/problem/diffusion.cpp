@@ -1,5 +1,5 @@
-#include <Eigen/SparseLU>
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <vrsph/assembly/assemble.hpp>
@@ -36,8 +36,10 @@ Real interpolate(const std::vector<Real>& t, const std::vector<Real>& y, Real T)
   if (n == 0) return std::nan("");
   const auto it = std::lower_bound(t.begin(), t.end(), T);
   std::ptrdiff_t k = it - t.begin();
-  if (k < n && std::abs(t[static_cast<std::size_t>(k)] - T) <= 1e-12 * std::max<Real>(1, std::abs(T)))
-    return y[static_cast<std::size_t>(k)];
+  // A step time within rounding of T (dt = ν ℓ² and k dt rarely land on T exactly), on either side.
+  const Real tol = 1e-12 * std::max<Real>(1, std::abs(T));
+  if (k < n && std::abs(t[static_cast<std::size_t>(k)] - T) <= tol) return y[static_cast<std::size_t>(k)];
+  if (k > 0 && std::abs(t[static_cast<std::size_t>(k - 1)] - T) <= tol) return y[static_cast<std::size_t>(k - 1)];
   if (k == 0 || k >= n) return std::nan("");  // outside the run
   const std::ptrdiff_t first = std::clamp<std::ptrdiff_t>(k - 2, 0, std::max<std::ptrdiff_t>(n - 4, 0));
   const std::ptrdiff_t last = std::min(first + 3, n - 1);
@@ -120,20 +122,23 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
   record(u, 0);
   const auto steps = static_cast<Index>(std::ceil(o.t_end / o.dt - 1e-9));
 
-  // Implicit schemes: the unknowns' block A of L, M = I - θ dt A factorised once, and the
-  // known neighbours' contribution c(t) = Σ_{J known} L_iJ g_J(t).
+  // Implicit schemes: the unknowns' block A of L, M = I - θ dt A set up once (factorised, or
+  // its preconditioner built) and reused at every step, and the known neighbours'
+  // contribution c(t) = Σ_{J known} L_iJ g_J(t).
   const Real theta = o.scheme == TimeScheme::Implicit ? 1.0 : 0.5;
   LinearSystem sys;
-  Eigen::SparseLU<Eigen::SparseMatrix<Real>> lu;
+  std::unique_ptr<PreparedSolver> solver;
   if (o.scheme != TimeScheme::Explicit) {
     const std::vector<char> unknown = interior;
     sys = assemble(L, cloud, unknown, Field::Zero(n), Field::Zero(n));
-    Eigen::SparseMatrix<Real> M = -theta * o.dt * Eigen::SparseMatrix<Real>(sys.A);
+    CsrMatrix M = -theta * o.dt * sys.A;
     for (Index d = 0; d < sys.size(); ++d) M.coeffRef(d, d) += 1;
     M.makeCompressed();
-    lu.compute(M);
-    check<NumericalError>(lu.info() == Eigen::Success, "the ", to_string(o.scheme),
-                          " time-step matrix I - theta dt L could not be factorised: ", lu.lastErrorMessage());
+    SolverOptions so = o.solver;
+    if (so.dimension == 0) so.dimension = cloud.dim;
+    solver = std::make_unique<PreparedSolver>(M, so);
+    r.solver = solver->solver();
+    r.seconds_factorisation = solver->seconds_setup();
   }
   const auto known_coupling = [&](Real t) {  // c(t) at the unknowns
     Field g = Field::Zero(n);
@@ -144,8 +149,12 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
     return c;
   };
 
+  r.particles = n;
+  r.seconds_setup = watch.seconds();
+  double stepping = 0;
   Real t = 0;
   for (Index step = 0; step < steps; ++step) {
+    Stopwatch step_watch;
     const Real t_next = o.dt * static_cast<Real>(step + 1);
     if (o.scheme == TimeScheme::Explicit) {
       const Field Lu = apply_component(L, u, 0);
@@ -166,11 +175,16 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
           rhs[d] += 0.5 * o.dt * (Au[d] + source(i, t) + c_now[d]);
         }
       }
-      const Eigen::VectorXd x = lu.solve(rhs);
+      Eigen::VectorXd x = uU;  // the previous step: the initial guess of iterative solvers
+      const SolveReport rep = solver->solve(rhs, x);
+      check<NumericalError>(rep.success, "the ", to_string(o.scheme), " step at t = ", t_next, " failed: ", rep.solver,
+                            ": ", rep.message, " (relative residual ", rep.residual, ")");
+      r.solver_iterations += rep.iterations;
       for (Index d = 0; d < sys.size(); ++d) u[sys.particle_of_dof[static_cast<std::size_t>(d)]] = x[d];
     }
     t = t_next;
     boundary_values(u, t);
+    stepping += step_watch.seconds();
     ++r.steps;
     record(u, t);
     if (!u.allFinite()) {
@@ -184,6 +198,7 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
   for (Real T : o.report_times) r.report_error.push_back(interpolate(r.times, r.error_inf, T));
   r.u = u;
   r.seconds = watch.seconds();
+  r.seconds_per_step = r.steps ? stepping / static_cast<double>(r.steps) : 0;
   return r;
 }
 

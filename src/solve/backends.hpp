@@ -1,7 +1,12 @@
 #pragma once
-// Internal: the solver back-ends behind vrsph::solve. Each fills x and the report's
-// success, reason, message, iterations, history and set-up time; the dispatcher
-// (solver.cpp) checks memory up front and measures the true residual afterwards.
+// Internal: the solver back-ends behind vrsph::solve and vrsph::PreparedSolver. A back-end
+// is set up once for a matrix (factorisation, preconditioner) and then solves any number
+// of right-hand sides; each solve fills x and the report's success, reason, message,
+// iterations and history. The dispatcher (solver.cpp) checks memory up front and measures
+// the true residual afterwards.
+#include <memory>
+#include <string>
+#include <vector>
 #include <vrsph/solve/solver.hpp>
 
 namespace vrsph::detail {
@@ -11,7 +16,22 @@ namespace vrsph::detail {
 /// row lengths: with exact zeros dropped, a 2D VRSPH row has ~10 entries, a 1D SPH row ~7.)
 inline int assumed_dimension(int dimension) { return dimension > 0 ? dimension : 3; }
 
-void solve_eigen(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o, SolveReport& rep);
-void solve_petsc(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o, SolveReport& rep);
+/// One matrix, set up. The matrix it was prepared for must outlive it (it is borrowed).
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  /// x on entry: the initial guess of iterative back-ends (size 0: zero); on exit: the solution.
+  virtual void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep) = 0;
+  std::string name;                   ///< "umfpack", "petsc gmres+hypre(boomeramg)", ...
+  double seconds_setup = 0;
+  bool ready = true;                  ///< false: the set-up failed (reason and message below)
+  std::string reason, message;        ///< of a failed set-up
+  std::vector<std::string> warnings;  ///< from the set-up (e.g. PETSc options never used)
+};
+
+/// SparseLU, UMFPACK or BiCGSTAB + ILUT (o.type).
+std::unique_ptr<Backend> prepare_eigen(const CsrMatrix& A, const SolverOptions& o);
+/// PETSc KSP + PC from vrsph's defaults, PETSC_OPTIONS and o.petsc_options.
+std::unique_ptr<Backend> prepare_petsc(const CsrMatrix& A, const SolverOptions& o);
 
 }  // namespace vrsph::detail

@@ -21,59 +21,76 @@ double since(std::chrono::steady_clock::time_point t0) {
 }
 
 template <class Direct>
-void direct(const LinearSystem& sys, Eigen::VectorXd& x, SolveReport& rep) {
-  const auto t0 = std::chrono::steady_clock::now();
-  // The factorisations want compressed columns; UMFPACK keeps pointers into the matrix
-  // until the solve, so the copy lives as long as the factorisation.
-  const Eigen::SparseMatrix<Real> columns(sys.A);
-  Direct lu;
-  lu.compute(columns);
-  rep.seconds_setup = since(t0);
-  if (lu.info() != Eigen::Success) {
-    rep.reason = "factorisation_failed";
-    rep.message = "factorisation failed (singular or ill-conditioned matrix)";
-    return;
+class DirectBackend final : public Backend {
+ public:
+  DirectBackend(const CsrMatrix& A, const char* solver_name) : columns_(A) {
+    // The factorisations want compressed columns; UMFPACK keeps pointers into the matrix
+    // until the solve, so the copy lives as long as the factorisation.
+    name = solver_name;
+    const auto t0 = std::chrono::steady_clock::now();
+    lu_.compute(columns_);
+    seconds_setup = since(t0);
+    if (lu_.info() != Eigen::Success) {
+      ready = false;
+      reason = "factorisation_failed";
+      message = "factorisation failed (singular or ill-conditioned matrix)";
+    }
   }
-  x = lu.solve(sys.b);
-  rep.iterations = 1;
-  rep.success = lu.info() == Eigen::Success;
-  rep.reason = rep.success ? "direct" : "back_substitution_failed";
-  if (!rep.success) rep.message = "back-substitution failed";
-}
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep) override {
+    x = lu_.solve(b);
+    rep.iterations = 1;
+    rep.success = lu_.info() == Eigen::Success;
+    rep.reason = rep.success ? "direct" : "back_substitution_failed";
+    if (!rep.success) rep.message = "back-substitution failed";
+  }
+
+ private:
+  Eigen::SparseMatrix<Real> columns_;
+  Direct lu_;
+};
+
+class BicgstabBackend final : public Backend {
+ public:
+  BicgstabBackend(const CsrMatrix& A, const SolverOptions& o) : monitor_(o.monitor) {
+    name = "bicgstab";
+    const auto t0 = std::chrono::steady_clock::now();
+    it_.preconditioner().setDroptol(o.ilut_drop);
+    it_.preconditioner().setFillfactor(o.ilut_fill);
+    it_.setTolerance(o.rtol);
+    it_.setMaxIterations(o.max_iterations);
+    it_.compute(A);  // keeps a reference to A: the caller's matrix outlives the back-end
+    seconds_setup = since(t0);
+    if (it_.info() != Eigen::Success) {
+      ready = false;
+      reason = "preconditioner_failed";
+      message = "incomplete LUT preconditioner failed";
+    }
+  }
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep) override {
+    if (x.size() == b.size()) x = it_.solveWithGuess(b, Eigen::VectorXd(x));
+    else x = it_.solve(b);
+    rep.iterations = static_cast<int>(it_.iterations());
+    rep.success = it_.info() == Eigen::Success;
+    rep.reason = rep.success ? "converged" : "not_converged";
+    if (monitor_) monitor_(rep.iterations, it_.error());  // Eigen reports only the final estimate
+    if (!rep.success)
+      rep.message = detail::concat("BiCGSTAB did not converge in ", it_.iterations(), " iterations (estimated error ",
+                                   it_.error(), ")");
+  }
+
+ private:
+  Eigen::BiCGSTAB<CsrMatrix, Eigen::IncompleteLUT<Real>> it_;
+  std::function<void(int, Real)> monitor_;
+};
 }  // namespace
 
-void solve_eigen(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o, SolveReport& rep) {
+std::unique_ptr<Backend> prepare_eigen(const CsrMatrix& A, const SolverOptions& o) {
   switch (o.type) {
     case SolverType::SparseLU:
-      direct<Eigen::SparseLU<Eigen::SparseMatrix<Real>, Eigen::COLAMDOrdering<int>>>(sys, x, rep);
-      return;
-    case SolverType::UmfPack:
-      direct<Eigen::UmfPackLU<Eigen::SparseMatrix<Real>>>(sys, x, rep);
-      return;
-    case SolverType::BiCGSTAB: {
-      const auto t0 = std::chrono::steady_clock::now();
-      Eigen::BiCGSTAB<CsrMatrix, Eigen::IncompleteLUT<Real>> it;
-      it.preconditioner().setDroptol(o.ilut_drop);
-      it.preconditioner().setFillfactor(o.ilut_fill);
-      it.setTolerance(o.rtol);
-      it.setMaxIterations(o.max_iterations);
-      it.compute(sys.A);
-      rep.seconds_setup = since(t0);
-      if (it.info() != Eigen::Success) {
-        rep.reason = "preconditioner_failed";
-        rep.message = "incomplete LUT preconditioner failed";
-        return;
-      }
-      x = it.solve(sys.b);
-      rep.iterations = static_cast<int>(it.iterations());
-      rep.success = it.info() == Eigen::Success;
-      rep.reason = rep.success ? "converged" : "not_converged";
-      if (o.monitor) o.monitor(rep.iterations, it.error());  // Eigen reports only the final estimate
-      if (!rep.success)
-        rep.message = detail::concat("BiCGSTAB did not converge in ", it.iterations(), " iterations (estimated error ",
-                                     it.error(), ")");
-      return;
-    }
+      return std::make_unique<DirectBackend<Eigen::SparseLU<Eigen::SparseMatrix<Real>, Eigen::COLAMDOrdering<int>>>>(
+          A, "sparselu");
+    case SolverType::UmfPack: return std::make_unique<DirectBackend<Eigen::UmfPackLU<Eigen::SparseMatrix<Real>>>>(A, "umfpack");
+    case SolverType::BiCGSTAB: return std::make_unique<BicgstabBackend>(A, o);
     default: throw ConfigError(detail::concat("solver ", to_string(o.type), " is not an Eigen solver"));
   }
 }

@@ -1,5 +1,5 @@
 // PETSc KSP + PC on the assembled compressed rows (no copy: PETSc's AIJ matrix uses our
-// arrays). PETSc is started on first use; its errors come back as return codes (no
+// arrays), set up once per matrix and reused for every right-hand side. PETSc is started on first use; its errors come back as return codes (no
 // traceback on stderr) and become typed exceptions that keep PETSc's own text: bad
 // options -> ConfigError, out of memory -> ResourceError, other failures -> NumericalError.
 // A KSP that stops without converging is a failed SolveReport, like every other back-end.
@@ -87,33 +87,16 @@ std::vector<std::string> option_names(const std::string& s) {
   return names;
 }
 
-// Everything PETSc allocated for one solve, destroyed in reverse order whatever happens.
-struct Session {
-  PetscOptions options = nullptr;
-  bool pushed = false;
-  Mat A = nullptr;
-  Vec b = nullptr, x = nullptr;
-  KSP ksp = nullptr;
-  ~Session() {
-    if (ksp) KSPDestroy(&ksp);
-    if (x) VecDestroy(&x);
-    if (b) VecDestroy(&b);
-    if (A) MatDestroy(&A);
-    if (pushed) PetscOptionsPop();
-    if (options) PetscOptionsDestroy(&options);
-  }
-};
-
 struct MonitorContext {
-  SolveReport* report;
-  const SolverOptions* options;
+  SolveReport* report = nullptr;  // the report of the solve under way
+  std::function<void(int, Real)> callback;
 };
 
 PetscErrorCode monitor(KSP, PetscInt it, PetscReal rnorm, void* ctx) {
   auto* m = static_cast<MonitorContext*>(ctx);
   try {  // no C++ exception may cross PETSc's C frames: it becomes a PETSc error code
-    m->report->residual_history.push_back(rnorm);
-    if (m->options->monitor) m->options->monitor(static_cast<int>(it), rnorm);
+    if (m->report) m->report->residual_history.push_back(rnorm);
+    if (m->callback) m->callback(static_cast<int>(it), rnorm);
   } catch (...) {
     return PETSC_ERR_USER;
   }
@@ -124,111 +107,163 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The options database of one back-end on PETSc's stack for the duration of a call: the
+// KSP reads its options at set-up and some (viewers, -ksp_converged_reason) at each solve.
+class PushedOptions {
+ public:
+  explicit PushedOptions(PetscOptions o) { call(PetscOptionsPush(o), "options"); }
+  ~PushedOptions() { PetscOptionsPop(); }
+  PushedOptions(const PushedOptions&) = delete;
+  PushedOptions& operator=(const PushedOptions&) = delete;
+};
+
+// One matrix set up: the KSP with its preconditioner, kept for every right-hand side.
+// Everything PETSc allocated is destroyed in reverse order whatever happens.
+class PetscBackend final : public Backend {
+ public:
+  PetscBackend(const CsrMatrix& A, const SolverOptions& o) {
+    const std::lock_guard<std::mutex> lock(petsc_mutex);
+    start_petsc();
+    // Options: vrsph's defaults, then PETSC_OPTIONS, then the caller's (later ones win), in
+    // a database of this back-end's own so that one solver's options never leak into the next.
+    const char* env = std::getenv("PETSC_OPTIONS");
+    const std::string from_env = env ? env : "";
+    call(PetscOptionsCreate(&options_), "options");
+    call(PetscOptionsInsertString(options_, default_petsc_options(o.dimension).c_str()), "default options");
+    call(PetscOptionsInsertString(options_, from_env.c_str()), "options from PETSC_OPTIONS", Blame::Options);
+    call(PetscOptionsInsertString(options_, o.petsc_options.c_str()), "options '" + o.petsc_options + "'",
+         Blame::Options);
+    const PushedOptions pushed(options_);
+
+    m_ = static_cast<PetscInt>(A.rows());
+    static_assert(sizeof(PetscInt) == sizeof(Index) && sizeof(PetscScalar) == sizeof(Real),
+                  "PETSc's index and scalar types must match vrsph's for the no-copy matrix");
+    auto& Am = const_cast<CsrMatrix&>(A);  // PETSc only reads the arrays (the matrix is never modified)
+    // Rows divided by their diagonal: Laplacian rows (negative diagonal) and flux rows of
+    // Neumann particles (positive diagonal, one power of h smaller) then look alike to the
+    // AMG. Without it, mixed problems took 196 iterations at 4 10^5 unknowns and 810 at 10^6
+    // instead of ~20. The index arrays are shared; only the values are copied.
+    Real* a_values = Am.valuePtr();
+    if (o.scale_rows) {
+      scaled_.assign(Am.valuePtr(), Am.valuePtr() + Am.nonZeros());
+      row_scale_.assign(static_cast<std::size_t>(m_), 1.0);
+#pragma omp parallel for schedule(static)
+      for (Index d = 0; d < m_; ++d) {
+        Real diagonal = 0;
+        for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k)
+          if (Am.innerIndexPtr()[k] == d) diagonal = Am.valuePtr()[k];
+        if (diagonal == 0 || !std::isfinite(diagonal)) continue;
+        row_scale_[static_cast<std::size_t>(d)] = 1 / diagonal;
+        for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k) scaled_[static_cast<std::size_t>(k)] /= diagonal;
+      }
+      a_values = scaled_.data();
+    }
+    call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m_, m_, Am.outerIndexPtr(), Am.innerIndexPtr(), a_values, &A_),
+         "matrix");
+    call(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSP");
+    call(KSPSetOperators(ksp_, A_, A_), "KSP");
+    call(KSPSetTolerances(ksp_, o.rtol, PETSC_DEFAULT, PETSC_DEFAULT, o.max_iterations), "KSP");
+    monitor_.callback = o.monitor;
+    call(KSPMonitorSet(ksp_, monitor, &monitor_, nullptr), "KSP");
+    call(KSPSetFromOptions(ksp_), "options", Blame::Options);
+
+    PetscReal rtol = 0, abstol = 0, dtol = 0;
+    PetscInt max_it = 0;
+    call(KSPGetTolerances(ksp_, &rtol, &abstol, &dtol, &max_it), "KSP");
+    if (!(rtol > 0 && rtol < 1) || max_it < 1)
+      throw ConfigError(concat("PETSc options give the relative tolerance ", rtol, " and iteration cap ", max_it,
+                               ": the tolerance must be in (0, 1) and the cap at least 1"));
+
+    KSPType ksp_type = nullptr;
+    PCType pc_type = nullptr;
+    PC pc = nullptr;
+    call(KSPGetType(ksp_, &ksp_type), "KSP");
+    call(KSPGetPC(ksp_, &pc), "PC");
+    call(PCGetType(pc, &pc_type), "PC");
+    name = concat("petsc ", ksp_type ? ksp_type : "?", "+", pc_type ? pc_type : "?");
+    takes_guess_ = !(ksp_type && std::string(ksp_type) == KSPPREONLY);  // preonly refuses an initial guess
+    if (pc_type && std::string(pc_type) == PCHYPRE) {
+      const char* hypre = nullptr;
+      call(PCHYPREGetType(pc, &hypre), "PC");
+      name += concat("(", hypre ? hypre : "?", ")");
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    call(KSPSetUp(ksp_), concat("preconditioner set-up (", name, ")"));
+    seconds_setup = since(t0);
+
+    // Options the caller gave that no object read: a misspelt name or one that does not
+    // apply to the chosen KSP/PC would otherwise be ignored in silence.
+    PetscInt left = 0;
+    char **names = nullptr, **values = nullptr;
+    if (PetscOptionsLeftGet(options_, &left, &names, &values) == 0) {
+      // Only the caller's: PETSC_OPTIONS also feeds PETSc's start-up (-log_view, -malloc_debug...).
+      const std::vector<std::string> given = option_names(o.petsc_options);
+      for (PetscInt k = 0; k < left; ++k) {
+        const std::string option = to_lower(names[k]);
+        if (std::find(given.begin(), given.end(), option) != given.end())
+          warnings.push_back(concat("PETSc option -", option, " was given but not used (misspelt, or it does not "
+                                    "apply to ", name, ")"));
+      }
+      PetscOptionsLeftRestore(options_, &left, &names, &values);
+    }
+  }
+
+  ~PetscBackend() override {
+    const std::lock_guard<std::mutex> lock(petsc_mutex);
+    if (ksp_) KSPDestroy(&ksp_);
+    if (A_) MatDestroy(&A_);
+    if (options_) PetscOptionsDestroy(&options_);
+  }
+
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep) override {
+    const std::lock_guard<std::mutex> lock(petsc_mutex);
+    const PushedOptions pushed(options_);
+    if (x.size() != m_) x = Eigen::VectorXd::Zero(m_);
+    Eigen::VectorXd rhs = b;
+    if (!row_scale_.empty())
+      for (Index d = 0; d < m_; ++d) rhs[d] *= row_scale_[static_cast<std::size_t>(d)];
+    Vec bv = nullptr, xv = nullptr;
+    struct Vectors {  // destroyed on every path, exceptions included
+      Vec* b;
+      Vec* x;
+      ~Vectors() {
+        if (*x) VecDestroy(x);
+        if (*b) VecDestroy(b);
+      }
+    } guard{&bv, &xv};
+    call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m_, rhs.data(), &bv), "vector");
+    call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m_, x.data(), &xv), "vector");
+    // The caller's x as the initial guess (a time step's previous solution); zero: PETSc's default.
+    call(KSPSetInitialGuessNonzero(ksp_, takes_guess_ && !x.isZero(0) ? PETSC_TRUE : PETSC_FALSE), "KSP");
+    monitor_.report = &rep;
+    const PetscErrorCode code = KSPSolve(ksp_, bv, xv);
+    monitor_.report = nullptr;
+    call(code, concat("solve (", name, ")"));
+    KSPConvergedReason converged;
+    PetscInt its = 0;
+    call(KSPGetConvergedReason(ksp_, &converged), "KSP");
+    call(KSPGetIterationNumber(ksp_, &its), "KSP");
+    rep.iterations = static_cast<int>(its);
+    rep.reason = to_lower(KSPConvergedReasons[converged]);
+    rep.success = converged > 0;
+    if (!rep.success)
+      rep.message = concat(name, " stopped without converging: ", rep.reason, " after ", its, " iterations");
+  }
+
+ private:
+  PetscInt m_ = 0;
+  bool takes_guess_ = true;
+  PetscOptions options_ = nullptr;
+  Mat A_ = nullptr;
+  KSP ksp_ = nullptr;
+  std::vector<Real> scaled_, row_scale_;
+  MonitorContext monitor_;
+};
+
 }  // namespace
 
-void solve_petsc(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o, SolveReport& rep) {
-  const std::lock_guard<std::mutex> lock(petsc_mutex);
-  start_petsc();
-  Session s;
-  // Options: vrsph's defaults, then PETSC_OPTIONS, then the caller's (later ones win), in
-  // a database of this solve's own so that one solve's options never leak into the next.
-  const char* env = std::getenv("PETSC_OPTIONS");
-  const std::string from_env = env ? env : "";
-  call(PetscOptionsCreate(&s.options), "options");
-  call(PetscOptionsInsertString(s.options, default_petsc_options(o.dimension).c_str()), "default options");
-  call(PetscOptionsInsertString(s.options, from_env.c_str()), "options from PETSC_OPTIONS", Blame::Options);
-  call(PetscOptionsInsertString(s.options, o.petsc_options.c_str()), "options '" + o.petsc_options + "'",
-       Blame::Options);
-  call(PetscOptionsPush(s.options), "options");
-  s.pushed = true;
-
-  const auto m = static_cast<PetscInt>(sys.size());
-  static_assert(sizeof(PetscInt) == sizeof(Index) && sizeof(PetscScalar) == sizeof(Real),
-                "PETSc's index and scalar types must match vrsph's for the no-copy matrix");
-  auto& A = const_cast<CsrMatrix&>(sys.A);  // PETSc only reads the arrays (the matrix is never modified)
-  // Rows divided by their diagonal: Laplacian rows (negative diagonal) and flux rows of
-  // Neumann particles (positive diagonal, one power of h smaller) then look alike to the
-  // AMG. Without it, mixed problems took 196 iterations at 4 10^5 unknowns and 810 at 10^6
-  // instead of ~20. The index arrays are shared; only the values are copied.
-  std::vector<Real> scaled;
-  Eigen::VectorXd rhs;
-  Real* a_values = A.valuePtr();
-  const Real* b_values = sys.b.data();
-  if (o.scale_rows) {
-    scaled.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
-    rhs = sys.b;
-#pragma omp parallel for schedule(static)
-    for (Index d = 0; d < m; ++d) {
-      Real diagonal = 0;
-      for (Index k = A.outerIndexPtr()[d]; k < A.outerIndexPtr()[d + 1]; ++k)
-        if (A.innerIndexPtr()[k] == d) diagonal = A.valuePtr()[k];
-      if (diagonal == 0 || !std::isfinite(diagonal)) continue;
-      for (Index k = A.outerIndexPtr()[d]; k < A.outerIndexPtr()[d + 1]; ++k) scaled[static_cast<std::size_t>(k)] /= diagonal;
-      rhs[d] /= diagonal;
-    }
-    a_values = scaled.data();
-    b_values = rhs.data();
-  }
-  call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m, m, A.outerIndexPtr(), A.innerIndexPtr(), a_values, &s.A),
-       "matrix");
-  call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m, b_values, &s.b), "vector");
-  call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m, x.data(), &s.x), "vector");
-  call(KSPCreate(PETSC_COMM_SELF, &s.ksp), "KSP");
-  call(KSPSetOperators(s.ksp, s.A, s.A), "KSP");
-  call(KSPSetTolerances(s.ksp, o.rtol, PETSC_DEFAULT, PETSC_DEFAULT, o.max_iterations), "KSP");
-  MonitorContext ctx{&rep, &o};
-  call(KSPMonitorSet(s.ksp, monitor, &ctx, nullptr), "KSP");
-  call(KSPSetFromOptions(s.ksp), "options", Blame::Options);
-
-  PetscReal rtol = 0, abstol = 0, dtol = 0;
-  PetscInt max_it = 0;
-  call(KSPGetTolerances(s.ksp, &rtol, &abstol, &dtol, &max_it), "KSP");
-  if (!(rtol > 0 && rtol < 1) || max_it < 1)
-    throw ConfigError(concat("PETSc options give the relative tolerance ", rtol, " and iteration cap ", max_it,
-                             ": the tolerance must be in (0, 1) and the cap at least 1"));
-
-  KSPType ksp_type = nullptr;
-  PCType pc_type = nullptr;
-  PC pc = nullptr;
-  call(KSPGetType(s.ksp, &ksp_type), "KSP");
-  call(KSPGetPC(s.ksp, &pc), "PC");
-  call(PCGetType(pc, &pc_type), "PC");
-  rep.solver = concat("petsc ", ksp_type ? ksp_type : "?", "+", pc_type ? pc_type : "?");
-  if (pc_type && std::string(pc_type) == PCHYPRE) {
-    const char* hypre = nullptr;
-    call(PCHYPREGetType(pc, &hypre), "PC");
-    rep.solver += concat("(", hypre ? hypre : "?", ")");
-  }
-
-  const auto t0 = std::chrono::steady_clock::now();
-  call(KSPSetUp(s.ksp), concat("preconditioner set-up (", rep.solver, ")"));
-  rep.seconds_setup = since(t0);
-  call(KSPSolve(s.ksp, s.b, s.x), concat("solve (", rep.solver, ")"));
-  KSPConvergedReason reason;
-  PetscInt its = 0;
-  call(KSPGetConvergedReason(s.ksp, &reason), "KSP");
-  call(KSPGetIterationNumber(s.ksp, &its), "KSP");
-  rep.iterations = static_cast<int>(its);
-  rep.reason = to_lower(KSPConvergedReasons[reason]);
-  rep.success = reason > 0;
-  if (!rep.success)
-    rep.message = concat(rep.solver, " stopped without converging: ", rep.reason, " after ", its, " iterations");
-
-  // Options the caller gave that no object read: a misspelt name or one that does not
-  // apply to the chosen KSP/PC would otherwise be ignored in silence.
-  PetscInt left = 0;
-  char **names = nullptr, **values = nullptr;
-  if (PetscOptionsLeftGet(s.options, &left, &names, &values) == 0) {
-    // Only the caller's: PETSC_OPTIONS also feeds PETSc's start-up (-log_view, -malloc_debug...).
-    const std::vector<std::string> given = option_names(o.petsc_options);
-    for (PetscInt k = 0; k < left; ++k) {
-      const std::string name = to_lower(names[k]);
-      if (std::find(given.begin(), given.end(), name) != given.end())
-        rep.warnings.push_back(concat("PETSc option -", name, " was given but not used (misspelt, or it does not apply "
-                                      "to ", rep.solver, ")"));
-    }
-    PetscOptionsLeftRestore(s.options, &left, &names, &values);
-  }
+std::unique_ptr<Backend> prepare_petsc(const CsrMatrix& A, const SolverOptions& o) {
+  return std::make_unique<PetscBackend>(A, o);
 }
 
 }  // namespace detail

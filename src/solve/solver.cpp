@@ -53,15 +53,31 @@ double direct_solver_bytes(const CsrMatrix& A, int dimension) {
 }
 
 namespace {
-// One back-end run of the resolved type, with the true residual checked.
-SolveReport solve_with(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o) {
+std::unique_ptr<detail::Backend> prepare(const CsrMatrix& A, const SolverOptions& o) {
+  if (o.type == SolverType::SparseLU || o.type == SolverType::UmfPack)
+    check_memory_estimate(direct_solver_bytes(A, o.dimension),
+                          detail::concat("the sparse LU factorisation (", to_string(o.type), ", ", A.rows(),
+                                         " unknowns, ", A.nonZeros(), " nonzeros)"),
+                          "use an iterative solver (--solver petsc), or fewer particles");
+  return o.type == SolverType::Petsc ? detail::prepare_petsc(A, o) : detail::prepare_eigen(A, o);
+}
+
+// One solve with a prepared back-end, with the true residual checked.
+SolveReport solve_prepared(detail::Backend& backend, const CsrMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                           const SolverOptions& o) {
   SolveReport rep;
-  rep.solver = to_string(o.type);
-  x = Eigen::VectorXd::Zero(sys.size());
-  if (o.type == SolverType::Petsc) detail::solve_petsc(sys, x, o, rep);
-  else detail::solve_eigen(sys, x, o, rep);
-  const Real bnorm = sys.b.norm();
-  rep.residual = (sys.b - sys.A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
+  rep.solver = backend.name;
+  rep.warnings = backend.warnings;
+  rep.seconds_setup = backend.seconds_setup;
+  if (!backend.ready) {
+    rep.reason = backend.reason;
+    rep.message = backend.message;
+    x = Eigen::VectorXd::Zero(A.rows());
+    return rep;
+  }
+  backend.solve(b, x, rep);
+  const Real bnorm = b.norm();
+  rep.residual = (b - A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
   if (rep.success && !(std::isfinite(rep.residual) && rep.residual < std::max(1e-6, 100 * o.rtol))) {
     rep.success = false;
     rep.message = detail::concat("true relative residual ", rep.residual, " too large");
@@ -69,19 +85,26 @@ SolveReport solve_with(const LinearSystem& sys, Eigen::VectorXd& x, const Solver
   return rep;
 }
 
+// One back-end run of the resolved type from a zero initial guess.
+SolveReport solve_with(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o) {
+  const auto backend = prepare(sys.A, o);
+  x = Eigen::VectorXd::Zero(sys.size());
+  return solve_prepared(*backend, sys.A, sys.b, x, o);
+}
+
+SolverOptions resolved(const SolverOptions& options, Index unknowns) {
+  check<ConfigError>(options.rtol > 0 && options.max_iterations > 0, "solver tolerance and iteration cap must be positive");
+  SolverOptions o = options;
+  o.dimension = detail::assumed_dimension(o.dimension);
+  if (o.type == SolverType::Auto) o.type = resolve_auto(unknowns, o.dimension, o.auto_direct_max);
+  return o;
+}
+
 constexpr int auto_iteration_cap = 500;
 }  // namespace
 
 SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& options) {
-  check<ConfigError>(options.rtol > 0 && options.max_iterations > 0, "solver tolerance and iteration cap must be positive");
-  SolverOptions o = options;
-  o.dimension = detail::assumed_dimension(o.dimension);
-  if (o.type == SolverType::Auto) o.type = resolve_auto(sys.size(), o.dimension, o.auto_direct_max);
-  if (o.type == SolverType::SparseLU || o.type == SolverType::UmfPack)
-    check_memory_estimate(direct_solver_bytes(sys.A, o.dimension),
-                          detail::concat("the sparse LU factorisation (", to_string(o.type), ", ", sys.A.rows(),
-                                         " unknowns, ", sys.A.nonZeros(), " nonzeros)"),
-                          "use an iterative solver (--solver petsc), or fewer particles");
+  SolverOptions o = resolved(options, sys.size());
   const auto t0 = std::chrono::steady_clock::now();
   const bool automatic = options.type == SolverType::Auto;
   // auto gives AMG a bounded number of iterations: the defaults are tuned for M-matrices
@@ -113,5 +136,30 @@ SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptio
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }
+
+PreparedSolver::PreparedSolver(const CsrMatrix& A, const SolverOptions& options)
+    : A_(A), options_(resolved(options, static_cast<Index>(A.rows()))) {
+  check<InputError>(A_.rows() == A_.cols(), "solver: the matrix is ", A_.rows(), " x ", A_.cols(), ", not square");
+  backend_ = prepare(A_, options_);
+  if (options.type == SolverType::Auto) backend_->name = "auto: " + backend_->name;
+  if (!backend_->ready)
+    throw NumericalError(detail::concat("solver ", backend_->name, " could not be set up: ", backend_->message));
+}
+
+PreparedSolver::~PreparedSolver() = default;
+PreparedSolver::PreparedSolver(PreparedSolver&&) noexcept = default;
+PreparedSolver& PreparedSolver::operator=(PreparedSolver&&) noexcept = default;
+
+SolveReport PreparedSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  check<InputError>(b.size() == A_.rows(), "solver: right-hand side of size ", b.size(), " for ", A_.rows(), " unknowns");
+  check<InputError>(b.allFinite(), "solver: the right-hand side is not finite");
+  const auto t0 = std::chrono::steady_clock::now();
+  SolveReport rep = solve_prepared(*backend_, A_, b, x, options_);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
+const std::string& PreparedSolver::solver() const { return backend_->name; }
+double PreparedSolver::seconds_setup() const { return backend_->seconds_setup; }
 
 }  // namespace vrsph

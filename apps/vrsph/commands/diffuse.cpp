@@ -17,7 +17,7 @@ namespace vrsph::cli {
 namespace {
 struct DiffuseArgs {
   std::string problem = "spe-plate", methods = "m-sph", scheme = "explicit", nu, report_times, history, vtu_series,
-              kernel = "cubic-spe";
+              kernel = "cubic-spe", solver = "auto", petsc_options;
   std::vector<std::string> method_opts;
   double dx = 0.1, f = 1.001, dt = 0, t_end = 10, nu_limit = 0.25;
   bool allow_unstable = false;
@@ -66,6 +66,11 @@ void add_diffuse_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--method", a->methods, "Method (div-a-grad stencil)")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "Method option key=value (repeatable)");
+  cmd->add_option("--solver", a->solver,
+                  "Implicit schemes: solver of I - theta dt L, set up once and reused at every step: auto (direct when "
+                  "small, else petsc), petsc (GMRES + BoomerAMG), umfpack, sparselu, bicgstab")
+      ->capture_default_str();
+  cmd->add_option("--petsc-options", a->petsc_options, "PETSc options for --solver petsc/auto");
   cmd->add_option("--scheme", a->scheme, "explicit (Euler), implicit (backward Euler) or cn (Crank-Nicolson)")
       ->capture_default_str();
   cmd->add_option("--nu", a->nu, "Comma-separated stability numbers nu = dt/(Re l^2), one run each ([SPE] Table 1: "
@@ -97,6 +102,11 @@ void add_diffuse_command(CLI::App& app) {
     o.h_factor = 2 * a->f;
     o.spacing = a->dx;
     o.scheme = parse_time_scheme(a->scheme);
+    o.solver.type = parse_solver(a->solver);
+    o.solver.petsc_options = a->petsc_options;
+    for (const char* opt : {"--solver", "--petsc-options"})
+      check<ConfigError>(o.scheme != TimeScheme::Explicit || cmd->count(opt) == 0, opt,
+                         " applies to --scheme implicit or cn (the explicit scheme solves nothing)");
     o.t_end = a->t_end;
     o.nu_limit = a->nu_limit;
     o.allow_unstable = a->allow_unstable;
@@ -115,7 +125,8 @@ void add_diffuse_command(CLI::App& app) {
     for (double nu : nus) check<ConfigError>(nu > 0, "--nu must be positive, got ", nu);
     const bool paper_columns = o.scheme == TimeScheme::Explicit && std::abs(a->dx - 0.1) < 1e-12;
     Table t;
-    t.columns = {"scheme", "nu", "dt", "t", "error_inf", "log10_error", "paper_log10_error", "steps", "seconds"};
+    t.columns = {"scheme", "nu", "dt", "t", "error_inf", "log10_error", "paper_log10_error", "steps", "particles",
+                 "seconds", "seconds_setup", "seconds_factorisation", "seconds_per_step", "solver", "solver_iterations"};
     std::string history;
     Progress progress;
     for (std::size_t run = 0; run < nus.size(); ++run) {
@@ -151,7 +162,10 @@ void add_diffuse_command(CLI::App& app) {
                    {"log10_error", e > 0 ? std::log10(e) : std::nan("")},
                    {"paper_log10_error", published ? table1[static_cast<std::size_t>(row)][static_cast<std::size_t>(column)]
                                                    : std::nan("")},
-                   {"steps", static_cast<long long>(r.steps)}, {"seconds", r.seconds}});
+                   {"steps", static_cast<long long>(r.steps)}, {"particles", static_cast<long long>(r.particles)},
+                   {"seconds", r.seconds}, {"seconds_setup", r.seconds_setup},
+                   {"seconds_factorisation", r.seconds_factorisation}, {"seconds_per_step", r.seconds_per_step},
+                   {"solver", r.solver}, {"solver_iterations", r.solver_iterations}});
       }
     }
     if (!a->history.empty())

@@ -7,7 +7,9 @@
 //   implicit  (I - Δt L) u^{n+1} = u^n + Δt s^{n+1}                    (backward Euler, 1st order)
 //   cn        (I - Δt/2 L) u^{n+1} = (I + Δt/2 L) u^n + Δt/2 (s^n + s^{n+1})  (Crank–Nicolson, 2nd order)
 // where the Dirichlet neighbours enter L u with their values at the time of the term. The
-// implicit matrices are factorised once (sparse LU) and reused at every step.
+// implicit matrix is set up once (a PreparedSolver: sparse LU for small systems, PETSc
+// GMRES + BoomerAMG for large ones under `auto`) and reused at every step, the previous
+// step being the initial guess of an iterative solver.
 //
 // Stability number ν = Δt max(a) / ℓ_min² (METHODS §3.7.9: Δt/(Re h̃²_min), ℓ the kernel's
 // smoothing length, the support over the kernel's support-per-smoothing-length ratio). The
@@ -20,6 +22,7 @@
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/solve/solver.hpp>
 
 namespace vrsph {
 
@@ -51,6 +54,7 @@ struct DiffusionOptions {
   Real t_end = 1;
   Real nu_limit = 0.25;
   bool allow_unstable = false;
+  SolverOptions solver;    ///< implicit schemes (auto: direct when small, else PETSc AMG)
   std::vector<Real> report_times;  ///< errors reported at these times (cubic interpolation between steps)
   /// Called at the start and after every step with (t, u at every particle).
   std::function<void(Real, const Field&)> on_step;
@@ -66,7 +70,13 @@ struct DiffusionResult {
   std::vector<Real> report_error;  ///< at DiffusionOptions::report_times
   bool diverged = false;        ///< the solution stopped being finite (an unstable explicit run)
   std::vector<std::string> warnings;
-  double seconds = 0;
+  Index particles = 0;
+  double seconds = 0;               ///< the whole run (with the error evaluations)
+  double seconds_setup = 0;         ///< neighbours, stencil, assembly and the factorisation
+  std::string solver;               ///< implicit schemes: what solves I - θ Δt L
+  long long solver_iterations = 0;  ///< summed over the steps (1 per step for a direct solver)
+  double seconds_factorisation = 0; ///< implicit schemes: the set-up of I - θ Δt L (LU or AMG), done once
+  double seconds_per_step = 0;      ///< one time step (right-hand side, solve, boundary values)
 };
 
 /// Throws ConfigError (dt <= 0, t_end <= 0, an unstable explicit step without allow_unstable,

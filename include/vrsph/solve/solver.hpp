@@ -14,6 +14,7 @@
 // - sparselu (Eigen), umfpack (SuiteSparse): direct; memory grows like the LU fill-in.
 // - bicgstab: Eigen BiCGSTAB + incomplete LUT, the embedded fallback without PETSc.
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 #include <vrsph/assembly/assemble.hpp>
@@ -82,5 +83,35 @@ struct SolveReport {
 };
 
 SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& options = {});
+
+namespace detail {
+class Backend;
+}
+
+/// A solver set up once for one matrix and reused for many right-hand sides (implicit time
+/// stepping, parameter sweeps): the constructor factorises (direct solvers) or builds the
+/// preconditioner (PETSc, BiCGSTAB); solve() then costs a back-substitution or the Krylov
+/// iterations only. Keeps its own copy of the matrix. `auto` picks by size as solve() does,
+/// without solve()'s fallback to a direct solver (a failed solve is a failed report).
+/// Throws like solve(): ConfigError (options), ResourceError (a factorisation beyond the
+/// memory limit), NumericalError (a failed factorisation or PETSc set-up).
+class PreparedSolver {
+ public:
+  PreparedSolver(const CsrMatrix& A, const SolverOptions& options = {});
+  ~PreparedSolver();
+  PreparedSolver(PreparedSolver&&) noexcept;
+  PreparedSolver& operator=(PreparedSolver&&) noexcept;
+  /// x: on entry the initial guess of iterative solvers (size 0: zero), on exit the solution.
+  /// The report's seconds are this solve's; seconds_setup is the one-time set-up.
+  SolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  const std::string& solver() const;  ///< what runs: "umfpack", "petsc gmres+hypre(boomeramg)", ...
+  double seconds_setup() const;
+  Index size() const { return static_cast<Index>(A_.rows()); }
+
+ private:
+  CsrMatrix A_;
+  SolverOptions options_;
+  std::unique_ptr<detail::Backend> backend_;
+};
 
 }  // namespace vrsph

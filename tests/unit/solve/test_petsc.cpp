@@ -200,3 +200,53 @@ TEST(Petsc, AutoFallsBackToTheDirectSolverWhenAmgDoesNotConverge) {
   // Asked for PETSc explicitly, the same failure is reported, not replaced.
   EXPECT_FALSE(run(s.sys, x_auto, "-ksp_max_it 1").success);
 }
+
+// PreparedSolver: set up once, then any number of right-hand sides, each solved as well as
+// the one-shot solve() does; an iterative solver started from the solution stops at once.
+TEST(PreparedSolver, ManyRightHandSidesForEverySolver) {
+  const System s(24);
+  Eigen::VectorXd reference;
+  SolverOptions direct;
+  direct.type = SolverType::UmfPack;
+  ASSERT_TRUE(solve(s.sys, reference, direct).success);
+  for (SolverType type : {SolverType::UmfPack, SolverType::SparseLU, SolverType::BiCGSTAB, SolverType::Petsc}) {
+    SolverOptions o;
+    o.type = type;
+    o.dimension = 2;
+    const PreparedSolver solver(s.sys.A, o);
+    EXPECT_EQ(solver.size(), s.sys.size());
+    EXPECT_NE(solver.solver().find(to_string(type)), std::string::npos) << solver.solver();
+    for (Real scale : {1.0, -2.5, 1e-3}) {
+      Eigen::VectorXd x;
+      const SolveReport rep = solver.solve(scale * s.sys.b, x);
+      ASSERT_TRUE(rep.success) << solver.solver() << ": " << rep.message;
+      EXPECT_LT(rep.residual, 1e-8) << solver.solver();
+      EXPECT_LT((x - scale * reference).norm(), 1e-6 * std::abs(scale) * reference.norm()) << solver.solver();
+    }
+    if (type == SolverType::Petsc) {
+      Eigen::VectorXd x = reference;  // the answer as the initial guess: no iteration needed
+      const SolveReport rep = solver.solve(s.sys.b, x);
+      EXPECT_TRUE(rep.success);
+      EXPECT_LE(rep.iterations, 1);
+    }
+  }
+  SolverOptions automatic;
+  automatic.dimension = 2;
+  EXPECT_EQ(PreparedSolver(s.sys.A, automatic).solver(), "auto: umfpack");
+}
+
+TEST(PreparedSolver, BadRightHandSidesAndMatricesAreNamed) {
+  const System s(10);
+  const PreparedSolver solver(s.sys.A);
+  Eigen::VectorXd x;
+  EXPECT_THROW_MSG(solver.solve(Eigen::VectorXd::Ones(3), x), InputError, "right-hand side of size 3");
+  Eigen::VectorXd b = s.sys.b;
+  b[0] = std::nan("");
+  EXPECT_THROW_MSG(solver.solve(b, x), InputError, "not finite");
+  const CsrMatrix rect(3, 4);
+  EXPECT_THROW_MSG(PreparedSolver p(rect), InputError, "not square");
+  SolverOptions bad;
+  bad.type = SolverType::Petsc;
+  bad.petsc_options = "-ksp_type no_such_ksp";
+  EXPECT_THROW(PreparedSolver p(s.sys.A, bad), ConfigError);
+}
