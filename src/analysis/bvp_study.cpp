@@ -113,21 +113,6 @@ std::vector<std::string> neumann_faces(const BvpStudyParams& p) {
   return {};
 }
 
-// Face k*2 + side of the box; "all" selects every face.
-std::array<bool, 6> parse_faces(const std::vector<std::string>& faces, int dim) {
-  std::array<bool, 6> on{};
-  for (const auto& f : faces) {
-    if (f == "all") {
-      for (int k = 0; k < 2 * dim; ++k) on[static_cast<std::size_t>(k)] = true;
-      continue;
-    }
-    const bool ok = f.size() == 2 && f[0] >= 'x' && f[0] <= 'z' && (f[1] == '0' || f[1] == '1') && f[0] - 'x' < dim;
-    check<ConfigError>(ok, "unknown Neumann face '", f, "' (known: x0, x1", dim > 1 ? ", y0, y1" : "",
-                       dim > 2 ? ", z0, z1" : "", ", all)");
-    on[static_cast<std::size_t>(2 * (f[0] - 'x') + (f[1] - '0'))] = true;
-  }
-  return on;
-}
 
 }  // namespace
 
@@ -152,7 +137,7 @@ void validate_params(const BvpStudyParams& p) {
     (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   (void)problem_functions(p);  // parse expressions now
-  (void)parse_faces(neumann_faces(p), p.dim);
+  (void)parse_box_faces(neumann_faces(p), p.dim);
   check<ConfigError>(p.cloud != CloudFamily::Disk || neumann_faces(p).empty() || neumann_faces(p) == std::vector<std::string>{"all"},
                      "on the disk cloud the only Neumann face is 'all'");
   if (!p.q.empty()) (void)Expression(p.q);
@@ -227,7 +212,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     reset_peak_resident_memory();
   }
   StudyCloud sc = make_study_cloud(spec);
-  run.neumann_particles = retag_neumann_faces(sc.cloud, parse_faces(neumann_faces(p), p.dim), sc.dx);
+  run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(neumann_faces(p), p.dim), sc.dx);
   BoundaryValueProblem bvp;
   bvp.cloud = std::move(sc.cloud);
   const PointCloud& cloud = bvp.cloud;

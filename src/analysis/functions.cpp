@@ -153,11 +153,11 @@ std::unique_ptr<ScalarFunction> make_function(const std::string& name, int dim) 
 // ---- muParser expressions ----
 struct Expression::Impl {
   std::string text;
-  mutable double x = 0, y = 0, z = 0;
+  mutable double x = 0, y = 0, z = 0, t = 0;
   mu::Parser parser;
 };
 
-Expression::Expression(const std::string& text) : impl_(std::make_unique<Impl>()) {
+Expression::Expression(const std::string& text, bool with_time) : impl_(std::make_unique<Impl>()) {
   impl_->text = text;
   check<InputError>(!text.empty(), "empty expression");
   try {
@@ -165,6 +165,7 @@ Expression::Expression(const std::string& text) : impl_(std::make_unique<Impl>()
     p.DefineVar("x", &impl_->x);
     p.DefineVar("y", &impl_->y);
     p.DefineVar("z", &impl_->z);
+    if (with_time) p.DefineVar("t", &impl_->t);
     p.DefineConst("pi", std::numbers::pi);
     p.DefineConst("e", std::numbers::e);
     p.SetExpr(text);
@@ -176,6 +177,11 @@ Expression::Expression(const std::string& text) : impl_(std::make_unique<Impl>()
 Expression::~Expression() = default;
 Expression::Expression(Expression&&) noexcept = default;
 const std::string& Expression::text() const { return impl_->text; }
+
+Real Expression::operator()(const Vec3& x, Real t) const {
+  impl_->t = t;
+  return (*this)(x);
+}
 
 Real Expression::operator()(const Vec3& x) const {
   impl_->x = x[0];

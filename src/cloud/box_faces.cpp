@@ -1,8 +1,24 @@
 #include <algorithm>
 #include <cmath>
 #include <vrsph/cloud/box_faces.hpp>
+#include <vrsph/core/error.hpp>
 
 namespace vrsph {
+
+std::array<bool, 6> parse_box_faces(const std::vector<std::string>& faces, int dim) {
+  std::array<bool, 6> on{};
+  for (const auto& f : faces) {
+    if (f == "all") {
+      for (int k = 0; k < 2 * dim; ++k) on[static_cast<std::size_t>(k)] = true;
+      continue;
+    }
+    const bool ok = f.size() == 2 && f[0] >= 'x' && f[0] <= 'z' && (f[1] == '0' || f[1] == '1') && f[0] - 'x' < dim;
+    check<ConfigError>(ok, "unknown Neumann face '", f, "' (known: x0, x1", dim > 1 ? ", y0, y1" : "",
+                       dim > 2 ? ", z0, z1" : "", ", all)");
+    on[static_cast<std::size_t>(2 * (f[0] - 'x') + (f[1] - '0'))] = true;
+  }
+  return on;
+}
 
 Index retag_neumann_faces(PointCloud& cloud, const std::array<bool, 6>& on, Real dx) {
   if (std::none_of(on.begin(), on.end(), [](bool b) { return b; })) return 0;

@@ -432,6 +432,19 @@ class SpeFamily(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("--allow-unstable", p.stderr)
 
+    def test_diffuse_custom_problem_with_time_dependent_neumann_data(self):
+        j = run_json("diffuse", "--u", "1 + x + 2*y + 0.5*t - 0.25*t*x", "--neumann", "x1,y1", "--scheme", "cn",
+                     "--nu", "4", "--t-end", "0.4", "--n", "12", "--cloud", "perturbed")
+        self.assertEqual(j["problem"], "custom")
+        self.assertGreater(j["neumann_particles"], 0)
+        self.assertEqual([r["t"] for r in j["rows"]], [0.4])  # t_end reported when below 1
+        self.assertLess(j["rows"][0]["error_inf"], 1e-9)     # linear in space and time: exact
+        p = run("diffuse", "--u", "1 + x + 2*y + 0.5*t", "--neumann", "x1,y1", "--scheme", "implicit", "--dt", "0.005",
+                "--t-end", "0.5", "--n", "20", "--method", "fpm", "--method-opt", "gradient_order=2", "--kernel", "cubic",
+                "--h-factor", "1.5", check=False)
+        self.assertEqual(p.returncode, 5)  # a growing mode is detected, not written as a result
+        self.assertIn("grew beyond 1e8 times its data", p.stderr)
+
     def test_mobility_consistent_and_paper(self):
         base = ["study", "--u", "x*x+3*y*y", "--mobility", "1,2+x", "--method", "m-sph", "--n", "10,20",
                 "--kernel", "cubic-spe"]

@@ -4,11 +4,15 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <vrsph/analysis/spe_problems.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/cloud/box_faces.hpp>
 #include <vrsph/problem/diffusion.hpp>
+#include <vrsph/problem/diffusion_from_expressions.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 
@@ -18,6 +22,11 @@ namespace {
 struct DiffuseArgs {
   std::string problem = "spe-plate", methods = "m-sph", scheme = "explicit", nu, report_times, history, vtu_series,
               kernel = "cubic-spe", solver = "auto", petsc_options;
+  // --problem custom: [0,1]^d, n intervals, expressions in x, y, z, t.
+  std::string u, coef, mobility, s, g, q, u0, neumann, cloud = "uniform";
+  int dim = 2, n = 20;
+  double delta = 0.5;
+  std::uint64_t seed = 1;
   std::vector<std::string> method_opts;
   double dx = 0.1, f = 1.001, dt = 0, t_end = 10, nu_limit = 0.25;
   bool allow_unstable = false;
@@ -58,11 +67,52 @@ class VtuSeries {
 };
 }  // namespace
 
+DiffusionProblem custom_problem(const DiffuseArgs& a) {
+  check<ConfigError>(a.dim >= 1 && a.dim <= 3, "--dim must be 1, 2 or 3, got ", a.dim);
+  check<ConfigError>(a.n >= 2 && a.n <= 100000, "--n must be in 2..100000, got ", a.n);
+  CloudSpec spec;
+  spec.family = parse_cloud_family(a.cloud);
+  check<ConfigError>(spec.family == CloudFamily::Uniform || spec.family == CloudFamily::Perturbed,
+                     "--cloud for diffuse is uniform or perturbed, got ", a.cloud);
+  spec.box = Domain::unit_box(a.dim);
+  spec.n = a.n;
+  spec.delta = a.delta;
+  spec.seed = a.seed;
+  check_study_settings(a.dim, 1, a.delta, 0);
+  StudyCloud sc = make_study_cloud(spec);
+  if (!a.neumann.empty()) retag_neumann_faces(sc.cloud, parse_box_faces(parse_name_list(a.neumann, "--neumann"), a.dim), sc.dx);
+  DiffusionExpressions e;
+  e.u = a.u;
+  e.a = a.coef;
+  if (!a.mobility.empty()) e.mobility = parse_expression_list(a.mobility, "--mobility");
+  e.s = a.s;
+  e.g = a.g;
+  e.q = a.q;
+  e.u0 = a.u0;
+  return diffusion_from_expressions(std::move(sc.cloud), e);
+}
+
 void add_diffuse_command(CLI::App& app) {
   auto a = std::make_shared<DiffuseArgs>();
   auto* cmd = app.add_subcommand("diffuse", "Time-dependent diffusion du/dt = div(a grad u) + s: [SPE] plate flow "
                                             "(Table 1) with explicit, implicit or Crank-Nicolson steps");
-  cmd->add_option("--problem", a->problem, "spe-plate ([SPE] §4.4: start-up channel flow on [0,2]x[-1,1], Re = 1)")
+  cmd->add_option("--problem", a->problem, "spe-plate ([SPE] §4.4: start-up channel flow on [0,2]x[-1,1], Re = 1) or "
+                                           "custom ([0,1]^d, --u/--a/--s/--g/--q expressions in x, y, z, t); --u implies custom")
+      ->capture_default_str();
+  const std::string custom = "Custom problem (--problem custom)";
+  cmd->add_option("--u", a->u, "Exact solution u(x,y,z,t): s, g, q and u0 default from it")->group(custom);
+  cmd->add_option("--a", a->coef, "Coefficient a(x,y,z) > 0 (default 1)")->group(custom);
+  cmd->add_option("--mobility", a->mobility, "Diagonal mobility m1,m2[,m3] instead of --a")->group(custom);
+  cmd->add_option("--s", a->s, "Source s(x,y,z,t) (default du/dt - div(a grad u))")->group(custom);
+  cmd->add_option("--g", a->g, "Dirichlet data g(x,y,z,t) (default u)")->group(custom);
+  cmd->add_option("--q", a->q, "Neumann data q = n.a grad u (x,y,z,t) (default from u)")->group(custom);
+  cmd->add_option("--u0", a->u0, "Initial values u0(x,y,z) (default u at t = 0)")->group(custom);
+  cmd->add_option("--neumann", a->neumann, "Neumann faces x0,x1,y0,y1,z0,z1 or all (default none)")->group(custom);
+  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3")->group(custom)->capture_default_str();
+  cmd->add_option("--n", a->n, "Intervals per direction of [0,1]^d (layout A, dx = 1/n)")->group(custom)->capture_default_str();
+  cmd->add_option("--cloud", a->cloud, "uniform or perturbed")->group(custom)->capture_default_str();
+  cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx")->group(custom)->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->group(custom)->check(seed_validator())
       ->capture_default_str();
   cmd->add_option("--method", a->methods, "Method (div-a-grad stencil)")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "Method option key=value (repeatable)");
@@ -89,18 +139,27 @@ void add_diffuse_command(CLI::App& app) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot log10 of the error against time per nu (PNG)");
-  cmd->callback([a, cmd] {
+  cmd->callback([a, cmd, custom] {
     validate_output(a->out);
-    check<ConfigError>(a->problem == "spe-plate", "unknown diffusion problem '", a->problem, "' (known: spe-plate)");
+    if (!a->u.empty() && cmd->count("--problem") == 0) a->problem = "custom";
+    check<ConfigError>(a->problem == "spe-plate" || a->problem == "custom", "unknown diffusion problem '", a->problem,
+                       "' (known: spe-plate, custom)");
     check<ConfigError>(!(cmd->count("--dt") && cmd->count("--nu")), "give --dt or --nu, not both");
     check<ConfigError>(std::isfinite(a->f) && a->f > 0, "--h-factor must be positive and finite, got ", a->f);
-    DiffusionProblem problem = spe_plate_problem(a->dx);
+    const bool is_custom = a->problem == "custom";
+    for (const auto* opt : cmd->get_options())
+      check<ConfigError>(is_custom || opt->get_group() != custom || opt->count() == 0, opt->get_name(),
+                         " applies to --problem custom only");
+    check<ConfigError>(!is_custom || cmd->count("--dx") == 0, "--dx does not apply to --problem custom (dx = 1/--n)");
+    DiffusionProblem problem = is_custom ? custom_problem(*a) : spe_plate_problem(a->dx);
+    const Real dx = is_custom ? 1.0 / a->n : a->dx;
+    const Real a_max = problem.mobility.size() ? problem.mobility.maxCoeff() : problem.a.size() ? problem.a.maxCoeff() : 1.0;
     DiffusionOptions o;
     o.method = a->methods;
     o.method_options = options_for(parse_method_options(a->method_opts, {a->methods}), a->methods);
     o.kernel = parse_kernel(a->kernel);
     o.h_factor = 2 * a->f;
-    o.spacing = a->dx;
+    o.spacing = dx;
     o.scheme = parse_time_scheme(a->scheme);
     o.solver.type = parse_solver(a->solver);
     o.solver.petsc_options = a->petsc_options;
@@ -112,25 +171,26 @@ void add_diffuse_command(CLI::App& app) {
     o.allow_unstable = a->allow_unstable;
     check<ConfigError>(std::isfinite(a->t_end) && a->t_end > 0 && a->t_end <= 1e6, "--t-end must be in (0, 1e6], got ",
                        a->t_end);
-    if (a->report_times.empty())
+    if (a->report_times.empty()) {  // 1, 2, ... up to t_end, and t_end itself
       for (int k = 1; k <= static_cast<int>(std::floor(a->t_end + 1e-9)); ++k) o.report_times.push_back(k);
-    else
+      if (o.report_times.empty() || std::abs(o.report_times.back() - a->t_end) > 1e-9) o.report_times.push_back(a->t_end);
+    } else
       o.report_times = parse_real_list(a->report_times, "--report-times");
-    const Real ell = a->f * a->dx;  // a = 1/Re = 1
+    const Real ell = a->f * dx;  // smoothing length; ν = Δt max(a) / ℓ² (plate: a = 1/Re = 1)
     std::vector<double> nus = a->nu.empty() ? std::vector<double>{0.2} : parse_real_list(a->nu, "--nu");
     if (cmd->count("--dt")) {
       check<ConfigError>(std::isfinite(a->dt) && a->dt > 0, "--dt must be positive and finite, got ", a->dt);
-      nus = {a->dt / (ell * ell)};
+      nus = {a->dt * a_max / (ell * ell)};
     }
     for (double nu : nus) check<ConfigError>(nu > 0, "--nu must be positive, got ", nu);
-    const bool paper_columns = o.scheme == TimeScheme::Explicit && std::abs(a->dx - 0.1) < 1e-12;
+    const bool paper_columns = !is_custom && o.scheme == TimeScheme::Explicit && std::abs(a->dx - 0.1) < 1e-12;
     Table t;
     t.columns = {"scheme", "nu", "dt", "t", "error_inf", "log10_error", "paper_log10_error", "steps", "particles",
                  "seconds", "seconds_setup", "seconds_factorisation", "seconds_per_step", "solver", "solver_iterations"};
     std::string history;
     Progress progress;
     for (std::size_t run = 0; run < nus.size(); ++run) {
-      o.dt = nus[run] * ell * ell;
+      o.dt = nus[run] * ell * ell / a_max;
       std::unique_ptr<VtuSeries> series;
       if (!a->vtu_series.empty() && run == 0) series = std::make_unique<VtuSeries>(a->vtu_series, problem.cloud);
       std::size_t next_report = 0;
@@ -139,14 +199,17 @@ void add_diffuse_command(CLI::App& app) {
         // The first step at or after each report time (and t = 0).
         if (time == 0 || (next_report < o.report_times.size() && time >= o.report_times[next_report] - 1e-12)) {
           Field ex(u.size());
-          for (Index i = 0; i < u.size(); ++i) ex[i] = problem.exact(problem.cloud.positions[static_cast<std::size_t>(i)], time);
-          series->write(time, u, &ex);
+          if (problem.exact)
+            for (Index i = 0; i < u.size(); ++i) ex[i] = problem.exact(problem.cloud.positions[static_cast<std::size_t>(i)], time);
+          series->write(time, u, problem.exact ? &ex : nullptr);
           if (time > 0) ++next_report;
         }
       };
       o.progress = [&](double f) { progress.update(detail::concat("nu = ", nus[run]), (static_cast<double>(run) + f) / static_cast<double>(nus.size())); };
       const DiffusionResult r = diffuse(problem, o);
       if (series) series->finish();
+      // A run that diverged is a result only for a stability study that asked for it.
+      if (r.diverged && !a->allow_unstable) throw NumericalError(r.warnings.back());
       for (const auto& w : r.warnings) std::cerr << "vrsph: warning: " << w << '\n';
       for (std::size_t k = 0; k < r.times.size(); ++k) history += detail::concat(nus[run], ",", r.times[k], ",", r.error_inf[k], "\n");
       const auto& table1 = spe_plate_table1();
@@ -170,7 +233,12 @@ void add_diffuse_command(CLI::App& app) {
     }
     if (!a->history.empty())
       write_file(a->history, "error history", [&](std::ostream& f) { f << "nu,t,error_inf\n" << history; });
-    emit(t, a->out, "{\"problem\":\"spe-plate\"}", "t", "log10_error", "nu", "plate flow, " + a->scheme, false);
+    nlohmann::json meta;
+    meta["problem"] = a->problem;
+    meta["particles"] = problem.cloud.size();
+    meta["neumann_particles"] = problem.cloud.count(Tag::Neumann);
+    if (is_custom) meta["u"] = a->u;
+    emit(t, a->out, meta.dump(), "t", "log10_error", "nu", (is_custom ? "custom, " : "plate flow, ") + a->scheme, false);
   });
 }
 

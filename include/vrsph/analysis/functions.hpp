@@ -49,10 +49,13 @@ std::unique_ptr<ScalarFunction> make_function_or_expression(const std::string& s
 class Expression {
  public:
   /// Throws InputError naming the expression and muParser's message if it does not parse.
-  Expression(const std::string& text);
+  /// with_time: the expression may also use t (time-dependent data).
+  Expression(const std::string& text, bool with_time = false);
   ~Expression();
   Expression(Expression&&) noexcept;
   Real operator()(const Vec3& x) const;
+  /// At time t (for an expression made with_time; others do not depend on t).
+  Real operator()(const Vec3& x, Real t) const;
   const std::string& text() const;
 
  private:

@@ -15,7 +15,9 @@
 // smoothing length, the support over the kernel's support-per-smoothing-length ratio). The
 // explicit scheme refuses ν above `nu_limit` (default 0.25, the bound [SPE] Table 1 reports)
 // unless allow_unstable, which runs it anyway with a warning (the stability study).
-// Neumann particles are not supported yet (flux rows make the explicit scheme a DAE).
+// Neumann particles carry the flux row n·M (G u) = q(x, t) of the method's gradient G at
+// every time (as in the steady solve): implicit schemes solve it with the step, the
+// explicit one solves the Neumann block after each step.
 #include <functional>
 #include <string>
 #include <vector>
@@ -38,7 +40,8 @@ struct DiffusionProblem {
   Field a;                   ///< coefficient > 0 at every particle (empty: 1)
   Eigen::MatrixXd mobility;  ///< or a diagonal mobility (N x dim)
   SpaceTimeFunction source;    ///< s(x, t) (empty: 0)
-  SpaceTimeFunction boundary;  ///< g(x, t) at Dirichlet particles (required)
+  SpaceTimeFunction boundary;  ///< g(x, t) at Dirichlet particles (required with Dirichlet particles)
+  SpaceTimeFunction flux;      ///< q(x, t) = n·M grad u at Neumann particles (required with Neumann particles)
   Field u0;                    ///< initial values at every particle
   SpaceTimeFunction exact;     ///< optional: errors against it
 };
@@ -66,7 +69,7 @@ struct DiffusionResult {
   Index steps = 0;
   Real dt = 0, nu = 0, smoothing_length_min = 0;
   std::vector<Real> times;      ///< t_0 = 0, t_1, ... (with an exact solution)
-  std::vector<Real> error_inf;  ///< max over the interior particles of |u - exact| at each time
+  std::vector<Real> error_inf;  ///< max over the unknowns (interior, Neumann) of |u - exact| at each time
   std::vector<Real> report_error;  ///< at DiffusionOptions::report_times
   bool diverged = false;        ///< the solution stopped being finite (an unstable explicit run)
   std::vector<std::string> warnings;
@@ -80,7 +83,7 @@ struct DiffusionResult {
 };
 
 /// Throws ConfigError (dt <= 0, t_end <= 0, an unstable explicit step without allow_unstable,
-/// Neumann particles), InputError (sizes, data that are not finite), NumericalError (a failed
+/// a method without a gradient for Neumann rows), InputError (sizes, data that are not finite), NumericalError (a failed
 /// factorisation).
 DiffusionResult diffuse(const DiffusionProblem& problem, const DiffusionOptions& options);
 
