@@ -156,6 +156,8 @@ py::dict study(const py::dict& k) {
   p.regular_layer = k["regular_layer"].cast<double>();
   p.kernel = given("kernel") ? parse_kernel(k["kernel"].cast<std::string>()) : def.kernel;
   if (given("neumann")) p.neumann = k["neumann"].cast<std::vector<std::string>>();
+  if (given("robin")) p.robin = k["robin"].cast<std::vector<std::string>>();
+  p.beta = text(k, "beta");
   p.q = text(k, "q");
   p.fix_constant = k["fix_constant"].cast<bool>();
   p.solver = to_solver(k["solver"].cast<std::string>(), k["petsc_options"].cast<std::string>());

@@ -111,3 +111,9 @@ def test_spe_schemes_with_a_diagonal_mobility_and_the_spe_problems(cli, tmp_path
     for a, b in zip(rows, cli_rows):
         assert a["dof"] == b["dof"] and a["error_rel"] == pytest.approx(b["error_rel"], rel=1e-12)
     assert rows[0]["error_rel"] == pytest.approx(4.1e-3, rel=0.05)  # METHODS R15
+
+
+def test_study_robin_faces_exact_on_linears():
+    rows = vrsph.study(u="1 + x + 2*y", methods=["fpm"], method_options={"fpm": {"gradient_order": 2}}, n=[10],
+                       robin=["all"], beta="1 + x*y")
+    assert rows[0]["error_inf"] < 1e-9

@@ -196,7 +196,8 @@ def study(problem: str | None = None, methods: Sequence[str] = ("vrsph",), cloud
           g: str | None = None, q: str | None = None, fix_constant: bool = False, solver: str = "auto",
           petsc_options: str = "", perturb_boundary: bool = False, regular_layer: float = 0.0,
           mobility: Sequence[str] | None = None, layout: str | None = None,
-          on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> list[dict]:
+          on_infeasible: str = "warn", infeasible_tol: float = 1e-6, robin: Sequence[str] | None = None,
+          beta: str | None = None) -> list[dict]:
     """A convergence study as ``vrsph study`` runs it (same defaults, same numbers): one row
     per (method, n) with the fields of the CLI's JSON (``error_inf``, ``order_inf``,
     ``mmatrix``, ``solver_iterations``, ...), the mean over ``seeds`` for random clouds.
@@ -213,7 +214,8 @@ def study_report(problem: str | None = None, methods: Sequence[str] = ("vrsph",)
                  f: str | None = None, g: str | None = None, q: str | None = None, fix_constant: bool = False,
                  solver: str = "auto", petsc_options: str = "", perturb_boundary: bool = False,
                  regular_layer: float = 0.0, mobility: Sequence[str] | None = None, layout: str | None = None,
-                 on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> dict:
+                 on_infeasible: str = "warn", infeasible_tol: float = 1e-6, robin: Sequence[str] | None = None,
+                 beta: str | None = None) -> dict:
     """:func:`study` with the metadata: ``{"rows": [...], "fitted_order_inf": {...}, "warnings": [...], ...}``."""
     params = dict(locals())
     if isinstance(params["methods"], str):
@@ -224,6 +226,8 @@ def study_report(problem: str | None = None, methods: Sequence[str] = ("vrsph",)
     params["method_options"] = {m: dict(o) for m, o in (method_options or {}).items()}
     if neumann is not None:
         params["neumann"] = [neumann] if isinstance(neumann, str) else list(neumann)
+    if robin is not None:
+        params["robin"] = [robin] if isinstance(robin, str) else list(robin)
     if mobility is not None:
         params["mobility"] = [mobility] if isinstance(mobility, str) else [str(m) for m in mobility]
     return _vrsph._study(params)

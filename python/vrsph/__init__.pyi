@@ -89,7 +89,8 @@ def study(problem: str | None = None, methods: Sequence[str] = ..., cloud: str =
           g: str | None = None, q: str | None = None, fix_constant: bool = False, solver: str = "auto",
           petsc_options: str = "", perturb_boundary: bool = False, regular_layer: float = 0.0,
           mobility: Sequence[str] | None = None, layout: str | None = None,
-          on_infeasible: str = "warn", infeasible_tol: float = 1e-6) -> list[dict[str, Any]]: ...
+          on_infeasible: str = "warn", infeasible_tol: float = 1e-6, robin: Sequence[str] | None = None,
+          beta: str | None = None) -> list[dict[str, Any]]: ...
 def study_report(**kwargs: Any) -> dict[str, Any]: ...
 def operator_study(problem: str = "qw-trunc", methods: Sequence[str] = ..., operator: str = "laplacian",
                    cloud: str = "uniform", n: Sequence[int] = ..., seed: int = 1, dim: int | None = None,

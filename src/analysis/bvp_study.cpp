@@ -113,6 +113,36 @@ std::vector<std::string> neumann_faces(const BvpStudyParams& p) {
   return {};
 }
 
+// Every face with a flux row: the Neumann and the Robin faces.
+std::vector<std::string> flux_faces(const BvpStudyParams& p) {
+  std::vector<std::string> faces = neumann_faces(p);
+  faces.insert(faces.end(), p.robin.begin(), p.robin.end());
+  return faces;
+}
+
+// β at every particle: the expression on the particles of a Robin face, 0 elsewhere.
+Field robin_coefficients(const BvpStudyParams& p, const PointCloud& cloud, Real dx) {
+  if (p.robin.empty()) return {};
+  const std::array<bool, 6> on = parse_box_faces(p.robin, p.dim);
+  const Expression beta(p.beta);
+  const Domain& box = cloud.domain;
+  Field b = Field::Zero(cloud.size());
+  for (Index i = 0; i < cloud.size(); ++i) {
+    if (cloud.tags[static_cast<std::size_t>(i)] != Tag::Neumann) continue;
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    bool robin = box.shape == Domain::Shape::Ball && on[0];
+    for (int k = 0; k < p.dim && box.shape == Domain::Shape::Box; ++k)
+      for (int side = 0; side < 2; ++side)
+        robin = robin || (on[static_cast<std::size_t>(2 * k + side)] && std::abs(x[k] - (side ? box.hi[k] : box.lo[k])) <= 1e-9 * dx);
+    if (!robin) continue;
+    b[i] = beta(x);
+    check<InputError>(std::isfinite(b[i]) && b[i] >= 0, "the Robin coefficient --beta '", p.beta, "' is ", b[i],
+                      " at (", x[0], ", ", x[1], ", ", x[2], "); it must be finite and >= 0 (a du/dn + beta u = q with "
+                      "the outward normal)");
+  }
+  return b;
+}
+
 
 }  // namespace
 
@@ -138,13 +168,21 @@ void validate_params(const BvpStudyParams& p) {
   }
   (void)problem_functions(p);  // parse expressions now
   (void)parse_box_faces(neumann_faces(p), p.dim);
-  check<ConfigError>(p.cloud != CloudFamily::Disk || neumann_faces(p).empty() || neumann_faces(p) == std::vector<std::string>{"all"},
-                     "on the disk cloud the only Neumann face is 'all'");
+  (void)parse_box_faces(p.robin, p.dim);
+  for (const auto& f : p.robin)
+    for (const auto& g : neumann_faces(p))
+      check<ConfigError>(f != g && f != "all" && g != "all", "face ", f == "all" ? g : f,
+                         " is both Neumann and Robin: give each face one condition");
+  check<ConfigError>(p.robin.empty() == p.beta.empty(), p.robin.empty() ? "--beta needs Robin faces (--robin FACES)"
+                                                                        : "--robin needs the coefficient --beta EXPR");
+  if (!p.beta.empty()) (void)Expression(p.beta);
+  check<ConfigError>(p.cloud != CloudFamily::Disk || flux_faces(p).empty() || flux_faces(p) == std::vector<std::string>{"all"},
+                     "on the disk cloud the only Neumann face is 'all' (and the only Robin face)");
   if (!p.q.empty()) (void)Expression(p.q);
-  check<ConfigError>(p.q.empty() || !neumann_faces(p).empty(),
+  check<ConfigError>(p.q.empty() || !flux_faces(p).empty(),
                      "--q gives Neumann data, but no face is Neumann: add --neumann FACES (or drop --q)");
   for (const auto& m : p.methods)
-    if (!neumann_faces(p).empty())
+    if (!flux_faces(p).empty())
       check<ConfigError>(builtin_methods().info(m).supports(OperatorKind::Gradient), "method ", m,
                          " has no gradient stencil for Neumann rows");
 }
@@ -212,7 +250,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     reset_peak_resident_memory();
   }
   StudyCloud sc = make_study_cloud(spec);
-  run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(neumann_faces(p), p.dim), sc.dx);
+  run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(flux_faces(p), p.dim), sc.dx);
   BoundaryValueProblem bvp;
   bvp.cloud = std::move(sc.cloud);
   const PointCloud& cloud = bvp.cloud;
@@ -240,12 +278,14 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   if (run.neumann_particles > 0) {
     bvp.q = Field::Zero(cloud.size());
     std::unique_ptr<Expression> q_expr = p.q.empty() ? nullptr : std::make_unique<Expression>(p.q);
+    bvp.robin = robin_coefficients(p, cloud, sc.dx);
     for (Index i = 0; i < cloud.size(); ++i) {
       if (cloud.tags[static_cast<std::size_t>(i)] != Tag::Neumann) continue;
       const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-      bvp.q[i] = q_expr ? (*q_expr)(x) : natural_flux(pf, x, cloud.normals[static_cast<std::size_t>(i)]);
+      bvp.q[i] = q_expr ? (*q_expr)(x) : natural_flux(pf, x, cloud.normals[static_cast<std::size_t>(i)]) +
+                                             (bvp.robin.size() ? bvp.robin[i] * exact[i] : 0.0);
     }
-    if (cloud.count(Tag::Dirichlet) == 0) check_neumann_compatibility(p, pf, cloud.domain);
+    if (cloud.count(Tag::Dirichlet) == 0 && p.robin.empty()) check_neumann_compatibility(p, pf, cloud.domain);
   }
   bvp.fix_constant = p.fix_constant;
   run.seconds_data = watch.seconds();
@@ -455,6 +495,10 @@ std::string metadata_json(const BvpStudyResult& r) {
   j["delta"] = p.delta;
   j["regular_layer"] = p.regular_layer;
   j["neumann_faces"] = neumann_faces(p);
+  if (!p.robin.empty()) {
+    j["robin_faces"] = p.robin;
+    j["beta"] = p.beta;
+  }
   if (!p.q.empty()) j["q"] = p.q;
   j["fix_constant"] = p.fix_constant;
   if (p.problem == "custom") {

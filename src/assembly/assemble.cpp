@@ -34,7 +34,15 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
                     g.size(), ") must all have ", n, " entries");
   LinearSystem sys;
   sys.dof_of_particle.assign(static_cast<std::size_t>(n), -1);
-  Index known_count = 0, neumann_count = 0;
+  Index known_count = 0, neumann_count = 0, robin_count = 0;
+  if (boundary && boundary->robin.size() > 0) {
+    check<InputError>(boundary->robin.size() == n, "Robin coefficients: ", boundary->robin.size(), " values for ", n,
+                      " particles");
+    for (Index i = 0; i < n; ++i)
+      check<InputError>(std::isfinite(boundary->robin[i]) && boundary->robin[i] >= 0, "Robin coefficient beta = ",
+                        boundary->robin[i], " at particle ", i, " must be finite and >= 0 (a du/dn + beta u = q with "
+                        "the outward normal; beta < 0 makes the problem ill-posed)");
+  }
   const Index pinned = boundary ? boundary->pinned : -1;
   check<InputError>(pinned < n && (pinned < 0 || unknown[static_cast<std::size_t>(pinned)]), "pinned particle ", pinned,
                     " is not an unknown particle");
@@ -50,6 +58,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
         check<InputError>(cloud.has_normals() && cloud.normals[si].norm() > 0, "Neumann particle ", i,
                           " has no outward normal (a flux condition needs one)");
         check<InputError>(boundary->q.size() == n && std::isfinite(boundary->q[i]), "Neumann data q missing or not finite at particle ", i);
+        if (boundary->robin.size() > 0 && boundary->robin[i] != 0) ++robin_count;
       }
       sys.dof_of_particle[si] = static_cast<Index>(sys.particle_of_dof.size());
       sys.particle_of_dof.push_back(i);
@@ -59,7 +68,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     }
   }
   check<InputError>(!sys.particle_of_dof.empty(), "the problem has no unknown (interior) particle");
-  check<InputError>(known_count > 0 || pinned >= 0,
+  check<InputError>(known_count > 0 || pinned >= 0 || robin_count > 0,
                     neumann_count > 0 ? "only Neumann data and no Dirichlet particle: the solution is determined only up to "
                                         "a constant (singular system); fix the constant (--fix-constant, or BoundaryValueProblem::pinned)"
                                       : "the cloud has no Dirichlet particle: the problem is singular");
@@ -89,6 +98,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     Real w = 0;
     for (int c = 0; c < cloud.dim; ++c)
       w += (M ? (*M)(static_cast<Index>(si), c) : scale) * cloud.normals[si][c] * R.values[static_cast<std::size_t>(c)][sk];
+    if (R.col[sk] == static_cast<Index>(si) && boundary->robin.size() > 0) w += boundary->robin[static_cast<Index>(si)];
     return w;
   };
 
@@ -135,6 +145,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     const bool flux = cloud.tags[si] == Tag::Neumann;
     const Stencil& R = row_of(d);
     Real rhs = flux ? boundary->q[i] : f[i];
+    if (flux && boundary->robin.size() > 0 && boundary->robin[i] > 0) anchored[static_cast<std::size_t>(d)] = 1;
     for (Index k = R.row_begin(i); k < R.row_end(i); ++k) {
       const Index j = R.col[static_cast<std::size_t>(k)];
       const Real lij = weight(d, R, k);

@@ -104,6 +104,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   check_field(p.a, n, "a", false);
   check_field(p.f, n, "f", true);
   check_field(p.g, n, "g", true);
+  check_field(p.robin, n, "robin", false);
   check<ConfigError>(std::isfinite(o.infeasible_tolerance) && o.infeasible_tolerance > 0,
                      "infeasible tolerance must be positive and finite, got ", o.infeasible_tolerance);
   check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "support radius h must be >= 0 (0: from the h-factor), got ", o.h);
@@ -240,6 +241,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     bc.coefficient = tensor ? nullptr : &a;
     bc.mobility = tensor ? &p.mobility : nullptr;
     bc.q = p.q;
+    bc.robin = p.robin;
   }
   bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(cloud, interior) : -1;
   LinearSystem sys = assemble(L, cloud, unknown, p.f, p.g, &bc);
@@ -267,7 +269,8 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                                         "mobility or data near the floating-point range? rescale the problem"));
   s.u = expand(sys, x);
   if (o.keep_matrices) s.system = std::move(sys);
-  if (s.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0) check_neumann_balance(cloud, p.f, p.q, s.spacing, s);
+  const bool robin = p.robin.size() > 0 && p.robin.maxCoeff() > 0;
+  if (s.neumann_particles > 0 && cloud.count(Tag::Dirichlet) == 0 && !robin) check_neumann_balance(cloud, p.f, p.q, s.spacing, s);
   return s;
 }
 

@@ -445,6 +445,14 @@ class SpeFamily(unittest.TestCase):
         self.assertEqual(p.returncode, 5)  # a growing mode is detected, not written as a result
         self.assertIn("grew beyond 1e8 times its data", p.stderr)
 
+    def test_robin_faces_for_every_method(self):
+        j = run_json("study", "--u", "1 + x + 2*y", "--robin", "x1,y1", "--beta", "1 + x", "--method", "m-sph,fpm",
+                     "--method-opt", "fpm:gradient_order=2", "--n", "10")
+        self.assertEqual(j["robin_faces"], ["x1", "y1"])
+        self.assertEqual(j["beta"], "1 + x")
+        for r in j["rows"]:
+            self.assertLess(r["error_inf"], 1e-9, r["method"])
+
     def test_mobility_consistent_and_paper(self):
         base = ["study", "--u", "x*x+3*y*y", "--mobility", "1,2+x", "--method", "m-sph", "--n", "10,20",
                 "--kernel", "cubic-spe"]

@@ -50,6 +50,10 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
                   "Comma-separated Neumann faces x0,x1,y0,y1,z0,z1 or all (flux rows a du/dn = q from the method's own "
                   "gradient; default: the problem's, none for qw-ex5)");
   cmd->add_option("--q", a.q, "Neumann data a du/dn as an expression (default: from the exact solution u)");
+  cmd->add_option("--robin", a.robin,
+                  "Comma-separated Robin faces x0,x1,y0,y1,z0,z1 or all: flux rows a du/dn + beta u = q from the "
+                  "method's own gradient (q default: from u); needs --beta");
+  cmd->add_option("--beta", a.beta, "Robin coefficient beta(x,y,z) >= 0 (expression) on the --robin faces");
   cmd->add_flag("--fix-constant", a.fix_constant,
                 "Pin the unknown nearest the centre to g (needed when every boundary face is Neumann)");
   cmd->add_option("--solver", a.solver,
@@ -96,6 +100,8 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.regular_layer = a.regular_layer;
   p.kernel = a.kernel_opt->count() ? parse_kernel(a.kernel) : def.kernel;
   if (!a.neumann.empty()) p.neumann = parse_name_list(a.neumann, "--neumann");
+  if (!a.robin.empty()) p.robin = parse_name_list(a.robin, "--robin");
+  p.beta = a.beta;
   p.q = a.q;
   p.fix_constant = a.fix_constant;
   p.solver = solver_options(a);

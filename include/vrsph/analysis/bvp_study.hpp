@@ -61,6 +61,10 @@ struct BvpStudyParams {
   Layout layout = Layout::Vertex;    ///< layout A (vertex lattice) or B (cell centres + boundary particles)
   std::vector<std::string> neumann;  ///< Neumann faces (empty: the problem's default)
   std::string q;                     ///< Neumann data a ∂u/∂n (expression; default from u)
+  /// Robin faces: flux rows a ∂u/∂n + β u = q with β = `beta` (expression >= 0); q defaults
+  /// to a ∂u/∂n + β u of the exact solution. A face is Neumann or Robin, not both.
+  std::vector<std::string> robin;
+  std::string beta;
   bool fix_constant = false;         ///< pin the unknown nearest the centre to g (pure Neumann problems)
   InfeasiblePolicy on_infeasible = InfeasiblePolicy::Warn;
   Real infeasible_tolerance = 1e-6;  ///< local residual / |b| above this = infeasible

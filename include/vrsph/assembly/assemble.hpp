@@ -8,7 +8,8 @@
 // The diagonal L_ii already contains the weights of boundary neighbours (difference
 // form).
 //
-// Neumann particles (Tag::Neumann, unknown) get the flux row a_i n_i · (G u)_i = q_i built
+// Neumann particles (Tag::Neumann, unknown) get the flux row a_i n_i · (G u)_i = q_i (plus
+// β_i u_i with Robin data, BoundaryRows::robin) built
 // from the method's own gradient stencil G ([AAR] §4 / METHODS §4: "the method's own
 // first-derivative row"; [SPE](100) in 2D/3D), n_i the particle's outward normal. Known
 // neighbours of a flux row move to the right-hand side like any other. A problem without
@@ -41,6 +42,10 @@ struct BoundaryRows {
   /// Diagonal mobility (N x dim) instead of a: the flux row is n_i·M_i (G u)_i = q_i.
   const Eigen::MatrixXd* mobility = nullptr;
   Index pinned = -1;                  ///< unknown particle whose row becomes U = g (fixes a pure-Neumann constant)
+  /// Robin coefficient β >= 0 at every particle (empty: none): a Neumann particle's flux row
+  /// becomes a_i n_i·(G u)_i + β_i u_i = q_i. A row with β > 0 fixes the level of u, so
+  /// Robin data alone make the problem well-posed.
+  Field robin;
 };
 
 /// f: right-hand side at every particle (used at unknowns); g: values at every particle

@@ -42,6 +42,9 @@ struct BoundaryValueProblem {
   Field f;                 ///< right-hand side at every particle (read at interior particles)
   Field g;                 ///< Dirichlet values (read at Dirichlet particles and at the pinned one)
   Field q;                 ///< Neumann flux a ∂u/∂n (read at Neumann particles; empty if none)
+  /// Robin coefficient β >= 0 at every particle (empty: none): Neumann particles with β > 0
+  /// carry a ∂u/∂n + β u = q (q then includes β u).
+  Field robin;
   /// Only Neumann data: the solution is fixed up to a constant; pin this unknown to g
   /// (-1: none; fix_constant picks the interior particle nearest the centroid).
   Index pinned = -1;
