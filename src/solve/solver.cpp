@@ -138,9 +138,9 @@ SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptio
 }
 
 PreparedSolver::PreparedSolver(const CsrMatrix& A, const SolverOptions& options)
-    : A_(A), options_(resolved(options, static_cast<Index>(A.rows()))) {
-  check<InputError>(A_.rows() == A_.cols(), "solver: the matrix is ", A_.rows(), " x ", A_.cols(), ", not square");
-  backend_ = prepare(A_, options_);
+    : A_(std::make_unique<const CsrMatrix>(A)), options_(resolved(options, static_cast<Index>(A.rows()))) {
+  check<InputError>(A_->rows() == A_->cols(), "solver: the matrix is ", A_->rows(), " x ", A_->cols(), ", not square");
+  backend_ = prepare(*A_, options_);
   if (options.type == SolverType::Auto) backend_->name = "auto: " + backend_->name;
   if (!backend_->ready)
     throw NumericalError(detail::concat("solver ", backend_->name, " could not be set up: ", backend_->message));
@@ -151,10 +151,10 @@ PreparedSolver::PreparedSolver(PreparedSolver&&) noexcept = default;
 PreparedSolver& PreparedSolver::operator=(PreparedSolver&&) noexcept = default;
 
 SolveReport PreparedSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
-  check<InputError>(b.size() == A_.rows(), "solver: right-hand side of size ", b.size(), " for ", A_.rows(), " unknowns");
+  check<InputError>(b.size() == A_->rows(), "solver: right-hand side of size ", b.size(), " for ", A_->rows(), " unknowns");
   check<InputError>(b.allFinite(), "solver: the right-hand side is not finite");
   const auto t0 = std::chrono::steady_clock::now();
-  SolveReport rep = solve_prepared(*backend_, A_, b, x, options_);
+  SolveReport rep = solve_prepared(*backend_, *A_, b, x, options_);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

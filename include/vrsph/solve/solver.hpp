@@ -106,10 +106,12 @@ class PreparedSolver {
   SolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   const std::string& solver() const;  ///< what runs: "umfpack", "petsc gmres+hypre(boomeramg)", ...
   double seconds_setup() const;
-  Index size() const { return static_cast<Index>(A_.rows()); }
+  Index size() const { return static_cast<Index>(A_->rows()); }
 
  private:
-  CsrMatrix A_;
+  // On the heap: the back-end borrows the matrix (its arrays, or the object itself), so it
+  // must keep its address when the PreparedSolver is moved.
+  std::unique_ptr<const CsrMatrix> A_;
   SolverOptions options_;
   std::unique_ptr<detail::Backend> backend_;
 };

@@ -250,3 +250,18 @@ TEST(PreparedSolver, BadRightHandSidesAndMatricesAreNamed) {
   bad.petsc_options = "-ksp_type no_such_ksp";
   EXPECT_THROW(PreparedSolver p(s.sys.A, bad), ConfigError);
 }
+
+// The back-ends borrow the matrix: a moved PreparedSolver must still solve.
+TEST(PreparedSolver, StillSolvesAfterAMove) {
+  const System s(12);
+  for (SolverType type : {SolverType::BiCGSTAB, SolverType::Petsc, SolverType::UmfPack}) {
+    SolverOptions o;
+    o.type = type;
+    PreparedSolver first(s.sys.A, o);
+    const PreparedSolver moved(std::move(first));
+    Eigen::VectorXd x;
+    const SolveReport rep = moved.solve(s.sys.b, x);
+    EXPECT_TRUE(rep.success) << moved.solver() << ": " << rep.message;
+    EXPECT_LT(rep.residual, 1e-8) << moved.solver();
+  }
+}
