@@ -1,0 +1,110 @@
+#include <cmath>
+#include <vrsph/core/error.hpp>
+#include <vrsph/kernels/reference_weight.hpp>
+#include <vrsph/methods/gpm/gpm.hpp>
+#include <vrsph/methods/pair_mean.hpp>
+
+namespace vrsph {
+
+MethodInfo gpm_info() {
+  MethodInfo info{"gpm",
+                  "004_9e9d00b5a1203d0f.txt ([IM] (2)-(4), METHODS §3.8.1)",
+                  "generalized particle method: interpolant, gradient and Laplacian from the [IM] reference weights",
+                  "O(h^min(m-1, n+1)) interpolant and gradient, O(h^min(m-2, n+1)) Laplacian for a particle set regular "
+                  "of order m and a weight with Hypothesis 1 of order n ([IM] Thm 3)",
+                  {OperatorKind::Value, OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient,
+                   OperatorKind::Laplacian, OperatorKind::DivAGrad},
+                  {{"weight", "1 | 2 | 3: the weights pi<k>, grad<k>, delta<k> of [IM] §2.6 (default 2: SPH with the cubic "
+                              "spline)"},
+                   {"volume", "lattice (V_j = dx^d, default) | shepard (V_j = 1 / sum_k pi<k>_h(r_jk), self included)"},
+                   pair_mean_option()}};
+  return info;
+}
+
+namespace {
+
+class Gpm final : public Method {
+ public:
+  explicit Gpm(const MethodOptions& o)
+      : info_(gpm_info()),
+        family_(o.get_choice("weight", "2", {"1", "2", "3"})),
+        shepard_(o.get_choice("volume", "lattice", {"lattice", "shepard"}) == "shepard"),
+        mean_(read_pair_mean(o)) {}
+  const MethodInfo& info() const override { return info_; }
+
+  Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
+    check_request(info_, disc, req);
+    const auto& cloud = disc.cloud;
+    const int d = cloud.dim;
+    const ReferenceWeight value_w = reference_weight("pi" + family_, d);
+    const ReferenceWeight grad_w = reference_weight("grad" + family_, d);
+    const ReferenceWeight lap_w = reference_weight("delta" + family_, d);
+    const std::vector<Real> V = volumes(disc, value_w);
+    Stencil s = make_stencil_pattern(disc.neighbours, req.kind, d, info_.name);
+    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+#pragma omp parallel for schedule(dynamic, 256)
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (req.rows.empty() ? cloud.tags[si] == Tag::Ghost : !req.rows[si]) continue;
+      const Real h = disc.neighbours.radius(i);
+      const auto nbr = disc.neighbours.of(i);
+      const auto dist = disc.neighbours.distances_of(i);
+      for (std::size_t k = 0; k < nbr.size(); ++k) {
+        const auto j = static_cast<std::size_t>(nbr[k]);
+        const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
+        const Real r = dist[k];
+        switch (req.kind) {
+          case OperatorKind::Value: s.values[0][slot] = V[j] * value_w.value(r, h); break;
+          case OperatorKind::Laplacian: s.values[0][slot] = 2 * d * V[j] * lap_w.value(r, h) / (r * r); break;
+          case OperatorKind::DivAGrad: {
+            const Field& a = *req.coefficient;
+            s.values[0][slot] = d * V[j] * pair_sum(mean_, a[i], a[static_cast<Eigen::Index>(j)]) * lap_w.value(r, h) / (r * r);
+            break;
+          }
+          default: {
+            const Vec3 g = d * V[j] * grad_w.value(r, h) / (r * r) * (cloud.positions[j] - cloud.positions[si]);
+            if (req.kind == OperatorKind::Gradient)
+              for (int c = 0; c < d; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
+            else
+              s.values[0][slot] = g[axis];
+          }
+        }
+      }
+      if (req.kind == OperatorKind::Value)
+        s.values[0][static_cast<std::size_t>(s.diag[si])] = V[si] * value_w.value(0, h);
+    }
+    if (req.kind != OperatorKind::Value) set_difference_diagonal(s);
+    return s;
+  }
+
+ private:
+  std::vector<Real> volumes(const Discretisation& disc, const ReferenceWeight& w) const {
+    const Index n = disc.cloud.size();
+    if (!shepard_) {
+      check<InputError>(disc.spacing > 0, "gpm: lattice volumes dx^d need a positive particle spacing, got ", disc.spacing);
+      return std::vector<Real>(static_cast<std::size_t>(n), std::pow(disc.spacing, disc.cloud.dim));
+    }
+    std::vector<Real> v(static_cast<std::size_t>(n));
+#pragma omp parallel for schedule(static)
+    for (Index j = 0; j < n; ++j) {
+      const Real h = disc.neighbours.radius(j);
+      Real sum = w.value(0, h);
+      for (Real r : disc.neighbours.distances_of(j)) sum += w.value(r, h);
+      check<NumericalError>(sum > 0, "gpm: Shepard volume of particle ", j, " is not positive (weight pi", family_,
+                            " changes sign; use volume=lattice)");
+      v[static_cast<std::size_t>(j)] = 1 / sum;
+    }
+    return v;
+  }
+
+  MethodInfo info_;
+  std::string family_;
+  bool shepard_;
+  PairMean mean_;
+};
+
+}  // namespace
+
+std::unique_ptr<Method> make_gpm(const MethodOptions& options) { return std::make_unique<Gpm>(options); }
+
+}  // namespace vrsph

@@ -1,0 +1,80 @@
+// The generalized particle method of [IM]: with weight 2 (cubic spline) and lattice volumes it
+// is SPH to round-off ([IM] (57)-(60), issue 12 item 2), in 1D-3D and on perturbed particles;
+// weight 1 is monotone, weight 3 changes sign; constants are exact for every derivative.
+#include <cmath>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+struct Cloud {
+  PointCloud cloud;
+  NeighbourList nl;
+  explicit Cloud(int dim) {
+    cloud = cell_centred_lattice(Domain::symmetric_box(dim, 1), dim == 3 ? 8 : 14, false, 4);
+    perturb(cloud, {0.4, 5, false});
+    SearchParams sp;
+    sp.radius = 3 * cloud.spacing;
+    nl = find_neighbours(cloud, sp);
+  }
+  Stencil build(const std::string& method, OperatorKind k, const MethodOptions& o = {}, const Field* a = nullptr) const {
+    return builtin_methods().create(method, o)->build({cloud, nl, KernelType::CubicSpline, cloud.spacing}, {k, a});
+  }
+};
+}  // namespace
+
+TEST(Gpm, WeightTwoWithLatticeVolumesIsSph) {
+  for (int dim = 1; dim <= 3; ++dim) {
+    const Cloud c(dim);
+    const Field a = Field::LinSpaced(c.cloud.size(), 1, 3);
+    for (auto k : {OperatorKind::Value, OperatorKind::Gradient, OperatorKind::Laplacian, OperatorKind::DivAGrad, OperatorKind::Dy}) {
+      if (k == OperatorKind::Dy && dim < 2) continue;
+      const Stencil g = c.build("gpm", k, {}, &a), s = c.build("sph", k, {}, &a);
+      ASSERT_EQ(g.col, s.col);
+      for (std::size_t comp = 0; comp < g.values.size(); ++comp) {
+        Real scale = 0, diff = 0;
+        for (std::size_t e = 0; e < g.values[comp].size(); ++e) {
+          scale = std::max(scale, std::abs(s.values[comp][e]));
+          diff = std::max(diff, std::abs(g.values[comp][e] - s.values[comp][e]));
+        }
+        EXPECT_LT(diff, 1e-12 * scale) << dim << "D " << to_string(k) << " component " << comp;
+      }
+    }
+  }
+}
+
+TEST(Gpm, SignsAndConstantsForEveryWeight) {
+  const Cloud c(2);
+  const Field one = Field::Ones(c.cloud.size());
+  for (const char* weight : {"1", "2", "3"})
+    for (const char* volume : {"lattice", "shepard"}) {
+      if (std::string(weight) == "3" && std::string(volume) == "shepard") continue;  // pi3 changes sign
+      MethodOptions o;
+      o.set("weight", weight);
+      o.set("volume", volume);
+      const Stencil L = c.build("gpm", OperatorKind::Laplacian, o), G = c.build("gpm", OperatorKind::Gradient, o);
+      EXPECT_LT(apply(L, one).cwiseAbs().maxCoeff(), 1e-9) << weight << volume;  // difference form
+      EXPECT_LT(apply(G, one).cwiseAbs().maxCoeff(), 1e-9) << weight << volume;
+      Index negative = 0;
+      for (Index i = 0; i < c.cloud.size(); ++i)
+        for (Index e = L.row_begin(i); e < L.row_end(i); ++e)
+          if (L.col[static_cast<std::size_t>(e)] != i && L.values[0][static_cast<std::size_t>(e)] < 0) ++negative;
+      if (std::string(weight) == "3") {
+        EXPECT_GT(negative, 0);  // delta3 changes sign: no maximum principle
+      } else {
+        EXPECT_EQ(negative, 0) << weight << volume;
+      }
+    }
+  MethodOptions bad;
+  bad.set("weight", "4");
+  EXPECT_THROW(c.build("gpm", OperatorKind::Laplacian, bad), ConfigError);
+  MethodOptions shepard3;
+  shepard3.set("weight", "3");
+  shepard3.set("volume", "shepard");
+  EXPECT_NO_THROW(c.build("gpm", OperatorKind::Laplacian, shepard3));  // pi3's sum is positive on this cloud
+}
