@@ -237,6 +237,11 @@ std::map<std::string, MethodOptions> parse_method_options(const std::vector<std:
   return out;
 }
 
+void reject_group_options(const CLI::App& cmd, const std::string& group, const std::string& applies_to) {
+  for (const auto* o : cmd.get_options())
+    check<ConfigError>(o->get_group() != group || o->count() == 0, o->get_name(), " applies to ", applies_to, " only");
+}
+
 void reject_empty_values(const CLI::App& command) {
   for (const CLI::Option* opt : command.get_options())
     for (const std::string& value : opt->results())

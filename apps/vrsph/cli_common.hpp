@@ -22,6 +22,10 @@ struct OutputOptions {
   std::vector<std::string> key_columns;
 };
 
+/// Refuses the options of `group` that were given when they do not apply: "--x applies to
+/// <applies_to> only" (ConfigError), naming the first.
+void reject_group_options(const CLI::App& cmd, const std::string& group, const std::string& applies_to);
+
 /// Refuses a --columns list naming a column the table will not have (before a long run).
 void validate_columns(const OutputOptions& out, const std::vector<std::string>& available);
 /// Adds --columns to a command whose Markdown table shows key columns by default.

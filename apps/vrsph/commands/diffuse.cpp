@@ -147,9 +147,7 @@ void add_diffuse_command(CLI::App& app) {
     check<ConfigError>(!(cmd->count("--dt") && cmd->count("--nu")), "give --dt or --nu, not both");
     check<ConfigError>(std::isfinite(a->f) && a->f > 0, "--h-factor must be positive and finite, got ", a->f);
     const bool is_custom = a->problem == "custom";
-    for (const auto* opt : cmd->get_options())
-      check<ConfigError>(is_custom || opt->get_group() != custom || opt->count() == 0, opt->get_name(),
-                         " applies to --problem custom only");
+    if (!is_custom) reject_group_options(*cmd, custom, "--problem custom");
     check<ConfigError>(!is_custom || cmd->count("--dx") == 0, "--dx does not apply to --problem custom (dx = 1/--n)");
     DiffusionProblem problem = is_custom ? custom_problem(*a) : spe_plate_problem(a->dx);
     const Real dx = is_custom ? 1.0 / a->n : a->dx;

@@ -177,9 +177,7 @@ void add_study_command(CLI::App& app) {
     if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--geometry", "--output", "--plot"});
     validate_output(a->out);
     if (is_heterogeneous_problem(a->problem)) return study_heterogeneous(*a, *het, *cmd);
-    for (const auto* o : cmd->get_options())
-      check<ConfigError>(o->get_group() != heterogeneous_group || o->count() == 0, o->get_name(),
-                         " applies to --problem spe-channel, spe-lognormal or spe10 only");
+    reject_group_options(*cmd, heterogeneous_group, "--problem spe-channel, spe-lognormal or spe10");
     const bool user_cloud = !file->pattern.empty() || !file->geometry.empty();
     if (!user_cloud) validate_columns(a->out, to_table(BvpStudyResult{}).columns);
     if (user_cloud) return study_cloud_files(*a, *file, *cmd);

@@ -3,6 +3,7 @@
 #include <vrsph/kernels/reference_weight.hpp>
 #include <vrsph/methods/gpm/gpm.hpp>
 #include <vrsph/methods/pair_mean.hpp>
+#include <vrsph/methods/sph/sph.hpp>
 
 namespace vrsph {
 
@@ -79,22 +80,10 @@ class Gpm final : public Method {
 
  private:
   std::vector<Real> volumes(const Discretisation& disc, const ReferenceWeight& w) const {
-    const Index n = disc.cloud.size();
-    if (!shepard_) {
-      check<InputError>(disc.spacing > 0, "gpm: lattice volumes dx^d need a positive particle spacing, got ", disc.spacing);
-      return std::vector<Real>(static_cast<std::size_t>(n), std::pow(disc.spacing, disc.cloud.dim));
-    }
-    std::vector<Real> v(static_cast<std::size_t>(n));
-#pragma omp parallel for schedule(static)
-    for (Index j = 0; j < n; ++j) {
-      const Real h = disc.neighbours.radius(j);
-      Real sum = w.value(0, h);
-      for (Real r : disc.neighbours.distances_of(j)) sum += w.value(r, h);
-      check<NumericalError>(sum > 0, "gpm: Shepard volume of particle ", j, " is not positive (weight pi", family_,
-                            " changes sign; use volume=lattice)");
-      v[static_cast<std::size_t>(j)] = 1 / sum;
-    }
-    return v;
+    if (!shepard_) return sph_volumes(disc, SphVolume::Spacing);  // V_j = dx^d, as SPH's
+    return shepard_volumes(
+        disc, [&disc, &w](Index j) { return [&w, h = disc.neighbours.radius(j)](Real r) { return w.value(r, h); }; },
+        "gpm (weight pi" + family_ + ")");
   }
 
   MethodInfo info_;

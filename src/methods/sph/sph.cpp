@@ -21,18 +21,11 @@ MethodInfo sph_info() {
 std::vector<Real> sph_volumes(const Discretisation& disc, SphVolume mode) {
   const Index n = disc.cloud.size();
   if (mode == SphVolume::Spacing) {
-    check<InputError>(disc.spacing > 0, "SPH volumes v = dx^d need a positive particle spacing, got ", disc.spacing);
+    check<InputError>(disc.spacing > 0, "particle volumes v = dx^d (SPH, gpm lattice) need a positive particle spacing, got ", disc.spacing);
     return std::vector<Real>(static_cast<std::size_t>(n), std::pow(disc.spacing, disc.cloud.dim));
   }
-  std::vector<Real> v(static_cast<std::size_t>(n));
-#pragma omp parallel for schedule(static)
-  for (Index j = 0; j < n; ++j) {
-    const Kernel k = disc.kernel_at(j);
-    Real sum = k.W(0);
-    for (Real r : disc.neighbours.distances_of(j)) sum += k.W(r);
-    v[static_cast<std::size_t>(j)] = 1.0 / sum;
-  }
-  return v;
+  return shepard_volumes(
+      disc, [&disc](Index j) { return [k = disc.kernel_at(j)](Real r) { return k.W(r); }; }, "SPH volumes");
 }
 
 namespace {

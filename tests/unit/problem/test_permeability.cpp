@@ -116,18 +116,17 @@ TEST(Permeability, MalformedFilesAndSettingsAreNamed) {
   PermeabilityFileLayout L;
   L.grid = {2, 2, 1};
   L.subset = {{{1, 2}, {1, 2}, {1, 1}}};
-  write_text(path, "1 2 3\n");
-  EXPECT_THROW_MSG(read_permeability(path, L), InputError, "has 3 values; the grid 2 x 2 x 1 needs 4");
-  write_text(path, "1 2 3 4 5 6 7 -8\n");
-  EXPECT_THROW_MSG(read_permeability(path, L), InputError, "k_y of cell (I, J, K) = (2, 2, 1) is -8");
-  write_text(path, "1 2 nan 4\n");
-  EXPECT_THROW_MSG(read_permeability(path, L), InputError, "is nan");
-  write_text(path, "1 2 x3 4\n");
-  EXPECT_THROW_MSG(read_permeability(path, L), InputError, "line 1: 'x3' is not a number");
-  write_text(path, "1 2 3 4 0 1 1 1\n");
-  EXPECT_THROW_MSG(read_permeability(path, L), InputError, "is 0");
-  write_text(path, "");
-  EXPECT_THROW_MSG(read_permeability(path, L), InputError, "has 0 values");
+  const std::pair<const char*, const char*> malformed[] = {
+      {"1 2 3\n", "has 3 values; the grid 2 x 2 x 1 needs 4"},
+      {"1 2 3 4 5 6 7 -8\n", "k_y of cell (I, J, K) = (2, 2, 1) is -8"},
+      {"1 2 nan 4\n", "is nan"},
+      {"1 2 x3 4\n", "line 1: 'x3' is not a number"},
+      {"1 2 3 4 0 1 1 1\n", "is 0"},
+      {"", "has 0 values"}};
+  for (const auto& [content, message] : malformed) {
+    write_text(path, content);
+    EXPECT_THROW_MSG(read_permeability(path, L), InputError, message);
+  }
   write_text(path, "1 1 1 1 1 1 1 1\n");
   L.dim = 3;
   EXPECT_THROW_MSG(read_permeability(path, L), ConfigError, "must be square");
