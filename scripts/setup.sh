@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libnanoflann-dev libcli11-dev libtomlplusplus-dev libmuparser-dev nlohmann-json3-dev libcgal-dev
-  libsuitesparse-dev libpugixml-dev zlib1g-dev libgtest-dev libbenchmark-dev petsc-dev openmpi-bin
+  libsuitesparse-dev coinor-libclp-dev libpugixml-dev zlib1g-dev libgtest-dev libbenchmark-dev petsc-dev openmpi-bin
   python3 python3-numpy python3-matplotlib python3-dev pybind11-dev python3-scipy python3-pytest
 )
 missing=()

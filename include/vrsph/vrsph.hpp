@@ -5,6 +5,9 @@
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/analysis/regularity.hpp>
+#include <vrsph/analysis/voronoi_deviation.hpp>
+#include <vrsph/cloud/voronoi.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/solve/solver.hpp>
 #include <vrsph/analysis/errors.hpp>

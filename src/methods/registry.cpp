@@ -3,6 +3,7 @@
 #include <vrsph/methods/aar/modified_fpm.hpp>
 #include <vrsph/methods/aar/nested.hpp>
 #include <vrsph/methods/gpm/gpm.hpp>
+#include <vrsph/methods/gpm/mps.hpp>
 #include <vrsph/methods/sph/sph.hpp>
 #include <vrsph/methods/spe/spe.hpp>
 #include <vrsph/methods/taylor/cspm.hpp>
@@ -60,6 +61,7 @@ void register_builtin_methods(MethodRegistry& r) {
   r.add(s_sph_info(), make_s_sph);
   r.add(m_sph_info(), make_m_sph);
   r.add(gpm_info(), make_gpm);
+  r.add(mps_info(), make_mps);
 }
 
 const MethodRegistry& builtin_methods() {

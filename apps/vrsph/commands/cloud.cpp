@@ -1,16 +1,19 @@
 // `vrsph cloud`: generate a cloud, or read one (--input) and inspect/convert it.
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/analysis/regularity.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
 #include <vrsph/analysis/functions.hpp>
+#include <vrsph/cloud/im_cloud.hpp>
 #include <vrsph/cloud/polygon.hpp>
 #include <vrsph/cloud/surface.hpp>
 #include <vrsph/io/cloud_file.hpp>
@@ -34,7 +37,49 @@ struct CloudArgs {
   double delta = 0.5, h_factor = 3;
   std::uint64_t seed = 1;
   bool perturb_boundary = false, check_brute = false;
+  // --regularity ([IM] r_N, d_N, order m, Theorem 3's rates)
+  bool regularity = false, normalise_volumes = false;
+  std::string volumes = "uniform";
+  double dn_radius = 0, c0 = 1;
+  long long dn_direct_limit = 3000, dn_block = 800;
 };
+
+// The --regularity rows: what [IM] says about this set, before anything is solved on it.
+void add_regularity_rows(const PointCloud& cloud, const CloudArgs& a, Real h,
+                         const std::function<void(const std::string&, TableCell)>& add) {
+  check<ConfigError>(a.dn_radius >= 0 && std::isfinite(a.dn_radius), "--dn-radius must be >= 0 (0 = 2 dx), got ", a.dn_radius);
+  check<ConfigError>(a.dn_direct_limit >= 1 && a.dn_block >= 16, "--dn-direct-limit must be >= 1 and --dn-block >= 16");
+  RegularityOptions o;
+  o.volumes = parse_particle_volumes(a.volumes);
+  o.h = h;
+  o.c0 = a.c0;
+  o.deviation.radius = a.dn_radius;
+  o.deviation.direct_limit = static_cast<Index>(a.dn_direct_limit);
+  o.deviation.block_particles = static_cast<Index>(a.dn_block);
+  o.deviation.normalise_volumes = a.normalise_volumes;
+  const RegularityReport r = regularity(cloud, o);
+  const VoronoiDeviation& d = r.deviation;
+  add("volumes", std::string(particle_volumes_name(o.volumes)));
+  add("volumes_normalised", std::string(d.volumes_normalised ? "yes" : "no"));
+  add("volume_sum", d.volume_sum);
+  add("voronoi_cell_sum", d.cell_sum);
+  add("voronoi_deviation", d.value);
+  add("voronoi_deviation_over_spacing", d.value / r.spacing);
+  add("voronoi_deviation_is_upper_bound", std::string(d.is_upper_bound ? "true" : "false"));
+  add("voronoi_deviation_method", d.method);
+  add("voronoi_deviation_pair_radius", d.radius);
+  add("voronoi_deviation_worst_particle", static_cast<long long>(d.worst));
+  add("voronoi_deviation_particles", static_cast<long long>(r.particles));
+  add("lp_blocks", static_cast<long long>(d.blocks));
+  add("lp_variables", static_cast<long long>(d.variables));
+  add("lp_constraints", static_cast<long long>(d.constraints));
+  add("lp_seconds", d.seconds);
+  add("regularity_h", r.h);
+  add("regularity_c0", r.c0);
+  add("regularity_order", r.order);
+  for (const auto& p : r.predicted)
+    add("predicted_order_" + p.op + "_n" + std::to_string(p.n), p.order);
+}
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -58,7 +103,18 @@ GeometryCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
   return make_geometry_cloud(r);
 }
 
-PointCloud generate(const CloudArgs& a) {
+PointCloud generate(const CloudArgs& a, const CLI::App& cmd) {
+  if (a.family == "im") {  // [IM] §5.4: lattice in Omega_H = (-0.1, 1.1)^d, eta ~ U(-1/4, 1/4), dx = 1/n
+    for (const char* opt : {"--layout", "--domain", "--ghost-layers", "--perturb-boundary"})
+      check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply to --family im (its domain is (-0.1, 1.1)^d, no boundary particles)");
+    check<ConfigError>(a.n >= 1, "--n must be >= 1, got ", a.n);
+    ImCloudSpec s;
+    s.dim = a.dim;
+    s.dx = 1.0 / a.n;
+    if (cmd.count("--delta")) s.delta = a.delta;
+    s.seed = a.seed;
+    return im_cloud(s);
+  }
   CloudSpec spec;
   spec.family = parse_cloud_family(a.family);
   check<ConfigError>(a.domain == "unit" || a.domain == "symmetric", "--domain must be unit ([0,1]^d) or symmetric ([-1,1]^d), got '",
@@ -90,7 +146,7 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--vtu-format", a->vtu_format, "With --output .vtu: binary (base64, exact, smaller) or ascii")
       ->capture_default_str();
   cmd->add_option("--format", a->format, "Report format: md, csv or json")->capture_default_str();
-  cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk; with --geometry: "
+  cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk, im ([IM] §5.4 set on (-0.1,1.1)^d, dx = 1/n, delta 1/4); with --geometry: "
                   "uniform, perturbed or blue-noise")->capture_default_str();
   cmd->add_option("--layout", a->layout, "Lattice layout: vertex (A, boundary on faces) or cells (B)")->capture_default_str();
   cmd->add_option("--domain", a->domain, "Box: unit ([0,1]^d) or symmetric ([-1,1]^d)")->capture_default_str();
@@ -101,6 +157,19 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--seed", a->seed, "Random seed")->check(seed_validator())->capture_default_str();
   cmd->add_flag("--perturb-boundary", a->perturb_boundary, "Also move boundary particles along their faces");
   cmd->add_option("--h-factor", a->h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
+  cmd->add_flag("--regularity", a->regularity,
+                "[IM] regularity report: covering radius r_N, Voronoi deviation d_N (LP (63)), the order m with "
+                "h^m >= c0 (r_N + d_N) for h = --h-factor * spacing, and Theorem 3's predicted rates");
+  cmd->add_option("--volumes", a->volumes, "With --regularity: particle volumes uniform (|Omega|/N), voronoi or vrsph")
+      ->capture_default_str();
+  cmd->add_option("--dn-radius", a->dn_radius, "With --regularity: LP (63) pair radius rho (0 = 2 dx; raised by 1.5x "
+                  "until feasible); a smaller rho than the set's diameter gives an upper bound")->capture_default_str();
+  cmd->add_option("--dn-direct-limit", a->dn_direct_limit, "With --regularity: above this many particles d_N is "
+                  "bounded by spatial blocks (an upper bound)")->capture_default_str();
+  cmd->add_option("--dn-block", a->dn_block, "With --regularity: particles per block")->capture_default_str();
+  cmd->add_flag("--normalise-volumes", a->normalise_volumes, "With --regularity: scale the volumes to the cells' sum "
+                "(else a mismatch is an error: LP (63) would be infeasible)");
+  cmd->add_option("--c0", a->c0, "With --regularity: the constant c0 of h^m >= c0 (r_N + d_N)")->capture_default_str();
   cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
   cmd->add_option("--geometry", a->geometry,
                   "Fill this domain with particles: a 2D GeoJSON Polygon (holes allowed) or a 3D closed surface "
@@ -125,7 +194,7 @@ void add_cloud_command(CLI::App& app) {
     } else {
       for (const char* opt : {"--spacing", "--neumann", "--dirichlet"})
         check<ConfigError>(cmd->count(opt) == 0, opt, " needs --geometry");
-      cloud = generate(*a);
+      cloud = generate(*a, *cmd);
     }
     validate(cloud);
     const Real spacing = estimate_spacing(cloud);
@@ -201,6 +270,14 @@ void add_cloud_command(CLI::App& app) {
       add("covering_radius", cr.radius);
       add("covering_radius_over_spacing", cr.radius / spacing);
       if (geometry) add("covering_radius_uncertainty", cr.uncertainty);
+    }
+    if (a->regularity) {
+      check<ConfigError>(!geometry && cloud.domain.shape != Domain::Shape::None,
+                         "--regularity needs a box or disk domain (a generated family, or a cloud file whose domain is known)");
+      add_regularity_rows(cloud, *a, sp.radius, add);
+    } else {
+      for (const char* opt : {"--volumes", "--dn-radius", "--dn-direct-limit", "--dn-block", "--normalise-volumes", "--c0"})
+        check<ConfigError>(cmd->count(opt) == 0, opt, " needs --regularity");
     }
     if (a->check_brute) add("brute_force_check", std::string("agrees"));
     if (a->format == "json") {

@@ -1,5 +1,7 @@
 // `vrsph operator`: truncation-error study of operator stencils over a refinement list.
 #include <iostream>
+#include <cmath>
+#include <vrsph/analysis/im_table1.hpp>
 #include <vrsph/analysis/operator_study.hpp>
 #include <vrsph/analysis/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
@@ -31,6 +33,8 @@ struct OperatorArgs {
   std::vector<std::string> method_opts;
   std::string cloud_file;
   SpePatchArgs patch;
+  std::string im_weights = "pi1,pi2,pi3,grad1,grad2,grad3,delta1,delta2,delta3", im_m = "1,3,5", im_levels = "5,6,7,8";
+  long long im_points = 10000;
   OutputOptions out;
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
               *ghosts_opt = nullptr, *h_knn_opt = nullptr;
@@ -83,13 +87,48 @@ void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
   }
   emit(t, a.out, "{}", "h", "error_inf", "method", "operator on " + a.cloud_file);
 }
+
+// `vrsph operator --problem im-table1`: [IM] Table 1 / Fig. 5 (analysis/im_table1.hpp).
+void operator_im_table1(const OperatorArgs& a, const CLI::App& cmd) {
+  for (const char* opt : {"--cloud", "--n", "--h-factor", "--h-mode", "--h-knn", "--delta", "--kernel", "--regular-layer",
+                          "--no-ghosts", "--u", "--exact", "--a", "--operator", "--method-opt", "--cloud-file"})
+    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply to --problem im-table1 (its cloud, h rule, function and "
+                       "operators are [IM] §5.4's; choose --weight, --m, --levels, --points, --seed, --dim)");
+  check<ConfigError>(a.methods == "gpm" || cmd.count("--method") == 0, "--problem im-table1 evaluates --method gpm only, got '",
+                     a.methods, "'");
+  ImTable1Options o;
+  o.dim = a.dim_opt->count() ? a.dim : 2;
+  o.weights = parse_name_list(a.im_weights, "--weight");
+  o.m = parse_int_list(a.im_m, "--m");
+  o.levels = parse_int_list(a.im_levels, "--levels");
+  check<ConfigError>(a.im_points >= 1, "--points must be >= 1, got ", a.im_points);
+  o.max_points = static_cast<Index>(a.im_points);
+  o.seed = a.seed;
+  Progress progress;
+  o.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
+  const auto rows = im_table1(o);
+  Table t;
+  t.columns = {"series", "weight", "m", "level", "dx", "h", "particles", "in_omega", "evaluated", "neighbours_mean",
+               "error_rel", "order", "order_fit", "theoretical_order", "seconds"};
+  for (const auto& r : rows) {
+    auto nan_to_empty = [](Real v) -> TableCell { return std::isfinite(v) ? TableCell{v} : TableCell{std::monostate{}}; };
+    t.add_row({{"series", r.weight + " m=" + std::to_string(r.m)}, {"weight", r.weight}, {"m", static_cast<long long>(r.m)},
+               {"level", static_cast<long long>(r.level)}, {"dx", r.dx}, {"h", r.h},
+               {"particles", static_cast<long long>(r.particles)}, {"in_omega", static_cast<long long>(r.in_omega)},
+               {"evaluated", static_cast<long long>(r.evaluated)}, {"neighbours_mean", r.neighbours_mean},
+               {"error_rel", r.error_rel}, {"order", nan_to_empty(r.order)}, {"order_fit", nan_to_empty(r.order_fit)},
+               {"theoretical_order", nan_to_empty(im_theoretical_order(r.weight, r.m))}, {"seconds", r.seconds}});
+  }
+  emit(t, a.out, R"({"problem": "im-table1", "reference": "004_9e9d00b5a1203d0f.txt Table 1, METHODS 5.4"})", "h", "error_rel",
+       "series", "[IM] Table 1: relative max-norm error against h");
+}
 }  // namespace
 
 void add_operator_command(CLI::App& app) {
   auto a = std::make_shared<OperatorArgs>();
   auto* cmd = app.add_subcommand("operator", "Truncation-error study: method x operator x cloud x refinement list");
   cmd->add_option("--problem", a->problem,
-                  "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d), unit-box ([0,1]^d), aar-derivative ([AAR] e^x on [0,1], "
+                  "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d), im-table1 ([IM] Table 1, gpm weights; see --weight), unit-box ([0,1]^d), aar-derivative ([AAR] e^x on [0,1], "
                   "all particles) or spe-patch ([SPE] §4 operator tests along a cross-section, see --test)")
       ->capture_default_str();
   a->dim_opt = cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3 (aar-derivative: 1)")->capture_default_str();
@@ -126,8 +165,16 @@ void add_operator_command(CLI::App& app) {
                   "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., VTU/VTP, or Gmsh .msh) against the exact derivatives of --u: "
                   "error over interior particles, and over the tagged boundary particles apart");
   add_spe_patch_options(cmd, a->patch);
+  cmd->add_option("--weight", a->im_weights, "im-table1: [IM] weights pi1-3, grad1-3, delta1-3")->capture_default_str();
+  cmd->add_option("--m", a->im_m, "im-table1: regularity orders m of the h rule h = 2.6 * 2^(5/m-5) dx^(1/m)")->capture_default_str();
+  cmd->add_option("--levels", a->im_levels, "im-table1: dx = 2^-level")->capture_default_str();
+  cmd->add_option("--points", a->im_points, "im-table1: evaluation points per level (a seeded random subset of the "
+                  "particles in Omega when there are more)")->capture_default_str();
   cmd->callback([a, cmd] {
     validate_output(a->out);
+    if (a->problem == "im-table1") return operator_im_table1(*a, *cmd);
+    for (const char* opt : {"--weight", "--m", "--levels", "--points"})
+      check<ConfigError>(cmd->count(opt) == 0, opt, " applies to --problem im-table1 only");
     if (a->problem == "spe-patch") {
       check<ConfigError>(a->cloud_file.empty(), "--cloud-file does not apply to --problem spe-patch");
       return run_spe_patch_command(a->patch, *cmd, a->dim, a->h_factor, a->delta, a->seed, a->out);

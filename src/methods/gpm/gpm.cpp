@@ -2,7 +2,9 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/reference_weight.hpp>
 #include <vrsph/methods/gpm/gpm.hpp>
+#include <vrsph/methods/gpm/gpm_pairs.hpp>
 #include <vrsph/methods/pair_mean.hpp>
+#include <vrsph/methods/particle_volumes.hpp>
 #include <vrsph/methods/sph/sph.hpp>
 
 namespace vrsph {
@@ -17,7 +19,9 @@ MethodInfo gpm_info() {
                    OperatorKind::Laplacian, OperatorKind::DivAGrad},
                   {{"weight", "1 | 2 | 3: the weights pi<k>, grad<k>, delta<k> of [IM] §2.6 (default 2: SPH with the cubic "
                               "spline)"},
-                   {"volume", "lattice (V_j = dx^d, default) | shepard (V_j = 1 / sum_k pi<k>_h(r_jk), self included)"},
+                   {"volume", "lattice (V_j = dx^d, default) | shepard (V_j = 1 / sum_k pi<k>_h(r_jk), self included) | "
+                              "uniform (|Omega|/N, [IM] 5.4) | voronoi (clipped Voronoi cell measures, d_N = 0) | vrsph "
+                              "(VRSPH's Laplace volumes averaged per particle)"},
                    pair_mean_option()}};
   return info;
 }
@@ -29,7 +33,7 @@ class Gpm final : public Method {
   explicit Gpm(const MethodOptions& o)
       : info_(gpm_info()),
         family_(o.get_choice("weight", "2", {"1", "2", "3"})),
-        shepard_(o.get_choice("volume", "lattice", {"lattice", "shepard"}) == "shepard"),
+        volume_(o.get_choice("volume", "lattice", {"lattice", "shepard", "uniform", "voronoi", "vrsph"})),
         mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
 
@@ -55,15 +59,16 @@ class Gpm final : public Method {
         const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
         const Real r = dist[k];
         switch (req.kind) {
-          case OperatorKind::Value: s.values[0][slot] = V[j] * value_w.value(r, h); break;
-          case OperatorKind::Laplacian: s.values[0][slot] = 2 * d * V[j] * lap_w.value(r, h) / (r * r); break;
+          case OperatorKind::Value: s.values[0][slot] = gpm::value_weight(V[j], value_w.value(r, h)); break;
+          case OperatorKind::Laplacian: s.values[0][slot] = gpm::laplacian_weight(d, V[j], lap_w.value(r, h), r); break;
           case OperatorKind::DivAGrad: {
             const Field& a = *req.coefficient;
-            s.values[0][slot] = d * V[j] * pair_sum(mean_, a[i], a[static_cast<Eigen::Index>(j)]) * lap_w.value(r, h) / (r * r);
+            // (a_i + a_j)/2 times the Laplacian weight (the Morris pair form)
+            s.values[0][slot] = 0.5 * pair_sum(mean_, a[i], a[static_cast<Eigen::Index>(j)]) * gpm::laplacian_weight(d, V[j], lap_w.value(r, h), r);
             break;
           }
           default: {
-            const Vec3 g = d * V[j] * grad_w.value(r, h) / (r * r) * (cloud.positions[j] - cloud.positions[si]);
+            const Vec3 g = gpm::gradient_weight(d, V[j], grad_w.value(r, h), r, cloud.positions[j] - cloud.positions[si]);
             if (req.kind == OperatorKind::Gradient)
               for (int c = 0; c < d; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
             else
@@ -72,7 +77,7 @@ class Gpm final : public Method {
         }
       }
       if (req.kind == OperatorKind::Value)
-        s.values[0][static_cast<std::size_t>(s.diag[si])] = V[si] * value_w.value(0, h);
+        s.values[0][static_cast<std::size_t>(s.diag[si])] = gpm::value_weight(V[si], value_w.value(0, h));
     }
     if (req.kind != OperatorKind::Value) set_difference_diagonal(s);
     return s;
@@ -80,7 +85,8 @@ class Gpm final : public Method {
 
  private:
   std::vector<Real> volumes(const Discretisation& disc, const ReferenceWeight& w) const {
-    if (!shepard_) return sph_volumes(disc, SphVolume::Spacing);  // V_j = dx^d, as SPH's
+    if (volume_ == "lattice") return sph_volumes(disc, SphVolume::Spacing);  // V_j = dx^d, as SPH's
+    if (volume_ != "shepard") return particle_volumes(disc, parse_particle_volumes(volume_));
     return shepard_volumes(
         disc, [&disc, &w](Index j) { return [&w, h = disc.neighbours.radius(j)](Real r) { return w.value(r, h); }; },
         "gpm (weight pi" + family_ + ")");
@@ -88,7 +94,7 @@ class Gpm final : public Method {
 
   MethodInfo info_;
   std::string family_;
-  bool shepard_;
+  std::string volume_;
   PairMean mean_;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/kernels/reference_weight.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -77,4 +78,53 @@ TEST(Gpm, SignsAndConstantsForEveryWeight) {
   shepard3.set("weight", "3");
   shepard3.set("volume", "shepard");
   EXPECT_NO_THROW(c.build("gpm", OperatorKind::Laplacian, shepard3));  // pi3's sum is positive on this cloud
+}
+
+// mps against (61)-(62) summed directly, with an independent quadrature of lambda.
+TEST(Mps, EqualsFormulas61And62) {
+  for (const std::string weight : {"classic", "pi2"}) {
+    PointCloud c = cell_centred_lattice(Domain::unit_box(2), 12, true);
+    perturb(c, {.delta = 0.3, .seed = 4});
+    SearchParams sp;
+    sp.radius = 3.1 / 12;
+    const NeighbourList nl = find_neighbours(c, sp);
+    const Discretisation disc{c, nl, KernelType::CubicSpline, 1.0 / 12};
+    const auto method = builtin_methods().create("mps", MethodOptions::parse({"weight=" + weight}));
+    Field u(c.size());
+    for (Index i = 0; i < c.size(); ++i) u[i] = std::sin(c.positions[static_cast<std::size_t>(i)].sum());
+    const Eigen::MatrixXd lap = apply(method->build(disc, {.kind = OperatorKind::Laplacian}), u);
+    const Eigen::MatrixXd grad = apply(method->build(disc, {.kind = OperatorKind::Gradient}), u);
+    // w normalised over R^2 and its second moment, by a fine midpoint rule in r (classic: 1/r - 1).
+    const ReferenceWeight pi2 = reference_weight("pi2", 2);
+    auto w = [&](double s) { return weight == "classic" ? (s < 1 ? 1 / s - 1 : 0.0) : pi2.value(s); };
+    double m0 = 0, m2 = 0;
+    const int steps = 200000;
+    for (int k = 0; k < steps; ++k) {
+      const double s = (k + 0.5) / steps;
+      m0 += 2 * M_PI * s * w(s) / steps;
+      m2 += 2 * M_PI * s * s * s * w(s) / steps;
+    }
+    const double h = sp.radius, n_hat = 144, lambda = h * h * m2 / m0;
+    for (Index i = 0; i < c.size(); ++i) {
+      if (c.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+      const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+      double l = 0;
+      Vec3 g = Vec3::Zero();
+      for (Index j : nl.of(i)) {
+        const Vec3 xji = c.positions[static_cast<std::size_t>(j)] - x;
+        const double r = xji.norm(), wh = w(r / h) / m0 / (h * h);
+        l += 4 / (n_hat * lambda) * (u[j] - u[i]) * wh;
+        g += 2 / n_hat * (u[j] - u[i]) / (r * r) * wh * xji;
+      }
+      EXPECT_NEAR(lap(i, 0), l, 1e-6 * (std::abs(l) + 1)) << weight << " particle " << i;
+      EXPECT_NEAR(grad(i, 0), g[0], 1e-6 * (g.norm() + 1)) << weight << " particle " << i;
+      EXPECT_NEAR(grad(i, 1), g[1], 1e-6 * (g.norm() + 1)) << weight << " particle " << i;
+    }
+  }
+  const PointCloud line = vertex_lattice(Domain::unit_box(1), 8);
+  SearchParams sp;
+  sp.radius = 0.3;
+  const NeighbourList nl = find_neighbours(line, sp);
+  EXPECT_THROW(builtin_methods().create("mps", {})->build({line, nl, KernelType::CubicSpline, 0.125}, {.kind = OperatorKind::Laplacian}),
+               ConfigError);  // 1/r - 1 is not integrable in 1D
 }

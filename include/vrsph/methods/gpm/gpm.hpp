@@ -7,7 +7,8 @@
 //   div-a-grad w_ij = d V_j (a_i + a_j) w_h(r_ij) / r_ij² (the Morris pair form; `mean`)
 // with w_h(r) = h^-d w(r/h), h the support radius. Options: weight = 1 | 2 | 3 (the family
 // pi<k>/grad<k>/delta<k>, default 2: with the cubic spline and V_j = dx^d it is SPH to
-// round-off, [IM](57)–(60)); volume = lattice (dx^d) | shepard (1/Σ_k pi<k>_h(r_jk)).
+// round-off, [IM](57)–(60)); volume = lattice (dx^d) | shepard (1/Σ_k pi<k>_h(r_jk)) | uniform
+// (|Omega|/N) | voronoi (clipped cell measures) | vrsph (methods/particle_volumes.hpp).
 // Weights 3 change sign (Hyp. 1 of order 3): their Laplacian is not an M-matrix.
 #include <vrsph/methods/method.hpp>
 

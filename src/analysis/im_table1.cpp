@@ -1,0 +1,180 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <random>
+#include <vrsph/analysis/im_table1.hpp>
+#include <vrsph/cloud/im_cloud.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/kernels/reference_weight.hpp>
+#include <vrsph/methods/gpm/gpm_pairs.hpp>
+
+namespace vrsph {
+
+namespace {
+constexpr Real two_pi = 2 * std::numbers::pi;
+
+char operator_of(const std::string& weight) { return weight.rfind("pi", 0) == 0 ? 'v' : weight.rfind("grad", 0) == 0 ? 'g' : 'l'; }
+
+// One (level, m): the errors of every requested weight at the evaluation points.
+struct LevelCloud {
+  PointCloud cloud;
+  long long first = 0, per_axis = 0;
+  std::vector<Index> points;  // evaluation particles (in Omega)
+  Index in_omega = 0;
+};
+
+LevelCloud make_level(const ImTable1Options& o, int level) {
+  LevelCloud L;
+  ImCloudSpec spec;
+  spec.dim = o.dim;
+  spec.dx = std::ldexp(1.0, -level);
+  spec.seed = o.seed;
+  L.cloud = im_cloud(spec);
+  long long last = 0;
+  im_lattice_range(spec.dx, spec.margin, L.first, last);
+  L.per_axis = last - L.first + 1;
+  for (Index p = 0; p < L.cloud.size(); ++p) {
+    const Vec3& x = L.cloud.positions[static_cast<std::size_t>(p)];
+    bool inside = true;
+    for (int k = 0; k < o.dim; ++k) inside = inside && x[k] > 0 && x[k] < 1;
+    if (inside) L.points.push_back(p);
+  }
+  L.in_omega = static_cast<Index>(L.points.size());
+  if (L.in_omega > o.max_points) {  // a seeded subset, the same for every m and weight
+    std::mt19937_64 rng(o.seed * 7919 + static_cast<std::uint64_t>(level));
+    std::shuffle(L.points.begin(), L.points.end(), rng);
+    L.points.resize(static_cast<std::size_t>(o.max_points));
+    std::sort(L.points.begin(), L.points.end());
+  }
+  return L;
+}
+}  // namespace
+
+Real im_theoretical_order(const std::string& weight, int m) {
+  if (m <= 1) return std::numeric_limits<Real>::quiet_NaN();
+  const int n = weight.back() == '3' ? 3 : 1;
+  const int k = operator_of(weight) == 'l' ? 2 : 1;
+  return std::min(m - k, n + 1);
+}
+
+std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
+  check<ConfigError>(o.dim >= 1 && o.dim <= 3, "im-table1: dim must be 1, 2 or 3, got ", o.dim);
+  check<ConfigError>(!o.weights.empty() && !o.m.empty() && !o.levels.empty(), "im-table1 needs weights, m values and levels");
+  check<ConfigError>(o.max_points >= 1, "im-table1: at least one evaluation point");
+  std::vector<ReferenceWeight> weights;
+  for (const auto& w : o.weights) weights.push_back(reference_weight(w, o.dim));  // ConfigError on unknown names
+  for (int m : o.m) check<ConfigError>(m >= 1 && m <= 20, "im-table1: m must be in 1..20, got ", m);
+  for (int l : o.levels) check<ConfigError>(l >= 2 && l <= 14, "im-table1: levels must be in 2..14 (dx = 2^-level), got ", l);
+  const int d = o.dim;
+  std::vector<ImTable1Row> rows;
+  const double steps = static_cast<double>(o.levels.size() * o.m.size());
+  double step = 0;
+  for (int level : o.levels) {
+    const LevelCloud L = make_level(o, level);
+    const Real dx = L.cloud.spacing;
+    const Real V = L.cloud.domain.measure() / static_cast<Real>(L.cloud.size());
+    std::vector<Real> u(L.cloud.positions.size());
+#pragma omp parallel for schedule(static)
+    for (std::size_t p = 0; p < u.size(); ++p) u[p] = std::sin(two_pi * L.cloud.positions[p].sum());
+    for (int m : o.m) {
+      const Stopwatch clock;
+      const Real h = 2.6 * std::pow(2.0, 5.0 / m - 5) * std::pow(dx, 1.0 / m);
+      if (o.progress) o.progress(detail::concat("im-table1: dx = 2^-", level, ", m = ", m, ", h/dx = ", h / dx, ", ",
+                                                L.cloud.size(), " particles, ", L.points.size(), " points"), step++ / steps);
+      const auto window = static_cast<long long>(std::ceil(h / dx)) + 1;
+      const std::size_t nw = weights.size();
+      std::vector<Real> err(nw, 0);
+      long long pairs = 0;
+#pragma omp parallel
+      {
+        std::vector<Real> value(nw), lap(nw), local_err(nw, 0);
+        std::vector<Vec3> grad(nw);
+        long long local_pairs = 0;
+#pragma omp for schedule(dynamic, 16)
+        for (std::size_t e = 0; e < L.points.size(); ++e) {
+          const Index p = L.points[e];
+          const Vec3& x = L.cloud.positions[static_cast<std::size_t>(p)];
+          const Real up = u[static_cast<std::size_t>(p)];
+          std::fill(value.begin(), value.end(), 0.0);
+          std::fill(lap.begin(), lap.end(), 0.0);
+          std::fill(grad.begin(), grad.end(), Vec3::Zero());
+          long long idx[3] = {0, 0, 0}, rest = p;
+          for (int k = 0; k < d; ++k) idx[k] = rest % L.per_axis, rest /= L.per_axis;
+          long long lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+          for (int k = 0; k < d; ++k) lo[k] = std::max(0LL, idx[k] - window), hi[k] = std::min(L.per_axis - 1, idx[k] + window);
+          for (long long c = lo[2]; c <= hi[2]; ++c)
+            for (long long b = lo[1]; b <= hi[1]; ++b)
+              for (long long a = lo[0]; a <= hi[0]; ++a) {
+                const auto q = static_cast<std::size_t>(a + L.per_axis * (b + L.per_axis * c));
+                const Vec3 xji = L.cloud.positions[q] - x;
+                const Real r = xji.norm();
+                if (r >= h) continue;
+                ++local_pairs;
+                const Real du = u[q] - up;
+                for (std::size_t w = 0; w < nw; ++w) {
+                  const Real wv = weights[w].value(r, h);
+                  switch (operator_of(o.weights[w])) {
+                    case 'v': value[w] += gpm::value_weight(V, wv) * u[q]; break;
+                    case 'g': if (r > 0) grad[w] += gpm::gradient_weight(d, V, wv, r, xji) * du; break;
+                    default: if (r > 0) lap[w] += gpm::laplacian_weight(d, V, wv, r) * du;
+                  }
+                }
+              }
+          const Real c = std::cos(two_pi * x.sum());
+          Vec3 exact_grad = Vec3::Zero();
+          for (int k = 0; k < d; ++k) exact_grad[k] = two_pi * c;
+          for (std::size_t w = 0; w < nw; ++w) {
+            const char op = operator_of(o.weights[w]);
+            // Relative to the sup norms of v, |grad v| and Delta v: 1, 2 pi sqrt(d), 4 pi^2 d.
+            const Real ew = op == 'v'   ? std::abs(value[w] - up)
+                            : op == 'g' ? (grad[w] - exact_grad).norm() / (two_pi * std::sqrt(static_cast<Real>(d)))
+                                        : std::abs(lap[w] + two_pi * two_pi * d * up) / (two_pi * two_pi * d);
+            local_err[w] = std::max(local_err[w], ew);
+          }
+        }
+#pragma omp critical
+        {
+          for (std::size_t w = 0; w < nw; ++w) err[w] = std::max(err[w], local_err[w]);
+          pairs += local_pairs;
+        }
+      }
+      const Real seconds = clock.seconds();
+      for (std::size_t w = 0; w < nw; ++w) {
+        ImTable1Row row;
+        row.weight = o.weights[w];
+        row.m = m;
+        row.level = level;
+        row.dx = dx;
+        row.h = h;
+        row.particles = L.cloud.size();
+        row.evaluated = static_cast<Index>(L.points.size());
+        row.in_omega = L.in_omega;
+        row.neighbours_mean = static_cast<Real>(pairs) / static_cast<Real>(L.points.size());
+        row.error_rel = err[w];
+        row.order = row.order_fit = std::numeric_limits<Real>::quiet_NaN();
+        std::vector<const ImTable1Row*> previous;  // the same (weight, m) on earlier levels, newest first
+        for (auto it = rows.rbegin(); it != rows.rend() && previous.size() < 3; ++it)
+          if (it->weight == row.weight && it->m == m) previous.push_back(&*it);
+        if (!previous.empty()) {
+          row.order = std::log(previous[0]->error_rel / row.error_rel) / std::log(previous[0]->h / row.h);
+          // e ~ c h^p: p is the slope of log e against log h.
+          Real sx = std::log(row.h), sy = std::log(row.error_rel), sxx = sx * sx, sxy = sx * sy;
+          for (const auto* q : previous) {
+            const Real x = std::log(q->h), y = std::log(q->error_rel);
+            sx += x, sy += y, sxx += x * x, sxy += x * y;
+          }
+          const Real k = static_cast<Real>(previous.size() + 1);
+          row.order_fit = (k * sxy - sx * sy) / (k * sxx - sx * sx);
+        }
+        row.seconds = seconds;
+        rows.push_back(row);
+      }
+    }
+  }
+  return rows;
+}
+
+}  // namespace vrsph

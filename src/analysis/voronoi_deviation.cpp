@@ -1,0 +1,310 @@
+// Voronoi deviation d_N by LP (63) (see analysis/voronoi_deviation.hpp).
+#include <coin/Clp_C_Interface.h>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <vrsph/analysis/voronoi_deviation.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/neighbours/search.hpp>
+
+namespace vrsph {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::max();  // Clp's unbounded
+
+// The transport a: a_ii per particle and a_ij per slot of the pair list (i's row, j != i).
+struct Transport {
+  std::vector<Real> self;
+  std::vector<Real> pair;
+};
+
+struct Problem {
+  NeighbourList pairs;       // pairs within the radius, distances cached
+  std::vector<Real> cells;   // |sigma_i| (scaled)
+  std::vector<Real> volumes; // V_i (scaled)
+  Real length_scale = 1;     // lengths in the LP are r / length_scale (dx)
+  Real deviation_coefficient(std::size_t i, Real r) const { return cells[i] > 0 ? r / length_scale / cells[i] : 0; }
+};
+
+struct LpSize {
+  Index variables = 0, constraints = 0;
+};
+
+// LP (63) for the particles `members` (all of one block), with what the particles outside
+// the block exchange with them fixed in `t`: the block's rows and columns get the
+// remaining supply and demand, and the fixed pairs' share of the deviation as a constant.
+// Writes the block's a_ij (both ends inside) into `t`.
+LpSize solve_block(const Problem& p, const std::vector<Index>& members, const std::vector<Index>& block_of, Index block,
+                   Transport& t, Real max_seconds) {
+  const auto n = static_cast<int>(members.size());
+  std::vector<int> local(p.cells.size(), -1);
+  for (int k = 0; k < n; ++k) local[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])] = k;
+  // rows: [0,n) supply, [n,2n) demand, [2n,3n) deviation (<= -fixed)
+  std::vector<Real> row_lo(static_cast<std::size_t>(3 * n)), row_hi(static_cast<std::size_t>(3 * n));
+  std::vector<Real> fixed(static_cast<std::size_t>(n), 0);
+  for (int k = 0; k < n; ++k) {
+    const auto si = static_cast<std::size_t>(members[static_cast<std::size_t>(k)]);
+    row_lo[static_cast<std::size_t>(k)] = p.cells[si];
+    row_lo[static_cast<std::size_t>(n + k)] = p.volumes[si];
+  }
+  std::vector<CoinBigIndex> start{0};
+  std::vector<int> index;
+  std::vector<double> value, cost, col_lo, col_hi;
+  std::vector<Index> slot_of_column;  // -1: a_ii
+  auto add_column = [&](int row_supply, int row_demand, double dev_i, int row_i, double dev_j, int row_j) {
+    index.push_back(row_supply), value.push_back(1);
+    index.push_back(n + row_demand), value.push_back(1);
+    if (dev_i > 0) index.push_back(2 * n + row_i), value.push_back(dev_i);
+    if (dev_j > 0) index.push_back(2 * n + row_j), value.push_back(dev_j);
+    start.push_back(static_cast<CoinBigIndex>(index.size()));
+    cost.push_back(0), col_lo.push_back(0), col_hi.push_back(kInfinity);
+  };
+  for (int k = 0; k < n; ++k) {
+    const Index i = members[static_cast<std::size_t>(k)];
+    const auto si = static_cast<std::size_t>(i);
+    add_column(k, k, 0, k, 0, k);
+    slot_of_column.push_back(-1);
+    const auto nbr = p.pairs.of(i);
+    const auto dist = p.pairs.distances_of(i);
+    const Index first = p.pairs.offsets[si];
+    for (std::size_t s = 0; s < nbr.size(); ++s) {
+      const auto sj = static_cast<std::size_t>(nbr[s]);
+      const Real r = dist[s];
+      if (block_of[sj] == block) {
+        add_column(k, local[sj], p.deviation_coefficient(si, r), k, p.deviation_coefficient(sj, r), local[sj]);
+        slot_of_column.push_back(first + static_cast<Index>(s));
+        continue;
+      }
+      // A fixed crossing pair, in either direction: remove it from the supply/demand.
+      const Real out = t.pair[static_cast<std::size_t>(first) + s];  // a_ij, i inside
+      row_lo[static_cast<std::size_t>(k)] -= out;
+      fixed[static_cast<std::size_t>(k)] += out * p.deviation_coefficient(si, r);
+      const auto back = p.pairs.of(static_cast<Index>(sj));
+      const auto pos = std::find(back.begin(), back.end(), i) - back.begin();
+      const Real in = t.pair[static_cast<std::size_t>(p.pairs.offsets[sj] + pos)];  // a_ji
+      row_lo[static_cast<std::size_t>(n + k)] -= in;
+      fixed[static_cast<std::size_t>(k)] += in * p.deviation_coefficient(si, r);
+    }
+  }
+  // q: one column with -1 in every deviation row.
+  for (int k = 0; k < n; ++k) index.push_back(2 * n + k), value.push_back(-1);
+  start.push_back(static_cast<CoinBigIndex>(index.size()));
+  cost.push_back(1), col_lo.push_back(0), col_hi.push_back(kInfinity);
+  for (int k = 0; k < n; ++k) {
+    const auto sk = static_cast<std::size_t>(k);
+    for (std::size_t r : {sk, static_cast<std::size_t>(n) + sk})
+      check<NumericalError>(row_lo[r] > -1e-9, "Voronoi deviation: the flows between blocks exceed particle ",
+                            members[sk], "'s ", r == sk ? "cell" : "volume",
+                            "; use a larger pair radius or a larger --dn-direct-limit");
+    row_lo[sk] = std::max(row_lo[sk], 0.0), row_lo[static_cast<std::size_t>(n) + sk] = std::max(row_lo[static_cast<std::size_t>(n) + sk], 0.0);
+    row_hi[sk] = row_lo[sk], row_hi[static_cast<std::size_t>(n) + sk] = row_lo[static_cast<std::size_t>(n) + sk];
+    row_lo[static_cast<std::size_t>(2 * n) + sk] = -kInfinity;
+    row_hi[static_cast<std::size_t>(2 * n) + sk] = -fixed[sk];
+  }
+  std::unique_ptr<Clp_Simplex, void (*)(Clp_Simplex*)> lp(Clp_newModel(), Clp_deleteModel);
+  Clp_setLogLevel(lp.get(), 0);
+  Clp_setMaximumSeconds(lp.get(), max_seconds);
+  Clp_setPrimalTolerance(lp.get(), 1e-9);  // rows are O(1) (mean cell 1): balances to ~1e-9
+  const auto cols = static_cast<int>(cost.size());
+  Clp_loadProblem(lp.get(), cols, 3 * n, start.data(), index.data(), value.data(), col_lo.data(), col_hi.data(), cost.data(),
+                  row_lo.data(), row_hi.data());
+  Clp_initialSolve(lp.get());
+  const int status = Clp_status(lp.get());
+  if (status != 0) {
+    const char* why = status == 1   ? "infeasible"
+                      : status == 3 ? "stopped at its time or iteration limit"
+                                    : "failed";
+    throw NumericalError(detail::concat("Voronoi deviation: LP (63) ", why, " (Clp status ", status, ", ", cols,
+                                        " variables, ", 3 * n, " constraints)"));
+  }
+  const double* a = Clp_getColSolution(lp.get());
+  // Each member's a_ii column comes first in its run of columns.
+  for (int c = 0, k = -1; c + 1 < cols; ++c) {
+    const Index slot = slot_of_column[static_cast<std::size_t>(c)];
+    if (slot < 0)
+      t.self[static_cast<std::size_t>(members[static_cast<std::size_t>(++k)])] = std::max(0.0, a[c]);
+    else
+      t.pair[static_cast<std::size_t>(slot)] = std::max(0.0, a[c]);
+  }
+  return {cols, 3 * n};
+}
+
+// Potential flow on the block graph: per crossing pair (i in k, j in l) the transport
+// a_ij = max(0, phi_k - phi_l), with sum over a block's crossing pairs equal to its
+// imbalance (weighted graph Laplacian L phi = E, weights = crossing pair counts).
+void crossing_flows(const Problem& p, const std::vector<Index>& block_of, Index nblocks, Transport& t) {
+  std::vector<Real> imbalance(static_cast<std::size_t>(nblocks), 0);
+  std::map<std::pair<Index, Index>, Real> weight;
+  for (std::size_t i = 0; i < p.cells.size(); ++i) {
+    imbalance[static_cast<std::size_t>(block_of[i])] += p.cells[i] - p.volumes[i];
+    for (Index j : p.pairs.of(static_cast<Index>(i)))
+      if (block_of[static_cast<std::size_t>(j)] != block_of[i])
+        weight[{block_of[i], block_of[static_cast<std::size_t>(j)]}] += 1;  // (k,l) from i's list, (l,k) from j's
+  }
+  std::vector<Eigen::Triplet<Real>> trip;
+  for (const auto& [kl, w] : weight) {
+    trip.emplace_back(kl.first, kl.first, w);
+    trip.emplace_back(kl.first, kl.second, -w);
+  }
+  trip.emplace_back(0, 0, 1.0);  // pins the constant: with sum E = 0 it gives phi_0 = 0
+  Eigen::SparseMatrix<Real> L(nblocks, nblocks);
+  L.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>> ldlt(L);
+  Eigen::Map<const Eigen::VectorXd> E(imbalance.data(), nblocks);
+  const Eigen::VectorXd phi = ldlt.solve(E);
+  L.coeffRef(0, 0) -= 1.0;
+  check<NumericalError>(ldlt.info() == Eigen::Success && (L * phi - E).norm() <= 1e-8 * (E.norm() + 1),
+                        "Voronoi deviation: the block graph is disconnected (blocks without pairs between them); "
+                        "use a larger pair radius or --dn-direct-limit");
+  for (std::size_t i = 0; i < p.cells.size(); ++i) {
+    const auto nbr = p.pairs.of(static_cast<Index>(i));
+    for (std::size_t s = 0; s < nbr.size(); ++s) {
+      const Index k = block_of[i], l = block_of[static_cast<std::size_t>(nbr[s])];
+      if (k != l) t.pair[static_cast<std::size_t>(p.pairs.offsets[i]) + s] = std::max(0.0, phi[k] - phi[l]);
+    }
+  }
+}
+
+std::vector<Index> spatial_blocks(const PointCloud& cloud, Index target, Index& nblocks) {
+  Vec3 lo = cloud.positions[0], hi = lo;
+  for (const auto& x : cloud.positions) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const int d = cloud.dim;
+  const auto per_axis = static_cast<Index>(std::max(1.0, std::round(std::pow(static_cast<Real>(cloud.size()) / static_cast<Real>(target), 1.0 / d))));
+  std::vector<Index> block(cloud.positions.size());
+  for (std::size_t i = 0; i < block.size(); ++i) {
+    Index b = 0;
+    for (int k = d - 1; k >= 0; --k) {
+      const Real u = hi[k] > lo[k] ? (cloud.positions[i][k] - lo[k]) / (hi[k] - lo[k]) : 0;
+      b = b * per_axis + std::min(per_axis - 1, static_cast<Index>(u * static_cast<Real>(per_axis)));
+    }
+    block[i] = b;
+  }
+  // Renumber the non-empty blocks 0..nblocks-1.
+  std::vector<Index> id(static_cast<std::size_t>(std::pow(per_axis, d)), -1);
+  nblocks = 0;
+  for (auto& b : block) {
+    if (id[static_cast<std::size_t>(b)] < 0) id[static_cast<std::size_t>(b)] = nblocks++;
+    b = id[static_cast<std::size_t>(b)];
+  }
+  return block;
+}
+
+}  // namespace
+
+VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real> volumes, std::span<const Real> cells,
+                                   const VoronoiDeviationOptions& o) {
+  validate(cloud);
+  const Stopwatch clock;
+  const auto n = static_cast<std::size_t>(cloud.size());
+  check<InputError>(volumes.size() == n && cells.size() == n, "Voronoi deviation: ", volumes.size(), " volumes and ",
+                    cells.size(), " cell measures for ", n, " particles");
+  VoronoiDeviation out;
+  for (std::size_t i = 0; i < n; ++i) {
+    check<InputError>(std::isfinite(volumes[i]) && volumes[i] >= 0, "Voronoi deviation: particle ", i, " has volume ",
+                      volumes[i], " (must be finite and >= 0)");
+    check<InputError>(std::isfinite(cells[i]) && cells[i] >= 0, "Voronoi deviation: particle ", i,
+                      " has cell measure ", cells[i]);
+    out.volume_sum += volumes[i];
+    out.cell_sum += cells[i];
+  }
+  check<InputError>(out.cell_sum > 0, "Voronoi deviation: the cells have zero total measure");
+  const Real mismatch = (out.volume_sum - out.cell_sum) / out.cell_sum;
+  check<InputError>(std::abs(mismatch) <= 1e-9 || o.normalise_volumes, "the volumes sum to ", out.volume_sum,
+                    " but the Voronoi cells to ", out.cell_sum, " (relative difference ", mismatch,
+                    "): LP (63) is infeasible unless they agree ([IM] S9); pass --normalise-volumes to scale the volumes");
+  out.volumes_normalised = o.normalise_volumes && mismatch != 0;
+  // Scaled units: mean cell 1 (lengths stay as they are; the LP's rows are then O(1)).
+  const Real mean_cell = out.cell_sum / static_cast<Real>(n);
+  Problem p;
+  p.cells.resize(n);
+  p.volumes.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    p.cells[i] = cells[i] / mean_cell;
+    p.volumes[i] = volumes[i] * (out.cell_sum / out.volume_sum) / mean_cell;
+    check<InputError>(p.cells[i] > 0 || p.volumes[i] == 0, "particle ", i, " has an empty Voronoi cell (it lies outside "
+                      "the domain) but volume ", volumes[i], ": d_N is infinite; exclude it or give it volume 0");
+  }
+  const Real dx = cloud.spacing > 0 ? cloud.spacing : std::pow(mean_cell, 1.0 / cloud.dim);
+  p.length_scale = dx;
+  Real diameter = 0;
+  {
+    Vec3 lo = cloud.positions[0], hi = lo;
+    for (const auto& x : cloud.positions) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    diameter = (hi - lo).norm();
+  }
+  check<InputError>(o.radius >= 0 && std::isfinite(o.radius), "Voronoi deviation: pair radius ", o.radius,
+                    " (must be finite and >= 0)");
+  Real rho = o.radius > 0 ? o.radius : 2 * dx;
+  Index block_target = std::max<Index>(o.block_particles, 16);
+  Index nblocks = 1;
+  std::vector<Index> block_of;
+  Transport t;
+  // Retries, each cheaper than the last failure: blocks whose crossing flows do not fit
+  // are merged (twice the particles per block, down to one block); one block that is
+  // infeasible gets a 1.5 times larger pair radius (a few times, then the error stands).
+  for (int widen = 0;;) {
+    const bool blocks = cloud.size() > o.direct_limit && block_target < cloud.size();
+    block_of = blocks ? spatial_blocks(cloud, block_target, nblocks) : std::vector<Index>(n, 0);
+    if (!blocks) nblocks = 1;
+    std::vector<std::vector<Index>> members(static_cast<std::size_t>(nblocks));
+    for (std::size_t i = 0; i < n; ++i) members[static_cast<std::size_t>(block_of[i])].push_back(static_cast<Index>(i));
+    SearchParams sp;
+    sp.radius = std::min(rho, 1.0001 * diameter) * (1 + 1e-12);
+    sp.min_neighbours = 0;
+    p.pairs = find_neighbours(cloud, sp);
+    t.self.assign(n, 0);
+    t.pair.assign(static_cast<std::size_t>(p.pairs.total()), 0);
+    try {
+      if (nblocks > 1) crossing_flows(p, block_of, nblocks, t);
+      for (Index b = 0; b < nblocks; ++b) {
+        const LpSize size = solve_block(p, members[static_cast<std::size_t>(b)], block_of, b, t, o.max_seconds);
+        out.variables = std::max(out.variables, size.variables);
+        out.constraints = std::max(out.constraints, size.constraints);
+      }
+      break;
+    } catch (const NumericalError&) {
+      if (nblocks > 1) {
+        block_target *= 2;
+        continue;
+      }
+      if (rho >= diameter || ++widen > 4) throw;
+      rho *= 1.5;
+    }
+  }
+  out.radius = rho;
+  out.blocks = nblocks;
+  out.is_upper_bound = nblocks > 1 || rho < diameter;
+  out.method = nblocks > 1 ? "lp-blocks" : rho < diameter ? "lp-restricted" : "lp";
+  // d_N from the transport itself, after checking that it is one.
+  std::vector<Real> supply(t.self.begin(), t.self.end()), demand(t.self.begin(), t.self.end()), dev(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto nbr = p.pairs.of(static_cast<Index>(i));
+    const auto dist = p.pairs.distances_of(static_cast<Index>(i));
+    for (std::size_t s = 0; s < nbr.size(); ++s) {
+      const auto j = static_cast<std::size_t>(nbr[s]);
+      const Real a = t.pair[static_cast<std::size_t>(p.pairs.offsets[i]) + s];
+      supply[i] += a;
+      demand[j] += a;
+      dev[i] += a * p.deviation_coefficient(i, dist[s]);
+      dev[j] += a * p.deviation_coefficient(j, dist[s]);
+    }
+  }
+  Real worst_balance = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    worst_balance = std::max({worst_balance, std::abs(supply[i] - p.cells[i]), std::abs(demand[i] - p.volumes[i])});
+  check<NumericalError>(worst_balance <= 1e-5, "Voronoi deviation: the LP's transport misses a cell or volume by ",
+                        worst_balance, " (relative to the mean cell); the result would not be d_N");
+  for (std::size_t i = 0; i < n; ++i)
+    if (out.worst < 0 || dev[i] > out.value) out.value = dev[i], out.worst = static_cast<Index>(i);
+  out.value *= dx;
+  out.seconds = clock.seconds();
+  return out;
+}
+
+}  // namespace vrsph
