@@ -5,8 +5,10 @@
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/analysis/im_table1.hpp>
 #include <vrsph/analysis/regularity.hpp>
 #include <vrsph/analysis/voronoi_deviation.hpp>
+#include <vrsph/cloud/im_cloud.hpp>
 #include <vrsph/cloud/voronoi.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/solve/solver.hpp>
@@ -38,6 +40,8 @@
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/method.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/methods/gpm/gpm_at.hpp>
+#include <vrsph/methods/particle_volumes.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/methods/sph/sph.hpp>
 #include <vrsph/methods/vrsph/moments.hpp>

@@ -92,6 +92,17 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
       fixed[static_cast<std::size_t>(k)] += in * p.deviation_coefficient(si, r);
     }
   }
+  // Round-off in the crossing flows (and in sum V = sum |sigma|) leaves the block's supply and
+  // demand apart by ~1e-8 of a cell: more than the LP's feasibility tolerance. Scale the
+  // demands onto the supply (a relative change of that size), else the LP is "infeasible".
+  {
+    Real supply = 0, demand = 0;
+    for (int k = 0; k < n; ++k) supply += std::max(0.0, row_lo[static_cast<std::size_t>(k)]), demand += std::max(0.0, row_lo[static_cast<std::size_t>(n + k)]);
+    check<NumericalError>(std::abs(supply - demand) <= 1e-6 * (supply + 1), "Voronoi deviation: a block's cells and volumes "
+                          "differ by ", supply - demand, " mean cells after the crossing flows");
+    if (demand > 0)
+      for (int k = 0; k < n; ++k) row_lo[static_cast<std::size_t>(n + k)] *= supply / demand;
+  }
   // q: one column with -1 in every deviation row.
   for (int k = 0; k < n; ++k) index.push_back(2 * n + k), value.push_back(-1);
   start.push_back(static_cast<CoinBigIndex>(index.size()));
@@ -136,16 +147,19 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
 }
 
 // Potential flow on the block graph: per crossing pair (i in k, j in l) the transport
-// a_ij = max(0, phi_k - phi_l), with sum over a block's crossing pairs equal to its
-// imbalance (weighted graph Laplacian L phi = E, weights = crossing pair counts).
+// a_ij = c_ij max(0, phi_k - phi_l), c_ij = min(|sigma_i|, |sigma_j|) (scaled: ~1), so that
+// small cells (at the domain's edge) are not asked to pass as much as full ones; the
+// imbalance E_k = sum_k (|sigma_i| - V_i) leaves block k: L phi = E with L the graph
+// Laplacian weighted by the sums of c_ij over crossing pairs.
 void crossing_flows(const Problem& p, const std::vector<Index>& block_of, Index nblocks, Transport& t) {
   std::vector<Real> imbalance(static_cast<std::size_t>(nblocks), 0);
   std::map<std::pair<Index, Index>, Real> weight;
+  auto capacity = [&p](std::size_t i, std::size_t j) { return std::min(p.cells[i], p.cells[j]); };
   for (std::size_t i = 0; i < p.cells.size(); ++i) {
     imbalance[static_cast<std::size_t>(block_of[i])] += p.cells[i] - p.volumes[i];
     for (Index j : p.pairs.of(static_cast<Index>(i)))
-      if (block_of[static_cast<std::size_t>(j)] != block_of[i])
-        weight[{block_of[i], block_of[static_cast<std::size_t>(j)]}] += 1;  // (k,l) from i's list, (l,k) from j's
+      if (block_of[static_cast<std::size_t>(j)] != block_of[i])  // (k,l) from i's list, (l,k) from j's
+        weight[{block_of[i], block_of[static_cast<std::size_t>(j)]}] += capacity(i, static_cast<std::size_t>(j));
   }
   std::vector<Eigen::Triplet<Real>> trip;
   for (const auto& [kl, w] : weight) {
@@ -165,8 +179,9 @@ void crossing_flows(const Problem& p, const std::vector<Index>& block_of, Index 
   for (std::size_t i = 0; i < p.cells.size(); ++i) {
     const auto nbr = p.pairs.of(static_cast<Index>(i));
     for (std::size_t s = 0; s < nbr.size(); ++s) {
-      const Index k = block_of[i], l = block_of[static_cast<std::size_t>(nbr[s])];
-      if (k != l) t.pair[static_cast<std::size_t>(p.pairs.offsets[i]) + s] = std::max(0.0, phi[k] - phi[l]);
+      const auto j = static_cast<std::size_t>(nbr[s]);
+      const Index k = block_of[i], l = block_of[j];
+      if (k != l) t.pair[static_cast<std::size_t>(p.pairs.offsets[i]) + s] = capacity(i, j) * std::max(0.0, phi[k] - phi[l]);
     }
   }
 }
@@ -245,9 +260,10 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
   Index nblocks = 1;
   std::vector<Index> block_of;
   Transport t;
-  // Retries, each cheaper than the last failure: blocks whose crossing flows do not fit
-  // are merged (twice the particles per block, down to one block); one block that is
-  // infeasible gets a 1.5 times larger pair radius (a few times, then the error stands).
+  // Retries: blocks whose crossing flows do not fit give way to one LP over the whole set
+  // (merging blocks step by step was measured slower: every step failed again at 2.4e4
+  // particles); one LP that is infeasible gets a 1.5 times larger pair radius (a few
+  // times, then the error stands).
   for (int widen = 0;;) {
     const bool blocks = cloud.size() > o.direct_limit && block_target < cloud.size();
     block_of = blocks ? spatial_blocks(cloud, block_target, nblocks) : std::vector<Index>(n, 0);
@@ -269,8 +285,10 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
       }
       break;
     } catch (const NumericalError&) {
-      if (nblocks > 1) {
-        block_target *= 2;
+      if (nblocks > 1) {  // the crossing flows do not fit: one LP over the whole set, if affordable
+        if (cloud.size() > o.fallback_limit) throw;
+        block_target = cloud.size();
+        out.block_fallback = true;
         continue;
       }
       if (rho >= diameter || ++widen > 4) throw;

@@ -32,6 +32,10 @@ std::vector<std::string> split(const std::string& line) {
 }  // namespace
 
 CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int dim) {
+  return read_csv_columns(in, name, dim, true);
+}
+
+CloudFile read_csv_columns(std::istream& in, const std::string& name, int dim, bool tag_required) {
   check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
   std::string line;
   std::size_t lineno = 0;
@@ -70,8 +74,9 @@ CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int di
       extra_col.push_back(k);
     }
   }
-  check<InputError>(col.count("x") && col.count("tag"), name, ":", lineno,
-                    ": header must contain at least the columns x and tag (got '", printable(line), "')");
+  check<InputError>(col.count("x") && (col.count("tag") || !tag_required), name, ":", lineno,
+                    ": header must contain at least the columns x", tag_required ? " and tag" : "", " (got '",
+                    printable(line), "')");
   int coord_cols = 1;
   if (col.count("y")) coord_cols = 2;
   if (col.count("z")) {
@@ -106,9 +111,9 @@ CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int di
     Vec3 x(number("x"), number("y"), number("z"));
     for (int k = 0; k < 3; ++k)
       if (x[k] != 0) any_nonzero[k] = 1;
-    Tag tag;
+    Tag tag = Tag::Interior;
     try {
-      tag = parse_tag(trim_lower(f[col["tag"]]));
+      if (col.count("tag")) tag = parse_tag(trim_lower(f[col["tag"]]));
     } catch (const InputError& e) {
       throw InputError(detail::concat(name, ":", lineno, ": ", e.what()));
     }
@@ -149,6 +154,11 @@ CloudFile read_csv_with_fields(const std::string& path, int dim) {
 }
 
 PointCloud read_csv(const std::string& path, int dim) { return read_csv_with_fields(path, dim).cloud; }
+
+std::vector<Vec3> read_points_csv(const std::string& path, int dim) {
+  std::ifstream in = open_input(path, "evaluation points file");
+  return read_csv_columns(in, path, dim, false).cloud.positions;
+}
 
 namespace {
 void write_rows(std::ostream& out, const PointCloud& c) {

@@ -123,12 +123,38 @@ void nearest_dim(const PointCloud& cloud, const std::vector<Vec3>& queries, std:
 }
 }  // namespace
 
+template <int D>
+std::vector<std::vector<Index>> within_dim(const PointCloud& cloud, const std::vector<Vec3>& queries, Real radius) {
+  CloudAdaptor adaptor{cloud};
+  Tree<D> tree(D, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  std::vector<std::vector<Index>> out(queries.size());
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t q = 0; q < queries.size(); ++q) {
+    auto emit = [&](Index j, Real r2) {
+      if (r2 < radius * radius) out[q].push_back(j);  // the strict r < radius of every search
+    };
+    CallbackResultSet<decltype(emit)> rs{radius * radius * (1 + 1e-12), emit};
+    tree.findNeighbors(rs, queries[q].data(), nanoflann::SearchParams(32, 0, false));
+    std::sort(out[q].begin(), out[q].end());
+  }
+  return out;
+}
+
 void nearest_particles(const PointCloud& cloud, const std::vector<Vec3>& queries, std::vector<Real>& dist,
                        std::vector<Index>& index) {
   switch (cloud.dim) {
     case 1: return nearest_dim<1>(cloud, queries, dist, index);
     case 2: return nearest_dim<2>(cloud, queries, dist, index);
     default: return nearest_dim<3>(cloud, queries, dist, index);
+  }
+}
+
+std::vector<std::vector<Index>> particles_within_dim(const PointCloud& cloud, const std::vector<Vec3>& queries,
+                                                     Real radius) {
+  switch (cloud.dim) {
+    case 1: return within_dim<1>(cloud, queries, radius);
+    case 2: return within_dim<2>(cloud, queries, radius);
+    default: return within_dim<3>(cloud, queries, radius);
   }
 }
 
@@ -143,6 +169,16 @@ NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, c
 }  // namespace vrsph::detail
 
 namespace vrsph {
+
+std::vector<std::vector<Index>> particles_within(const PointCloud& cloud, const std::vector<Vec3>& queries, Real radius) {
+  validate(cloud);
+  check<InputError>(std::isfinite(radius) && radius > 0, "a query radius must be positive and finite, got ", radius);
+  for (std::size_t q = 0; q < queries.size(); ++q)
+    for (int k = 0; k < 3; ++k)
+      check<InputError>(std::isfinite(queries[q][k]) && std::abs(queries[q][k]) <= max_coordinate, "query point ", q,
+                        " has coordinate ", queries[q][k]);
+  return detail::particles_within_dim(cloud, queries, radius);
+}
 
 std::vector<Real> kth_neighbour_distance(const PointCloud& cloud, int k) {
   validate(cloud);

@@ -749,6 +749,52 @@ class ProblemFile(unittest.TestCase):
         self.assertEqual([(r["method"], r["n"]) for r in rows], [("vrsph", 8), ("vrsph", 16), ("sph", 8), ("sph", 16)])
 
 
+class ImRegularity(unittest.TestCase):
+    """[IM] (issue 12): cloud --regularity and operator --problem im-table1."""
+
+    def test_regularity_report_keys_and_voronoi_volumes(self):
+        j = run_json("cloud", "--family", "perturbed", "--n", "16", "--regularity")
+        for key in ("covering_radius", "voronoi_deviation", "voronoi_deviation_is_upper_bound", "regularity_order",
+                    "lp_variables", "predicted_order_laplacian_n1"):
+            self.assertIn(key, j)
+        self.assertGreater(j["voronoi_deviation"], 0)
+        self.assertEqual(j["voronoi_deviation_is_upper_bound"], "true")  # pairs within 2 dx only
+        v = run_json("cloud", "--family", "im", "--n", "16", "--regularity", "--volumes", "voronoi")
+        self.assertLess(v["voronoi_deviation"], 1e-9)
+
+    def test_mismatched_volumes_need_normalisation(self):
+        r = run("cloud", "--family", "perturbed", "--n", "8", "--regularity", "--volumes", "vrsph", check=False)
+        self.assertEqual(r.returncode, 3)
+        self.assertIn("--normalise-volumes", r.stderr)
+        j = run_json("cloud", "--family", "perturbed", "--n", "8", "--regularity", "--volumes", "vrsph",
+                     "--normalise-volumes")
+        self.assertEqual(j["volumes_normalised"], "yes")
+
+    def test_table1_rows(self):
+        rows = run_json("operator", "--problem", "im-table1", "--method", "gpm", "--weight", "delta1", "--m", "3",
+                        "--levels", "5,6,7")["rows"]
+        self.assertEqual(len(rows), 3)
+        for key in ("dx", "h", "error_rel", "order", "order_fit", "theoretical_order"):
+            self.assertIn(key, rows[-1])
+        self.assertAlmostEqual(rows[0]["h"], 2.6 / 32)
+        self.assertGreater(rows[-1]["order"], 1.0)
+        r = run("operator", "--problem", "im-table1", "--weight", "delta9", check=False)
+        self.assertEqual(r.returncode, 2)
+
+    def test_gpm_at_points(self):
+        with tempfile.TemporaryDirectory() as d:
+            pts = os.path.join(d, "p.csv")
+            with open(pts, "w", encoding="utf-8") as f:
+                f.write("x,y\n0.5,0.5\n0.31,0.77\n")
+            rows = run_json("operator", "--at", pts, "--method", "gpm", "--n", "64", "--u", "x+2*y")["rows"]
+            self.assertEqual(len(rows), 2)
+            for r in rows:  # (2)-(4) reproduce linear functions only up to their lattice quadrature error
+                self.assertGreater(r["neighbours"], 20)
+                self.assertLess(r["value_error"], 2e-2)
+                self.assertLess(r["gradient_error"], 0.1)
+                self.assertAlmostEqual(r["value_exact"], r["x"] + 2 * r["y"])
+
+
 if __name__ == "__main__":
     VRSPH = os.path.abspath(sys.argv.pop(1))
     unittest.main(verbosity=2)

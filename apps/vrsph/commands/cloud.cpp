@@ -41,7 +41,7 @@ struct CloudArgs {
   bool regularity = false, normalise_volumes = false;
   std::string volumes = "uniform";
   double dn_radius = 0, c0 = 1;
-  long long dn_direct_limit = 3000, dn_block = 800;
+  long long dn_direct_limit = 3000, dn_block = 500;
 };
 
 // The --regularity rows: what [IM] says about this set, before anything is solved on it.
@@ -71,6 +71,7 @@ void add_regularity_rows(const PointCloud& cloud, const CloudArgs& a, Real h,
   add("voronoi_deviation_worst_particle", static_cast<long long>(d.worst));
   add("voronoi_deviation_particles", static_cast<long long>(r.particles));
   add("lp_blocks", static_cast<long long>(d.blocks));
+  add("lp_block_fallback", std::string(d.block_fallback ? "yes" : "no"));
   add("lp_variables", static_cast<long long>(d.variables));
   add("lp_constraints", static_cast<long long>(d.constraints));
   add("lp_seconds", d.seconds);

@@ -4,11 +4,15 @@
 #include <vrsph/analysis/im_table1.hpp>
 #include <vrsph/analysis/operator_study.hpp>
 #include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
 #include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/gpm/gpm.hpp>
+#include <vrsph/methods/gpm/gpm_at.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
@@ -33,6 +37,7 @@ struct OperatorArgs {
   std::vector<std::string> method_opts;
   std::string cloud_file;
   SpePatchArgs patch;
+  std::string at;  // --at points.csv: gpm at arbitrary points
   std::string im_weights = "pi1,pi2,pi3,grad1,grad2,grad3,delta1,delta2,delta3", im_m = "1,3,5", im_levels = "5,6,7,8";
   long long im_points = 10000;
   OutputOptions out;
@@ -86,6 +91,78 @@ void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
                {"infeasible", static_cast<long long>(local.infeasible)}});
   }
   emit(t, a.out, "{}", "h", "error_inf", "method", "operator on " + a.cloud_file);
+}
+
+// `vrsph operator --at points.csv`: [IM] (2)-(4) of gpm at arbitrary points, against the
+// exact value, gradient and Laplacian of --u there. The particles: --cloud-file, or the
+// --cloud family on the unit box at one --n with ghost layers covering the support.
+void operator_at_points(const OperatorArgs& a, const CLI::App& cmd) {
+  for (const char* opt : {"--problem", "--exact", "--a", "--operator", "--h-mode", "--h-knn", "--kernel", "--no-ghosts", "--plot"})
+    check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --at (gpm's interpolant, gradient and Laplacian "
+                       "are all evaluated against the exact derivatives of --u)");
+  check<ConfigError>(a.methods == "gpm", "--at evaluates --method gpm only (the operators of [IM] at arbitrary points), got '",
+                     a.methods, "'");
+  const auto options = parse_method_options(a.method_opts, {"gpm"});
+  const MethodOptions& o = options_for(options, "gpm");
+  const std::string family = o.get_choice("weight", "2", {"1", "2", "3"});
+  const std::string volume = o.get_choice("volume", "lattice", {"lattice", "shepard", "uniform", "voronoi", "vrsph"});
+  o.reject_unused("gpm");
+  check<ConfigError>(std::isfinite(a.h_factor) && a.h_factor > 0, "--h-factor must be positive, got ", a.h_factor);
+  PointCloud cloud;
+  Real dx = 0;
+  if (!a.cloud_file.empty()) {
+    for (const char* opt : {"--cloud", "--n", "--seed", "--delta", "--regular-layer"})
+      check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with --cloud-file");
+    cloud = read_cloud_file(a.cloud_file, a.dim_opt->count() ? a.dim : 0).cloud;
+    dx = estimate_spacing(cloud);
+  } else {
+    const auto ns = parse_int_list(a.n, "--n");
+    check<ConfigError>(ns.size() == 1 || cmd.count("--n") == 0, "--at takes one --n (one cloud), got '", a.n, "'");
+    CloudSpec spec;
+    spec.family = parse_cloud_family(a.cloud);
+    spec.box = Domain::unit_box(a.dim);
+    spec.n = cmd.count("--n") ? ns[0] : 32;
+    spec.delta = a.delta;
+    spec.seed = a.seed;
+    spec.regular_layer = a.regular_layer;
+    const Real spacing = 1.0 / spec.n;
+    if (spec.family != CloudFamily::Disk) spec.ghost_width = ghost_layers_for(a.h_factor * spacing, spacing) * spacing;
+    const StudyCloud sc = make_study_cloud(spec);
+    cloud = sc.cloud;
+    dx = sc.dx;
+  }
+  const Real h = a.h_factor * dx;
+  const std::vector<Vec3> points = read_points_csv(a.at, cloud.dim);
+  const auto u = make_function_or_expression(a.u.empty() ? "cos-pi" : a.u, cloud.dim);
+  SearchParams sp;
+  sp.radius = h;
+  sp.min_neighbours = 0;
+  const NeighbourList nl = find_neighbours(cloud, sp);
+  const std::vector<Real> V = gpm_volumes({cloud, nl, KernelType::CubicSpline, dx}, volume, family);
+  std::vector<Real> up(cloud.positions.size()), ux(points.size());
+  for (std::size_t i = 0; i < up.size(); ++i) up[i] = u->value(cloud.positions[i]);
+  for (std::size_t q = 0; q < points.size(); ++q) ux[q] = u->value(points[q]);
+  const GpmPointValues r = gpm_at_points(cloud, V, family, h, points, up, ux);
+  Table t;
+  t.columns = {"point", "x", "y", "z", "neighbours", "value", "value_exact", "value_error", "gradient_error",
+               "laplacian", "laplacian_exact", "laplacian_error"};
+  for (int k = 0; k < cloud.dim; ++k) t.columns.push_back(std::string("gradient_") + "xyz"[k]);
+  for (std::size_t q = 0; q < points.size(); ++q) {
+    const auto e = static_cast<Eigen::Index>(q);
+    const Vec3 g = u->gradient(points[q]);
+    Real gerr = 0;
+    for (int k = 0; k < cloud.dim; ++k) gerr += std::pow(r.gradient(e, k) - g[k], 2);
+    const Real lap = u->laplacian(points[q]);
+    std::vector<std::pair<std::string, TableCell>> row{
+        {"point", static_cast<long long>(q)}, {"x", points[q][0]}, {"y", points[q][1]}, {"z", points[q][2]},
+        {"neighbours", static_cast<long long>(r.neighbours[q])}, {"value", r.value[e]}, {"value_exact", ux[q]},
+        {"value_error", std::abs(r.value[e] - ux[q])}, {"gradient_error", std::sqrt(gerr)}, {"laplacian", r.laplacian[e]},
+        {"laplacian_exact", lap}, {"laplacian_error", std::abs(r.laplacian[e] - lap)}};
+    for (int k = 0; k < cloud.dim; ++k) row.emplace_back(std::string("gradient_") + "xyz"[k], r.gradient(e, k));
+    t.add_row(row);
+  }
+  emit(t, a.out, R"j({"evaluation": "gpm at points", "reference": "004_9e9d00b5a1203d0f.txt (2)-(4)"})j", "", "", "",
+       "");
 }
 
 // `vrsph operator --problem im-table1`: [IM] Table 1 / Fig. 5 (analysis/im_table1.hpp).
@@ -165,6 +242,9 @@ void add_operator_command(CLI::App& app) {
                   "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., VTU/VTP, or Gmsh .msh) against the exact derivatives of --u: "
                   "error over interior particles, and over the tagged boundary particles apart");
   add_spe_patch_options(cmd, a->patch);
+  cmd->add_option("--at", a->at, "Evaluate gpm's interpolant, gradient and Laplacian ([IM] (2)-(4)) at the points of this "
+                  "CSV file (columns x[,y[,z]]) against the exact derivatives of --u; particles from --cloud/--n (one "
+                  "value) on the unit box with ghost layers, or --cloud-file");
   cmd->add_option("--weight", a->im_weights, "im-table1: [IM] weights pi1-3, grad1-3, delta1-3")->capture_default_str();
   cmd->add_option("--m", a->im_m, "im-table1: regularity orders m of the h rule h = 2.6 * 2^(5/m-5) dx^(1/m)")->capture_default_str();
   cmd->add_option("--levels", a->im_levels, "im-table1: dx = 2^-level")->capture_default_str();
@@ -172,6 +252,7 @@ void add_operator_command(CLI::App& app) {
                   "particles in Omega when there are more)")->capture_default_str();
   cmd->callback([a, cmd] {
     validate_output(a->out);
+    if (!a->at.empty()) return operator_at_points(*a, *cmd);
     if (a->problem == "im-table1") return operator_im_table1(*a, *cmd);
     for (const char* opt : {"--weight", "--m", "--levels", "--points"})
       check<ConfigError>(cmd->count(opt) == 0, opt, " applies to --problem im-table1 only");

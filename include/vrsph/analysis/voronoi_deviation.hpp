@@ -11,7 +11,8 @@
 //  * above `direct_limit` particles the set is cut into spatial blocks: the blocks'
 //    imbalances sum_B (|sigma_i| - V_i) are moved between neighbouring blocks by a
 //    potential flow on the block graph (each crossing pair carries the potential jump),
-//    then each block solves its own LP (63) with those crossing flows fixed.
+//    then each block solves its own LP (63) with those crossing flows fixed; if a block
+//    LP is then infeasible, one LP over the whole set is solved instead (block_fallback).
 // The reported value is recomputed from the transport found, whose row and column sums
 // are checked; an LP that fails or hits its time limit is an error, never a number.
 #include <span>
@@ -24,7 +25,8 @@ namespace vrsph {
 struct VoronoiDeviationOptions {
   Real radius = 0;             ///< pair radius rho; 0 = 2 dx (dx = the cloud's spacing)
   Index direct_limit = 3000;   ///< more particles: block decomposition
-  Index block_particles = 800; ///< target particles per block
+  Index block_particles = 500; ///< target particles per block
+  Index fallback_limit = 12000; ///< blocks that fail fall back to one LP only up to this many particles
   bool normalise_volumes = false;  ///< scale V so that sum V = sum |sigma| (else a mismatch is an error, S9)
   Real max_seconds = 600;      ///< per LP
 };
@@ -36,6 +38,7 @@ struct VoronoiDeviation {
   Real radius = 0;              ///< rho used (the first feasible of rho, 1.5 rho, ...)
   Index worst = -1;             ///< particle attaining the maximum
   Index blocks = 1;
+  bool block_fallback = false;  ///< blocks were tried, their crossing flows did not fit, one LP was solved
   Index variables = 0, constraints = 0;  ///< of the largest LP solved
   Real seconds = 0;
   Real volume_sum = 0, cell_sum = 0;     ///< before any normalisation

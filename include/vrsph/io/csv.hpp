@@ -22,6 +22,12 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim = 0);
 CloudFile read_csv_with_fields(const std::string& path, int dim = 0);
 CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int dim = 0);
 /// Writes x,y,z,tag[,nx,ny,nz] with 17 significant digits (lossless round trip).
+/// As read_csv_with_fields; with tag_required = false a file without a tag column is
+/// accepted (every point Interior), e.g. evaluation points `x,y[,z]`.
+CloudFile read_csv_columns(std::istream& in, const std::string& name, int dim, bool tag_required);
+/// Evaluation points from a CSV file with columns x[,y[,z]] (a tag column is allowed and ignored).
+std::vector<Vec3> read_points_csv(const std::string& path, int dim);
+
 void write_csv(const std::string& path, const PointCloud& cloud);
 void write_csv(std::ostream& out, const PointCloud& cloud);
 

@@ -30,6 +30,10 @@ struct SearchParams {
 /// GeometryError (a non-ghost particle with too few neighbours), naming the particle.
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params);
 
+/// For each query point (any point, a particle or not), the particles strictly closer than
+/// `radius`, in increasing index (k-d tree). InputError for a non-positive radius or a
+/// non-finite query point.
+std::vector<std::vector<Index>> particles_within(const PointCloud& cloud, const std::vector<Vec3>& queries, Real radius);
 /// Mean distance to the nearest other particle (used when no spacing is known).
 Real mean_nearest_neighbour_distance(const PointCloud& cloud);
 

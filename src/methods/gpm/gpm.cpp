@@ -26,6 +26,15 @@ MethodInfo gpm_info() {
   return info;
 }
 
+std::vector<Real> gpm_volumes(const Discretisation& disc, const std::string& volume, const std::string& family) {
+  if (volume == "lattice") return sph_volumes(disc, SphVolume::Spacing);  // V_j = dx^d, as SPH's
+  if (volume != "shepard") return particle_volumes(disc, parse_particle_volumes(volume));
+  const ReferenceWeight w = reference_weight("pi" + family, disc.cloud.dim);
+  return shepard_volumes(
+      disc, [&disc, &w](Index j) { return [&w, h = disc.neighbours.radius(j)](Real r) { return w.value(r, h); }; },
+      "gpm (weight pi" + family + ")");
+}
+
 namespace {
 
 class Gpm final : public Method {
@@ -44,7 +53,7 @@ class Gpm final : public Method {
     const ReferenceWeight value_w = reference_weight("pi" + family_, d);
     const ReferenceWeight grad_w = reference_weight("grad" + family_, d);
     const ReferenceWeight lap_w = reference_weight("delta" + family_, d);
-    const std::vector<Real> V = volumes(disc, value_w);
+    const std::vector<Real> V = gpm_volumes(disc, volume_, family_);
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, d, info_.name);
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 #pragma omp parallel for schedule(dynamic, 256)
@@ -84,14 +93,6 @@ class Gpm final : public Method {
   }
 
  private:
-  std::vector<Real> volumes(const Discretisation& disc, const ReferenceWeight& w) const {
-    if (volume_ == "lattice") return sph_volumes(disc, SphVolume::Spacing);  // V_j = dx^d, as SPH's
-    if (volume_ != "shepard") return particle_volumes(disc, parse_particle_volumes(volume_));
-    return shepard_volumes(
-        disc, [&disc, &w](Index j) { return [&w, h = disc.neighbours.radius(j)](Real r) { return w.value(r, h); }; },
-        "gpm (weight pi" + family_ + ")");
-  }
-
   MethodInfo info_;
   std::string family_;
   std::string volume_;

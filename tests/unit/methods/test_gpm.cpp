@@ -5,6 +5,8 @@
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/reference_weight.hpp>
+#include <vrsph/methods/gpm/gpm.hpp>
+#include <vrsph/methods/gpm/gpm_at.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -127,4 +129,52 @@ TEST(Mps, EqualsFormulas61And62) {
   const NeighbourList nl = find_neighbours(line, sp);
   EXPECT_THROW(builtin_methods().create("mps", {})->build({line, nl, KernelType::CubicSpline, 0.125}, {.kind = OperatorKind::Laplacian}),
                ConfigError);  // 1/r - 1 is not integrable in 1D
+}
+
+// gpm at arbitrary points: at the particles themselves it is the particle stencil (the
+// interpolant includes the particle at x, (3)-(4) leave it out); off the particles it needs
+// a particle within h, and names the point that has none.
+TEST(GpmAt, AtParticlesEqualsTheStencils) {
+  PointCloud c = cell_centred_lattice(Domain::unit_box(2), 10, false, 3);
+  perturb(c, {.delta = 0.3, .seed = 2});
+  SearchParams sp;
+  sp.radius = 2.7 / 10;
+  const NeighbourList nl = find_neighbours(c, sp);
+  const Discretisation disc{c, nl, KernelType::CubicSpline, 0.1};
+  for (const std::string family : {"1", "3"}) {
+    const auto method = builtin_methods().create("gpm", MethodOptions::parse({"weight=" + family, "volume=uniform"}));
+    Field u(c.size());
+    std::vector<Real> uv(c.positions.size());
+    for (Index i = 0; i < c.size(); ++i) uv[static_cast<std::size_t>(i)] = u[i] = std::cos(3 * c.positions[static_cast<std::size_t>(i)].sum());
+    const auto V = gpm_volumes(disc, "uniform", family);
+    std::vector<Vec3> points;
+    std::vector<Real> at;
+    std::vector<Index> which;
+    for (Index i = 0; i < c.size(); i += 7)
+      if (c.tags[static_cast<std::size_t>(i)] != Tag::Ghost) {
+        points.push_back(c.positions[static_cast<std::size_t>(i)]);
+        at.push_back(uv[static_cast<std::size_t>(i)]);
+        which.push_back(i);
+      }
+    const GpmPointValues r = gpm_at_points(c, V, family, sp.radius, points, uv, at);
+    const Eigen::MatrixXd val = apply(method->build(disc, {.kind = OperatorKind::Value}), u);
+    const Eigen::MatrixXd grad = apply(method->build(disc, {.kind = OperatorKind::Gradient}), u);
+    const Eigen::MatrixXd lap = apply(method->build(disc, {.kind = OperatorKind::Laplacian}), u);
+    for (std::size_t q = 0; q < points.size(); ++q) {
+      const auto e = static_cast<Eigen::Index>(q);
+      const Index i = which[q];
+      EXPECT_NEAR(r.value[e], val(i, 0), 1e-12) << family << " " << i;
+      EXPECT_NEAR(r.gradient(e, 0), grad(i, 0), 1e-10) << family << " " << i;
+      EXPECT_NEAR(r.gradient(e, 1), grad(i, 1), 1e-10) << family << " " << i;
+      EXPECT_NEAR(r.laplacian[e], lap(i, 0), 1e-8 * (std::abs(lap(i, 0)) + 1)) << family << " " << i;
+      EXPECT_EQ(r.neighbours[q], nl.count(i) + 1);
+    }
+  }
+  std::vector<Real> V(c.positions.size(), 0.01), uv(c.positions.size(), 1.0);
+  try {
+    gpm_at_points(c, V, "2", 0.27, {Vec3(0.5, 0.5, 0), Vec3(5, 5, 0)}, uv, std::vector<Real>{1.0, 1.0});
+    FAIL() << "a point far from every particle was evaluated";
+  } catch (const GeometryError& e) {
+    EXPECT_NE(std::string(e.what()).find("evaluation point 1 at (5, 5, 0)"), std::string::npos) << e.what();
+  }
 }

@@ -16,5 +16,7 @@ namespace vrsph {
 
 MethodInfo gpm_info();
 std::unique_ptr<Method> make_gpm(const MethodOptions& options);
+/// The volumes V_j gpm uses for option volume= (lattice | shepard | uniform | voronoi | vrsph) and weight family.
+std::vector<Real> gpm_volumes(const Discretisation& disc, const std::string& volume, const std::string& family);
 
 }  // namespace vrsph
