@@ -758,7 +758,7 @@ class ImRegularity(unittest.TestCase):
                     "lp_variables", "predicted_order_laplacian_n1"):
             self.assertIn(key, j)
         self.assertGreater(j["voronoi_deviation"], 0)
-        self.assertEqual(j["voronoi_deviation_is_upper_bound"], "true")  # pairs within 2 dx only
+        self.assertIs(j["voronoi_deviation_is_upper_bound"], True)  # pairs within 2 dx only
         v = run_json("cloud", "--family", "im", "--n", "16", "--regularity", "--volumes", "voronoi")
         self.assertLess(v["voronoi_deviation"], 1e-9)
 
@@ -768,7 +768,7 @@ class ImRegularity(unittest.TestCase):
         self.assertIn("--normalise-volumes", r.stderr)
         j = run_json("cloud", "--family", "perturbed", "--n", "8", "--regularity", "--volumes", "vrsph",
                      "--normalise-volumes")
-        self.assertEqual(j["volumes_normalised"], "yes")
+        self.assertIs(j["volumes_normalised"], True)
 
     def test_table1_rows(self):
         rows = run_json("operator", "--problem", "im-table1", "--method", "gpm", "--weight", "delta1", "--m", "3",
