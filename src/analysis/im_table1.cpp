@@ -7,6 +7,7 @@
 #include <vrsph/analysis/im_table1.hpp>
 #include <vrsph/cloud/im_cloud.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/kernels/reference_weight.hpp>
 #include <vrsph/methods/gpm/gpm_pairs.hpp>
@@ -33,6 +34,8 @@ LevelCloud make_level(const ImTable1Options& o, int level) {
   spec.dx = std::ldexp(1.0, -level);
   spec.seed = o.seed;
   L.cloud = im_cloud(spec);
+  check_memory_estimate(static_cast<double>(L.cloud.size()) * sizeof(Real), "the function values of the [IM] cloud",
+                        "use fewer --levels");
   long long last = 0;
   im_lattice_range(spec.dx, spec.margin, L.first, last);
   L.per_axis = last - L.first + 1;

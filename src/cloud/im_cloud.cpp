@@ -1,6 +1,7 @@
 #include <cmath>
 #include <vrsph/cloud/im_cloud.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
 #include "random.hpp"
 
 namespace vrsph {
@@ -21,6 +22,9 @@ PointCloud im_cloud(const ImCloudSpec& s) {
   const long long per_axis = last - first + 1;
   const double total = std::pow(static_cast<double>(per_axis), s.dim);
   check<ConfigError>(total <= 5e8, "the [IM] cloud at dx = ", s.dx, " would have ", total, " particles (limit 5e8)");
+  // positions (3 doubles) and tags per particle
+  check_memory_estimate(total * (sizeof(Vec3) + sizeof(Tag)), detail::concat("the [IM] cloud of ", total, " particles"),
+                        "use a coarser dx (a larger --n or a smaller level)");
   PointCloud c;
   c.dim = s.dim;
   c.spacing = s.dx;
