@@ -2,6 +2,7 @@
 #include <coin/Clp_C_Interface.h>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <exception>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -278,11 +279,25 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
     t.pair.assign(static_cast<std::size_t>(p.pairs.total()), 0);
     try {
       if (nblocks > 1) crossing_flows(p, block_of, nblocks, t);
+      // Blocks are independent once the crossing flows are fixed: each writes only its own
+      // pairs' transport, so they run in parallel (one Clp model per block) and the result
+      // does not depend on the thread count. The first failure is rethrown after the loop.
+      std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 1)
       for (Index b = 0; b < nblocks; ++b) {
-        const LpSize size = solve_block(p, members[static_cast<std::size_t>(b)], block_of, b, t, o.max_seconds);
-        out.variables = std::max(out.variables, size.variables);
-        out.constraints = std::max(out.constraints, size.constraints);
+        try {
+          const LpSize size = solve_block(p, members[static_cast<std::size_t>(b)], block_of, b, t, o.max_seconds);
+#pragma omp critical(vrsph_voronoi_deviation)
+          {
+            out.variables = std::max(out.variables, size.variables);
+            out.constraints = std::max(out.constraints, size.constraints);
+          }
+        } catch (...) {
+#pragma omp critical(vrsph_voronoi_deviation)
+          if (!failure) failure = std::current_exception();
+        }
       }
+      if (failure) std::rethrow_exception(failure);
       break;
     } catch (const NumericalError&) {
       if (nblocks > 1) {  // the crossing flows do not fit: one LP over the whole set, if affordable
