@@ -20,8 +20,9 @@ HalfSpace bisector(const Vec3& p, const Vec3& q) { return {q - p, 0.5 * (q - p).
 // ---- 2D: a convex polygon cut by half-planes (Sutherland–Hodgman) ----
 using Polygon = std::vector<Vec3>;
 
-void clip(Polygon& poly, const HalfSpace& h) {
-  if (poly.empty()) return;
+// The part of the convex polygon `poly` on the half-space's side; the points where it
+// meets the cutting plane are appended to `on_plane` (if given). Fewer than 3 points: empty.
+Polygon clip_polygon(const Polygon& poly, const HalfSpace& h, Polygon* on_plane = nullptr) {
   const Real tol = 1e-14 * (std::abs(h.c) + h.n.norm());
   Polygon out;
   for (std::size_t k = 0; k < poly.size(); ++k) {
@@ -29,9 +30,17 @@ void clip(Polygon& poly, const HalfSpace& h) {
     const Vec3& b = poly[(k + 1) % poly.size()];
     const Real fa = h.n.dot(a) - h.c, fb = h.n.dot(b) - h.c;
     if (fa <= tol) out.push_back(a);
-    if ((fa < -tol && fb > tol) || (fa > tol && fb < -tol)) out.push_back(a + (fa / (fa - fb)) * (b - a));
+    if (on_plane && std::abs(fa) <= tol) on_plane->push_back(a);
+    if ((fa < -tol && fb > tol) || (fa > tol && fb < -tol)) {
+      out.push_back(a + (fa / (fa - fb)) * (b - a));
+      if (on_plane) on_plane->push_back(out.back());
+    }
   }
-  poly = out.size() >= 3 ? std::move(out) : Polygon{};
+  return out.size() >= 3 ? out : Polygon{};
+}
+
+void clip(Polygon& poly, const HalfSpace& h) {
+  if (!poly.empty()) poly = clip_polygon(poly, h);
 }
 
 Real polygon_area(const Polygon& p) {
@@ -82,23 +91,11 @@ Polyhedron box_polyhedron(const Vec3& lo, const Vec3& hi) {
 
 void clip(Polyhedron& poly, const HalfSpace& h) {
   if (poly.empty()) return;
-  const Real tol = 1e-14 * (std::abs(h.c) + h.n.norm());
   Polyhedron out;
   Polygon cap;  // points on the cutting plane
   for (const auto& face : poly) {
-    Polygon kept;
-    for (std::size_t k = 0; k < face.size(); ++k) {
-      const Vec3& a = face[k];
-      const Vec3& b = face[(k + 1) % face.size()];
-      const Real fa = h.n.dot(a) - h.c, fb = h.n.dot(b) - h.c;
-      if (fa <= tol) kept.push_back(a);
-      if (std::abs(fa) <= tol) cap.push_back(a);
-      if ((fa < -tol && fb > tol) || (fa > tol && fb < -tol)) {
-        kept.push_back(a + (fa / (fa - fb)) * (b - a));
-        cap.push_back(kept.back());
-      }
-    }
-    if (kept.size() >= 3) out.push_back(std::move(kept));
+    Polygon kept = clip_polygon(face, h, &cap);
+    if (!kept.empty()) out.push_back(std::move(kept));
   }
   if (cap.size() >= 3) {  // order the cap's points by angle about their centroid
     Vec3 c = Vec3::Zero();

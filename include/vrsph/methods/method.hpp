@@ -76,4 +76,19 @@ class Method {
 /// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.
 void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request);
 
+/// Whether row i is to be built: the requested rows, or every non-ghost particle.
+inline bool row_requested(const PointCloud& cloud, const StencilRequest& req, Index i) {
+  const auto si = static_cast<std::size_t>(i);
+  return req.rows.empty() ? cloud.tags[si] != Tag::Ghost : req.rows[si] != 0;
+}
+
+/// Stores a pair's gradient weight g in stencil slot `slot`: all components for
+/// OperatorKind::Gradient, the requested one for Dx/Dy/Dz.
+inline void store_pair_gradient(Stencil& s, OperatorKind kind, int dim, std::size_t slot, const Vec3& g) {
+  if (kind == OperatorKind::Gradient)
+    for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
+  else
+    s.values[0][slot] = g[kind == OperatorKind::Dy ? 1 : kind == OperatorKind::Dz ? 2 : 0];
+}
+
 }  // namespace vrsph

@@ -55,11 +55,10 @@ class Gpm final : public Method {
     const ReferenceWeight lap_w = reference_weight("delta" + family_, d);
     const std::vector<Real> V = gpm_volumes(disc, volume_, family_);
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, d, info_.name);
-    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
-      if (req.rows.empty() ? cloud.tags[si] == Tag::Ghost : !req.rows[si]) continue;
+      if (!row_requested(cloud, req, i)) continue;
       const Real h = disc.neighbours.radius(i);
       const auto nbr = disc.neighbours.of(i);
       const auto dist = disc.neighbours.distances_of(i);
@@ -78,10 +77,7 @@ class Gpm final : public Method {
           }
           default: {
             const Vec3 g = gpm::gradient_weight(d, V[j], grad_w.value(r, h), r, cloud.positions[j] - cloud.positions[si]);
-            if (req.kind == OperatorKind::Gradient)
-              for (int c = 0; c < d; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
-            else
-              s.values[0][slot] = g[axis];
+            store_pair_gradient(s, req.kind, d, slot, g);
           }
         }
       }

@@ -55,11 +55,10 @@ class Mps final : public Method {
     const std::vector<Real> V = uniform_ ? particle_volumes(disc, ParticleVolumes::Uniform) : sph_volumes(disc, SphVolume::Spacing);
     const Real inv_n = V.empty() ? 0 : V[0];  // one number density for all particles
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, d, info_.name);
-    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
-      if (req.rows.empty() ? cloud.tags[si] == Tag::Ghost : !req.rows[si]) continue;
+      if (!row_requested(cloud, req, i)) continue;
       const Real h = disc.neighbours.radius(i);
       const Real hd = std::pow(h, d);
       const Real lambda = h * h * mw.second_moment;
@@ -74,10 +73,7 @@ class Mps final : public Method {
           s.values[0][slot] = 2 * d * inv_n * wh / lambda;
         } else {
           const Vec3 g = (d * inv_n * wh / (r * r)) * (cloud.positions[j] - cloud.positions[si]);
-          if (req.kind == OperatorKind::Gradient)
-            for (int c = 0; c < d; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
-          else
-            s.values[0][slot] = g[axis];
+          store_pair_gradient(s, req.kind, d, slot, g);
         }
       }
     }
