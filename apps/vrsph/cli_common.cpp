@@ -135,9 +135,20 @@ void validate_output(const OutputOptions& out) {
   check<ConfigError>(ext == ".png", "--plot '", out.plot, "' must end in .png (the plot is a PNG image)");
 }
 
+namespace {
+Communicator& the_communicator() {
+  static Communicator comm;
+  return comm;
+}
+}  // namespace
+
+const Communicator& communicator() { return the_communicator(); }
+void set_communicator(const Communicator& comm) { the_communicator() = comm; }
+
 void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
           const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   validate_output(out);
+  if (!communicator().is_root()) return;  // rank 0 speaks for all
   const TableFormat fmt = parse_table_format(out.format);
   const std::string text = format_table(fmt == TableFormat::Markdown ? displayed_columns(table, out) : table, fmt, extra_json);
   if (out.output.empty()) {

@@ -8,8 +8,14 @@
 #include <CLI/CLI.hpp>
 #include <vrsph/io/table.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/parallel/communicator.hpp>
 
 namespace vrsph::cli {
+
+/// The ranks this vrsph process runs on: MPI_COMM_WORLD under mpirun with more than one
+/// rank, else serial (set once by main). Only rank 0 writes tables, files and warnings.
+const Communicator& communicator();
+void set_communicator(const Communicator& comm);
 
 /// Options every table-producing command has.
 struct OutputOptions {

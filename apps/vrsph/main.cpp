@@ -10,7 +10,12 @@
 //   5 numerical: a failed local problem (with --on-infeasible error) or linear solve
 //  70 internal error: a bug in vrsph (please report it with the command line)
 #include <unistd.h>
+#include <algorithm>
 #include <cstdlib>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#include <fstream>
 #include <iostream>
 #include <new>
 #include <vrsph/core/error.hpp>
@@ -45,6 +50,30 @@ int report(const char* kind, const std::exception& e, int code) {
 
 int main(int argc, char** argv) {
   prefer_passive_openmp_threads(argv);
+  // Started by mpirun with several ranks: run on MPI_COMM_WORLD; only rank 0 prints (the
+  // others' standard output goes nowhere; an error is the same on every rank, see
+  // vrsph::collective, and rank 0 reports it).
+  if (vrsph::Communicator::launched_in_parallel()) {
+    try {
+      vrsph::cli::set_communicator(vrsph::Communicator::world());
+    } catch (const vrsph::ConfigError& e) {
+      return report("configuration error", e, 2);
+    }
+#ifdef _OPENMP
+    // One thread per rank's share of the cores unless the user chose (ranks x threads <= cores).
+    if (!std::getenv("OMP_NUM_THREADS")) {
+      const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+      const int ranks_here = local ? std::max(1, std::atoi(local)) : vrsph::cli::communicator().size();
+      omp_set_num_threads(std::max(1, omp_get_num_procs() / ranks_here));
+    }
+#endif
+    if (!vrsph::cli::communicator().is_root()) {
+      // Never destroyed: the standard streams keep using the buffer until the process ends.
+      static auto* const nowhere = new std::ofstream("/dev/null");
+      std::cout.rdbuf(nowhere->rdbuf());
+      std::cerr.rdbuf(nowhere->rdbuf());
+    }
+  }
   CLI::App app{"vrsph — particle discretisations of elliptic operators on irregular point clouds"};
   app.set_version_flag("--version", std::string("vrsph ") + VRSPH_VERSION);
   app.require_subcommand(1);
@@ -56,6 +85,18 @@ int main(int argc, char** argv) {
   // Runs after parsing, before the subcommand's callback.
   app.parse_complete_callback([&] {
     vrsph::cli::reject_empty_values(app);
+    // Under mpirun: the commands with a distributed pipeline; any other would only repeat
+    // the same serial run on every rank.
+    const auto& comm = vrsph::cli::communicator();
+    if (comm.distributed()) {
+      const auto subs = app.get_subcommands();
+      const std::string name = subs.empty() ? "" : subs.front()->get_name();
+      const bool parallel = name == "study" || name == "solve" ||
+                            (name == "bench" && !subs.front()->get_subcommands().empty() &&
+                             subs.front()->get_subcommands().front()->get_name() == "solve");
+      vrsph::check<vrsph::ConfigError>(parallel, "vrsph ", name, " runs on one rank; under mpirun (", comm.size(),
+                                       " ranks) only study, solve and bench solve are distributed");
+    }
     if (app.count("--max-memory")) vrsph::set_memory_limit_bytes(vrsph::parse_memory_size(max_memory));
   });
   vrsph::cli::add_methods_command(app);

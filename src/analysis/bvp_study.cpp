@@ -251,13 +251,20 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   }
   StudyCloud sc = make_study_cloud(spec);
   run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(flux_faces(p), p.dim), sc.dx);
+  const Communicator& comm = p.communicator;
+  const Index global_particles = sc.cloud.size();
+  if (comm.distributed()) {  // this rank's slice of the serial numbering
+    const auto total = static_cast<long long>(global_particles);
+    run.first_id = static_cast<Index>(total * comm.rank() / comm.size());
+    sc.cloud = slice(sc.cloud, run.first_id, static_cast<Index>(total * (comm.rank() + 1) / comm.size()));
+  }
   BoundaryValueProblem bvp;
   bvp.cloud = std::move(sc.cloud);
   const PointCloud& cloud = bvp.cloud;
   run.seconds_cloud = watch.seconds();
   if (p.measure_memory) run.peak_bytes_cloud = peak_resident_memory_bytes();
   run.dx = sc.dx;
-  run.particles = cloud.size();
+  run.particles = global_particles;
 
   watch.restart();
   // u first: a u that is not finite must be named as the user wrote it, not through
@@ -285,7 +292,8 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
       bvp.q[i] = q_expr ? (*q_expr)(x) : natural_flux(pf, x, cloud.normals[static_cast<std::size_t>(i)]) +
                                              (bvp.robin.size() ? bvp.robin[i] * exact[i] : 0.0);
     }
-    if (cloud.count(Tag::Dirichlet) == 0 && p.robin.empty()) check_neumann_compatibility(p, pf, cloud.domain);
+    if (sum_over_ranks(comm, static_cast<long long>(cloud.count(Tag::Dirichlet))) == 0 && p.robin.empty())
+      check_neumann_compatibility(p, pf, cloud.domain);
   }
   bvp.fix_constant = p.fix_constant;
   run.seconds_data = watch.seconds();
@@ -305,7 +313,9 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   so.check_m_matrix = p.check_m_matrix;
   so.measure_memory = p.measure_memory;
   so.label = detail::concat(method_name, " n=", n, " seed=", seed);
+  so.communicator = comm;
   BvpSolution sol = solve(bvp, so);
+  run.distribution = sol.distribution;
   if (warnings) warnings->insert(warnings->end(), sol.warnings.begin(), sol.warnings.end());
   run.h = sol.h;
   run.covering_radius = sol.covering_radius;
@@ -331,7 +341,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   Eigen::MatrixXd err(cloud.size(), 1);
   err.col(0) = U - exact;
   const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
-  run.errors = error_norms(err, unknown_mask(cloud), cloud, run.h, vol);
+  run.errors = reduce_over_ranks(error_norms(err, unknown_mask(cloud), cloud, run.h, vol), comm, run.first_id);
   {  // [SPE](95), equal volumes, over the interior particles: [SPE]'s DoF are the n^d cells
     Real sum = 0;
     Index count = 0;
@@ -341,6 +351,8 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
         sum += rel * rel;
         ++count;
       }
+    sum = sum_over_ranks(comm, sum);
+    count = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(count)));
     run.error_rel = count ? std::sqrt(sum / static_cast<Real>(count)) : std::nan("");
     run.dof = count;
   }
@@ -351,7 +363,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     run.local_residual = sol.local_residual;
   }
   if (cloud_out) *cloud_out = cloud;
-  run.peak_memory_mib = static_cast<double>(peak_resident_memory_bytes()) / (1024.0 * 1024.0);
+  run.peak_memory_mib = max_over_ranks(comm, static_cast<double>(peak_resident_memory_bytes()) / (1024.0 * 1024.0));
   return run;
 }
 }  // namespace

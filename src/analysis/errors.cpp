@@ -21,6 +21,9 @@ struct Accumulator {
     sq += e * e;
   }
   ErrorNorms finish() {
+    n.volume_sum = wsum;
+    n.volume_square_sum = wsq;
+    n.square_sum = sq;
     if (n.count > 0) {
       n.l2 = wsum > 0 ? std::sqrt(wsq / wsum) : 0;
       n.rms = std::sqrt(sq / static_cast<Real>(n.count));
@@ -29,6 +32,33 @@ struct Accumulator {
   }
 };
 }  // namespace
+
+namespace {
+ErrorNorms reduce_norms(const ErrorNorms& mine, const Communicator& comm, Index first_id) {
+  ErrorNorms n;
+  std::vector<double> sums{mine.volume_sum, mine.volume_square_sum, mine.square_sum};
+  sum_over_ranks(comm, sums);
+  n.count = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(mine.count)));
+  const auto [linf, worst] = max_location_over_ranks(comm, mine.count > 0 ? mine.linf : -1.0,
+                                                     mine.worst >= 0 ? static_cast<long long>(first_id) + mine.worst : -1);
+  n.volume_sum = sums[0];
+  n.volume_square_sum = sums[1];
+  n.square_sum = sums[2];
+  if (n.count > 0) {
+    n.linf = linf;
+    n.worst = static_cast<Index>(worst);
+    n.l2 = n.volume_sum > 0 ? std::sqrt(n.volume_square_sum / n.volume_sum) : 0;
+    n.rms = std::sqrt(n.square_sum / static_cast<Real>(n.count));
+  }
+  return n;
+}
+}  // namespace
+
+ErrorReport reduce_over_ranks(const ErrorReport& mine, const Communicator& comm, Index first_id) {
+  if (!comm.distributed()) return mine;
+  return {reduce_norms(mine.all, comm, first_id), reduce_norms(mine.interior, comm, first_id),
+          reduce_norms(mine.near_boundary, comm, first_id)};
+}
 
 ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
                         Real near_distance, std::span<const Real> volumes) {

@@ -26,7 +26,7 @@ void sort_row(Index* col, Real* val, Index len) {
 }  // namespace
 
 LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const char> unknown, const Field& f,
-                      const Field& g, const BoundaryRows* boundary) {
+                      const Field& g, const BoundaryRows* boundary, const AssemblyScope* scope) {
   const Index n = cloud.size();
   check<ConfigError>(L.components() == 1, "assemble needs a scalar operator, got ", to_string(L.kind));
   check<InputError>(L.rows() == n && static_cast<Index>(unknown.size()) == n && f.size() == n && g.size() == n,
@@ -47,9 +47,23 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   check<InputError>(pinned < n && (pinned < 0 || unknown[static_cast<std::size_t>(pinned)]), "pinned particle ", pinned,
                     " is not an unknown particle");
   check<InputError>(pinned < 0 || std::isfinite(g[pinned]), "value g is not finite at the pinned particle ", pinned);
-  for (Index i = 0; i < n; ++i) {
-    const auto si = static_cast<std::size_t>(i);
-    if (unknown[si]) {
+  check<InputError>(!scope || static_cast<Index>(scope->rows.size()) == n, "assemble: row mask has ",
+                    scope ? scope->rows.size() : 0, " entries for ", n, " particles");
+  const auto assembled = [&](std::size_t si) { return !scope || scope->rows[si] != 0; };
+  // Scoped: the assembled unknowns first (pass 0), the halo unknowns after them (pass 1).
+  for (int pass = 0; pass < (scope ? 2 : 1); ++pass)
+    for (Index i = 0; i < n; ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (scope && (pass == 0) != assembled(si)) continue;
+      if (!unknown[si]) {
+        known_count += pass == 0;
+        continue;
+      }
+      if (!assembled(si)) {
+        sys.dof_of_particle[si] = static_cast<Index>(sys.particle_of_dof.size());
+        sys.particle_of_dof.push_back(i);
+        continue;
+      }
       const bool flux = cloud.tags[si] == Tag::Neumann && i != pinned;
       if (flux) {
         ++neumann_count;
@@ -63,15 +77,17 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
       sys.dof_of_particle[si] = static_cast<Index>(sys.particle_of_dof.size());
       sys.particle_of_dof.push_back(i);
       check<InputError>(flux || std::isfinite(f[i]), "right-hand side f is not finite at particle ", i);
-    } else {
-      ++known_count;
     }
+  if (scope) {
+    sys.rows_owned = 0;
+    for (Index i = 0; i < n; ++i) sys.rows_owned += unknown[static_cast<std::size_t>(i)] && assembled(static_cast<std::size_t>(i));
+  } else {
+    check<InputError>(!sys.particle_of_dof.empty(), "the problem has no unknown (interior) particle");
+    check<InputError>(known_count > 0 || pinned >= 0 || robin_count > 0,
+                      neumann_count > 0 ? "only Neumann data and no Dirichlet particle: the solution is determined only up to "
+                                          "a constant (singular system); fix the constant (--fix-constant, or BoundaryValueProblem::pinned)"
+                                        : "the cloud has no Dirichlet particle: the problem is singular");
   }
-  check<InputError>(!sys.particle_of_dof.empty(), "the problem has no unknown (interior) particle");
-  check<InputError>(known_count > 0 || pinned >= 0 || robin_count > 0,
-                    neumann_count > 0 ? "only Neumann data and no Dirichlet particle: the solution is determined only up to "
-                                        "a constant (singular system); fix the constant (--fix-constant, or BoundaryValueProblem::pinned)"
-                                      : "the cloud has no Dirichlet particle: the problem is singular");
   const Stencil* G = neumann_count > 0 ? boundary->gradient : nullptr;
   if (G) {
     check<InputError>(G->rows() == n && G->components() == cloud.dim && G->kind == OperatorKind::Gradient,
@@ -80,7 +96,8 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     check<InputError>(!boundary->mobility || (boundary->mobility->rows() == n && boundary->mobility->cols() == cloud.dim),
                       "flux mobility must be ", n, " x ", cloud.dim);
   }
-  const Index m = sys.size();
+  const Index m = scope ? sys.rows_owned : sys.size();  // rows; columns: every unknown
+  const Index columns = sys.size();
   sys.known = Field::Zero(n);
   sys.b.resize(m);
   const auto row_of = [&](Index d) -> const Stencil& {
@@ -122,7 +139,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     row_ptr[static_cast<std::size_t>(d) + 1] = count;
   }
   for (std::size_t d = 0; d < static_cast<std::size_t>(m); ++d) row_ptr[d + 1] += row_ptr[d];
-  sys.A.resize(m, m);
+  sys.A.resize(m, columns);
   sys.A.resizeNonZeros(row_ptr.back());
   std::copy(row_ptr.begin(), row_ptr.end(), sys.A.outerIndexPtr());
   Index* const col = sys.A.innerIndexPtr();
@@ -170,6 +187,10 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   check<InputError>(bad_g.load() == n, "boundary value g is not finite at particle ", bad_g.load());
   for (Index i = 0; i < n; ++i)
     if (!unknown[static_cast<std::size_t>(i)]) sys.known[i] = g[i];
+  if (scope) {  // connectivity needs every rank: the caller's
+    sys.anchored = std::move(anchored);
+    return sys;
+  }
 
   // Connectivity: every unknown must reach an anchored row through non-zero entries,
   // otherwise the system is singular (a floating cluster of particles).

@@ -126,4 +126,17 @@ Real estimate_spacing(const PointCloud& cloud) {
   return spacing;
 }
 
+PointCloud slice(const PointCloud& cloud, Index begin, Index end) {
+  check<InputError>(0 <= begin && begin <= end && end <= cloud.size(), "slice ", begin, "..", end, " of a cloud of ",
+                    cloud.size(), " particles");
+  PointCloud part;
+  part.dim = cloud.dim;
+  part.spacing = cloud.spacing;
+  part.domain = cloud.domain;
+  part.positions.assign(cloud.positions.begin() + begin, cloud.positions.begin() + end);
+  part.tags.assign(cloud.tags.begin() + begin, cloud.tags.begin() + end);
+  if (cloud.has_normals()) part.normals.assign(cloud.normals.begin() + begin, cloud.normals.begin() + end);
+  return part;
+}
+
 }  // namespace vrsph

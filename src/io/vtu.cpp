@@ -7,6 +7,7 @@
 #include <zlib.h>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/core/error.hpp>
+#include <filesystem>
 #include <vrsph/io/vtu.hpp>
 
 namespace vrsph {
@@ -135,6 +136,31 @@ void write_vtu(const std::string& path, const PointCloud& c, const std::vector<P
     check<InputError>(f.name.find_first_of("\"<>&") == std::string::npos, "VTU field name '", f.name,
                       "' contains a quote or <, >, &");
   write_file(path, "VTU file", [&](std::ostream& out) { write_vtu_body(out, c, fields, format); });
+}
+
+std::string write_pvtu_piece(const std::string& path, int rank, int ranks, const PointCloud& part,
+                             const std::vector<PointField>& fields, VtuFormat format) {
+  const std::filesystem::path p(path);
+  check<InputError>(p.extension() == ".pvtu", "a distributed VTU output must end in .pvtu (the pieces are written "
+                    "beside it), got '", path, "'");
+  const std::string stem = p.stem().string();
+  const auto piece_name = [&](int r) { return stem + "_" + std::to_string(r) + ".vtu"; };
+  const std::string piece = (p.parent_path() / piece_name(rank)).string();
+  write_vtu(piece, part, fields, format);
+  if (rank != 0) return piece;
+  write_file(path, "PVTU file", [&](std::ostream& out) {
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+           "header_type=\"UInt64\">\n<PUnstructuredGrid GhostLevel=\"0\">\n<PPoints>\n<PDataArray type=\"Float64\" "
+           "NumberOfComponents=\"3\"/>\n</PPoints>\n<PPointData Scalars=\"tag\">\n<PDataArray type=\"Int32\" Name=\"tag\"/>\n";
+    if (part.has_normals()) out << "<PDataArray type=\"Float64\" Name=\"normal\" NumberOfComponents=\"3\"/>\n";
+    for (const auto& f : fields)
+      out << "<PDataArray type=\"Float64\" Name=\"" << f.name << "\" NumberOfComponents=\"" << (f.values.cols() > 1 ? 3 : 1)
+          << "\"/>\n";
+    out << "</PPointData>\n";
+    for (int r = 0; r < ranks; ++r) out << "<Piece Source=\"" << piece_name(r) << "\"/>\n";
+    out << "</PUnstructuredGrid>\n</VTKFile>\n";
+  });
+  return piece;
 }
 
 }  // namespace vrsph

@@ -8,6 +8,7 @@
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
+#include "solve_bvp_distributed.hpp"
 
 namespace vrsph {
 
@@ -98,6 +99,7 @@ void summarise_transmissibilities(const Stencil& L, const std::vector<char>& int
 }  // namespace
 
 BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
+  if (o.communicator.distributed()) return detail::solve_distributed(p, o);
   const PointCloud& cloud = p.cloud;
   validate(cloud);
   const Index n = cloud.size();

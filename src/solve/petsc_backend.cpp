@@ -13,6 +13,7 @@
 #include <sstream>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
+#include "../parallel/petsc_runtime.hpp"
 #include "backends.hpp"
 
 namespace vrsph {
@@ -51,31 +52,6 @@ enum class Blame { Options, Solve };
 void call(PetscErrorCode code, const std::string& what, Blame blame = Blame::Solve) {
   if (code != 0) fail(code, what, blame);
 }
-
-void finalise_petsc() {
-  PetscBool done = PETSC_FALSE;
-  if (PetscFinalized(&done) == 0 && !done) PetscFinalize();
-}
-
-void start_petsc() {
-  PetscBool started = PETSC_FALSE;
-  PetscInitialized(&started);
-  if (started) return;
-  // No signal handler (a crash stays a crash, not a PETSc message), no .petscrc files
-  // (options come only from vrsph's defaults, PETSC_OPTIONS and --petsc-options).
-  static char arg0[] = "vrsph", arg1[] = "-no_signal_handler", arg2[] = "-skip_petscrc", arg3[] = "-options_left",
-              arg4[] = "0";
-  static char* args[] = {arg0, arg1, arg2, arg3, arg4, nullptr};
-  int argc = 5;
-  char** argv = args;
-  const PetscErrorCode code = PetscInitialize(&argc, &argv, nullptr, nullptr);
-  if (code != 0)
-    throw ConfigError(concat("PETSc could not start (error ", code,
-                             "; MPI may be unavailable); use --solver umfpack or --solver bicgstab"));
-  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-  std::atexit(finalise_petsc);
-}
-
 
 // Option names (without the dash, lower case) in a PETSc option string: words that start
 // with '-' and a letter (so "-1e-3" is a value).
@@ -138,6 +114,12 @@ class PetscBackend final : public Backend {
     m_ = static_cast<PetscInt>(A.rows());
     static_assert(sizeof(PetscInt) == sizeof(Index) && sizeof(PetscScalar) == sizeof(Real),
                   "PETSc's index and scalar types must match vrsph's for the no-copy matrix");
+    // Distributed: this rank's rows, after those of the lower ranks, with global columns.
+    distributed_ = o.communicator.distributed();
+    comm_ = distributed_ ? MPI_Comm_f2c(o.communicator.fortran_handle()) : PETSC_COMM_SELF;
+    PetscInt first_row = 0;
+    if (distributed_) MPI_Exscan(&m_, &first_row, 1, MPIU_INT, MPI_SUM, comm_);
+    if (distributed_ && o.communicator.rank() == 0) first_row = 0;
     auto& Am = const_cast<CsrMatrix&>(A);  // PETSc only reads the arrays (the matrix is never modified)
     // Rows divided by their diagonal: Laplacian rows (negative diagonal) and flux rows of
     // Neumann particles (positive diagonal, one power of h smaller) then look alike to the
@@ -151,16 +133,26 @@ class PetscBackend final : public Backend {
       for (Index d = 0; d < m_; ++d) {
         Real diagonal = 0;
         for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k)
-          if (Am.innerIndexPtr()[k] == d) diagonal = Am.valuePtr()[k];
+          if (Am.innerIndexPtr()[k] == first_row + d) diagonal = Am.valuePtr()[k];
         if (diagonal == 0 || !std::isfinite(diagonal)) continue;
         row_scale_[static_cast<std::size_t>(d)] = 1 / diagonal;
         for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k) scaled_[static_cast<std::size_t>(k)] /= diagonal;
       }
       a_values = scaled_.data();
     }
-    call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m_, m_, Am.outerIndexPtr(), Am.innerIndexPtr(), a_values, &A_),
-         "matrix");
-    call(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSP");
+    if (distributed_) {
+      // MPIAIJ from the rows: PETSc splits them into the diagonal and off-diagonal blocks and
+      // preallocates both from the row pattern (a copy: the local blocks are PETSc's own).
+      const auto global = static_cast<PetscInt>(A.cols());
+      call(MatCreateMPIAIJWithArrays(comm_, m_, m_, global, global, Am.outerIndexPtr(), Am.innerIndexPtr(), a_values, &A_),
+           "matrix");
+      scaled_.clear();
+      scaled_.shrink_to_fit();
+    } else {
+      call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m_, m_, Am.outerIndexPtr(), Am.innerIndexPtr(), a_values, &A_),
+           "matrix");
+    }
+    call(KSPCreate(comm_, &ksp_), "KSP");
     call(KSPSetOperators(ksp_, A_, A_), "KSP");
     call(KSPSetTolerances(ksp_, o.rtol, PETSC_DEFAULT, PETSC_DEFAULT, o.max_iterations), "KSP");
     monitor_.callback = o.monitor;
@@ -231,8 +223,13 @@ class PetscBackend final : public Backend {
         if (*b) VecDestroy(b);
       }
     } guard{&bv, &xv};
-    call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m_, rhs.data(), &bv), "vector");
-    call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m_, x.data(), &xv), "vector");
+    if (distributed_) {
+      call(VecCreateMPIWithArray(comm_, 1, m_, PETSC_DETERMINE, rhs.data(), &bv), "vector");
+      call(VecCreateMPIWithArray(comm_, 1, m_, PETSC_DETERMINE, x.data(), &xv), "vector");
+    } else {
+      call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m_, rhs.data(), &bv), "vector");
+      call(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, m_, x.data(), &xv), "vector");
+    }
     // The caller's x as the initial guess (a time step's previous solution); zero: PETSc's default.
     call(KSPSetInitialGuessNonzero(ksp_, takes_guess_ && !x.isZero(0) ? PETSC_TRUE : PETSC_FALSE), "KSP");
     monitor_.report = &rep;
@@ -246,11 +243,35 @@ class PetscBackend final : public Backend {
     rep.iterations = static_cast<int>(its);
     rep.reason = to_lower(KSPConvergedReasons[converged]);
     rep.success = converged > 0;
+    if (distributed_) rep.residual = true_residual(bv, xv, b);
     if (!rep.success)
       rep.message = concat(name, " stopped without converging: ", rep.reason, " after ", its, " iterations");
   }
 
  private:
+  // ||b - A x|| / ||b|| of the unscaled system over every rank: the scaled residual
+  // D^-1 (b - A x) from PETSc, times the row scales D.
+  Real true_residual(Vec bv, Vec xv, const Eigen::VectorXd& b) {
+    Vec r = nullptr;
+    call(VecDuplicate(bv, &r), "vector");
+    call(MatMult(A_, xv, r), "residual");
+    call(VecAYPX(r, -1.0, bv), "residual");
+    const PetscScalar* rv = nullptr;
+    call(VecGetArrayRead(r, &rv), "residual");
+    double sums[2] = {0, 0};
+    for (PetscInt d = 0; d < m_; ++d) {
+      const Real rd = row_scale_.empty() ? rv[d] : rv[d] / row_scale_[static_cast<std::size_t>(d)];
+      sums[0] += rd * rd;
+      sums[1] += b[d] * b[d];
+    }
+    VecRestoreArrayRead(r, &rv);
+    VecDestroy(&r);
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_);
+    return std::sqrt(sums[0]) / (sums[1] > 0 ? std::sqrt(sums[1]) : 1.0);
+  }
+
+  bool distributed_ = false;
+  MPI_Comm comm_ = MPI_COMM_NULL;
   PetscInt m_ = 0;
   bool takes_guess_ = true;
   PetscOptions options_ = nullptr;

@@ -76,8 +76,10 @@ SolveReport solve_prepared(detail::Backend& backend, const CsrMatrix& A, const E
     return rep;
   }
   backend.solve(b, x, rep);
-  const Real bnorm = b.norm();
-  rep.residual = (b - A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
+  if (!o.communicator.distributed()) {  // distributed: the back-end measured it over every rank
+    const Real bnorm = b.norm();
+    rep.residual = (b - A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
+  }
   if (rep.success && !(std::isfinite(rep.residual) && rep.residual < std::max(1e-6, 100 * o.rtol))) {
     rep.success = false;
     rep.message = detail::concat("true relative residual ", rep.residual, " too large");
@@ -88,14 +90,19 @@ SolveReport solve_prepared(detail::Backend& backend, const CsrMatrix& A, const E
 // One back-end run of the resolved type from a zero initial guess.
 SolveReport solve_with(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptions& o) {
   const auto backend = prepare(sys.A, o);
-  x = Eigen::VectorXd::Zero(sys.size());
+  x = Eigen::VectorXd::Zero(sys.A.rows());
   return solve_prepared(*backend, sys.A, sys.b, x, o);
 }
 
-SolverOptions resolved(const SolverOptions& options, Index unknowns) {
+SolverOptions resolved(const SolverOptions& options, Index unknowns) {  // unknowns: this rank's
   check<ConfigError>(options.rtol > 0 && options.max_iterations > 0, "solver tolerance and iteration cap must be positive");
   SolverOptions o = options;
   o.dimension = detail::assumed_dimension(o.dimension);
+  if (o.communicator.distributed()) {
+    check<ConfigError>(o.type == SolverType::Auto || o.type == SolverType::Petsc, "solver ", to_string(o.type),
+                       " runs on one rank only; with ", o.communicator.size(), " MPI ranks use --solver petsc (or auto)");
+    o.type = SolverType::Petsc;
+  }
   if (o.type == SolverType::Auto) o.type = resolve_auto(unknowns, o.dimension, o.auto_direct_max);
   return o;
 }
@@ -110,9 +117,9 @@ SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptio
   // auto gives AMG a bounded number of iterations: the defaults are tuned for M-matrices
   // (VRSPH, SPH) and converge in ~10-25; a matrix they do not suit (FPM's mixed signs) is
   // then handed to the direct solver below instead of iterating to the cap of 20 000.
-  if (automatic && o.type == SolverType::Petsc) o.max_iterations = std::min(o.max_iterations, auto_iteration_cap);
+  if (automatic && o.type == SolverType::Petsc && !o.communicator.distributed()) o.max_iterations = std::min(o.max_iterations, auto_iteration_cap);
   SolveReport rep = solve_with(sys, x, o);
-  if (automatic && o.type == SolverType::Petsc && !rep.success) {
+  if (automatic && o.type == SolverType::Petsc && !rep.success && !o.communicator.distributed()) {
     bool fits = true;
     try {
       check_memory_estimate(direct_solver_bytes(sys.A, o.dimension), "the fallback direct solve", "");
@@ -139,7 +146,8 @@ SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptio
 
 PreparedSolver::PreparedSolver(const CsrMatrix& A, const SolverOptions& options)
     : A_(std::make_unique<const CsrMatrix>(A)), options_(resolved(options, static_cast<Index>(A.rows()))) {
-  check<InputError>(A_->rows() == A_->cols(), "solver: the matrix is ", A_->rows(), " x ", A_->cols(), ", not square");
+  check<InputError>(options.communicator.distributed() || A_->rows() == A_->cols(), "solver: the matrix is ", A_->rows(),
+                    " x ", A_->cols(), ", not square");
   backend_ = prepare(*A_, options_);
   if (options.type == SolverType::Auto) backend_->name = "auto: " + backend_->name;
   if (!backend_->ready)

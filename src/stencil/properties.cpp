@@ -28,8 +28,24 @@ std::string MMatrixReport::summary() const {
 }
 
 MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol) {
+  return check_m_matrix(s, unknown, tol, unknown, [](std::span<const Index> offsets, std::span<const Index> targets,
+                                                     std::vector<char> seeds) {
+    const auto n = static_cast<Index>(offsets.size()) - 1;
+    const auto reverse = detail::reverse_graph(n, [&](auto&& emit) {
+      for (Index i = 0; i < n; ++i)
+        for (Index k = offsets[static_cast<std::size_t>(i)]; k < offsets[static_cast<std::size_t>(i) + 1]; ++k)
+          emit(i, targets[static_cast<std::size_t>(k)]);
+    });
+    return detail::reaching(reverse, std::move(seeds));
+  });
+}
+
+MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol, std::span<const char> rows,
+                             const ChainClosure& close) {
   check<InputError>(static_cast<Index>(unknown.size()) == s.rows(), "check_m_matrix: mask has ", unknown.size(),
                     " entries for ", s.rows(), " rows (size mismatch)");
+  check<InputError>(rows.size() == unknown.size(), "check_m_matrix: row mask has ", rows.size(), " entries for ",
+                    unknown.size(), " particles");
   check<ConfigError>(s.components() == 1, "check_m_matrix needs a scalar operator, got ", to_string(s.kind));
   const auto& v = s.values[0];
   MMatrixReport rep;
@@ -39,7 +55,7 @@ MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Re
     if (rep.first_violation < 0) rep.first_violation = i;
   };
   for (Index i = 0; i < n; ++i) {
-    if (!unknown[static_cast<std::size_t>(i)]) continue;
+    if (!rows[static_cast<std::size_t>(i)]) continue;
     ++rep.rows;
     Real scale = 0;
     for (Index k = s.row_begin(i); k < s.row_end(i); ++k) scale = std::max(scale, std::abs(v[static_cast<std::size_t>(k)]));
@@ -69,20 +85,20 @@ MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Re
       strict[static_cast<std::size_t>(i)] = 1;
     }
   }
-  // Reachability: row i "reaches" j if L_ij != 0. Breadth-first search backwards from
-  // the strictly dominant rows over the reversed edges.
-  const auto reverse = detail::reverse_graph(n, [&](auto&& emit) {
-    for (Index i = 0; i < n; ++i) {
-      if (!unknown[static_cast<std::size_t>(i)]) continue;
+  // Reachability: row i "reaches" j if L_ij != 0; search backwards from the strictly
+  // dominant rows.
+  std::vector<Index> offsets(static_cast<std::size_t>(n) + 1, 0), targets;
+  for (Index i = 0; i < n; ++i) {
+    if (rows[static_cast<std::size_t>(i)])
       for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
         const Index j = s.col[static_cast<std::size_t>(k)];
-        if (j != i && unknown[static_cast<std::size_t>(j)] && v[static_cast<std::size_t>(k)] != 0) emit(i, j);
+        if (j != i && unknown[static_cast<std::size_t>(j)] && v[static_cast<std::size_t>(k)] != 0) targets.push_back(j);
       }
-    }
-  });
-  const std::vector<char> reached = detail::reaching(reverse, strict);
+    offsets[static_cast<std::size_t>(i) + 1] = static_cast<Index>(targets.size());
+  }
+  const std::vector<char> reached = close(offsets, targets, std::move(strict));
   for (Index i = 0; i < n; ++i)
-    if (unknown[static_cast<std::size_t>(i)] && !reached[static_cast<std::size_t>(i)]) {
+    if (rows[static_cast<std::size_t>(i)] && !reached[static_cast<std::size_t>(i)]) {
       rep.unreachable.push_back(i);
       rep.chained = false;
       flag(i);

@@ -176,6 +176,10 @@ void add_study_command(CLI::App& app) {
   cmd->callback([a, file, het, cmd, config] {
     if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--geometry", "--output", "--plot"});
     validate_output(a->out);
+    const bool user_files = !file->pattern.empty() || !file->geometry.empty();
+    check<ConfigError>(!communicator().distributed() || (!is_heterogeneous_problem(a->problem) && !user_files),
+                       "under mpirun, vrsph study runs the built-in clouds (not --problem spe-channel/spe-lognormal/"
+                       "spe10, --cloud-file-pattern or --geometry, which run on one rank)");
     if (is_heterogeneous_problem(a->problem)) return study_heterogeneous(*a, *het, *cmd);
     reject_group_options(*cmd, heterogeneous_group, "--problem spe-channel, spe-lognormal or spe10");
     const bool user_cloud = !file->pattern.empty() || !file->geometry.empty();
@@ -197,12 +201,14 @@ void add_study_command(CLI::App& app) {
                             "negative_transmissibilities", "xi_max", "infeasible"};
     else if (!p.mobility.empty())
       a->out.key_columns.insert(a->out.key_columns.begin() + 10, "negative_transmissibilities");
+    p.communicator = communicator();
     Progress progress;
     p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
     const BvpStudyResult r = run_bvp_study(p);
     print_warnings(r.warnings);
     auto meta = nlohmann::ordered_json::parse(metadata_json(r));
-    meta["peak_memory_mib"] = peak_memory_mib();
+    meta["peak_memory_mib"] = max_over_ranks(p.communicator, peak_memory_mib());
+    meta["ranks"] = p.communicator.size();
     emit(to_table(r), a->out, meta.dump(), "h", "error_inf", "method",
          p.problem + " " + a->cloud + " " + std::to_string(p.dim) + "D");
   });
@@ -243,6 +249,16 @@ void add_solve_command(CLI::App& app) {
     check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
     BvpStudyParams p = to_params(*a, methods);
     p.n = {*np};
+    p.communicator = communicator();
+    // Distributed: a piece per rank and a .pvtu that lists them (ParaView opens it as one).
+    std::string vtu = a->vtu;
+    if (p.communicator.distributed()) {
+      check<ConfigError>(a->out.plot.empty(), "--plot draws the whole field on one rank: not available under mpirun "
+                         "(open the .pvtu in ParaView)");
+      if (vtu.size() > 4 && vtu.substr(vtu.size() - 4) == ".vtu") vtu = vtu.substr(0, vtu.size() - 4) + ".pvtu";
+      check<ConfigError>(vtu.size() > 5 && vtu.substr(vtu.size() - 5) == ".pvtu", "--vtu '", a->vtu, "': under mpirun "
+                         "the output is a .pvtu file with one .vtu piece per rank");
+    }
     std::vector<std::string> warnings;
     PointCloud cloud;
     const BvpRun r = run_bvp(p, methods.front(), *np, a->seed, true, &warnings, &cloud);
@@ -252,8 +268,13 @@ void add_solve_command(CLI::App& app) {
     ex.col(0) = r.exact;
     err.col(0) = r.U - r.exact;
     res.col(0) = r.local_residual;
-    write_vtu(a->vtu, cloud, {{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}},
-              parse_vtu_format(a->vtu_format));
+    const std::vector<PointField> fields{{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}};
+    if (p.communicator.distributed())
+      collective(p.communicator, [&] {
+        write_pvtu_piece(vtu, p.communicator.rank(), p.communicator.size(), cloud, fields, parse_vtu_format(a->vtu_format));
+      });
+    else
+      write_vtu(vtu, cloud, fields, parse_vtu_format(a->vtu_format));
     if (!a->out.plot.empty()) plot_solution(cloud, r.U, &r.exact, a->out.plot, r.method + " n=" + std::to_string(r.n));
     Table t;
     t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
@@ -265,7 +286,9 @@ void add_solve_command(CLI::App& app) {
                {"solver_residual", r.solve.residual},
                {"seconds_total", r.seconds_cloud + r.seconds_data + r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble +
                                      r.seconds_solve},
-               {"vtu", a->vtu}});
+               {"vtu", vtu},
+               {"ranks", static_cast<long long>(p.communicator.size())}});
+    t.columns.push_back("ranks");
     std::cout << format_table(t, parse_table_format(a->out.format));
   });
 }

@@ -70,6 +70,11 @@ struct BvpStudyParams {
   Real infeasible_tolerance = 1e-6;  ///< local residual / |b| above this = infeasible
   bool check_m_matrix = true;
   bool measure_memory = false;       ///< per-stage peak memory in BvpRun (resets the process peak)
+  /// MPI ranks to solve on (default serial). Distributed: every rank makes the cloud, keeps
+  /// the slice [N r/P, N (r+1)/P) of it as its part, samples the data there and solves with
+  /// the distributed pipeline (BvpSolveOptions::communicator); errors and diagnostics are
+  /// reduced over the ranks, so every rank gets the serial table.
+  Communicator communicator;
   std::function<void(const std::string&, double)> progress;
 };
 
@@ -98,7 +103,9 @@ struct BvpRun {
   SolveReport solve;
   double seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
   double seconds_data = 0;  ///< sampling a, f, g, q and the exact u, and the error norms
-  double peak_memory_mib = 0;  ///< peak resident memory of the process when this run ended
+  double peak_memory_mib = 0;  ///< peak resident memory of the process when this run ended (max over ranks)
+  BvpSolution::Distribution distribution;  ///< ranks and halo traffic of a distributed run
+  Index first_id = 0;          ///< global number of this rank's first particle (distributed runs)
   /// With BvpStudyParams::measure_memory: peak resident bytes during the cloud stage, and
   /// the solve's stages (BvpSolution::stage_peak_bytes).
   std::size_t peak_bytes_cloud = 0;
@@ -135,7 +142,8 @@ struct BvpStudyResult {
 BvpStudyResult run_bvp_study(const BvpStudyParams& params);
 /// Support radius over dx of the study: h_factor, times 2 for the [SPE] problems (f = l/dx).
 Real support_factor(const BvpStudyParams& params);
-/// A single solve; keep_fields fills U, exact and local_residual.
+/// A single solve; keep_fields fills U, exact and local_residual (distributed: this rank's
+/// part, and cloud_out its particles, global numbers from BvpRun::first_id).
 BvpRun run_bvp(const BvpStudyParams& params, const std::string& method, int n, std::uint64_t seed, bool keep_fields,
                std::vector<std::string>* warnings = nullptr, PointCloud* cloud_out = nullptr);
 Table to_table(const BvpStudyResult& result);

@@ -6,6 +6,7 @@
 // For vector errors |e_i| is the Euclidean norm over components (METHODS §5).
 #include <span>
 #include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/parallel/communicator.hpp>
 
 namespace vrsph {
 
@@ -13,6 +14,9 @@ struct ErrorNorms {
   Real linf = 0, l2 = 0, rms = 0;
   Index count = 0;
   Index worst = -1;  ///< particle attaining linf
+  /// The sums behind l2 and rms (sum of volumes, of volume x error^2, of error^2): what a
+  /// reduction over MPI ranks adds up.
+  Real volume_sum = 0, volume_square_sum = 0, square_sum = 0;
 };
 
 struct ErrorReport {
@@ -24,6 +28,10 @@ struct ErrorReport {
 /// support radius: their kernels would be truncated without ghosts; without a known domain
 /// the distance is to the nearest tagged boundary particle); volumes: N values
 /// or empty (equal volumes).
+/// The norms of the whole cloud from every rank's (collective; serial: unchanged). `first_id`
+/// is the global number of this rank's first particle: `worst` becomes a global number.
+ErrorReport reduce_over_ranks(const ErrorReport& mine, const Communicator& comm, Index first_id);
+
 ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
                         Real near_distance, std::span<const Real> volumes = {});
 

@@ -32,6 +32,8 @@ struct LinearSystem {
   std::vector<Index> particle_of_dof;
   Field known;                         ///< g at known particles, 0 at unknowns
   Index size() const { return static_cast<Index>(particle_of_dof.size()); }
+  Index rows_owned = -1;               ///< AssemblyScope: the assembled rows (dofs 0..rows_owned-1); -1: all
+  std::vector<char> anchored;          ///< AssemblyScope: per assembled row, coupled to data (Dirichlet, pinned, Robin)
 };
 
 /// Flux rows of the Neumann particles and the optional pinned particle.
@@ -48,13 +50,21 @@ struct BoundaryRows {
   Field robin;
 };
 
+/// One rank's part of a distributed system: only the rows of the particles with rows[i] = 1
+/// (unknowns this rank owns) are assembled. Their dofs come first (0..rows-1, in particle
+/// order), every other unknown (a halo copy) after them, so A is rows x all unknowns. The
+/// global checks (some known particle, connectivity) are the caller's: they need every rank.
+struct AssemblyScope {
+  std::span<const char> rows;
+};
+
 /// f: right-hand side at every particle (used at unknowns); g: values at every particle
 /// (used at known ones and at the pinned particle). Throws InputError (size mismatch,
 /// non-finite data, no known particle, Neumann particle without normal or flux stencil),
 /// ConfigError (vector stencil) or GeometryError (unknowns not connected through non-zero
 /// weights to any known particle: singular system).
 LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const char> unknown, const Field& f,
-                      const Field& g, const BoundaryRows* boundary = nullptr);
+                      const Field& g, const BoundaryRows* boundary = nullptr, const AssemblyScope* scope = nullptr);
 
 /// Full particle field: solution at unknowns, known values elsewhere.
 Field expand(const LinearSystem& sys, const Eigen::VectorXd& x);

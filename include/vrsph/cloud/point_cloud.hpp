@@ -35,6 +35,9 @@ struct PointCloud {
   void add(const Vec3& x, Tag tag, const Vec3& normal = Vec3::Zero());
 };
 
+/// Particles begin..end-1 of `cloud` (with their tags and normals; same dim, spacing, domain).
+PointCloud slice(const PointCloud& cloud, Index begin, Index end);
+
 /// Largest |coordinate| accepted: beyond it the squared distance of two particles
 /// (up to 3 (2 max)^2) would overflow a double, and every search would find nothing.
 inline constexpr Real max_coordinate = 1e150;

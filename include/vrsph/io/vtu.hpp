@@ -20,4 +20,11 @@ enum class VtuFormat { Binary, Ascii };
 void write_vtu(const std::string& path, const PointCloud& cloud, const std::vector<PointField>& fields = {},
                VtuFormat format = VtuFormat::Binary);
 
+/// One rank's part of a distributed cloud: this rank writes `<stem>_<rank>.vtu` beside
+/// `path` and rank 0 writes `path` (which must end in .pvtu) listing every piece, for
+/// ParaView to open as one data set. Pieces hold no ghost cells (GhostLevel 0). Returns the
+/// piece's path. With fields of the same names and widths on every rank.
+std::string write_pvtu_piece(const std::string& path, int rank, int ranks, const PointCloud& part,
+                             const std::vector<PointField>& fields = {}, VtuFormat format = VtuFormat::Binary);
+
 }  // namespace vrsph

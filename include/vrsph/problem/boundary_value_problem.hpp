@@ -22,6 +22,7 @@
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/parallel/communicator.hpp>
 #include <vrsph/solve/solver.hpp>
 #include <vrsph/stencil/properties.hpp>
 
@@ -74,6 +75,15 @@ struct BvpSolveOptions {
   /// Keep the interior operator rows and the assembled system in the solution
   /// (BvpSolution::operator_rows, ::system): boundary fluxes and solver studies need them.
   bool keep_matrices = false;
+  /// The ranks to solve on. Distributed (more than one rank): each rank passes its own part
+  /// of the cloud and of the data in `problem` (any split; the particles' global numbering is
+  /// the chunks in rank order) and gets u for exactly those particles, in the same order.
+  /// The particles are re-partitioned along a Morton curve with halos (DistributedCloud),
+  /// stencils are built for owned rows only and the system is solved by PETSc (MPIAIJ); the
+  /// result equals the serial one up to the solver's tolerance. Needs h_mode fixed (or h),
+  /// and a spacing (given, cloud.spacing, or from a known domain); `pinned` is not
+  /// supported (fix_constant is). Default: serial.
+  Communicator communicator;
 };
 
 struct BvpSolution {
@@ -110,6 +120,15 @@ struct BvpSolution {
   /// over every particle (other rows empty), and the linear system that was solved.
   SparseMatrix operator_rows;
   LinearSystem system;
+  /// Distributed solves: ranks and what the partition moved (this rank's figures; the
+  /// maxima over ranks in the `_max` fields).
+  struct Distribution {
+    int ranks = 1;
+    Index owned = 0, halo = 0;
+    long long halo_bytes = 0, halo_bytes_max = 0, migration_bytes = 0;
+    int halo_messages = 0;
+    double seconds_distribute = 0;
+  } distribution;
 };
 
 /// Masks over the particles: 1 where the tag is one of `tags`.

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 #include <vrsph/assembly/assemble.hpp>
+#include <vrsph/parallel/communicator.hpp>
 
 namespace vrsph {
 
@@ -47,6 +48,11 @@ struct SolverOptions {
   int dimension = 0;
   /// auto: the largest system solved directly (0: by dimension, see auto_direct_limit).
   Index auto_direct_max = 0;
+  /// The ranks the system is spread over. Distributed (more than one rank): each rank passes
+  /// its own rows of A (owned rows x global columns, rows of rank r after those of rank r-1)
+  /// and of b, and gets its part of x; only PETSc solves it (auto = petsc, no direct
+  /// fallback; sparselu, umfpack, bicgstab are a ConfigError). Default: serial.
+  Communicator communicator;
 };
 
 /// The largest number of unknowns `auto` solves with a direct solver in dimension d:

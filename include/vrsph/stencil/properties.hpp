@@ -2,6 +2,7 @@
 // Structural properties of a stencil: row sums, sign structure, the M-matrix
 // test behind the discrete maximum principle, and exactness on monomials.
 #include <array>
+#include <functional>
 #include <span>
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>
@@ -34,6 +35,15 @@ struct MMatrixReport {
 /// unknown[i] says whether particle i is an unknown (row and column kept).
 /// tol is relative to the largest |L_ij| of each row.
 MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol = 1e-12);
+/// Closes condition (3): given the edges i -> j (CSR over the particles: j in
+/// targets[offsets[i] .. offsets[i+1])) and the strictly dominant rows, the rows that reach one.
+using ChainClosure = std::function<std::vector<char>(std::span<const Index> offsets, std::span<const Index> targets,
+                                                     std::vector<char> seeds)>;
+/// The same test on one rank's part of a distributed matrix: only the rows with rows[i] = 1
+/// are examined, `unknown` marks every unknown column (halo copies included), and `close`
+/// follows the chains over the ranks (reach_over_ranks).
+MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol, std::span<const char> rows,
+                             const ChainClosure& close);
 
 /// The method's local problems (Stencil::residual, e.g. VRSPH's NNLS) over selected rows.
 /// Relative residual = ||A v - b|| / sqrt(d) (|b| = sqrt(d)); a row is infeasible when it

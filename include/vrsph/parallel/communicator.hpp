@@ -1,0 +1,63 @@
+#pragma once
+// Communicator: the set of MPI ranks one computation runs on, as a value without <mpi.h>
+// (it keeps the Fortran handle of the MPI communicator). The default is serial: one
+// process, no MPI call at all, so nothing needs mpirun. `world()` starts PETSc (and with it
+// MPI) on first use and returns PETSC_COMM_WORLD.
+//
+// Collective error handling: every stage that may throw on some ranks and not on others
+// runs through `collective(comm, stage)`. It catches what the stage throws, agrees with the
+// other ranks whether any failed, and then throws on *every* rank the typed exception of
+// the lowest failing rank, with that rank's message. No rank is left waiting in a
+// collective that another rank will never reach: a failure is a clean, common exit.
+#include <functional>
+#include <string>
+#include <vector>
+#include <vrsph/core/types.hpp>
+
+namespace vrsph {
+
+class Communicator {
+ public:
+  Communicator() = default;  ///< serial: rank 0 of 1
+  /// PETSC_COMM_WORLD (MPI_COMM_WORLD of an mpirun launch; one rank without mpirun).
+  /// Throws ConfigError when PETSc/MPI cannot start.
+  static Communicator world();
+  /// Whether this process was started by an MPI launcher (mpirun/mpiexec) with more than
+  /// one rank: read from the launcher's environment, before MPI is started.
+  static bool launched_in_parallel();
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool distributed() const { return size_ > 1; }
+  bool is_root() const { return rank_ == 0; }
+  int fortran_handle() const { return handle_; }  ///< MPI_Comm_c2f of the communicator (internal use)
+
+ private:
+  int handle_ = 0;
+  int rank_ = 0, size_ = 1;
+};
+
+/// Runs `stage` on every rank; if it threw on any rank, throws on all ranks the exception
+/// (same type, same message) of the lowest rank that failed. Serial: just runs it.
+void collective(const Communicator& comm, const std::function<void()>& stage);
+
+// Reductions over the ranks (identities in serial).
+double sum_over_ranks(const Communicator& comm, double value);
+long long sum_over_ranks(const Communicator& comm, long long value);
+double max_over_ranks(const Communicator& comm, double value);
+double min_over_ranks(const Communicator& comm, double value);
+bool all_ranks(const Communicator& comm, bool value);
+bool any_rank(const Communicator& comm, bool value);
+/// Exclusive prefix sum over the ranks (0 on rank 0).
+long long offset_over_ranks(const Communicator& comm, long long value);
+/// Every rank's value, in rank order.
+std::vector<long long> gather_over_ranks(const Communicator& comm, long long value);
+/// Strings from every rank concatenated on every rank in rank order.
+std::vector<std::string> gather_strings(const Communicator& comm, const std::vector<std::string>& mine);
+/// (value, index) with the largest value; ties: the smallest index.
+std::pair<double, long long> max_location_over_ranks(const Communicator& comm, double value, long long index);
+/// Elementwise sums of a vector over the ranks (in place).
+void sum_over_ranks(const Communicator& comm, std::vector<double>& values);
+void sum_over_ranks(const Communicator& comm, std::vector<long long>& values);
+void barrier(const Communicator& comm);
+
+}  // namespace vrsph

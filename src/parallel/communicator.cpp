@@ -1,0 +1,177 @@
+// MPI behind Communicator: reductions, gathers and the collective error agreement.
+#include <petscsys.h>
+
+#include <cstdlib>
+#include <exception>
+#include <limits>
+#include <typeinfo>
+#include <vrsph/core/error.hpp>
+#include <vrsph/parallel/communicator.hpp>
+#include "petsc_runtime.hpp"
+
+namespace vrsph {
+
+namespace {
+MPI_Comm mpi(const Communicator& c) { return MPI_Comm_f2c(c.fortran_handle()); }
+
+// The typed exceptions by a number that can cross ranks (0: none).
+enum Kind : int { None = 0, Input, Io, Geometry, Numerical, Config, Resource, Other };
+
+Kind kind_of(const std::exception& e) {
+  // Most derived first: IoError is an InputError, ResourceError a ConfigError.
+  if (dynamic_cast<const IoError*>(&e)) return Io;
+  if (dynamic_cast<const InputError*>(&e)) return Input;
+  if (dynamic_cast<const GeometryError*>(&e)) return Geometry;
+  if (dynamic_cast<const NumericalError*>(&e)) return Numerical;
+  if (dynamic_cast<const ResourceError*>(&e)) return Resource;
+  if (dynamic_cast<const ConfigError*>(&e)) return Config;
+  return Other;
+}
+
+[[noreturn]] void rethrow(int kind, const std::string& msg) {
+  switch (kind) {
+    case Input: throw InputError(msg);
+    case Io: throw IoError(msg);
+    case Geometry: throw GeometryError(msg);
+    case Numerical: throw NumericalError(msg);
+    case Config: throw ConfigError(msg);
+    case Resource: throw ResourceError(msg);
+    default: throw std::runtime_error(msg);
+  }
+}
+}  // namespace
+
+bool Communicator::launched_in_parallel() {
+  // OpenMPI (mpirun), MPICH/Hydra and PMIx launchers set the world size in the environment.
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"}) {
+    const char* v = std::getenv(name);
+    if (v && std::atoi(v) > 1) return true;
+  }
+  return false;
+}
+
+Communicator Communicator::world() {
+  detail::start_petsc();
+  Communicator c;
+  c.handle_ = static_cast<int>(MPI_Comm_c2f(PETSC_COMM_WORLD));
+  MPI_Comm_rank(PETSC_COMM_WORLD, &c.rank_);
+  MPI_Comm_size(PETSC_COMM_WORLD, &c.size_);
+  return c;
+}
+
+void collective(const Communicator& comm, const std::function<void()>& stage) {
+  if (!comm.distributed()) {
+    stage();
+    return;
+  }
+  int kind = None;
+  std::string message;
+  try {
+    stage();
+  } catch (const std::exception& e) {
+    kind = kind_of(e);
+    message = e.what();
+  } catch (...) {
+    kind = Other;
+    message = "unknown exception";
+  }
+  // The lowest failing rank speaks for all.
+  int mine = kind != None ? comm.rank() : comm.size(), first = 0;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, mpi(comm));
+  if (first == comm.size()) return;
+  int sizes[2] = {kind, static_cast<int>(message.size())};
+  MPI_Bcast(sizes, 2, MPI_INT, first, mpi(comm));
+  message.resize(static_cast<std::size_t>(sizes[1]));
+  MPI_Bcast(message.data(), sizes[1], MPI_CHAR, first, mpi(comm));
+  rethrow(sizes[0], first == 0 ? message : detail::concat("rank ", first, ": ", message));
+}
+
+double sum_over_ranks(const Communicator& c, double v) {
+  if (!c.distributed()) return v;
+  double r = 0;
+  MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_SUM, mpi(c));
+  return r;
+}
+long long sum_over_ranks(const Communicator& c, long long v) {
+  if (!c.distributed()) return v;
+  long long r = 0;
+  MPI_Allreduce(&v, &r, 1, MPI_LONG_LONG, MPI_SUM, mpi(c));
+  return r;
+}
+double max_over_ranks(const Communicator& c, double v) {
+  if (!c.distributed()) return v;
+  double r = 0;
+  MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_MAX, mpi(c));
+  return r;
+}
+double min_over_ranks(const Communicator& c, double v) {
+  if (!c.distributed()) return v;
+  double r = 0;
+  MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_MIN, mpi(c));
+  return r;
+}
+bool all_ranks(const Communicator& c, bool v) {
+  if (!c.distributed()) return v;
+  int in = v, r = 0;
+  MPI_Allreduce(&in, &r, 1, MPI_INT, MPI_LAND, mpi(c));
+  return r != 0;
+}
+bool any_rank(const Communicator& c, bool v) {
+  if (!c.distributed()) return v;
+  int in = v, r = 0;
+  MPI_Allreduce(&in, &r, 1, MPI_INT, MPI_LOR, mpi(c));
+  return r != 0;
+}
+long long offset_over_ranks(const Communicator& c, long long v) {
+  if (!c.distributed()) return 0;
+  long long r = 0;
+  MPI_Exscan(&v, &r, 1, MPI_LONG_LONG, MPI_SUM, mpi(c));
+  return c.rank() == 0 ? 0 : r;
+}
+std::vector<long long> gather_over_ranks(const Communicator& c, long long v) {
+  std::vector<long long> all(static_cast<std::size_t>(c.size()), v);
+  if (c.distributed()) MPI_Allgather(&v, 1, MPI_LONG_LONG, all.data(), 1, MPI_LONG_LONG, mpi(c));
+  return all;
+}
+std::vector<std::string> gather_strings(const Communicator& c, const std::vector<std::string>& mine) {
+  if (!c.distributed()) return mine;
+  std::string packed;
+  for (const auto& s : mine) packed += s + '\0';
+  const std::vector<long long> sizes = gather_over_ranks(c, static_cast<long long>(packed.size()));
+  std::vector<int> counts(sizes.size()), displs(sizes.size());
+  int total = 0;
+  for (std::size_t r = 0; r < sizes.size(); ++r) {
+    counts[r] = static_cast<int>(sizes[r]);
+    displs[r] = total;
+    total += counts[r];
+  }
+  std::string all(static_cast<std::size_t>(total), '\0');
+  MPI_Allgatherv(packed.data(), static_cast<int>(packed.size()), MPI_CHAR, all.data(), counts.data(), displs.data(),
+                 MPI_CHAR, mpi(c));
+  std::vector<std::string> out;
+  for (std::size_t at = 0; at < all.size();) {
+    const std::size_t end = all.find('\0', at);
+    out.push_back(all.substr(at, end - at));
+    at = end + 1;
+  }
+  return out;
+}
+std::pair<double, long long> max_location_over_ranks(const Communicator& c, double v, long long index) {
+  if (!c.distributed()) return {v, index};
+  const double best = max_over_ranks(c, v);
+  const long long mine = v == best ? index : std::numeric_limits<long long>::max();
+  long long r = 0;
+  MPI_Allreduce(&mine, &r, 1, MPI_LONG_LONG, MPI_MIN, mpi(c));
+  return {best, r};
+}
+void sum_over_ranks(const Communicator& c, std::vector<double>& v) {
+  if (c.distributed()) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, mpi(c));
+}
+void sum_over_ranks(const Communicator& c, std::vector<long long>& v) {
+  if (c.distributed()) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_LONG_LONG, MPI_SUM, mpi(c));
+}
+void barrier(const Communicator& c) {
+  if (c.distributed()) MPI_Barrier(mpi(c));
+}
+
+}  // namespace vrsph

@@ -1,0 +1,461 @@
+// The boundary value problem over MPI ranks: the serial pipeline of solve_bvp.cpp on each
+// rank's owned particles plus a halo, with every diagnostic reduced over the ranks.
+//
+//   chunk --(Morton partition, PetscSF)--> owned + halo --> neighbours --> owned stencil rows
+//   --> owned rows of the system (global columns) --> PETSc MPIAIJ + KSP --> u back to the chunk
+//
+// Every stage that can fail on one rank runs in `collective`, so a failure anywhere is the
+// same typed exception on every rank (no rank waits in a collective the others left).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vrsph/assembly/assemble.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/parallel/distributed_cloud.hpp>
+#include <vrsph/problem/boundary_value_problem.hpp>
+#include "solve_bvp_distributed.hpp"
+
+namespace vrsph::detail {
+
+namespace {
+void check_size(const Field& v, Index n, const char* name, bool required) {
+  if (v.size() == 0 && !required) return;
+  check<InputError>(v.size() == n, "boundary value problem: ", name, " has ", v.size(), " values for ", n,
+                    " particles of this rank's part of the cloud (size mismatch)");
+}
+
+// The spacing every rank agrees on, as the serial estimate_spacing would give it where it
+// needs no neighbour search: the cloud's, else (|domain| / N)^(1/d).
+Real agreed_spacing(const BoundaryValueProblem& p, const BvpSolveOptions& o, Index global_n, const Communicator& comm) {
+  Real dx = o.spacing > 0 ? o.spacing : p.cloud.spacing;
+  dx = max_over_ranks(comm, dx);
+  if (dx > 0) return dx;
+  const Real measure = max_over_ranks(comm, p.cloud.size() > 0 ? p.cloud.domain.measure() : 0.0);
+  const int dim = static_cast<int>(max_over_ranks(comm, static_cast<double>(p.cloud.size() > 0 ? p.cloud.dim : 0)));
+  check<ConfigError>(measure > 0 && dim > 0, "a distributed solve needs the particle spacing: give "
+                     "BvpSolveOptions::spacing (or cloud.spacing, or a cloud with a known domain)");
+  return std::pow(measure / static_cast<Real>(global_n), 1.0 / dim);
+}
+
+std::vector<char> owned_mask(const DistributedCloud& dc, std::initializer_list<Tag> tags) {
+  std::vector<char> m = tag_mask(dc.local, tags);
+  for (std::size_t i = 0; i < m.size(); ++i) m[i] = m[i] && dc.owned[i];
+  return m;
+}
+
+// Infeasible rows of this rank, named by global id, and the counts over every rank.
+void report_infeasible(const DistributedCloud& dc, const LocalResidualSummary& local, const char* what,
+                       const BvpSolveOptions& o, BvpSolution& s) {
+  const Communicator& comm = dc.comm;
+  s.max_local_residual = std::max(s.max_local_residual, max_over_ranks(comm, local.max_relative));
+  const long long count = sum_over_ranks(comm, static_cast<long long>(local.infeasible));
+  s.infeasible += static_cast<Index>(count);
+  if (count == 0) return;
+  std::vector<std::string> mine;
+  for (const auto& [residual, i] : local.worst) {
+    const Index id = dc.global_id[static_cast<std::size_t>(i)];
+    s.infeasible_particles.push_back(id);
+    mine.push_back(concat(id, " (", residual, ")"));
+  }
+  std::string list;
+  const std::vector<std::string> all = gather_strings(comm, mine);
+  for (std::size_t k = 0; k < all.size() && k < 10; ++k) list += concat(k ? ", " : "", all[k]);
+  const std::string msg = concat(o.label.empty() ? o.method : o.label, ": ", count, " ", what,
+                                 " particle(s) with infeasible moment conditions or a singular local system (relative "
+                                 "residual > ", o.infeasible_tolerance, "); some: ", list);
+  if (o.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
+  s.warnings.push_back(msg);
+}
+
+// Rows with columns renumbered from local dofs to global ones (sorted again: the halo dofs'
+// global numbers need not follow the local order).
+CsrMatrix globalise(const LinearSystem& sys, const std::vector<Index>& global_dof_of_particle, Index global_unknowns) {
+  const Index m = sys.rows_owned;
+  CsrMatrix A(m, global_unknowns);
+  A.resizeNonZeros(sys.A.nonZeros());
+  std::copy(sys.A.outerIndexPtr(), sys.A.outerIndexPtr() + m + 1, A.outerIndexPtr());
+  std::vector<std::pair<Index, Real>> row;
+  for (Index d = 0; d < m; ++d) {
+    row.clear();
+    for (Index k = sys.A.outerIndexPtr()[d]; k < sys.A.outerIndexPtr()[d + 1]; ++k) {
+      const Index j = sys.particle_of_dof[static_cast<std::size_t>(sys.A.innerIndexPtr()[k])];
+      row.emplace_back(global_dof_of_particle[static_cast<std::size_t>(j)], sys.A.valuePtr()[k]);
+    }
+    std::sort(row.begin(), row.end());
+    Index out = sys.A.outerIndexPtr()[d];
+    for (const auto& [c, v] : row) {
+      A.innerIndexPtr()[out] = c;
+      A.valuePtr()[out++] = v;
+    }
+  }
+  return A;
+}
+
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
+  const Communicator& comm = o.communicator;
+  const Index n_chunk = p.cloud.size();
+  BvpSolution s;
+  s.distribution.ranks = comm.size();
+  const bool tensor = any_rank(comm, p.mobility.size() > 0);
+  collective(comm, [&] {
+    check_size(p.a, n_chunk, "a", false);
+    check_size(p.f, n_chunk, "f", true);
+    check_size(p.g, n_chunk, "g", true);
+    check_size(p.robin, n_chunk, "robin", false);
+    check<InputError>(p.q.size() == 0 || p.q.size() == n_chunk, "boundary value problem: q has ", p.q.size(),
+                      " values for ", n_chunk, " particles of this rank's part (size mismatch)");
+    check<InputError>(p.mobility.size() == 0 || p.mobility.rows() == n_chunk, "boundary value problem: the mobility "
+                      "has ", p.mobility.rows(), " rows for ", n_chunk, " particles (size mismatch)");
+    check<InputError>(!tensor || p.a.size() == 0, "boundary value problem: give either a scalar coefficient a or a "
+                      "tensor mobility, not both");
+    check<ConfigError>(std::isfinite(o.infeasible_tolerance) && o.infeasible_tolerance > 0,
+                       "infeasible tolerance must be positive and finite, got ", o.infeasible_tolerance);
+    check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "support radius h must be >= 0 (0: from the h-factor), got ", o.h);
+    check<ConfigError>(o.h > 0 || o.h_mode == SmoothingMode::Fixed, "a distributed solve supports --h-mode fixed "
+                       "only (covering and knn radii are not computed over ranks yet)");
+    check<ConfigError>(std::isfinite(o.h_factor) && o.h_factor > 0, "h-factor must be positive and finite, got ", o.h_factor);
+    check<ConfigError>(p.pinned < 0, "BoundaryValueProblem::pinned names a particle of one rank's part: with several "
+                       "ranks use fix_constant");
+    check<ConfigError>(!o.keep_matrices, "keep_matrices is not available for a distributed solve");
+  });
+  const bool with_a = any_rank(comm, p.a.size() > 0), with_grad_a = any_rank(comm, p.grad_a.size() > 0),
+             with_q = any_rank(comm, p.q.size() > 0), with_robin = any_rank(comm, p.robin.size() > 0);
+  const auto method = builtin_methods().create(o.method, o.method_options);
+  const long long global_n = sum_over_ranks(comm, static_cast<long long>(n_chunk));
+  Real dx = 0;
+  collective(comm, [&] { dx = agreed_spacing(p, o, static_cast<Index>(std::max<long long>(global_n, 1)), comm); });
+  s.spacing = dx;
+  s.h = o.h > 0 ? o.h : o.h_factor * dx;
+
+  // Partition with a halo wide enough for the method's rows: `stencil_rings` supports.
+  Stopwatch watch;
+  const Real halo = method->info().stencil_rings * s.h * (1 + 1e-9);
+  DistributedCloud dc = distribute(p.cloud, halo, comm);
+  const PointCloud& cloud = dc.local;
+  const Index n = cloud.size();
+  s.particles = dc.global_size;
+  s.distribution.owned = dc.owned_count;
+  s.distribution.halo = dc.stats.halo;
+  s.distribution.halo_bytes = dc.stats.halo_bytes;
+  s.distribution.halo_bytes_max = static_cast<long long>(max_over_ranks(comm, static_cast<double>(dc.stats.halo_bytes)));
+  s.distribution.migration_bytes = dc.stats.migration_bytes;
+  s.distribution.halo_messages = dc.stats.halo_messages;
+  s.distribution.seconds_distribute = dc.stats.seconds;
+  {
+    Real extent2 = 0;
+    Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+    for (Index i = 0; i < n; ++i)
+      if (cloud.tags[static_cast<std::size_t>(i)] != Tag::Ghost) {
+        lo = lo.cwiseMin(cloud.positions[static_cast<std::size_t>(i)]);
+        hi = hi.cwiseMax(cloud.positions[static_cast<std::size_t>(i)]);
+      }
+    for (int k = 0; k < 3; ++k) {
+      const Real a = min_over_ranks(comm, lo[k]), b = max_over_ranks(comm, hi[k]);
+      if (b >= a) extent2 += (b - a) * (b - a);
+    }
+    collective(comm, [&] { check_support_is_local(s.h, std::sqrt(extent2), o.h > 0 ? 0 : o.h_factor); });
+  }
+  // The data at the owned and halo particles.
+  const Field ones = Field::Ones(n_chunk);
+  const Field a = chunk_to_local(dc, with_a ? p.a : ones);
+  const Field f = chunk_to_local(dc, p.f), g = chunk_to_local(dc, p.g);
+  const Field q = with_q ? chunk_to_local(dc, p.q) : Field();
+  const Field robin = with_robin ? chunk_to_local(dc, p.robin) : Field();
+  const Eigen::MatrixXd mobility = tensor ? chunk_to_local(dc, p.mobility) : Eigen::MatrixXd();
+  const Eigen::MatrixXd grad_a = with_grad_a && !tensor ? chunk_to_local(dc, p.grad_a) : Eigen::MatrixXd();
+  collective(comm, [&] {
+    for (Index i = 0; i < n; ++i) {
+      check<InputError>(std::isfinite(a[i]) && a[i] > 0, "the coefficient a = ", a[i], " at particle ",
+                        dc.global_id[static_cast<std::size_t>(i)], " must be positive and finite");
+    }
+  });
+
+  const std::vector<char> interior = owned_mask(dc, {Tag::Interior}), flux = owned_mask(dc, {Tag::Neumann}),
+                          unknown_all = unknown_mask(cloud), unknown = owned_mask(dc, {Tag::Interior, Tag::Neumann});
+  s.neumann_particles = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(std::count(flux.begin(), flux.end(), 1))));
+  collective(comm, [&] {
+    check<InputError>(s.neumann_particles == 0 || with_q, "boundary value problem: Neumann particles need the flux q");
+    check<ConfigError>(s.neumann_particles == 0 || method->info().supports(OperatorKind::Gradient), "method ", o.method,
+                       " has no gradient stencil for Neumann rows");
+  });
+
+  // Neighbours of the local particles; only the owned rows must have some (halo particles at
+  // the halo's edge are incomplete and are never rows).
+  SearchParams sp;
+  sp.radius = s.h;
+  sp.min_neighbours = 0;
+  NeighbourList nl;
+  collective(comm, [&] {
+    nl = find_neighbours(cloud, sp);
+    for (Index i = 0; i < n; ++i)
+      if (dc.owned[static_cast<std::size_t>(i)] && cloud.tags[static_cast<std::size_t>(i)] != Tag::Ghost && nl.count(i) < 1) {
+        const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+        throw GeometryError(concat("particle ", dc.global_id[static_cast<std::size_t>(i)], " at (", x[0], ", ", x[1],
+                                   ", ", x[2], ") has 0 neighbours within radius ", s.h,
+                                   " (need at least 1); increase the smoothing radius or check the cloud"));
+      }
+  });
+  s.seconds_neighbours = max_over_ranks(comm, watch.seconds());
+
+  // Owned stencil rows.
+  watch.restart();
+  StencilRequest req;
+  req.kind = OperatorKind::DivAGrad;
+  req.coefficient = tensor ? nullptr : &a;
+  req.mobility = tensor ? &mobility : nullptr;
+  if (grad_a.size()) req.coefficient_gradient = &grad_a;
+  req.rows = interior;
+  const Discretisation disc{cloud, nl, o.kernel, dx};
+  Stencil L, G;
+  collective(comm, [&] {
+    L = method->build(disc, req);
+    if (s.neumann_particles > 0) {
+      StencilRequest greq;
+      greq.kind = OperatorKind::Gradient;
+      greq.rows = flux;
+      G = method->build(disc, greq);
+    }
+  });
+  s.seconds_stencil = max_over_ranks(comm, watch.seconds());
+  {
+    long long nsum = 0, count = 0;
+    for (Index i = 0; i < n; ++i)
+      if (unknown[static_cast<std::size_t>(i)]) {
+        nsum += nl.count(i);
+        ++count;
+      }
+    nsum = sum_over_ranks(comm, nsum);
+    count = sum_over_ranks(comm, count);
+    s.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<long long>(count, 1));
+  }
+  nl = NeighbourList();
+
+  // Diagnostics over every rank.
+  collective(comm, [&] {
+    report_infeasible(dc, summarise_local_residuals(L, interior, o.infeasible_tolerance), "interior", o, s);
+    if (s.neumann_particles > 0) report_infeasible(dc, summarise_local_residuals(G, flux, o.infeasible_tolerance), "Neumann", o, s);
+  });
+  Real condition = 0;
+  for (Index i = 0; i < n; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (interior[si] && !L.condition.empty()) condition = std::max(condition, L.condition[si]);
+    if (flux[si] && !G.condition.empty()) condition = std::max(condition, G.condition[si]);
+  }
+  s.condition_max = max_over_ranks(comm, condition);
+  collective(comm, [&] {
+    for (Index i = 0; i < n; ++i) {
+      if (!interior[static_cast<std::size_t>(i)]) continue;
+      for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
+        if (!std::isfinite(L.values[0][static_cast<std::size_t>(k)])) {
+          const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+          throw NumericalError(concat(o.label.empty() ? o.method : o.label, ": the stencil row of particle ",
+                                      dc.global_id[static_cast<std::size_t>(i)], " (", x[0], ", ", x[1], ", ", x[2],
+                                      ") is not finite: the coefficient or mobility (or 1/h^2) overflows; rescale the problem"));
+        }
+    }
+  });
+  {
+    long long negative = 0;
+    Real xi = -std::numeric_limits<Real>::infinity();
+    for (Index i = 0; i < n; ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (!interior[si]) continue;
+      const Real scale = std::abs(L.values[0][static_cast<std::size_t>(L.diag[si])]);
+      for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
+        negative += L.col[static_cast<std::size_t>(k)] != i && L.values[0][static_cast<std::size_t>(k)] < -1e-12 * scale;
+      if (!L.xi.empty()) xi = std::max(xi, L.xi[si]);
+    }
+    s.negative_transmissibilities = static_cast<Index>(sum_over_ranks(comm, negative));
+    xi = max_over_ranks(comm, xi);
+    s.xi_max = std::isfinite(xi) ? xi : std::nan("");
+    if (method->info().monotone && s.negative_transmissibilities > 0)
+      s.warnings.push_back(concat(o.label.empty() ? o.method : o.label, ": ", s.negative_transmissibilities,
+                                  " negative off-diagonal weight(s) in interior rows of a scheme meant to be monotone: "
+                                  "the maximum principle does not hold there ([SPE] (92)/(93), xi_max = ", s.xi_max, ")"));
+  }
+  if (o.check_m_matrix) {
+    // Rows: the owned interior rows (all owned unknowns without flux rows); columns: every
+    // unknown, halo copies included; chains followed over the ranks.
+    const std::vector<char>& rows = s.neumann_particles > 0 ? interior : unknown;
+    std::vector<char> columns = s.neumann_particles > 0 ? tag_mask(cloud, {Tag::Interior}) : unknown_all;
+    const MMatrixReport mm = check_m_matrix(L, columns, 1e-12, rows,
+                                            [&](std::span<const Index> off, std::span<const Index> tgt, std::vector<char> seeds) {
+                                              return reach_over_ranks(dc, off, tgt, std::move(seeds));
+                                            });
+    const bool z = all_ranks(comm, mm.z_matrix), dd = all_ranks(comm, mm.diagonally_dominant),
+               chained = all_ranks(comm, mm.chained);
+    s.m_matrix = z && dd && chained;
+    const long long rows_total = sum_over_ranks(comm, static_cast<long long>(mm.rows));
+    s.m_matrix_summary = s.m_matrix ? concat("-L is an M-matrix (", rows_total, " unknown rows on ", comm.size(),
+                                             " ranks, weakly chained diagonally dominant)")
+                                    : concat("-L is NOT an M-matrix:", z ? "" : " off-diagonal entries of the wrong sign;",
+                                             dd ? "" : " rows not diagonally dominant;",
+                                             chained ? "" : " rows not connected to a strictly dominant (boundary) row;",
+                                             " (", comm.size(), " ranks)");
+  }
+
+  // This rank's rows of the system, with global columns.
+  watch.restart();
+  Index pinned = -1;
+  if (p.fix_constant) {
+    // The interior particle nearest the centre of the domain (or of the unknowns), over every
+    // rank; ties by global id, as the serial search keeps the first.
+    Vec3 centre = Vec3::Zero();
+    if (cloud.domain.shape == Domain::Shape::Ball) centre = cloud.domain.centre;
+    else if (cloud.domain.shape == Domain::Shape::Box) centre = 0.5 * (cloud.domain.lo + cloud.domain.hi);
+    else {
+      long long count = 0;
+      for (Index i = 0; i < n; ++i)
+        if (interior[static_cast<std::size_t>(i)]) {
+          centre += cloud.positions[static_cast<std::size_t>(i)];
+          ++count;
+        }
+      for (int k = 0; k < 3; ++k) centre[k] = sum_over_ranks(comm, centre[k]);
+      centre /= static_cast<Real>(std::max<long long>(sum_over_ranks(comm, count), 1));
+    }
+    Real best = std::numeric_limits<Real>::infinity();
+    Index best_i = -1;
+    for (Index i = 0; i < n; ++i)
+      if (interior[static_cast<std::size_t>(i)] && (cloud.positions[static_cast<std::size_t>(i)] - centre).norm() < best) {
+        best = (cloud.positions[static_cast<std::size_t>(i)] - centre).norm();
+        best_i = i;
+      }
+    const Real global_best = min_over_ranks(comm, best);
+    const long long mine = best == global_best && best_i >= 0 ? dc.global_id[static_cast<std::size_t>(best_i)]
+                                                              : std::numeric_limits<long long>::max();
+    const long long chosen = static_cast<long long>(-max_over_ranks(comm, -static_cast<double>(mine)));
+    if (best_i >= 0 && dc.global_id[static_cast<std::size_t>(best_i)] == chosen) pinned = best_i;
+  }
+  BoundaryRows bc;
+  if (s.neumann_particles > 0) {
+    bc.gradient = &G;
+    bc.coefficient = tensor ? nullptr : &a;
+    bc.mobility = tensor ? &mobility : nullptr;
+    bc.q = q;
+    bc.robin = robin;
+  }
+  bc.pinned = pinned;
+  const AssemblyScope scope{unknown};
+  LinearSystem sys;
+  collective(comm, [&] { sys = assemble(L, cloud, unknown_all, f, g, &bc, &scope); });
+  s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
+  L = Stencil();
+  G = Stencil();
+  const Index m = sys.rows_owned;
+  const long long unknowns = sum_over_ranks(comm, static_cast<long long>(m));
+  const Index first_dof = static_cast<Index>(offset_over_ranks(comm, m));
+  std::vector<Index> global_dof(static_cast<std::size_t>(n), -1);
+  for (Index d = 0; d < m; ++d) global_dof[static_cast<std::size_t>(sys.particle_of_dof[static_cast<std::size_t>(d)])] = first_dof + d;
+  update_halo(dc, global_dof);
+  // Some data anywhere, and every unknown connected to it (else the system is singular).
+  {
+    const long long known = sum_over_ranks(comm, static_cast<long long>(
+        std::count_if(cloud.tags.begin(), cloud.tags.end(), [](Tag t) { return t == Tag::Dirichlet; })));
+    const bool robin_rows = any_rank(comm, robin.size() > 0 && robin.maxCoeff() > 0);
+    const bool pinned_any = any_rank(comm, pinned >= 0);
+    collective(comm, [&] {
+      check<InputError>(unknowns > 0, "the problem has no unknown (interior) particle");
+      check<InputError>(known > 0 || pinned_any || robin_rows,
+                        s.neumann_particles > 0 ? "only Neumann data and no Dirichlet particle: the solution is determined "
+                                                  "only up to a constant (singular system); fix the constant (--fix-constant)"
+                                                : "the cloud has no Dirichlet particle: the problem is singular");
+    });
+    std::vector<Index> offsets(static_cast<std::size_t>(n) + 1, 0), targets;
+    std::vector<char> seeds(static_cast<std::size_t>(n), 0);
+    std::vector<Index> row_of(static_cast<std::size_t>(n), -1);
+    for (Index d = 0; d < m; ++d) row_of[static_cast<std::size_t>(sys.particle_of_dof[static_cast<std::size_t>(d)])] = d;
+    for (Index i = 0; i < n; ++i) {
+      const Index d = row_of[static_cast<std::size_t>(i)];
+      if (d >= 0) {
+        seeds[static_cast<std::size_t>(i)] = sys.anchored[static_cast<std::size_t>(d)];
+        for (Index k = sys.A.outerIndexPtr()[d]; k < sys.A.outerIndexPtr()[d + 1]; ++k) {
+          const Index j = sys.particle_of_dof[static_cast<std::size_t>(sys.A.innerIndexPtr()[k])];
+          if (j != i && sys.A.valuePtr()[k] != 0) targets.push_back(j);
+        }
+      }
+      offsets[static_cast<std::size_t>(i) + 1] = static_cast<Index>(targets.size());
+    }
+    const std::vector<char> reached = reach_over_ranks(dc, offsets, targets, std::move(seeds));
+    long long floating = 0, first = std::numeric_limits<long long>::max();
+    for (Index d = 0; d < m; ++d) {
+      const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
+      if (!reached[static_cast<std::size_t>(i)]) {
+        ++floating;
+        first = std::min<long long>(first, dc.global_id[static_cast<std::size_t>(i)]);
+      }
+    }
+    floating = sum_over_ranks(comm, floating);
+    first = static_cast<long long>(-max_over_ranks(comm, -static_cast<double>(first)));
+    collective(comm, [&] {
+      check<GeometryError>(floating == 0, floating, " unknown particle(s) are not connected to any Dirichlet particle "
+                           "(singular system); first: particle ", first);
+    });
+  }
+  LinearSystem global;
+  global.A = globalise(sys, global_dof, static_cast<Index>(unknowns));
+  global.b = std::move(sys.b);
+  global.particle_of_dof.assign(sys.particle_of_dof.begin(), sys.particle_of_dof.begin() + m);
+  global.rows_owned = m;
+  s.unknowns = static_cast<Index>(unknowns);
+  s.nnz_per_row = static_cast<Real>(sum_over_ranks(comm, static_cast<long long>(global.A.nonZeros()))) /
+                  static_cast<Real>(std::max<long long>(unknowns, 1));
+  s.seconds_assemble = max_over_ranks(comm, watch.seconds());
+
+  // The solve over every rank.
+  Eigen::VectorXd x;
+  SolverOptions solver = o.solver;
+  solver.communicator = comm;
+  if (solver.dimension == 0) solver.dimension = cloud.dim;
+  const auto t0 = std::chrono::steady_clock::now();
+  collective(comm, [&] { s.solve = solve(global, x, solver); });
+  s.seconds_solve = max_over_ranks(comm, since(t0));
+  s.warnings.insert(s.warnings.end(), s.solve.warnings.begin(), s.solve.warnings.end());
+  collective(comm, [&] {
+    if (!s.solve.success)
+      throw NumericalError(concat("solver ", s.solve.solver, " failed for ", o.label.empty() ? o.method : o.label, ": ",
+                                  s.solve.message, " (relative residual ", s.solve.residual, ")"));
+  });
+
+  // The solution at the owned particles, back in the chunk's order.
+  Field u = sys.known;
+  for (Index d = 0; d < m; ++d) u[global.particle_of_dof[static_cast<std::size_t>(d)]] = x[d];
+  s.u = local_to_chunk(dc, u);
+  s.local_residual = local_to_chunk(dc, s.local_residual);
+  if (s.neumann_particles > 0 && !any_rank(comm, cloud.count(Tag::Dirichlet) > 0) &&
+      !any_rank(comm, robin.size() > 0 && robin.maxCoeff() > 0)) {
+    const Real volume = std::pow(dx, cloud.dim), area = std::pow(dx, cloud.dim - 1);
+    std::vector<double> sums(3, 0.0);  // source, flux, scale
+    for (Index i = 0; i < n; ++i) {
+      if (!dc.owned[static_cast<std::size_t>(i)]) continue;
+      const Tag t = cloud.tags[static_cast<std::size_t>(i)];
+      if (t == Tag::Interior || t == Tag::Neumann) {
+        const Real v = t == Tag::Interior ? volume : 0.5 * volume;
+        sums[0] += v * f[i];
+        sums[2] += v * std::abs(f[i]);
+      }
+      if (t == Tag::Neumann) {
+        sums[1] += area * q[i];
+        sums[2] += area * std::abs(q[i]);
+      }
+    }
+    sum_over_ranks(comm, sums);
+    s.neumann_imbalance = std::abs(sums[1] - sums[0]) / std::max(sums[2], std::numeric_limits<Real>::min());
+    if (s.neumann_imbalance > 0.2)
+      s.warnings.push_back(concat("only Neumann data, and they do not balance the source: boundary flux ~ ", sums[1],
+                                  " but integral of f ~ ", sums[0], "; a solution exists only if they are equal, so "
+                                  "this one is not meaningful: check q and f"));
+  }
+  return s;
+}
+
+}  // namespace vrsph::detail
