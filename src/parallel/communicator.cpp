@@ -1,7 +1,9 @@
 // MPI behind Communicator: reductions, gathers and the collective error agreement.
 #include <petscsys.h>
 
+#include <chrono>
 #include <cstdlib>
+#include <thread>
 #include <exception>
 #include <limits>
 #include <typeinfo>
@@ -172,6 +174,16 @@ void sum_over_ranks(const Communicator& c, std::vector<long long>& v) {
 }
 void barrier(const Communicator& c) {
   if (c.distributed()) MPI_Barrier(mpi(c));
+}
+void idle_barrier(const Communicator& c) {
+  if (!c.distributed()) return;
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPI_Ibarrier(mpi(c), &request);
+  for (int done = 0;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
 }
 
 }  // namespace vrsph

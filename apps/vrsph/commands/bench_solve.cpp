@@ -27,8 +27,20 @@ struct SolveBenchArgs {
               anchor_script;
   std::uint64_t seed = 1;
   double h_factor = 3;
+  bool baseline = false;
   OutputOptions out;
 };
+
+// Stage seconds of one run, for the efficiency against a one-rank baseline.
+struct StageTimes {
+  double build = 0, solve = 0, total = 0;  // build: neighbours + stencils + assembly
+};
+StageTimes stage_times(const BvpRun& r) {
+  return {r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble + r.distribution.seconds_distribute,
+          r.seconds_solve,
+          r.seconds_cloud + r.seconds_data + r.distribution.seconds_distribute + r.seconds_neighbours +
+              r.seconds_stencil + r.seconds_assemble + r.seconds_solve};
+}
 
 struct AnchorRow {
   double seconds_total = 0, error_inf = 0;
@@ -84,6 +96,10 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--anchor-script", a->anchor_script,
                   "The peer's script (default: $VRSPH_ANCHOR_DIR/fenicsx_ex5.py, else ../shared/anchors next to the "
                   "source tree)");
+  cmd->add_flag("--baseline", a->baseline,
+                "Under mpirun: also run each size on rank 0 alone (the others sleep) and report the parallel "
+                "efficiency T_1 / (P T_P) of the build (neighbours, stencils, assembly, partition), of the solve and "
+                "of the whole");
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot seconds_total and solver_iterations against N (log-log, reference slopes 1 and 0) into this PNG file");
@@ -93,6 +109,9 @@ void add_solve_bench(CLI::App& bench) {
     check<ConfigError>(a->dim == 2 || a->dim == 3, "--dim must be 2 or 3 for bench solve, got ", a->dim);
     check<ConfigError>(a->anchor.empty() || a->anchor == "fenicsx", "--anchor must be fenicsx, got '", a->anchor, "'");
     check<ConfigError>(a->anchor.empty() || a->dim == 2, "--anchor fenicsx runs [QW] Example 5 in 2D only");
+    const Communicator& comm = communicator();
+    check<ConfigError>(!a->baseline || comm.distributed(), "--baseline compares with one rank: run under mpirun with "
+                       "more than one rank");
     BvpStudyParams p;
     p.dim = a->dim;
     p.cloud = parse_cloud_family(a->cloud);
@@ -101,6 +120,7 @@ void add_solve_bench(CLI::App& bench) {
     p.h_factor = a->h_factor;
     p.measure_memory = true;
     p.check_m_matrix = false;  // a diagnostic, not part of a user's solve
+    p.communicator = comm;
     const std::vector<int> sizes = parse_int_list(a->n, "--n");
     const std::vector<std::string> solvers = parse_name_list(a->solvers, "--solver");
     std::vector<SolverOptions> solver_options;
@@ -130,6 +150,11 @@ void add_solve_bench(CLI::App& bench) {
                  "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total", "solver_iterations",
                  "error_inf", "bytes_per_particle", "bytes_per_particle_cloud", "bytes_per_particle_neighbours",
                  "bytes_per_particle_stencil", "bytes_per_particle_assemble", "bytes_per_particle_solve"};
+    t.columns.insert(t.columns.end(), {"ranks", "seconds_partition", "halo_bytes_max", "halo_messages", "halo_particles",
+                                       "owned_particles", "peak_memory_mib_per_rank"});
+    if (a->baseline)
+      t.columns.insert(t.columns.end(), {"baseline_seconds_build", "baseline_seconds_solve", "baseline_seconds_total",
+                                         "parallel_efficiency_build", "parallel_efficiency_solve", "parallel_efficiency"});
     if (!anchor.empty()) {
       t.columns.insert(t.columns.end(), {"anchor_seconds_total", "anchor_iterations", "anchor_error_inf",
                                          "ratio_to_anchor"});
@@ -156,13 +181,23 @@ void add_solve_bench(CLI::App& bench) {
       (void)run_bvp(p, a->method, 8, a->seed, false, nullptr, nullptr);
       for (std::size_t k = 0; k < sizes.size(); ++k) {
         progress.update(solvers[s] + " n=" + std::to_string(sizes[k]), done++ / total_runs);
+        // The one-rank baseline first, rank 0 alone, with the other ranks asleep.
+        StageTimes base;
+        if (a->baseline) {
+          if (comm.is_root()) {
+            BvpStudyParams serial = p;
+            serial.communicator = Communicator();
+            base = stage_times(run_bvp(serial, a->method, sizes[k], a->seed, false, nullptr, nullptr));
+          }
+          idle_barrier(comm);
+        }
         const BvpRun r = run_bvp(p, a->method, sizes[k], a->seed, false, nullptr, nullptr);
-        const double total = r.seconds_cloud + r.seconds_data + r.seconds_neighbours + r.seconds_stencil +
-                             r.seconds_assemble + r.seconds_solve;
+        const StageTimes times = stage_times(r);
+        const double total = times.total;
         // Bytes per particle above what the process held before the run (program, libraries).
         const auto per = [&](std::size_t bytes) {
           const double above = static_cast<double>(bytes) - static_cast<double>(r.resident_bytes_before);
-          return std::max(0.0, above) / static_cast<double>(r.particles);
+          return std::max(0.0, above) / static_cast<double>(comm.distributed() ? r.distribution.owned : r.particles);
         };
         const auto& sp = r.stage_peak_bytes;
         const std::size_t peak =
@@ -187,7 +222,23 @@ void add_solve_bench(CLI::App& bench) {
             {"bytes_per_particle_neighbours", per(sp.neighbours)},
             {"bytes_per_particle_stencil", per(sp.stencil)},
             {"bytes_per_particle_assemble", per(sp.assemble)},
-            {"bytes_per_particle_solve", per(sp.solve)}};
+            {"bytes_per_particle_solve", per(sp.solve)},
+            {"ranks", static_cast<long long>(comm.size())},
+            {"seconds_partition", r.distribution.seconds_distribute},
+            {"halo_bytes_max", static_cast<long long>(r.distribution.halo_bytes_max)},
+            {"halo_messages", static_cast<long long>(r.distribution.halo_messages)},
+            {"halo_particles", static_cast<long long>(r.distribution.halo)},
+            {"owned_particles", static_cast<long long>(comm.distributed() ? r.distribution.owned : r.particles)},
+            {"peak_memory_mib_per_rank", r.peak_memory_mib}};
+        if (a->baseline) {
+          const double P = comm.size();
+          row.emplace_back("baseline_seconds_build", base.build);
+          row.emplace_back("baseline_seconds_solve", base.solve);
+          row.emplace_back("baseline_seconds_total", base.total);
+          row.emplace_back("parallel_efficiency_build", base.build / (P * times.build));
+          row.emplace_back("parallel_efficiency_solve", base.solve / (P * times.solve));
+          row.emplace_back("parallel_efficiency", base.total / (P * times.total));
+        }
         if (!anchor.empty()) {
           row.emplace_back("anchor_seconds_total", anchor[k].seconds_total);
           row.emplace_back("anchor_iterations", static_cast<long long>(anchor[k].iterations));
@@ -207,7 +258,8 @@ void add_solve_bench(CLI::App& bench) {
         meta["slope_iterations"][solvers[s]] = -least_squares_order(inverse, iterations);
       }
     }
-    meta["peak_memory_mib"] = peak_memory_mib();
+    meta["peak_memory_mib"] = max_over_ranks(comm, peak_memory_mib());
+    meta["ranks"] = comm.size();
     emit(t, a->out, meta.dump(), "N", "seconds_total:1,solver_iterations:0", "solver",
          "Example 5 " + std::to_string(a->dim) + "D " + a->cloud + ": seconds and solver iterations to solution");
   });

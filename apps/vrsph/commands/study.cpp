@@ -278,7 +278,7 @@ void add_solve_command(CLI::App& app) {
     if (!a->out.plot.empty()) plot_solution(cloud, r.U, &r.exact, a->out.plot, r.method + " n=" + std::to_string(r.n));
     Table t;
     t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
-                 "solver_iterations", "solver_residual", "seconds_total", "vtu"};
+                 "solver_iterations", "solver_residual", "seconds_total", "vtu", "ranks"};
     t.add_row({{"method", r.method}, {"n", static_cast<long long>(r.n)}, {"N", static_cast<long long>(r.particles)},
                {"unknowns", static_cast<long long>(r.unknowns)}, {"h", r.h}, {"error_inf", r.errors.all.linf},
                {"error_l2", r.errors.all.l2}, {"mmatrix", r.m_matrix}, {"infeasible", static_cast<long long>(r.infeasible)},
@@ -288,7 +288,6 @@ void add_solve_command(CLI::App& app) {
                                      r.seconds_solve},
                {"vtu", vtu},
                {"ranks", static_cast<long long>(p.communicator.size())}});
-    t.columns.push_back("ranks");
     std::cout << format_table(t, parse_table_format(a->out.format));
   });
 }

@@ -59,5 +59,8 @@ std::pair<double, long long> max_location_over_ranks(const Communicator& comm, d
 void sum_over_ranks(const Communicator& comm, std::vector<double>& values);
 void sum_over_ranks(const Communicator& comm, std::vector<long long>& values);
 void barrier(const Communicator& comm);
+/// A barrier whose waiting ranks sleep (1 ms polls) instead of spinning: while rank 0 alone
+/// runs a baseline, the other ranks leave it the cores.
+void idle_barrier(const Communicator& comm);
 
 }  // namespace vrsph

@@ -1,0 +1,245 @@
+// The distributed pipeline against the serial one, run under mpirun (2 and 4 ranks, see
+// tests/CMakeLists.txt). Every rank computes the serial reference itself (on
+// PETSC_COMM_SELF-free serial paths) and compares its own part of the distributed result.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <vrsph/analysis/bvp_study.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/cloud/box_faces.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/parallel/distributed_cloud.hpp>
+#include <vrsph/problem/boundary_value_problem.hpp>
+
+using namespace vrsph;
+
+namespace {
+const Communicator& world() {
+  static const Communicator c = Communicator::world();
+  return c;
+}
+
+PointCloud perturbed_box(int dim, int n, std::uint64_t seed) {
+  CloudSpec spec;
+  spec.family = CloudFamily::Perturbed;
+  spec.box = Domain::unit_box(dim);
+  spec.n = n;
+  spec.seed = seed;
+  return make_study_cloud(spec).cloud;
+}
+
+// This rank's slice of the serial numbering.
+std::pair<Index, Index> my_slice(Index total) {
+  const auto t = static_cast<long long>(total);
+  return {static_cast<Index>(t * world().rank() / world().size()), static_cast<Index>(t * (world().rank() + 1) / world().size())};
+}
+
+// Data of u = sin(x) exp(y) + z^2 with a = 1 + x y (f = div(a grad u) by hand is tedious:
+// the solution need not be exact, only equal in serial and in parallel).
+BoundaryValueProblem problem_on(const PointCloud& cloud) {
+  BoundaryValueProblem p;
+  p.cloud = cloud;
+  const Index n = cloud.size();
+  p.a.resize(n);
+  p.f.resize(n);
+  p.g.resize(n);
+  p.q = Field::Zero(n);
+  for (Index i = 0; i < n; ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    p.a[i] = 1 + x[0] * x[1];
+    p.f[i] = std::cos(3 * x[0]) - x[1];
+    p.g[i] = std::sin(x[0]) * std::exp(x[1]) + x[2] * x[2];
+    if (cloud.has_normals()) p.q[i] = cloud.normals[static_cast<std::size_t>(i)].sum();
+  }
+  return p;
+}
+
+BoundaryValueProblem slice_of(const BoundaryValueProblem& p, Index b, Index e) {
+  BoundaryValueProblem q;
+  q.cloud = slice(p.cloud, b, e);
+  q.a = p.a.segment(b, e - b);
+  q.f = p.f.segment(b, e - b);
+  q.g = p.g.segment(b, e - b);
+  q.q = p.q.segment(b, e - b);
+  q.fix_constant = p.fix_constant;
+  return q;
+}
+
+// A direct parallel solve (MUMPS) so that serial and distributed agree to round-off.
+SolverOptions direct_petsc() {
+  SolverOptions o;
+  o.type = SolverType::Petsc;
+  o.petsc_options = "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps";
+  return o;
+}
+}  // namespace
+
+TEST(DistributedCloud, EveryParticleOwnedOnceAndEveryNeighbourInTheHalo) {
+  const PointCloud full = perturbed_box(2, 30, 3);
+  const auto [b, e] = my_slice(full.size());
+  const Real width = 0.11;
+  const DistributedCloud dc = distribute(slice(full, b, e), width, world());
+  EXPECT_EQ(dc.global_size, full.size());
+  EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(dc.owned_count)), full.size());
+  EXPECT_TRUE(std::is_sorted(dc.global_id.begin(), dc.global_id.end()));
+  std::set<Index> local(dc.global_id.begin(), dc.global_id.end());
+  std::vector<double> owner_count(static_cast<std::size_t>(full.size()), 0.0);
+  for (Index i = 0; i < dc.local_size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Index id = dc.global_id[si];
+    EXPECT_EQ(dc.local.positions[si], full.positions[static_cast<std::size_t>(id)]);
+    EXPECT_EQ(dc.local.tags[si], full.tags[static_cast<std::size_t>(id)]);
+    if (!dc.owned[si]) continue;
+    owner_count[static_cast<std::size_t>(id)] += 1;
+    for (Index j = 0; j < full.size(); ++j)
+      if ((full.positions[static_cast<std::size_t>(j)] - dc.local.positions[si]).norm() < width)
+        EXPECT_TRUE(local.count(j)) << "particle " << j << " is within the halo width of owned particle " << id;
+  }
+  sum_over_ranks(world(), owner_count);
+  for (double c : owner_count) EXPECT_EQ(c, 1.0);
+}
+
+TEST(DistributedCloud, FieldsGoToTheHaloAndBack) {
+  const PointCloud full = perturbed_box(3, 8, 5);
+  const auto [b, e] = my_slice(full.size());
+  const DistributedCloud dc = distribute(slice(full, b, e), 0.3, world());
+  Field chunk(e - b);
+  for (Index k = 0; k < chunk.size(); ++k) chunk[k] = 0.5 + b + k;  // the global id, shifted
+  const Field local = chunk_to_local(dc, chunk);
+  for (Index i = 0; i < dc.local_size(); ++i) EXPECT_EQ(local[i], 0.5 + dc.global_id[static_cast<std::size_t>(i)]);
+  EXPECT_EQ(local_to_chunk(dc, local), chunk);
+}
+
+TEST(DistributedCloud, MoreRanksThanParticlesIsAConfigErrorOnEveryRank) {
+  PointCloud one;
+  one.dim = 2;
+  if (world().rank() == 0) one.add(Vec3(0.5, 0.5, 0), Tag::Interior);
+  EXPECT_THROW(distribute(one, 0.1, world()), ConfigError);
+}
+
+TEST(DistributedCloud, ABadCoordinateOnOneRankFailsEveryRank) {
+  PointCloud part = perturbed_box(2, 10, 1);
+  if (world().rank() == world().size() - 1) part.positions[3][0] = std::nan("");
+  EXPECT_THROW(distribute(part, 0.1, world()), InputError);
+}
+
+TEST(DistributedCloud, EmptyPartsAreAllowed) {
+  const PointCloud full = perturbed_box(2, 12, 2);
+  const PointCloud part = world().rank() == 0 ? full : slice(full, 0, 0);
+  const DistributedCloud dc = distribute(part, 0.2, world());
+  EXPECT_GT(dc.owned_count, 0);
+  EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(dc.owned_count)), full.size());
+}
+
+// The solution of every method equals the serial one to round-off (direct solves both).
+TEST(DistributedSolve, EqualsSerialForEveryFluxMethod) {
+  struct Case {
+    const char* method;
+    int dim, n;
+    bool neumann;
+  };
+  for (const Case& c : {Case{"vrsph", 2, 24, false}, Case{"vrsph", 2, 24, true}, Case{"sph", 2, 20, true},
+                        Case{"m-sph", 2, 20, false}, Case{"fpm", 2, 16, true}, Case{"vrsph", 3, 8, true}}) {
+    PointCloud full = perturbed_box(c.dim, c.n, 11);
+    if (c.neumann) retag_neumann_faces(full, parse_box_faces({"x1", "y0"}, c.dim), 1.0 / c.n);
+    const BoundaryValueProblem whole = problem_on(full);
+    BvpSolveOptions serial;
+    serial.method = c.method;
+    serial.spacing = 1.0 / c.n;
+    serial.solver.type = SolverType::UmfPack;
+    const BvpSolution ref = solve(whole, serial);
+    const auto [b, e] = my_slice(full.size());
+    BvpSolveOptions dist = serial;
+    dist.solver = direct_petsc();
+    dist.communicator = world();
+    const BvpSolution s = solve(slice_of(whole, b, e), dist);
+    ASSERT_EQ(s.u.size(), e - b);
+    const Real scale = ref.u.cwiseAbs().maxCoeff();
+    for (Index k = 0; k < s.u.size(); ++k)
+      ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-10 * scale) << c.method << " " << c.dim << "D particle " << b + k;
+    EXPECT_EQ(s.unknowns, ref.unknowns);
+    EXPECT_EQ(s.infeasible, ref.infeasible) << c.method;
+    EXPECT_EQ(s.m_matrix, ref.m_matrix) << c.method << ": " << s.m_matrix_summary << " / " << ref.m_matrix_summary;
+    EXPECT_NEAR(s.nnz_per_row, ref.nnz_per_row, 1e-12);
+    EXPECT_EQ(s.distribution.ranks, world().size());
+    EXPECT_GT(s.distribution.halo_bytes_max, 0);
+  }
+}
+
+TEST(DistributedSolve, PureNeumannWithTheConstantFixed) {
+  PointCloud full = perturbed_box(2, 16, 4);
+  retag_neumann_faces(full, parse_box_faces({"all"}, 2), 1.0 / 16);
+  BoundaryValueProblem whole = problem_on(full);
+  whole.fix_constant = true;
+  for (Index i = 0; i < full.size(); ++i) {  // u = x^2 + y: f = 2, q = n.grad u
+    const Vec3& x = full.positions[static_cast<std::size_t>(i)];
+    whole.a[i] = 1;
+    whole.f[i] = 2;
+    whole.g[i] = x[0] * x[0] + x[1];
+    whole.q[i] = full.normals[static_cast<std::size_t>(i)].dot(Vec3(2 * x[0], 1, 0));
+  }
+  BvpSolveOptions serial;
+  serial.method = "vrsph";
+  serial.spacing = 1.0 / 16;
+  serial.solver.type = SolverType::UmfPack;
+  const BvpSolution ref = solve(whole, serial);
+  const auto [b, e] = my_slice(full.size());
+  BvpSolveOptions dist = serial;
+  dist.solver = direct_petsc();
+  dist.communicator = world();
+  const BvpSolution s = solve(slice_of(whole, b, e), dist);
+  for (Index k = 0; k < s.u.size(); ++k) ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-9);
+}
+
+TEST(DistributedSolve, FloatingClusterIsAGeometryErrorOnEveryRank) {
+  // Two clusters far apart; the second has no Dirichlet particle: singular.
+  PointCloud full;
+  full.dim = 2;
+  full.spacing = 0.1;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i <= 6; ++i)
+      for (int j = 0; j <= 6; ++j) {
+        const bool edge = i == 0 || j == 0 || i == 6 || j == 6;
+        full.add(Vec3(0.1 * i + 5.0 * c, 0.1 * j, 0), edge && c == 0 ? Tag::Dirichlet : Tag::Interior);
+      }
+  const BoundaryValueProblem whole = problem_on(full);
+  const auto [b, e] = my_slice(full.size());
+  BvpSolveOptions o;
+  o.method = "sph";
+  o.communicator = world();
+  EXPECT_THROW(solve(slice_of(whole, b, e), o), GeometryError);
+}
+
+TEST(DistributedSolve, UnsupportedSettingsAreConfigErrors) {
+  const PointCloud full = perturbed_box(2, 10, 1);
+  const BoundaryValueProblem whole = problem_on(full);
+  const auto [b, e] = my_slice(full.size());
+  BvpSolveOptions o;
+  o.communicator = world();
+  o.h_mode = SmoothingMode::Knn;
+  EXPECT_THROW(solve(slice_of(whole, b, e), o), ConfigError);
+  o.h_mode = SmoothingMode::Fixed;
+  o.solver.type = SolverType::UmfPack;
+  EXPECT_THROW(solve(slice_of(whole, b, e), o), ConfigError);
+}
+
+TEST(DistributedStudy, TheStudyTableEqualsTheSerialOne) {
+  BvpStudyParams p;
+  p.methods = {"vrsph"};
+  p.cloud = CloudFamily::Perturbed;
+  p.n = {16, 32};
+  p.neumann = {"x1"};
+  p.solver = direct_petsc();
+  const BvpStudyResult ref = run_bvp_study(p);
+  p.communicator = world();
+  const BvpStudyResult r = run_bvp_study(p);
+  ASSERT_EQ(r.rows.size(), ref.rows.size());
+  for (std::size_t k = 0; k < r.rows.size(); ++k) {
+    EXPECT_NEAR(r.rows[k].error_inf, ref.rows[k].error_inf, 1e-10 * ref.rows[k].error_inf);
+    EXPECT_NEAR(r.rows[k].error_l2, ref.rows[k].error_l2, 1e-10 * ref.rows[k].error_l2);
+    EXPECT_EQ(r.rows[k].first.errors.all.worst, ref.rows[k].first.errors.all.worst);
+    EXPECT_EQ(r.rows[k].first.particles, ref.rows[k].first.particles);
+    EXPECT_EQ(r.rows[k].m_matrix_all, ref.rows[k].m_matrix_all);
+  }
+}

@@ -1,0 +1,93 @@
+#!/usr/bin/env python3
+"""vrsph under mpirun: the same tables as serial, one document from rank 0, .pvtu pieces,
+and bad input that ends every rank with the same non-zero exit (no hang: each run has a
+timeout). Usage: test_mpi_cli.py MPIRUN VRSPH"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+MPIRUN, VRSPH = sys.argv[1], sys.argv[2]
+DIRECT = "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps"
+ENV = dict(os.environ, OMP_NUM_THREADS="1")
+
+
+def run(ranks, *args, timeout=240, cwd=None):
+    cmd = [VRSPH, *args] if ranks == 0 else [MPIRUN, "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), VRSPH, *args]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=ENV, cwd=cwd)
+
+
+def run_json(ranks, *args):
+    p = run(ranks, *args, "--format", "json")
+    if p.returncode != 0:
+        raise AssertionError(f"{ranks} ranks: vrsph {' '.join(args)} exited {p.returncode}: {p.stderr}")
+    return json.loads(p.stdout)  # exactly one document: only rank 0 prints
+
+
+class SameTables(unittest.TestCase):
+    def compare(self, args, rtol, ranks=(2, 4)):
+        serial = run_json(0, *args)
+        for r in ranks:
+            par = run_json(r, *args)
+            self.assertEqual(par["ranks"], r)
+            self.assertEqual(len(par["rows"]), len(serial["rows"]))
+            for a, b in zip(serial["rows"], par["rows"]):
+                for key in ("N", "unknowns", "infeasible", "mmatrix"):
+                    self.assertEqual(a[key], b[key], key)
+                for key in ("error_inf", "error_l2", "nnz_per_row", "neighbours_mean"):
+                    self.assertAlmostEqual(b[key] / a[key], 1.0, delta=rtol, msg=f"{key} with {r} ranks: {b[key]} vs {a[key]}")
+
+    def test_example5_direct(self):
+        self.compare(["study", "--problem", "qw-ex5", "--method", "vrsph,sph", "--cloud", "perturbed", "--n", "20,40",
+                      "--solver", "petsc", "--petsc-options", DIRECT], 1e-10)
+
+    def test_mixed_3d_direct(self):
+        self.compare(["study", "--dim", "3", "--u", "sin(x)*exp(y)+z^2", "--a", "1+x*y", "--neumann", "x1,z0",
+                      "--method", "vrsph", "--cloud", "perturbed", "--n", "6,10", "--solver", "petsc",
+                      "--petsc-options", DIRECT], 1e-10, ranks=(2,))
+
+    def test_issue_command_with_amg(self):
+        # GMRES + BoomerAMG to rtol 1e-10 on both sides: equal to the solver's tolerance.
+        self.compare(["study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", "perturbed", "--n", "40,80",
+                      "--solver", "petsc"], 1e-6, ranks=(2,))
+
+
+class Output(unittest.TestCase):
+    def test_solve_writes_pieces_and_pvtu(self):
+        with tempfile.TemporaryDirectory() as d:
+            p = run(2, "solve", "--method", "vrsph", "--cloud", "perturbed", "--n", "16", "--vtu", "out.vtu",
+                    "--format", "json", cwd=d)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(sorted(os.listdir(d)), ["out.pvtu", "out_0.vtu", "out_1.vtu"])
+            with open(os.path.join(d, "out.pvtu")) as f:
+                text = f.read()
+            self.assertIn('Source="out_1.vtu"', text)
+            self.assertIn('Name="U"', text)
+            self.assertEqual(json.loads(p.stdout)["rows"][0]["ranks"], 2)
+
+
+class BadInput(unittest.TestCase):
+    def expect(self, ranks, code, fragment, *args):
+        p = run(ranks, *args, timeout=120)
+        self.assertEqual(p.returncode, code, p.stderr)
+        self.assertIn(fragment, p.stderr)
+        self.assertEqual(p.stderr.count("vrsph: "), 1, "one message, from rank 0: " + p.stderr)
+
+    def test_serial_only_command(self):
+        self.expect(2, 2, "runs on one rank", "cloud", "--family", "perturbed", "--n", "8")
+
+    def test_more_ranks_than_particles(self):
+        self.expect(4, 2, "more ranks (4) than particles (3)", "study", "--dim", "1", "--n", "2", "--h-factor", "1.5", "--solver", "petsc")
+
+    def test_serial_solver_refused(self):
+        self.expect(2, 2, "runs on one rank only", "study", "--n", "10", "--solver", "umfpack")
+
+    def test_failure_inside_the_pipeline(self):
+        # A support below the spacing: no neighbours; found on some rank, reported once by all.
+        self.expect(2, 4, "neighbours", "study", "--n", "10", "--h-factor", "0.5", "--solver", "petsc")
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
