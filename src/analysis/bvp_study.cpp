@@ -232,7 +232,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
                                  ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
                                                                            : 4.2 * per_side * per_side * per_side)
                                  : std::pow(per_side, p.dim);
-    check_run_footprint(estimate_run_footprint(p.dim, particles, support_factor(p), 1, true, p.solver.type),
+    check_run_footprint(estimate_run_footprint(p.dim, particles / p.communicator.size(), support_factor(p), 1, true, p.solver.type),
                         detail::concat("n = ", n));
   }
   CloudSpec spec;
@@ -249,15 +249,18 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     run.resident_bytes_before = resident_memory_bytes();
     reset_peak_resident_memory();
   }
-  StudyCloud sc = make_study_cloud(spec);
-  run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(flux_faces(p), p.dim), sc.dx);
+  // Distributed: this rank makes only its slice of the serial numbering (lattices).
   const Communicator& comm = p.communicator;
-  const Index global_particles = sc.cloud.size();
-  if (comm.distributed()) {  // this rank's slice of the serial numbering
-    const auto total = static_cast<long long>(global_particles);
-    run.first_id = static_cast<Index>(total * comm.rank() / comm.size());
-    sc.cloud = slice(sc.cloud, run.first_id, static_cast<Index>(total * (comm.rank() + 1) / comm.size()));
-  }
+  spec.part = comm.rank();
+  spec.parts = comm.size();
+  StudyCloud sc;
+  collective(comm, [&] {
+    sc = make_study_cloud(spec);
+    run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(flux_faces(p), p.dim), sc.dx);
+  });
+  run.neumann_particles = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(run.neumann_particles)));
+  const Index global_particles = sc.total;
+  run.first_id = sc.first;
   BoundaryValueProblem bvp;
   bvp.cloud = std::move(sc.cloud);
   const PointCloud& cloud = bvp.cloud;

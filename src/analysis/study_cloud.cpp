@@ -1,4 +1,5 @@
 #include <cmath>
+#include <limits>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 
@@ -38,20 +39,39 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
   StudyCloud out;
   out.dx = dx;
   const int ghost_layers = spec.ghost_width > 0 ? ghost_layers_for(spec.ghost_width - dx, dx) : 0;
+  check<ConfigError>(spec.parts >= 1 && spec.part >= 0 && spec.part < spec.parts, "cloud part ", spec.part, " of ",
+                     spec.parts);
+  const auto part_of = [&](Index total) {  // this part's slice of a cloud of `total` particles
+    const auto t = static_cast<long long>(total);
+    return ParticleRange{static_cast<Index>(t * spec.part / spec.parts), static_cast<Index>(t * (spec.part + 1) / spec.parts)};
+  };
   switch (spec.family) {
     case CloudFamily::Uniform:
-    case CloudFamily::Perturbed:
-      out.cloud = spec.layout == Layout::Vertex ? vertex_lattice(spec.box, spec.n, ghost_layers)
-                                                : cell_centred_lattice(spec.box, spec.n, ghost_layers == 0, ghost_layers);
-      if (spec.family == CloudFamily::Perturbed) {
+    case CloudFamily::Perturbed: {
+      // The lattice's size from its axes, then only this part of it.
+      const bool vertex = spec.layout == Layout::Vertex;
+      const int per_axis = vertex ? spec.n + 1 + 2 * ghost_layers : spec.n + 2 * ghost_layers + (ghost_layers == 0 ? 2 : 0);
+      long long whole = 1;
+      for (int k = 0; k < spec.box.dim; ++k) whole *= per_axis;
+      // (A whole cloud is generated and checked by the lattice generator, n first.)
+      check<ConfigError>(spec.parts == 1 || whole < std::numeric_limits<Index>::max(), "the lattice would have ", whole,
+                         " particles, more than a 32-bit index can number: reduce --n");
+      const ParticleRange range = spec.parts > 1 ? part_of(static_cast<Index>(whole)) : ParticleRange{};
+      out.cloud = vertex ? vertex_lattice(spec.box, spec.n, ghost_layers, range)
+                         : cell_centred_lattice(spec.box, spec.n, ghost_layers == 0, ghost_layers, range);
+      out.total = out.cloud.size() + (spec.parts > 1 ? static_cast<Index>(whole) - (range.end - range.begin) : 0);
+      out.first = spec.parts > 1 ? range.begin : 0;
+      if (spec.family == CloudFamily::Perturbed && out.cloud.size() > 0) {
         PerturbOptions o;
         o.delta = spec.delta;
         o.seed = spec.seed;
         o.boundary_tangential = spec.perturb_boundary;
         o.regular_layer = spec.regular_layer;
+        o.first_index = out.first;
         perturb(out.cloud, o);
       }
-      break;
+      return out;
+    }
     case CloudFamily::Centroids:
       out.cloud = mesh_centroids(spec.box, dx, spec.seed, spec.ghost_width, spec.ghost_width <= 0, &out.max_edge);
       break;
@@ -63,6 +83,13 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
       out.cloud.domain = Domain::ball(spec.box.dim, centre, 0.5 * side);
       break;
     }
+  }
+  // Scattered families: the whole cloud (its generation is global), then this part of it.
+  out.total = out.cloud.size();
+  if (spec.parts > 1) {
+    const ParticleRange r = part_of(out.total);
+    out.first = r.begin;
+    out.cloud = slice(out.cloud, r.begin, r.end);
   }
   return out;
 }

@@ -20,26 +20,32 @@ void check_box(const Domain& box, int n) {
 }
 
 // Tensor product of per-axis coordinate lists; tag by position relative to the box.
-PointCloud tensor_cloud(const Domain& box, const std::vector<std::vector<Real>>& axes, Real spacing) {
+PointCloud tensor_cloud(const Domain& box, const std::vector<std::vector<Real>>& axes, Real spacing,
+                        const ParticleRange& range) {
   PointCloud c;
   c.dim = box.dim;
   c.domain = box;
   c.spacing = spacing;
   c.normals.reserve(1);
   c.normals.clear();
-  double total_estimate = 1;
-  for (int k = 0; k < box.dim; ++k) total_estimate *= static_cast<double>(axes[static_cast<std::size_t>(k)].size());
+  double whole = 1;
+  for (int k = 0; k < box.dim; ++k) whole *= static_cast<double>(axes[static_cast<std::size_t>(k)].size());
+  check<ConfigError>(range.end < 0 || (0 <= range.begin && range.begin <= range.end && range.end <= whole),
+                     "particle range ", range.begin, "..", range.end, " of a lattice of ", whole, " particles");
+  const double total_estimate = range.end < 0 ? whole : range.end - range.begin;
   check_memory_estimate(total_estimate * bytes_per_particle, detail::concat("the point cloud (", total_estimate, " particles)"),
                         "reduce --n (intervals per direction) or the dimension");
   const std::size_t nx = axes[0].size(), ny = box.dim > 1 ? axes[1].size() : 1, nz = box.dim > 2 ? axes[2].size() : 1;
-  const std::size_t total = nx * ny * nz;
+  const std::size_t first = range.end < 0 ? 0 : static_cast<std::size_t>(range.begin);
+  const std::size_t total = range.end < 0 ? nx * ny * nz : static_cast<std::size_t>(range.end - range.begin);
   c.positions.resize(total);
   c.tags.resize(total);
   c.normals.resize(total);
   const Real tol = 1e-12 * spacing;
   // x fastest, then y, then z: particle (kx, ky, kz) is number kx + nx (ky + ny kz).
 #pragma omp parallel for schedule(static) if (total > 4096)
-  for (std::size_t flat = 0; flat < total; ++flat) {
+  for (std::size_t local = 0; local < total; ++local) {
+    const std::size_t flat = first + local;
     const std::size_t kx = flat % nx, ky = flat / nx % ny, kz = flat / (nx * ny);
     Vec3 x = Vec3::Zero();
     x[0] = axes[0][kx];
@@ -54,9 +60,9 @@ PointCloud tensor_cloud(const Domain& box, const std::vector<std::vector<Real>>&
       tag = Tag::Dirichlet;
       normal = box.outward_normal(x, tol);
     }
-    c.positions[flat] = x;
-    c.tags[flat] = tag;
-    c.normals[flat] = normal;
+    c.positions[local] = x;
+    c.tags[local] = tag;
+    c.normals[local] = normal;
   }
   return c;
 }
@@ -77,7 +83,7 @@ int ghost_layers_for(Real support_radius, Real dx) {
   return static_cast<int>(layers);
 }
 
-PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers) {
+PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers, const ParticleRange& range) {
   check_box(box, n);
   check<ConfigError>(ghost_layers >= 0, "ghost layers must be >= 0");
   std::vector<std::vector<Real>> axes(3);
@@ -86,10 +92,11 @@ PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers) {
     for (int i = -ghost_layers; i <= n + ghost_layers; ++i)
       axes[static_cast<std::size_t>(k)].push_back(i == n ? box.hi[k] : box.lo[k] + i * dx);
   }
-  return tensor_cloud(box, axes, box_spacing(box, n));
+  return tensor_cloud(box, axes, box_spacing(box, n), range);
 }
 
-PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particles, int ghost_layers) {
+PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particles, int ghost_layers,
+                                const ParticleRange& range) {
   check_box(box, n);
   check<ConfigError>(ghost_layers >= 0, "ghost layers must be >= 0");
   std::vector<std::vector<Real>> axes(3);
@@ -103,7 +110,7 @@ PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particle
     }
     if (boundary_particles && ghost_layers == 0) a.push_back(box.hi[k]);
   }
-  return tensor_cloud(box, axes, box_spacing(box, n));
+  return tensor_cloud(box, axes, box_spacing(box, n), range);
 }
 
 void perturb(PointCloud& cloud, const PerturbOptions& o) {
@@ -122,7 +129,8 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
     const Tag tag = cloud.tags[si];
     Vec3 step = Vec3::Zero();
     for (int k = 0; k < cloud.dim; ++k)
-      step[k] = amp * (2 * detail::uniform01(o.seed, static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(k)) - 1);
+      step[k] = amp * (2 * detail::uniform01(o.seed, static_cast<std::uint64_t>(i) + static_cast<std::uint64_t>(o.first_index),
+                                             static_cast<std::uint64_t>(k)) - 1);
     if (tag == Tag::Dirichlet || tag == Tag::Neumann) {
       if (!o.boundary_tangential || !cloud.has_normals()) continue;
       // Move only along the face: drop the normal component; skip edges/corners

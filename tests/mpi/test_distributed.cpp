@@ -8,7 +8,9 @@
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/cloud/box_faces.hpp>
+#include <typeinfo>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
 #include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
 
@@ -241,5 +243,71 @@ TEST(DistributedStudy, TheStudyTableEqualsTheSerialOne) {
     EXPECT_EQ(r.rows[k].first.errors.all.worst, ref.rows[k].first.errors.all.worst);
     EXPECT_EQ(r.rows[k].first.particles, ref.rows[k].first.particles);
     EXPECT_EQ(r.rows[k].m_matrix_all, ref.rows[k].m_matrix_all);
+  }
+}
+
+// Every registered method with a div(a grad) stencil, in 1D (with a Neumann end) and 2D:
+// the distributed solution is the serial one, or both runs fail with the same error type.
+TEST(DistributedSolve, EveryRegisteredMethodAsSerialIn1DAnd2D) {
+  for (const int dim : {1, 2}) {
+    const int n = dim == 1 ? 40 : 14;
+    PointCloud full = perturbed_box(dim, n, 9);
+    retag_neumann_faces(full, parse_box_faces({"x1"}, dim), 1.0 / n);
+    const BoundaryValueProblem whole = problem_on(full);
+    const auto [b, e] = my_slice(full.size());
+    for (const MethodInfo& info : builtin_methods().list()) {
+      if (!info.supports(OperatorKind::DivAGrad)) continue;
+      BvpSolveOptions serial;
+      serial.method = info.name;
+      serial.spacing = 1.0 / n;
+      serial.h_factor = dim == 1 ? 4 : 3;
+      serial.solver.type = SolverType::UmfPack;
+      BvpSolveOptions dist = serial;
+      dist.solver = direct_petsc();
+      dist.communicator = world();
+      std::string serial_error;
+      BvpSolution ref;
+      try {
+        ref = solve(whole, serial);
+      } catch (const Error& err) {
+        serial_error = typeid(err).name();
+      }
+      std::string dist_error;
+      BvpSolution s;
+      try {
+        s = solve(slice_of(whole, b, e), dist);
+      } catch (const Error& err) {
+        dist_error = typeid(err).name();
+      }
+      ASSERT_EQ(dist_error, serial_error) << info.name << " " << dim << "D";
+      if (!serial_error.empty()) continue;
+      const Real scale = ref.u.cwiseAbs().maxCoeff();
+      for (Index k = 0; k < s.u.size(); ++k)
+        ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-9 * scale) << info.name << " " << dim << "D particle " << b + k;
+      EXPECT_EQ(s.infeasible, ref.infeasible) << info.name;
+      EXPECT_EQ(s.m_matrix, ref.m_matrix) << info.name;
+    }
+  }
+}
+
+// Each rank generates only its slice of a lattice, and the slices are the serial cloud's.
+TEST(DistributedStudy, LatticePartsAreSlicesOfTheWholeCloud) {
+  for (const Layout layout : {Layout::Vertex, Layout::CellCentred}) {
+    CloudSpec spec;
+    spec.family = CloudFamily::Perturbed;
+    spec.box = Domain::unit_box(3);
+    spec.n = 7;
+    spec.layout = layout;
+    spec.seed = 12;
+    const StudyCloud whole = make_study_cloud(spec);
+    spec.part = world().rank();
+    spec.parts = world().size();
+    const StudyCloud part = make_study_cloud(spec);
+    EXPECT_EQ(part.total, whole.cloud.size());
+    EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(part.cloud.size())), whole.cloud.size());
+    for (Index k = 0; k < part.cloud.size(); ++k) {
+      ASSERT_EQ(part.cloud.positions[static_cast<std::size_t>(k)], whole.cloud.positions[static_cast<std::size_t>(part.first + k)]);
+      ASSERT_EQ(part.cloud.tags[static_cast<std::size_t>(k)], whole.cloud.tags[static_cast<std::size_t>(part.first + k)]);
+    }
   }
 }

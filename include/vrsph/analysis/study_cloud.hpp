@@ -27,12 +27,18 @@ struct CloudSpec {
   std::uint64_t seed = 1;
   bool perturb_boundary = false;     ///< Perturbed: also move boundary particles along their faces
   Real regular_layer = 0;            ///< Perturbed: first-layer particles move only tangentially (width in dx)
+  /// One rank's part of a distributed run: part p of `parts` is the slice
+  /// [N p / parts, N (p + 1) / parts) of the whole cloud's numbering. Lattices (uniform,
+  /// perturbed) generate only that slice; centroids and disk make the whole cloud and cut it.
+  int part = 0, parts = 1;
 };
 
 struct StudyCloud {
   PointCloud cloud;
   Real dx = 0;        ///< nominal spacing the smoothing radius refers to (h = kappa dx)
   Real max_edge = 0;  ///< Centroids: longest mesh edge (must be < dx)
+  Index total = 0;    ///< particles of the whole cloud (= cloud.size() unless CloudSpec::parts > 1)
+  Index first = 0;    ///< number of cloud's first particle in the whole cloud
 };
 
 StudyCloud make_study_cloud(const CloudSpec& spec);

@@ -7,15 +7,22 @@
 
 namespace vrsph {
 
+/// Part of a generated cloud: the particles numbered begin..end-1 of the whole cloud (one
+/// rank's share of a distributed run, generated without the rest); end < 0: all of it.
+struct ParticleRange {
+  Index begin = 0, end = -1;
+};
+
 /// Layout A: vertices of a box lattice with n intervals per direction, dx = side/n;
 /// particles on the faces are Dirichlet (with outward normals), the rest Interior.
 /// ghost_layers > 0 continues the lattice that many layers outside (tag Ghost).
-PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers = 0);
+PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers = 0, const ParticleRange& range = {});
 
 /// Layout B: n^d cell centres, dx = side/n. With boundary_particles, also particles at
 /// the boundary face centres, edges and corners (the lattice {lo, centres..., hi}^d),
 /// tagged Dirichlet. ghost_layers > 0 continues the cell-centred lattice outside.
-PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particles, int ghost_layers = 0);
+PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particles, int ghost_layers = 0,
+                                const ParticleRange& range = {});
 
 /// Number of lattice layers needed outside the domain so that no kernel of support h
 /// is truncated for particles inside: ceil((h + dx)/dx) (METHODS §4, width >= h + dx).
@@ -29,6 +36,9 @@ struct PerturbOptions {
   /// coordinate normal to that face (they move only tangentially). 0 = off. A regular
   /// first layer keeps VRSPH's Laplacian moment conditions feasible next to the boundary.
   Real regular_layer = 0;
+  /// Number of the cloud's first particle in the whole cloud (a part made with
+  /// ParticleRange): the random steps follow the whole cloud's numbering.
+  Index first_index = 0;
 };
 /// Perturbs Interior and Ghost particles (and, optionally, boundary particles
 /// tangentially). Random numbers are a counter-based hash of (seed, particle,
