@@ -50,6 +50,8 @@
 #include <vrsph/methods/vrsph/vrsph.hpp>
 #include <vrsph/neighbours/brute_force.hpp>
 #include <vrsph/neighbours/neighbour_list.hpp>
+#include <vrsph/parallel/communicator.hpp>
+#include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
 #include <vrsph/problem/from_expressions.hpp>

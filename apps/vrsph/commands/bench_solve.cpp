@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -58,7 +59,9 @@ std::string anchor_script(const SolveBenchArgs& a) {
 // Runs the peer for one n (one JSON line on stdout). Its first call of a size compiles
 // the form, so the caller runs a warm-up first.
 AnchorRow run_anchor(const std::string& script, int n, bool perturbed) {
-  const std::string cmd = "OMP_NUM_THREADS=1 " + shell_quote(python_interpreter()) + " " + shell_quote(script) + " " +
+  // Under mpirun the peer must not see the launcher's variables (it would join our MPI job).
+  const std::string cmd = "for v in $(env | grep -o '^\\(OMPI\\|PMIX\\|PMI\\)[A-Za-z0-9_]*'); do unset \"$v\"; done; "
+                          "OMP_NUM_THREADS=1 " + shell_quote(python_interpreter()) + " " + shell_quote(script) + " " +
                           std::to_string(n) + (perturbed ? " --perturbed" : "") + " 2>/dev/null";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(cmd.c_str(), "r"), ::pclose);
   check<IoError>(pipe != nullptr, "could not start the FEniCSx anchor (", script, ")");
@@ -137,12 +140,27 @@ void add_solve_bench(CLI::App& bench) {
       const std::string script = anchor_script(*a);
       check<IoError>(std::filesystem::exists(script), "the FEniCSx anchor script '", script,
                      "' does not exist (--anchor-script or VRSPH_ANCHOR_DIR)");
+      // Under mpirun only rank 0 runs the peer (serial), the others sleep; only rank 0 prints.
+      // A failure of the peer is rank 0's; after the (sleeping) barrier every rank throws it.
       Progress progress;
-      for (std::size_t k = 0; k < sizes.size(); ++k) {
-        progress.update("anchor n=" + std::to_string(sizes[k]), static_cast<double>(k) / static_cast<double>(sizes.size()));
-        (void)run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed);  // warm-up: form compilation
-        anchor.push_back(run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed));
+      std::exception_ptr failure;
+      try {
+        for (std::size_t k = 0; k < sizes.size(); ++k) {
+          progress.update("anchor n=" + std::to_string(sizes[k]), static_cast<double>(k) / static_cast<double>(sizes.size()));
+          if (!comm.is_root()) {
+            anchor.push_back({1, 0, 0});
+            continue;
+          }
+          (void)run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed);  // warm-up: form compilation
+          anchor.push_back(run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed));
+        }
+      } catch (...) {
+        failure = std::current_exception();
       }
+      idle_barrier(comm);
+      collective(comm, [&] {
+        if (failure) std::rethrow_exception(failure);
+      });
     }
 
     Table t;
