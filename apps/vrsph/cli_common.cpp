@@ -145,6 +145,16 @@ Communicator& the_communicator() {
 const Communicator& communicator() { return the_communicator(); }
 void set_communicator(const Communicator& comm) { the_communicator() = comm; }
 
+std::string pvtu_path(const std::string& vtu) {
+  const auto ends = [&](const std::string& tail) {
+    return vtu.size() > tail.size() && vtu.compare(vtu.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (ends(".pvtu")) return vtu;
+  check<ConfigError>(ends(".vtu"), "--vtu '", vtu, "': under mpirun the output is a .pvtu file with one .vtu piece per "
+                     "rank (give FILE.vtu or FILE.pvtu)");
+  return vtu.substr(0, vtu.size() - 4) + ".pvtu";
+}
+
 void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
           const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   validate_output(out);

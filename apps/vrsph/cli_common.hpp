@@ -16,6 +16,9 @@ namespace vrsph::cli {
 /// rank, else serial (set once by main). Only rank 0 writes tables, files and warnings.
 const Communicator& communicator();
 void set_communicator(const Communicator& comm);
+/// The .pvtu a distributed run writes for --vtu FILE.vtu (FILE.pvtu, pieces FILE_<rank>.vtu
+/// beside it); FILE.pvtu is kept. ConfigError for any other name.
+std::string pvtu_path(const std::string& vtu);
 
 /// Options every table-producing command has.
 struct OutputOptions {

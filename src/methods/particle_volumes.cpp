@@ -22,7 +22,8 @@ std::vector<Real> particle_volumes(const Discretisation& disc, ParticleVolumes k
   if (kind == ParticleVolumes::Voronoi) return voronoi_cell_measures(cloud);
   if (kind == ParticleVolumes::Uniform) {
     check<InputError>(cloud.domain.shape != Domain::Shape::None, "uniform volumes |Omega|/N need the cloud's domain");
-    return std::vector<Real>(n, cloud.domain.measure() / static_cast<Real>(n));
+    const Real total = disc.total_particles > 0 ? disc.total_particles : static_cast<Real>(n);
+    return std::vector<Real>(n, cloud.domain.measure() / total);
   }
   const NeighbourList& nl = disc.neighbours;
   check<InputError>(nl.size() == cloud.size(), "vrsph particle volumes need the cloud's neighbour lists");

@@ -66,31 +66,37 @@ MPI_Datatype mpi_type() {
   else return MPI_BYTE;  // char, std::uint8_t (Tag)
 }
 
+// `width` consecutive values of T as one MPI unit, freed with the scope.
+template <class T>
+struct Unit {
+  MPI_Datatype type = mpi_type<T>();
+  bool owned = false;
+  explicit Unit(int width) {
+    if (width == 1) return;
+    MPI_Type_contiguous(width, mpi_type<T>(), &type);
+    MPI_Type_commit(&type);
+    owned = true;
+  }
+  ~Unit() {
+    if (owned) MPI_Type_free(&type);
+  }
+  Unit(const Unit&) = delete;
+  Unit& operator=(const Unit&) = delete;
+};
+
 // leaf -> root (each root has one leaf)
 template <class T>
 void reduce(PetscSF sf, const T* leaf, T* root, int width = 1) {
-  MPI_Datatype unit = mpi_type<T>();
-  MPI_Datatype wide = unit;
-  if (width > 1) {
-    MPI_Type_contiguous(width, unit, &wide);
-    MPI_Type_commit(&wide);
-  }
-  call(PetscSFReduceBegin(sf, wide, leaf, root, MPI_REPLACE), "reduce");
-  call(PetscSFReduceEnd(sf, wide, leaf, root, MPI_REPLACE), "reduce");
-  if (width > 1) MPI_Type_free(&wide);
+  const Unit<T> unit(width);
+  call(PetscSFReduceBegin(sf, unit.type, leaf, root, MPI_REPLACE), "reduce");
+  call(PetscSFReduceEnd(sf, unit.type, leaf, root, MPI_REPLACE), "reduce");
 }
 // root -> leaves
 template <class T>
 void bcast(PetscSF sf, const T* root, T* leaf, int width = 1) {
-  MPI_Datatype unit = mpi_type<T>();
-  MPI_Datatype wide = unit;
-  if (width > 1) {
-    MPI_Type_contiguous(width, unit, &wide);
-    MPI_Type_commit(&wide);
-  }
-  call(PetscSFBcastBegin(sf, wide, root, leaf, MPI_REPLACE), "broadcast");
-  call(PetscSFBcastEnd(sf, wide, root, leaf, MPI_REPLACE), "broadcast");
-  if (width > 1) MPI_Type_free(&wide);
+  const Unit<T> unit(width);
+  call(PetscSFBcastBegin(sf, unit.type, root, leaf, MPI_REPLACE), "broadcast");
+  call(PetscSFBcastEnd(sf, unit.type, root, leaf, MPI_REPLACE), "broadcast");
 }
 
 // Leaves sent to ranks `dest` (one per leaf, any order): the root slot of each leaf on its
@@ -278,9 +284,10 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
   reduce(ex->migration, xyz.data(), own_xyz.data(), 3);
   reduce(ex->migration, tag.data(), own_tag.data());
   if (with_normals) reduce(ex->migration, nrm.data(), own_nrm.data(), 3);
-  dc.stats.migration_bytes = static_cast<long long>(n_chunk) * (sizeof(Index) + 1 + (with_normals ? 48 : 24));
+  // Payload per particle: its number, tag, position and normal.
+  const long long particle_bytes = static_cast<long long>(sizeof(Index)) + 1 + (with_normals ? 48 : 24);
   for (std::size_t k = 0; k < n_chunk; ++k)
-    if (dest[k] == me) dc.stats.migration_bytes -= static_cast<long long>(sizeof(Index) + 1 + (with_normals ? 48 : 24));
+    if (dest[k] != me) dc.stats.migration_bytes += particle_bytes;
   collective(comm, [&] {
     check<ConfigError>(arrived > 0, "rank ", me, " of ", P, " owns no particle after the partition along the "
                        "space-filling curve (too many ranks for ", total, " particles, or coincident particles): use "
@@ -343,7 +350,7 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
     std::sort(ranks_sent.begin(), ranks_sent.end());
     dc.stats.halo_messages = static_cast<int>(std::unique(ranks_sent.begin(), ranks_sent.end()) - ranks_sent.begin());
   }
-  dc.stats.halo_bytes = static_cast<long long>(n_pairs) * (2 * sizeof(Index) + 1 + (with_normals ? 48 : 24));
+  dc.stats.halo_bytes = static_cast<long long>(n_pairs) * (particle_bytes + static_cast<long long>(sizeof(Index)));
   std::vector<Index> send_id(n_pairs), halo_id(n_halo);
   std::vector<double> send_xyz(3 * n_pairs), halo_xyz(3 * n_halo), send_nrm(with_normals ? 3 * n_pairs : 0),
       halo_nrm(with_normals ? 3 * n_halo : 0);

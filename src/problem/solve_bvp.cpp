@@ -24,6 +24,25 @@ std::vector<char> tag_mask(const PointCloud& cloud, std::initializer_list<Tag> t
   return mask;
 }
 
+BoundaryValueProblem part_of(const BoundaryValueProblem& p, Index b, Index e) {
+  BoundaryValueProblem q;
+  q.cloud = slice(p.cloud, b, e);  // checks the range
+  const auto cut = [&](const Field& v) { return v.size() ? Field(v.segment(b, e - b)) : Field(); };
+  const auto cut_rows = [&](const Eigen::MatrixXd& m) {
+    return m.size() ? Eigen::MatrixXd(m.middleRows(b, e - b)) : Eigen::MatrixXd();
+  };
+  q.a = cut(p.a);
+  q.f = cut(p.f);
+  q.g = cut(p.g);
+  q.q = cut(p.q);
+  q.robin = cut(p.robin);
+  q.mobility = cut_rows(p.mobility);
+  q.grad_a = cut_rows(p.grad_a);
+  q.pinned = p.pinned >= b && p.pinned < e ? p.pinned - b : -1;
+  q.fix_constant = p.fix_constant;
+  return q;
+}
+
 std::vector<char> unknown_mask(const PointCloud& cloud) { return tag_mask(cloud, {Tag::Interior, Tag::Neumann}); }
 
 namespace {

@@ -138,9 +138,10 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   s.spacing = dx;
   s.h = o.h > 0 ? o.h : o.h_factor * dx;
 
-  // Partition with a halo wide enough for the method's rows: `stencil_rings` supports.
+  // Partition with a halo as wide as the method's rows read: reach() supports (2 for D2 = D D
+  // and for Shepard/Voronoi volumes of the neighbours, 3 for their VRSPH volumes).
   Stopwatch watch;
-  const Real halo = method->info().stencil_rings * s.h * (1 + 1e-9);
+  const Real halo = method->reach() * s.h * (1 + 1e-9);
   DistributedCloud dc = distribute(p.cloud, halo, comm);
   const PointCloud& cloud = dc.local;
   const Index n = cloud.size();
@@ -224,7 +225,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   req.mobility = tensor ? &mobility : nullptr;
   if (grad_a.size()) req.coefficient_gradient = &grad_a;
   req.rows = interior;
-  const Discretisation disc{cloud, nl, o.kernel, dx};
+  const Discretisation disc{cloud, nl, o.kernel, dx, dc.global_size};
   Stencil L, G;
   collective(comm, [&] {
     L = method->build(disc, req);

@@ -68,6 +68,25 @@ class Output(unittest.TestCase):
             self.assertEqual(json.loads(p.stdout)["rows"][0]["ranks"], 2)
 
 
+    def test_users_cloud_file(self):
+        # Every rank reads the file and keeps its slice; same errors as serial, pieces written.
+        with tempfile.TemporaryDirectory() as d:
+            self.assertEqual(run(0, "cloud", "--family", "perturbed", "--n", "30", "--output", "c.csv", cwd=d).returncode, 0)
+            args = ["solve", "--cloud-file", "c.csv", "--u", "sin(x)*exp(y)",
+                    "--method", "vrsph", "--solver", "petsc", "--petsc-options", DIRECT, "--vtu", "s.vtu", "--format", "json"]
+            serial = run(0, *args, cwd=d)
+            par = run(2, *args, cwd=d)
+            self.assertEqual(serial.returncode, 0, serial.stderr)
+            self.assertEqual(par.returncode, 0, par.stderr)
+            a, b = json.loads(serial.stdout)["rows"][0], json.loads(par.stdout)["rows"][0]
+            for key in ("particles", "unknowns", "infeasible", "mmatrix"):
+                self.assertEqual(a[key], b[key], key)
+            for key in ("error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"):
+                self.assertAlmostEqual(b[key] / a[key], 1.0, delta=1e-9, msg=key)
+            self.assertEqual(b["vtu"], "s.pvtu")
+            self.assertTrue(os.path.exists(os.path.join(d, "s_1.vtu")))
+
+
 class BadInput(unittest.TestCase):
     def expect(self, ranks, code, fragment, *args):
         p = run(ranks, *args, timeout=120)

@@ -113,15 +113,34 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
   r.ep.problem.fix_constant = a.fix_constant;
   BvpSolveOptions o = solve_options(a, method, method_options, h);
   o.label = method + " on " + path;
+  // Under mpirun every rank has read the whole file; each keeps its slice of the particles
+  // (the file's order) and the solve is distributed. The spacing is the whole cloud's.
+  const Communicator& comm = communicator();
+  const auto total = static_cast<long long>(r.ep.problem.cloud.size());
+  const Index first = static_cast<Index>(total * comm.rank() / comm.size()),
+              last = static_cast<Index>(total * (comm.rank() + 1) / comm.size());
+  PointCloud whole;
+  if (comm.distributed()) {
+    o.communicator = comm;
+    if (o.h <= 0) o.spacing = estimate_spacing(r.ep.problem.cloud);
+    whole = r.ep.problem.cloud;
+    r.ep.problem = part_of(r.ep.problem, first, last);
+    if (r.ep.exact.size()) r.ep.exact = Field(r.ep.exact.segment(first, last - first));
+  }
   r.s = solve(r.ep.problem, o);
   print_warnings(r.s.warnings);
   if (r.ep.exact.size()) {
-    const PointCloud& c = r.ep.problem.cloud;
-    Eigen::MatrixXd err(c.size(), 1);
-    err.col(0) = r.s.u - r.ep.exact;
+    // On the whole cloud (the near-boundary split measures the distance to its boundary
+    // particles), with this rank's errors only, then summed over the ranks.
+    const PointCloud& c = comm.distributed() ? whole : r.ep.problem.cloud;
+    Eigen::MatrixXd err = Eigen::MatrixXd::Zero(c.size(), 1);
+    err.col(0).segment(comm.distributed() ? first : 0, r.s.u.size()) = r.s.u - r.ep.exact;
+    std::vector<char> rows = unknown_mask(c);
+    for (Index i = 0; i < c.size(); ++i)
+      if (comm.distributed() && (i < first || i >= last)) rows[static_cast<std::size_t>(i)] = 0;
     // L2 weights: the file's volumes, else the estimated spacing to the power d.
     if (volumes.empty()) volumes.assign(static_cast<std::size_t>(c.size()), std::pow(r.s.spacing, c.dim));
-    r.errors = error_norms(err, unknown_mask(c), c, r.s.h, volumes);
+    r.errors = reduce_over_ranks(error_norms(err, rows, c, r.s.h, volumes), comm, 0);
   }
   r.seconds = watch.seconds();
   return r;
@@ -236,6 +255,9 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
     check<ConfigError>(s.has_value(), "--spacing of vrsph solve is one number, got '", file.spacing, "'");
     spacing = *s;
   }
+  check<ConfigError>(!communicator().distributed() || (file.csv.empty() && a.out.plot.empty()),
+                     "--csv and --plot write the whole field on one rank: not available under mpirun (the .pvtu "
+                     "pieces hold the fields)");
   const std::string label = geometry ? geometry_label(file.geometry, spacing) : file.path;
   const auto methods = parse_name_list(a.methods, "--method");
   check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
@@ -247,7 +269,13 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
     fields.push_back({"u_exact", r.ep.exact});
     fields.push_back({"error", r.s.u - r.ep.exact});
   }
-  write_vtu(a.vtu, r.ep.problem.cloud, fields, parse_vtu_format(a.vtu_format));
+  if (communicator().distributed())
+    collective(communicator(), [&] {
+      write_pvtu_piece(pvtu_path(a.vtu), communicator().rank(), communicator().size(), r.ep.problem.cloud, fields,
+                       parse_vtu_format(a.vtu_format));
+    });
+  else
+    write_vtu(a.vtu, r.ep.problem.cloud, fields, parse_vtu_format(a.vtu_format));
   if (!file.csv.empty()) write_field_csv(file.csv, r);
   if (!a.out.plot.empty())
     plot_solution(r.ep.problem.cloud, r.s.u, exact ? &r.ep.exact : nullptr, a.out.plot, methods.front() + " on " + label);
@@ -256,7 +284,7 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"});
   t.columns.insert(t.columns.end(), {"seconds_total", "vtu"});
   auto row = row_of(methods.front(), r);
-  row.emplace_back("vtu", a.vtu);
+  row.emplace_back("vtu", communicator().distributed() ? pvtu_path(a.vtu) : a.vtu);
   t.add_row(row);
   std::cout << format_table(t, parse_table_format(a.out.format));
 }

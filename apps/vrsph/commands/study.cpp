@@ -176,10 +176,9 @@ void add_study_command(CLI::App& app) {
   cmd->callback([a, file, het, cmd, config] {
     if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--geometry", "--output", "--plot"});
     validate_output(a->out);
-    const bool user_files = !file->pattern.empty() || !file->geometry.empty();
-    check<ConfigError>(!communicator().distributed() || (!is_heterogeneous_problem(a->problem) && !user_files),
-                       "under mpirun, vrsph study runs the built-in clouds (not --problem spe-channel/spe-lognormal/"
-                       "spe10, --cloud-file-pattern or --geometry, which run on one rank)");
+    check<ConfigError>(!communicator().distributed() || !is_heterogeneous_problem(a->problem),
+                       "under mpirun, vrsph study --problem spe-channel/spe-lognormal/spe10 is not distributed (it runs "
+                       "on one rank)");
     if (is_heterogeneous_problem(a->problem)) return study_heterogeneous(*a, *het, *cmd);
     reject_group_options(*cmd, heterogeneous_group, "--problem spe-channel, spe-lognormal or spe10");
     const bool user_cloud = !file->pattern.empty() || !file->geometry.empty();
@@ -255,9 +254,7 @@ void add_solve_command(CLI::App& app) {
     if (p.communicator.distributed()) {
       check<ConfigError>(a->out.plot.empty(), "--plot draws the whole field on one rank: not available under mpirun "
                          "(open the .pvtu in ParaView)");
-      if (vtu.size() > 4 && vtu.substr(vtu.size() - 4) == ".vtu") vtu = vtu.substr(0, vtu.size() - 4) + ".pvtu";
-      check<ConfigError>(vtu.size() > 5 && vtu.substr(vtu.size() - 5) == ".pvtu", "--vtu '", a->vtu, "': under mpirun "
-                         "the output is a .pvtu file with one .vtu piece per rank");
+      vtu = pvtu_path(vtu);
     }
     std::vector<std::string> warnings;
     PointCloud cloud;

@@ -46,6 +46,9 @@ struct Discretisation {
   const NeighbourList& neighbours;
   KernelType kernel = KernelType::CubicSpline;
   Real spacing = 0;
+  /// Particles of the whole cloud when `cloud` is one rank's part with its halo (0: cloud.size()):
+  /// what |Omega|/N-type volumes divide by.
+  Index total_particles = 0;
   Kernel kernel_at(Index i) const { return Kernel(kernel, cloud.dim, neighbours.radius(i)); }
 };
 
@@ -71,6 +74,12 @@ class Method {
   /// Rows of ghost particles are left empty (zero). Throws ConfigError for an
   /// unsupported operator, InputError for bad coefficients.
   virtual Stencil build(const Discretisation& disc, const StencilRequest& request) const = 0;
+  /// How many supports away from a row's particle its weights read the cloud: 1 when row i
+  /// uses only its own neighbours; 2 when it also uses quantities built from each neighbour's
+  /// own neighbour list (D2 = D D, Shepard or Voronoi volumes of the neighbours); 3 for VRSPH
+  /// volumes of the neighbours (averages of the NNLS volumes of every row that sees them). A
+  /// distributed solve sizes its halo by it (reach x h).
+  virtual int reach() const { return info().stencil_rings; }
 };
 
 /// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.

@@ -131,6 +131,10 @@ struct BvpSolution {
   } distribution;
 };
 
+/// Particles begin..end-1 of a problem with their data (every non-empty field cut alike):
+/// one rank's part for a distributed solve.
+BoundaryValueProblem part_of(const BoundaryValueProblem& problem, Index begin, Index end);
+
 /// Masks over the particles: 1 where the tag is one of `tags`.
 std::vector<char> tag_mask(const PointCloud& cloud, std::initializer_list<Tag> tags);
 /// The unknowns of a boundary value problem: interior and Neumann particles.

@@ -45,6 +45,7 @@ class Gpm final : public Method {
         volume_(o.get_choice("volume", "lattice", {"lattice", "shepard", "uniform", "voronoi", "vrsph"})),
         mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
+  int reach() const override { return volume_ == "vrsph" ? 3 : volume_ == "shepard" || volume_ == "voronoi" ? 2 : 1; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);

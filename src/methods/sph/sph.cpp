@@ -37,6 +37,7 @@ class Sph final : public Method {
         volume_(o.get_choice("volume", "dx", {"dx", "shepard"}) == "dx" ? SphVolume::Spacing : SphVolume::Shepard),
         mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
+  int reach() const override { return volume_ == SphVolume::Shepard ? 2 : 1; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);
