@@ -122,8 +122,10 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
     check<ConfigError>(std::isfinite(o.infeasible_tolerance) && o.infeasible_tolerance > 0,
                        "infeasible tolerance must be positive and finite, got ", o.infeasible_tolerance);
     check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "support radius h must be >= 0 (0: from the h-factor), got ", o.h);
-    check<ConfigError>(o.h > 0 || o.h_mode == SmoothingMode::Fixed, "a distributed solve supports --h-mode fixed "
-                       "only (covering and knn radii are not computed over ranks yet)");
+    check<ConfigError>(o.h > 0 || o.h_mode != SmoothingMode::Covering, "a distributed solve supports --h-mode fixed "
+                       "and knn (the covering radius is not computed over ranks yet)");
+    check<ConfigError>(o.h_knn >= 0, "h-knn (k of the k-th neighbour) must be >= 1, or 0 for the default 2d; got ",
+                       o.h_knn);
     check<ConfigError>(std::isfinite(o.h_factor) && o.h_factor > 0, "h-factor must be positive and finite, got ", o.h_factor);
     check<ConfigError>(p.pinned < 0, "BoundaryValueProblem::pinned names a particle of one rank's part: with several "
                        "ranks use fix_constant");
@@ -137,12 +139,43 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   collective(comm, [&] { dx = agreed_spacing(p, o, static_cast<Index>(std::max<long long>(global_n, 1)), comm); });
   s.spacing = dx;
   s.h = o.h > 0 ? o.h : o.h_factor * dx;
+  const bool knn = o.h <= 0 && o.h_mode == SmoothingMode::Knn;
 
   // Partition with a halo as wide as the method's rows read: reach() supports (2 for D2 = D D
   // and for Shepard/Voronoi volumes of the neighbours, 3 for their VRSPH volumes).
   Stopwatch watch;
-  const Real halo = method->reach() * s.h * (1 + 1e-9);
-  DistributedCloud dc = distribute(p.cloud, halo, comm);
+  const int reach = method->reach();
+  DistributedCloud dc = distribute(p.cloud, reach * s.h * (1 + 1e-9), comm);
+  // knn radii h_i = kappa r_k(i): exact on the owner when every particle within r_k(i) is
+  // local, i.e. r_k <= the halo width; the halo must also hold reach x max h_i. Widen and
+  // partition again until both hold (one round for clouds without large holes).
+  std::vector<Real> radii;
+  if (knn) {
+    const int k = o.h_knn > 0 ? o.h_knn : 2 * std::max(dc.local.dim, 1);
+    for (;;) {
+      std::vector<Real> rk;
+      collective(comm, [&] { rk = kth_neighbour_distance(dc.local, k); });
+      Real local_max = 0;
+      for (Index i = 0; i < dc.local_size(); ++i)
+        if (dc.owned[static_cast<std::size_t>(i)]) local_max = std::max(local_max, rk[static_cast<std::size_t>(i)]);
+      const Real r_max = max_over_ranks(comm, local_max);
+      const Real need = std::max(r_max, reach * o.h_factor * r_max) * (1 + 1e-9);
+      if (r_max <= dc.halo_width && need <= dc.halo_width) {
+        for (Real& r : rk) r *= o.h_factor;
+        radii = std::move(rk);
+        break;
+      }
+      dc = distribute(p.cloud, std::max(need, 2 * dc.halo_width), comm);
+    }
+    Field r(dc.local_size());
+    for (Index i = 0; i < r.size(); ++i) r[i] = radii[static_cast<std::size_t>(i)];
+    update_halo(dc, r);  // the halo's radii are their owners' (exact) ones
+    radii.assign(r.data(), r.data() + r.size());
+    double sum = 0;  // h reported as the mean radius over every particle, as in serial
+    for (Index i = 0; i < r.size(); ++i)
+      if (dc.owned[static_cast<std::size_t>(i)]) sum += r[i];
+    s.h = sum_over_ranks(comm, sum) / static_cast<Real>(dc.global_size);
+  }
   const PointCloud& cloud = dc.local;
   const Index n = cloud.size();
   s.particles = dc.global_size;
@@ -150,6 +183,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   s.distribution.halo = dc.stats.halo;
   s.distribution.halo_bytes = dc.stats.halo_bytes;
   s.distribution.halo_bytes_max = static_cast<long long>(max_over_ranks(comm, static_cast<double>(dc.stats.halo_bytes)));
+  s.distribution.halo_bytes_total = sum_over_ranks(comm, dc.stats.halo_bytes);
   s.distribution.migration_bytes = dc.stats.migration_bytes;
   s.distribution.halo_messages = dc.stats.halo_messages;
   {
@@ -164,7 +198,8 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
       const Real a = min_over_ranks(comm, lo[k]), b = max_over_ranks(comm, hi[k]);
       if (b >= a) extent2 += (b - a) * (b - a);
     }
-    collective(comm, [&] { check_support_is_local(s.h, std::sqrt(extent2), o.h > 0 ? 0 : o.h_factor); });
+    const Real h_max = radii.empty() ? s.h : max_over_ranks(comm, *std::max_element(radii.begin(), radii.end()));
+    collective(comm, [&] { check_support_is_local(h_max, std::sqrt(extent2), o.h > 0 ? 0 : o.h_factor); });
   }
   // The data at the owned and halo particles.
   const Field ones = Field::Ones(n_chunk);
@@ -198,6 +233,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   // the halo's edge are incomplete and are never rows).
   SearchParams sp;
   sp.radius = s.h;
+  sp.radii = radii;
   sp.min_neighbours = 0;
   NeighbourList nl;
   collective(comm, [&] {

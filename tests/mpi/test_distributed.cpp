@@ -219,7 +219,7 @@ TEST(DistributedSolve, UnsupportedSettingsAreConfigErrors) {
   const auto [b, e] = my_slice(full.size());
   BvpSolveOptions o;
   o.communicator = world();
-  o.h_mode = SmoothingMode::Knn;
+  o.h_mode = SmoothingMode::Covering;
   EXPECT_THROW(solve(part_of(whole, b, e), o), ConfigError);
   o.h_mode = SmoothingMode::Fixed;
   o.solver.type = SolverType::UmfPack;
@@ -306,5 +306,31 @@ TEST(DistributedStudy, LatticePartsAreSlicesOfTheWholeCloud) {
       ASSERT_EQ(part.cloud.positions[static_cast<std::size_t>(k)], whole.cloud.positions[static_cast<std::size_t>(part.first + k)]);
       ASSERT_EQ(part.cloud.tags[static_cast<std::size_t>(k)], whole.cloud.tags[static_cast<std::size_t>(part.first + k)]);
     }
+  }
+}
+
+// Per-particle radii from the k-th neighbour: computed on the owners, halo widened as needed.
+TEST(DistributedSolve, KnnRadiiAsSerial) {
+  for (const char* method : {"vrsph", "sph"}) {
+    PointCloud full = perturbed_box(2, 20, 6);
+    // A hole in the middle: radii vary, and the k-th neighbours of its rim are far away.
+    PointCloud holed;
+    holed.dim = 2;
+    holed.spacing = full.spacing;
+    holed.domain = full.domain;
+    for (Index i = 0; i < full.size(); ++i) {
+      const Vec3& x = full.positions[static_cast<std::size_t>(i)];
+      if ((x - Vec3(0.5, 0.5, 0)).norm() > 0.2 || full.tags[static_cast<std::size_t>(i)] != Tag::Interior)
+        holed.add(x, full.tags[static_cast<std::size_t>(i)]);
+    }
+    const BoundaryValueProblem whole = problem_on(holed);
+    BvpSolveOptions serial = serial_options(method, 20);
+    serial.h_mode = SmoothingMode::Knn;
+    serial.h_knn = 8;
+    serial.h_factor = 1.6;
+    const BvpSolution ref = solve(whole, serial);
+    const auto [s, b] = solve_my_part(whole, serial);
+    EXPECT_NEAR(s.h, ref.h, 1e-12 * ref.h);
+    for (Index k = 0; k < s.u.size(); ++k) ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-9) << method << " particle " << b + k;
   }
 }

@@ -168,7 +168,8 @@ void add_solve_bench(CLI::App& bench) {
                  "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total", "solver_iterations",
                  "error_inf", "bytes_per_particle", "bytes_per_particle_cloud", "bytes_per_particle_neighbours",
                  "bytes_per_particle_stencil", "bytes_per_particle_assemble", "bytes_per_particle_solve"};
-    t.columns.insert(t.columns.end(), {"ranks", "seconds_partition", "halo_bytes_max", "halo_messages", "halo_particles",
+    t.columns.insert(t.columns.end(), {"ranks", "seconds_partition", "halo_bytes", "halo_bytes_max", "halo_messages",
+                                       "halo_particles",
                                        "owned_particles", "peak_memory_mib_per_rank"});
     if (a->baseline)
       t.columns.insert(t.columns.end(), {"baseline_seconds_build", "baseline_seconds_solve", "baseline_seconds_total",
@@ -243,6 +244,7 @@ void add_solve_bench(CLI::App& bench) {
             {"bytes_per_particle_solve", per(sp.solve)},
             {"ranks", static_cast<long long>(comm.size())},
             {"seconds_partition", r.distribution.seconds_distribute},
+            {"halo_bytes", static_cast<long long>(r.distribution.halo_bytes_total)},  // all ranks, one exchange
             {"halo_bytes_max", static_cast<long long>(r.distribution.halo_bytes_max)},
             {"halo_messages", static_cast<long long>(r.distribution.halo_messages)},
             {"halo_particles", static_cast<long long>(r.distribution.halo)},

@@ -125,7 +125,7 @@ struct BvpSolution {
   struct Distribution {
     int ranks = 1;
     Index owned = 0, halo = 0;
-    long long halo_bytes = 0, halo_bytes_max = 0, migration_bytes = 0;
+    long long halo_bytes = 0, halo_bytes_max = 0, halo_bytes_total = 0, migration_bytes = 0;
     int halo_messages = 0;
     double seconds_distribute = 0;
   } distribution;
