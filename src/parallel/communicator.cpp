@@ -43,6 +43,8 @@ Kind kind_of(const std::exception& e) {
 }
 }  // namespace
 
+void rethrow_with_message(const std::exception& e, const std::string& message) { rethrow(kind_of(e), message); }
+
 bool Communicator::launched_in_parallel() {
   // OpenMPI (mpirun), MPICH/Hydra and PMIx launchers set the world size in the environment.
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"}) {

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <functional>
+#include <regex>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
@@ -97,6 +99,40 @@ CsrMatrix globalise(const LinearSystem& sys, const std::vector<Index>& global_do
   return A;
 }
 
+// A message from code that ran on the local cloud names local particle numbers ("particle
+// 12", "particles 3 and 4"): reworded with the global numbers the user knows.
+std::string with_global_numbers(const std::string& message, const DistributedCloud& dc) {
+  static const std::regex number(R"(particles? (\d+)(?: and (\d+))?)");
+  const auto global = [&](const std::ssub_match& m) {
+    const long long local = std::stoll(m.str());
+    return local >= 0 && local < dc.local_size() ? std::to_string(dc.global_id[static_cast<std::size_t>(local)]) : m.str();
+  };
+  std::string out;
+  auto at = message.cbegin();
+  for (std::sregex_iterator it(message.begin(), message.end(), number), end; it != end; ++it) {
+    const std::smatch& m = *it;
+    for (std::size_t g = 1; g <= 2; ++g) {
+      if (!m[g].matched) continue;
+      out.append(at, m[g].first);
+      out += global(m[g]);
+      at = m[g].second;
+    }
+  }
+  out.append(at, message.cend());
+  return out;
+}
+
+// A stage on the local cloud: collective, and its errors name global particle numbers.
+void local_stage(const DistributedCloud& dc, const std::function<void()>& stage) {
+  collective(dc.comm, [&] {
+    try {
+      stage();
+    } catch (const std::exception& e) {
+      rethrow_with_message(e, with_global_numbers(e.what(), dc));
+    }
+  });
+}
+
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -154,7 +190,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
     const int k = o.h_knn > 0 ? o.h_knn : 2 * std::max(dc.local.dim, 1);
     for (;;) {
       std::vector<Real> rk;
-      collective(comm, [&] { rk = kth_neighbour_distance(dc.local, k); });
+      local_stage(dc, [&] { rk = kth_neighbour_distance(dc.local, k); });
       Real local_max = 0;
       for (Index i = 0; i < dc.local_size(); ++i)
         if (dc.owned[static_cast<std::size_t>(i)]) local_max = std::max(local_max, rk[static_cast<std::size_t>(i)]);
@@ -236,7 +272,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   sp.radii = radii;
   sp.min_neighbours = 0;
   NeighbourList nl;
-  collective(comm, [&] {
+  local_stage(dc, [&] {
     nl = find_neighbours(cloud, sp);
     for (Index i = 0; i < n; ++i)
       if (dc.owned[static_cast<std::size_t>(i)] && cloud.tags[static_cast<std::size_t>(i)] != Tag::Ghost && nl.count(i) < 1) {
@@ -263,7 +299,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   req.rows = interior;
   const Discretisation disc{cloud, nl, o.kernel, dx, dc.global_size};
   Stencil L, G;
-  collective(comm, [&] {
+  local_stage(dc, [&] {
     L = method->build(disc, req);
     if (s.neumann_particles > 0) {
       StencilRequest greq;
@@ -394,7 +430,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   bc.pinned = pinned;
   const AssemblyScope scope{unknown};
   LinearSystem sys;
-  collective(comm, [&] { sys = assemble(L, cloud, unknown_all, f, g, &bc, &scope); });
+  local_stage(dc, [&] { sys = assemble(L, cloud, unknown_all, f, g, &bc, &scope); });
   s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
   L = Stencil();
   G = Stencil();

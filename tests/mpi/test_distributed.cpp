@@ -334,3 +334,23 @@ TEST(DistributedSolve, KnnRadiiAsSerial) {
     for (Index k = 0; k < s.u.size(); ++k) ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-9) << method << " particle " << b + k;
   }
 }
+
+// Errors raised on a rank's local cloud name the particles by their global numbers, as serial.
+TEST(DistributedSolve, ErrorsNameGlobalParticleNumbers) {
+  PointCloud full = perturbed_box(2, 12, 8);
+  full.positions[101] = full.positions[100];  // two interior particles at one place
+  const BoundaryValueProblem whole = problem_on(full);
+  std::string serial_message, message;
+  try {
+    (void)solve(whole, serial_options("vrsph", 12));
+  } catch (const InputError& e) {
+    serial_message = e.what();
+  }
+  try {
+    (void)solve_my_part(whole, serial_options("vrsph", 12));
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  ASSERT_NE(serial_message.find("particles 100 and 101"), std::string::npos) << serial_message;
+  EXPECT_NE(message.find("particles 100 and 101"), std::string::npos) << message;
+}

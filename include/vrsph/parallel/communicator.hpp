@@ -40,6 +40,10 @@ class Communicator {
 /// (same type, same message) of the lowest rank that failed. Serial: just runs it.
 void collective(const Communicator& comm, const std::function<void()>& stage);
 
+/// Throws an exception of the same vrsph type as `e` (InputError, GeometryError, ...) with
+/// another message: a rank's error reworded (e.g. with global particle numbers).
+[[noreturn]] void rethrow_with_message(const std::exception& e, const std::string& message);
+
 // Reductions over the ranks (identities in serial).
 double sum_over_ranks(const Communicator& comm, double value);
 long long sum_over_ranks(const Communicator& comm, long long value);
