@@ -17,6 +17,7 @@
 #include <numeric>
 #include <vrsph/core/error.hpp>
 #include <vrsph/parallel/distributed_cloud.hpp>
+#include "petsc_runtime.hpp"
 
 namespace vrsph {
 
@@ -42,7 +43,8 @@ struct CloudExchange {
 namespace {
 using detail::CloudExchange;
 
-MPI_Comm mpi(const Communicator& c) { return MPI_Comm_f2c(c.fortran_handle()); }
+// A serial Communicator is this process alone, even inside an mpirun job.
+MPI_Comm mpi(const Communicator& c) { return c.distributed() ? MPI_Comm_f2c(c.fortran_handle()) : MPI_COMM_SELF; }
 
 void call(PetscErrorCode code, const char* what) {
   if (code != 0) throw NumericalError(detail::concat("PETSc star forest (", what, ") failed with error ", code));
@@ -198,6 +200,7 @@ std::vector<int> partition(const Communicator& comm, const std::vector<std::uint
 
 DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Communicator& comm) {
   const auto t0 = std::chrono::steady_clock::now();
+  detail::start_petsc();  // the star forests are PETSc's (a serial Communicator has not started it)
   DistributedCloud dc;
   dc.comm = comm;
   dc.halo_width = halo_width;
@@ -240,8 +243,25 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
   dc.global_size = static_cast<Index>(total);
   const Index first_id = static_cast<Index>(offset_over_ranks(comm, chunk.size()));
   dc.local.dim = dim;
-  dc.local.spacing = chunk.spacing;
-  dc.local.domain = chunk.domain;
+  {
+    // Spacing and domain from the lowest rank with particles: an empty part (a default
+    // PointCloud) carries neither.
+    int source = 0;
+    while (dims[static_cast<std::size_t>(source)] == 0) ++source;
+    const Domain& d = chunk.domain;
+    std::array<double, 14> packed{static_cast<double>(static_cast<int>(d.shape)), static_cast<double>(d.dim),
+                                  d.lo[0], d.lo[1], d.lo[2], d.hi[0], d.hi[1], d.hi[2], d.centre[0], d.centre[1],
+                                  d.centre[2], d.radius, chunk.spacing, 0};
+    MPI_Bcast(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, source, mpi(comm));
+    Domain& out = dc.local.domain;
+    out.shape = static_cast<Domain::Shape>(static_cast<int>(packed[0]));
+    out.dim = static_cast<int>(packed[1]);
+    out.lo = Vec3(packed[2], packed[3], packed[4]);
+    out.hi = Vec3(packed[5], packed[6], packed[7]);
+    out.centre = Vec3(packed[8], packed[9], packed[10]);
+    out.radius = packed[11];
+    dc.local.spacing = packed[12];
+  }
 
   // The curve: keys in the global bounding box.
   Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;

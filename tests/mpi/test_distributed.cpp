@@ -136,8 +136,10 @@ TEST(DistributedCloud, ABadCoordinateOnOneRankFailsEveryRank) {
 
 TEST(DistributedCloud, EmptyPartsAreAllowed) {
   const PointCloud full = perturbed_box(2, 12, 2);
-  const PointCloud part = world().rank() == 0 ? full : slice(full, 0, 0);
+  const PointCloud part = world().rank() == 0 ? full : PointCloud{};  // no dim, spacing or domain
   const DistributedCloud dc = distribute(part, 0.2, world());
+  EXPECT_EQ(dc.local.domain.shape, Domain::Shape::Box);
+  EXPECT_EQ(dc.local.spacing, full.spacing);
   EXPECT_GT(dc.owned_count, 0);
   EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(dc.owned_count)), full.size());
 }
@@ -353,4 +355,14 @@ TEST(DistributedSolve, ErrorsNameGlobalParticleNumbers) {
   }
   ASSERT_NE(serial_message.find("particles 100 and 101"), std::string::npos) << serial_message;
   EXPECT_NE(message.find("particles 100 and 101"), std::string::npos) << message;
+}
+
+// A serial Communicator inside an mpirun job is this process alone.
+TEST(DistributedCloud, SerialCommunicatorIsThisProcessAlone) {
+  const PointCloud full = perturbed_box(2, 10, 3);
+  const DistributedCloud dc = distribute(full, 0.2, Communicator());
+  EXPECT_EQ(dc.owned_count, full.size());
+  EXPECT_EQ(dc.stats.halo, 0);
+  const Field ones = Field::Ones(full.size());
+  EXPECT_EQ(local_to_chunk(dc, chunk_to_local(dc, ones)), ones);
 }

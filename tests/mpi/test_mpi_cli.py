@@ -48,6 +48,14 @@ class SameTables(unittest.TestCase):
                       "--method", "vrsph", "--cloud", "perturbed", "--n", "6,10", "--solver", "petsc",
                       "--petsc-options", DIRECT], 1e-10, ranks=(2,))
 
+    def test_robin_and_tensor_mobility_direct(self):
+        self.compare(["study", "--u", "x*y+exp(x)", "--robin", "x1,y0", "--beta", "1+x", "--method", "vrsph,fpm",
+                      "--cloud", "perturbed", "--n", "12,24", "--solver", "petsc", "--petsc-options", DIRECT], 1e-10,
+                     ranks=(2,))
+        self.compare(["study", "--u", "sin(x)*cos(y)", "--mobility", "1+x^2,2+y", "--method", "m-sph,vrsph",
+                      "--cloud", "perturbed", "--n", "12,24", "--solver", "petsc", "--petsc-options", DIRECT], 1e-10,
+                     ranks=(2,))
+
     def test_issue_command_with_amg(self):
         # GMRES + BoomerAMG to rtol 1e-10 on both sides: equal to the solver's tolerance.
         self.compare(["study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", "perturbed", "--n", "40,80",
