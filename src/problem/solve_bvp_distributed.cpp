@@ -109,7 +109,7 @@ std::string with_global_numbers(const std::string& message, const DistributedClo
   const auto number = [&]() {
     std::size_t end = at;
     while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
-    if (end == at) return false;
+    if (end == at || end - at > 12) return false;  // not a particle number (nor one stoll could overflow on)
     const long long local = std::stoll(message.substr(at, end - at));
     out += local < dc.local_size() ? std::to_string(dc.global_id[static_cast<std::size_t>(local)])
                                    : message.substr(at, end - at);
