@@ -9,6 +9,7 @@
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
 #include "solve_bvp_distributed.hpp"
+#include "transmissibilities.hpp"
 
 namespace vrsph {
 
@@ -101,20 +102,6 @@ void check_neumann_balance(const PointCloud& cloud, const Field& f, const Field&
         "this one is not meaningful: check q and f"));
 }
 
-// Negative off-diagonal weights of the interior rows and the [SPE] ξ diagnostic.
-void summarise_transmissibilities(const Stencil& L, const std::vector<char>& interior, BvpSolution& s) {
-  for (Index i = 0; i < L.rows(); ++i) {
-    const auto si = static_cast<std::size_t>(i);
-    if (!interior[si]) continue;
-    Index neg = 0;
-    const Real scale = std::abs(L.values[0][static_cast<std::size_t>(L.diag[si])]);
-    for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
-      neg += L.col[static_cast<std::size_t>(k)] != i && L.values[0][static_cast<std::size_t>(k)] < -1e-12 * scale;
-    s.negative_transmissibilities += neg;
-    if (neg > 0 && s.negative_rows.size() < 10) s.negative_rows.push_back(i);
-    if (!L.xi.empty()) s.xi_max = std::isnan(s.xi_max) ? L.xi[si] : std::max(s.xi_max, L.xi[si]);
-  }
-}
 }  // namespace
 
 BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
@@ -239,7 +226,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                                             "mobility (or 1/h^2) overflows; rescale the problem"));
       }
   }
-  summarise_transmissibilities(L, interior, s);
+  detail::summarise_transmissibilities(L, interior, s);
   if (method->info().monotone && s.negative_transmissibilities > 0) {
     std::string rows;
     for (std::size_t k = 0; k < s.negative_rows.size(); ++k) rows += detail::concat(k ? ", " : "", s.negative_rows[k]);

@@ -22,6 +22,7 @@
 #include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
 #include "solve_bvp_distributed.hpp"
+#include "transmissibilities.hpp"
 
 namespace vrsph::detail {
 
@@ -364,18 +365,11 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
     }
   });
   {
-    long long negative = 0;
-    Real xi = -std::numeric_limits<Real>::infinity();
-    for (Index i = 0; i < n; ++i) {
-      const auto si = static_cast<std::size_t>(i);
-      if (!interior[si]) continue;
-      const Real scale = std::abs(L.values[0][static_cast<std::size_t>(L.diag[si])]);
-      for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
-        negative += L.col[static_cast<std::size_t>(k)] != i && L.values[0][static_cast<std::size_t>(k)] < -1e-12 * scale;
-      if (!L.xi.empty()) xi = std::max(xi, L.xi[si]);
-    }
+    summarise_transmissibilities(L, interior, s);  // this rank's rows, then over the ranks
+    const long long negative = s.negative_transmissibilities;
+    const Real xi = max_over_ranks(comm, std::isnan(s.xi_max) ? -std::numeric_limits<Real>::infinity() : s.xi_max);
     s.negative_transmissibilities = static_cast<Index>(sum_over_ranks(comm, negative));
-    xi = max_over_ranks(comm, xi);
+    for (Index& i : s.negative_rows) i = dc.global_id[static_cast<std::size_t>(i)];
     s.xi_max = std::isfinite(xi) ? xi : std::nan("");
     if (method->info().monotone && s.negative_transmissibilities > 0)
       s.warnings.push_back(concat(o.label.empty() ? o.method : o.label, ": ", s.negative_transmissibilities,
