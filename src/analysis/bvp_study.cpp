@@ -344,7 +344,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   Eigen::MatrixXd err(cloud.size(), 1);
   err.col(0) = U - exact;
   const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
-  run.errors = reduce_over_ranks(error_norms(err, unknown_mask(cloud), cloud, run.h, vol), comm, run.first_id);
+  run.errors = error_norms_over_ranks(err, unknown_mask(cloud), cloud, run.h, vol, comm, run.first_id);
   {  // [SPE](95), equal volumes, over the interior particles: [SPE]'s DoF are the n^d cells
     Real sum = 0;
     Index count = 0;

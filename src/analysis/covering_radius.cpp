@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -31,19 +32,17 @@ CoveringRadius farthest_candidate(const PointCloud& cloud, const std::vector<Vec
 }
 }  // namespace
 
-CoveringRadius covering_radius(const PointCloud& cloud) {
-  validate(cloud);
+namespace {
+// Every candidate of a box or ball domain (see the header), inside the closed domain.
+std::vector<Vec3> box_or_ball_candidates(const PointCloud& cloud, Real spacing) {
   const Domain& dom = cloud.domain;
-  check<InputError>(dom.shape == Domain::Shape::Box || dom.shape == Domain::Shape::Ball,
-                    "the covering radius needs a box or ball domain (the cloud has none)");
-  check<InputError>(cloud.size() > cloud.dim, "the covering radius needs more than ", cloud.dim, " particles");
   std::vector<Vec3> cand;
   if (cloud.dim == 1) {
     std::vector<Real> x;
     for (const auto& p : cloud.positions) x.push_back(p[0]);
     std::sort(x.begin(), x.end());
     for (std::size_t k = 0; k + 1 < x.size(); ++k) cand.emplace_back(0.5 * (x[k] + x[k + 1]), 0, 0);
-  } else {
+  } else if (cloud.size() > cloud.dim) {
     cand = detail::covering_candidates(cloud);
   }
   // Domain corners / extreme points, and on a sphere the point farthest from each particle.
@@ -64,7 +63,7 @@ CoveringRadius covering_radius(const PointCloud& cloud) {
     }
   }
   // Keep candidates in the closed domain (clipped to it against round-off).
-  const Real tol = 1e-12 * std::max<Real>(1, estimate_spacing(cloud));
+  const Real tol = 1e-12 * std::max<Real>(1, spacing);
   std::vector<Vec3> inside;
   inside.reserve(cand.size());
   for (auto x : cand) {
@@ -72,7 +71,49 @@ CoveringRadius covering_radius(const PointCloud& cloud) {
     if (!x.allFinite() || dom.signed_distance(x) < -tol) continue;
     inside.push_back(x);
   }
-  return farthest_candidate(cloud, inside);
+  return inside;
+}
+
+void check_box_or_ball(const PointCloud& cloud) {
+  check<InputError>(cloud.domain.shape == Domain::Shape::Box || cloud.domain.shape == Domain::Shape::Ball,
+                    "the covering radius needs a box or ball domain (the cloud has none)");
+}
+}  // namespace
+
+CoveringRadius covering_radius(const PointCloud& cloud) {
+  validate(cloud);
+  check_box_or_ball(cloud);
+  check<InputError>(cloud.size() > cloud.dim, "the covering radius needs more than ", cloud.dim, " particles");
+  return farthest_candidate(cloud, box_or_ball_candidates(cloud, estimate_spacing(cloud)));
+}
+
+CoveringRadius covering_radius_of_owned(const PointCloud& local, std::span<const char> owned, Real spacing) {
+  validate(local);
+  check_box_or_ball(local);
+  check<InputError>(static_cast<Index>(owned.size()) == local.size(), "covering_radius_of_owned: ", owned.size(),
+                    " owner flags for ", local.size(), " particles");
+  CoveringRadius out;
+  PointCloud mine;
+  mine.dim = local.dim;
+  for (Index i = 0; i < local.size(); ++i)
+    if (owned[static_cast<std::size_t>(i)]) mine.positions.push_back(local.positions[static_cast<std::size_t>(i)]);
+  if (mine.positions.empty()) return out;
+  mine.tags.assign(mine.positions.size(), Tag::Interior);
+  const std::vector<Vec3> cand = box_or_ball_candidates(local, spacing);
+  std::vector<Real> dist, dist_mine;
+  std::vector<Index> idx, idx_mine;
+  detail::nearest_particles(local, cand, dist, idx);
+  detail::nearest_particles(mine, cand, dist_mine, idx_mine);
+  out.candidates = static_cast<Index>(cand.size());
+  for (std::size_t k = 0; k < cand.size(); ++k) {
+    // A candidate whose nearest particle is (also) an owned one: on a lattice the Voronoi
+    // vertices are equidistant from particles of several ranks, and each counts it.
+    if (dist_mine[k] > dist[k] * (1 + 1e-12) + 1e-300 || !(dist[k] > out.radius)) continue;
+    out.radius = dist[k];
+    out.point = cand[k];
+    out.nearest = idx[k];
+  }
+  return out;
 }
 
 CoveringRadius covering_radius(const PointCloud& cloud, const std::function<bool(const Vec3&)>& inside,

@@ -60,8 +60,11 @@ ErrorReport reduce_over_ranks(const ErrorReport& mine, const Communicator& comm,
           reduce_norms(mine.near_boundary, comm, first_id)};
 }
 
-ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
-                        Real near_distance, std::span<const Real> volumes) {
+namespace {
+// `wall`: per particle, the distance to the nearest tagged boundary particle (used without a
+// known domain; null: from the cloud's own). `first_id` numbers the particles in messages.
+ErrorReport norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud, Real near_distance,
+                  std::span<const Real> volumes, const std::vector<Real>* wall_given, Index first_id) {
   check<InputError>(err.rows() == cloud.size() && static_cast<Index>(rows.size()) == cloud.size(),
                     "error_norms: error matrix, row mask and cloud sizes differ");
   check<InputError>(volumes.empty() || static_cast<Index>(volumes.size()) == cloud.size(),
@@ -74,24 +77,63 @@ ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, 
   // Distance to the boundary: the domain's where it is known, else to the nearest tagged
   // boundary particle (a user's cloud from a file).
   const bool known_domain = cloud.domain.shape != Domain::Shape::None;
-  const std::vector<Real> wall = known_domain ? std::vector<Real>{} : distance_to_tagged_boundary(cloud);
+  const std::vector<Real> wall = known_domain || wall_given ? std::vector<Real>{} : distance_to_tagged_boundary(cloud);
+  const std::vector<Real>& to_wall = wall_given ? *wall_given : wall;
 #pragma omp parallel for schedule(static) if (n > 4096)
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (!rows[si]) continue;
     e[si] = err.row(i).norm();
-    is_near[si] = (known_domain ? cloud.domain.signed_distance(cloud.positions[si]) : wall[si]) < near_distance;
+    is_near[si] = (known_domain ? cloud.domain.signed_distance(cloud.positions[si]) : to_wall[si]) < near_distance;
   }
   Accumulator all, inner, near;
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (!rows[si]) continue;
-    check<InputError>(std::isfinite(e[si]), "error at particle ", i, " is not finite");
+    check<InputError>(std::isfinite(e[si]), "error at particle ", first_id + i, " is not finite");
     const Real w = volumes.empty() ? 1.0 : volumes[si];
     all.add(i, e[si], w);
     (is_near[si] ? near : inner).add(i, e[si], w);
   }
   return {all.finish(), inner.finish(), near.finish()};
+}
+
+}  // namespace
+
+ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
+                        Real near_distance, std::span<const Real> volumes) {
+  return norms(err, rows, cloud, near_distance, volumes, nullptr, 0);
+}
+
+ErrorReport error_norms_over_ranks(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& part,
+                                   Real near_distance, std::span<const Real> volumes, const Communicator& comm,
+                                   Index first_id) {
+  if (!comm.distributed()) return error_norms(err, rows, part, near_distance, volumes);
+  // Without a known domain, the distances to the tagged boundary particles of every rank
+  // (gathered on each: a surface's worth of particles).
+  std::vector<Real> wall;
+  const bool known_domain = any_rank(comm, part.domain.shape != Domain::Shape::None);
+  if (!known_domain) {
+    std::vector<double> mine;
+    for (Index i = 0; i < part.size(); ++i) {
+      const Tag t = part.tags[static_cast<std::size_t>(i)];
+      if (t != Tag::Dirichlet && t != Tag::Neumann) continue;
+      const Vec3& x = part.positions[static_cast<std::size_t>(i)];
+      mine.insert(mine.end(), {x[0], x[1], x[2]});
+    }
+    const std::vector<double> all = gather_over_ranks(comm, mine);
+    PointCloud boundary;
+    boundary.dim = std::max(part.dim, 1);
+    boundary.tags.assign(all.size() / 3, Tag::Dirichlet);
+    for (std::size_t k = 0; k < all.size(); k += 3) boundary.positions.emplace_back(all[k], all[k + 1], all[k + 2]);
+    boundary.tags.insert(boundary.tags.end(), part.positions.size(), Tag::Interior);  // the part's own, untagged
+    boundary.positions.insert(boundary.positions.end(), part.positions.begin(), part.positions.end());
+    const std::vector<Real> d = distance_to_tagged_boundary(boundary);
+    wall.assign(d.end() - static_cast<std::ptrdiff_t>(part.positions.size()), d.end());
+  }
+  ErrorReport mine;
+  collective(comm, [&] { mine = norms(err, rows, part, near_distance, volumes, known_domain ? nullptr : &wall, first_id); });
+  return reduce_over_ranks(mine, comm, first_id);
 }
 
 }  // namespace vrsph

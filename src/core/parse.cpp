@@ -60,4 +60,39 @@ std::string to_lower(std::string text) {
   return text;
 }
 
+std::string renumber_particles(const std::string& message, const std::function<long long(long long)>& number_of) {
+  // A scan by hand: <regex> doubles the compile time of whoever includes it.
+  std::string out;
+  std::size_t at = 0;
+  // Copies the digits at `at`, mapped (if they are a number at all).
+  const auto number = [&]() {
+    std::size_t end = at;
+    while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
+    if (end == at || end - at > 12) return false;  // not a particle number (nor one stoll could overflow on)
+    out += std::to_string(number_of(std::stoll(message.substr(at, end - at))));
+    at = end;
+    return true;
+  };
+  for (;;) {
+    const std::size_t word = message.find("particle", at);
+    if (word == std::string::npos) break;
+    std::size_t digits = word + 8;
+    if (digits < message.size() && message[digits] == 's') ++digits;
+    if (digits >= message.size() || message[digits] != ' ') {
+      out.append(message, at, digits - at);
+      at = digits;
+      continue;
+    }
+    out.append(message, at, digits + 1 - at);
+    at = digits + 1;
+    if (number() && message.compare(at, 5, " and ") == 0) {
+      out += " and ";
+      at += 5;
+      number();
+    }
+  }
+  out.append(message, at, std::string::npos);
+  return out;
+}
+
 }  // namespace vrsph

@@ -9,8 +9,11 @@
 #include <vrsph/io/csv.hpp>
 #include <vrsph/io/input_file.hpp>
 #include <vrsph/io/output_file.hpp>
+#include "csv_rows.hpp"
 
 namespace vrsph {
+
+using detail::concat;
 
 namespace {
 std::string trim_lower(std::string s) {
@@ -31,25 +34,24 @@ std::vector<std::string> split(const std::string& line) {
 }
 }  // namespace
 
-CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int dim) {
-  return read_csv_columns(in, name, dim, true);
+namespace detail {
+
+void refuse_nul(const std::string& line, const std::string& name, std::size_t lineno) {
+  // A NUL byte would make strtod stop early and read "0.5<NUL>7" as 0.5: binary data is
+  // refused line by line, naming the line.
+  check<InputError>(line.find('\0') == std::string::npos, name, ":", lineno,
+                    ": contains a NUL byte (binary data, not a text CSV file): '", printable(line), "'");
 }
 
-CloudFile read_csv_columns(std::istream& in, const std::string& name, int dim, bool tag_required) {
-  check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
+CsvHeader read_csv_header(std::istream& in, const std::string& name, bool tag_required) {
+  CsvHeader h;
   std::string line;
-  std::size_t lineno = 0;
-  // A NUL byte would make strtod stop early and read "0.5<NUL>7" as 0.5: binary
-  // data is refused line by line, naming the line.
-  const auto refuse_nul = [&] {
-    check<InputError>(line.find('\0') == std::string::npos, name, ":", lineno,
-                      ": contains a NUL byte (binary data, not a text CSV file): '", printable(line), "'");
-  };
+  std::size_t& lineno = h.lines;
   // Header: first non-blank line. A UTF-8 byte-order mark (spreadsheet exports) is skipped.
   while (std::getline(in, line)) {
     ++lineno;
     if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
-    refuse_nul();
+    refuse_nul(line, name, lineno);
     if (!trim_lower(line).empty()) break;
   }
   check<InputError>(!trim_lower(line).empty(), name, ": empty file (expected a header line x,y,z,tag[,nx,ny,nz])");
@@ -57,91 +59,108 @@ CloudFile read_csv_columns(std::istream& in, const std::string& name, int dim, b
                     ": looks like an XML file (VTU/VTP?), not a CSV point cloud; clouds are read from CSV with a header "
                     "line x,y,z,tag[,nx,ny,nz] (vrsph cloud --input c.csv --output c.vtu converts the other way)");
   const auto header = split(line);
-  std::map<std::string, std::size_t> col;
+  h.fields = header.size();
   static const std::vector<std::string> known = {"x", "y", "z", "tag", "nx", "ny", "nz"};
-  CloudFile out;
-  out.source = name;
-  std::vector<std::size_t> extra_col;  // header position of each extra field
   for (std::size_t k = 0; k < header.size(); ++k) {
-    const std::string h = trim_lower(header[k]);
-    check<InputError>(!h.empty(), name, ":", lineno, ": column ", k + 1, " of the header has no name");
-    check<InputError>(!col.count(h), name, ":", lineno, ": column '", h, "' appears twice in the header");
-    col[h] = k;
-    if (std::find(known.begin(), known.end(), h) == known.end()) {
-      check<InputError>(h.find_first_of("\"<>&") == std::string::npos, name, ":", lineno, ": column name '",
+    const std::string name_k = trim_lower(header[k]);
+    check<InputError>(!name_k.empty(), name, ":", lineno, ": column ", k + 1, " of the header has no name");
+    check<InputError>(!h.col.count(name_k), name, ":", lineno, ": column '", name_k, "' appears twice in the header");
+    h.col[name_k] = k;
+    if (std::find(known.begin(), known.end(), name_k) == known.end()) {
+      check<InputError>(name_k.find_first_of("\"<>&") == std::string::npos, name, ":", lineno, ": column name '",
                         printable(header[k]), "' contains a quote or <, >, & (not usable as a field name)");
-      out.fields.push_back({h, Field()});
-      extra_col.push_back(k);
+      h.extra_names.push_back(name_k);
+      h.extra_col.push_back(k);
     }
   }
-  check<InputError>(col.count("x") && (col.count("tag") || !tag_required), name, ":", lineno,
+  check<InputError>(h.col.count("x") && (h.col.count("tag") || !tag_required), name, ":", lineno,
                     ": header must contain at least the columns x", tag_required ? " and tag" : "", " (got '",
                     printable(line), "')");
-  int coord_cols = 1;
-  if (col.count("y")) coord_cols = 2;
-  if (col.count("z")) {
-    check<InputError>(col.count("y"), name, ": column z without column y");
-    coord_cols = 3;
+  if (h.col.count("y")) h.coord_cols = 2;
+  if (h.col.count("z")) {
+    check<InputError>(h.col.count("y"), name, ": column z without column y");
+    h.coord_cols = 3;
   }
-  const bool normals = col.count("nx") > 0;
-  check<InputError>(!normals || (col.count("ny") > 0) == (coord_cols > 1), name,
+  h.normals = h.col.count("nx") > 0;
+  check<InputError>(!h.normals || (h.col.count("ny") > 0) == (h.coord_cols > 1), name,
                     ": normal columns must match the coordinate columns (nx[,ny[,nz]])");
+  return h;
+}
 
-  PointCloud& c = out.cloud;
-  c.dim = 3;
-  Vec3 any_nonzero = Vec3::Zero();
-  std::vector<std::vector<Real>> extra(extra_col.size());
-  while (std::getline(in, line)) {
-    ++lineno;
-    refuse_nul();
-    if (trim_lower(line).empty()) continue;
-    const auto f = split(line);
-    check<InputError>(f.size() == header.size(), name, ":", lineno, ": expected ", header.size(), " fields, found ",
-                      f.size());
-    auto number_at = [&](std::size_t k, const std::string& key) -> Real {
-      const auto v = parse_real(f[k]);
-      check<InputError>(v.has_value(), name, ":", lineno, ": column ", key, ": '", printable(f[k]), "' is not a number");
-      check<InputError>(std::isfinite(*v), name, ":", lineno, ": column ", key, " is not finite (", printable(f[k]), ")");
-      return *v;
-    };
-    auto number = [&](const char* key) -> Real {
-      const auto it = col.find(key);
-      return it == col.end() ? 0 : number_at(it->second, key);
-    };
-    Vec3 x(number("x"), number("y"), number("z"));
-    for (int k = 0; k < 3; ++k)
-      if (x[k] != 0) any_nonzero[k] = 1;
-    Tag tag = Tag::Interior;
-    try {
-      if (col.count("tag")) tag = parse_tag(trim_lower(f[col["tag"]]));
-    } catch (const InputError& e) {
-      throw InputError(detail::concat(name, ":", lineno, ": ", e.what()));
-    }
-    c.positions.push_back(x);
-    c.tags.push_back(tag);
-    if (normals) c.normals.emplace_back(number("nx"), number("ny"), number("nz"));
-    for (std::size_t e = 0; e < extra_col.size(); ++e) extra[e].push_back(number_at(extra_col[e], out.fields[e].name));
+void parse_csv_row(const std::string& line, std::size_t lineno, const CsvHeader& h, const std::string& name,
+                   CsvRows& out) {
+  refuse_nul(line, name, lineno);
+  if (trim_lower(line).empty()) return;
+  const auto f = split(line);
+  check<InputError>(f.size() == h.fields, name, ":", lineno, ": expected ", h.fields, " fields, found ", f.size());
+  auto number_at = [&](std::size_t k, const std::string& key) -> Real {
+    const auto v = parse_real(f[k]);
+    check<InputError>(v.has_value(), name, ":", lineno, ": column ", key, ": '", printable(f[k]), "' is not a number");
+    check<InputError>(std::isfinite(*v), name, ":", lineno, ": column ", key, " is not finite (", printable(f[k]), ")");
+    return *v;
+  };
+  auto number = [&](const char* key) -> Real {
+    const auto it = h.col.find(key);
+    return it == h.col.end() ? 0 : number_at(it->second, key);
+  };
+  Vec3 x(number("x"), number("y"), number("z"));
+  for (int k = 0; k < 3; ++k)
+    if (x[k] != 0) out.any_nonzero[k] = 1;
+  Tag tag = Tag::Interior;
+  try {
+    if (const auto it = h.col.find("tag"); it != h.col.end()) tag = parse_tag(trim_lower(f[it->second]));
+  } catch (const InputError& e) {
+    throw InputError(concat(name, ":", lineno, ": ", e.what()));
   }
-  check<InputError>(!c.positions.empty(), name, ": no particles after the header");
+  PointCloud& c = out.file.cloud;
+  c.positions.push_back(x);
+  c.tags.push_back(tag);
+  if (h.normals) c.normals.emplace_back(number("nx"), number("ny"), number("nz"));
+  out.extra.resize(h.extra_col.size());
+  for (std::size_t e = 0; e < h.extra_col.size(); ++e) out.extra[e].push_back(number_at(h.extra_col[e], h.extra_names[e]));
+}
+
+int settle_csv_dimension(const CsvHeader& h, const Vec3& any_nonzero, int dim, const std::string& name) {
   int inferred = 1;
-  for (int k = 0; k < coord_cols; ++k)
+  for (int k = 0; k < h.coord_cols; ++k)
     if (any_nonzero[k] != 0) inferred = k + 1;
-  if (dim == 0) {
-    c.dim = inferred;
-  } else {
-    check<InputError>(dim <= coord_cols, name, ": dimension mismatch: ", dim, "D requested but the file has only ",
-                      coord_cols, " coordinate column(s)");
-    check<InputError>(inferred <= dim, name, ": dimension mismatch: ", dim,
-                      "D requested but coordinate ", "xyz"[inferred - 1], " is non-zero for some particles");
-    c.dim = dim;
-  }
-  if (normals)
-    for (auto& n : c.normals)
-      for (int k = c.dim; k < 3; ++k) n[k] = 0;
+  if (dim == 0) return inferred;
+  check<InputError>(dim <= h.coord_cols, name, ": dimension mismatch: ", dim, "D requested but the file has only ",
+                    h.coord_cols, " coordinate column(s)");
+  check<InputError>(inferred <= dim, name, ": dimension mismatch: ", dim, "D requested but coordinate ",
+                    "xyz"[inferred - 1], " is non-zero for some particles");
+  return dim;
+}
+
+void finish_csv_rows(CsvRows& rows, const CsvHeader& h, int dim) {
+  PointCloud& c = rows.file.cloud;
+  c.dim = dim;
+  for (auto& n : c.normals)
+    for (int k = c.dim; k < 3; ++k) n[k] = 0;
   validate(c);
-  for (std::size_t e = 0; e < extra.size(); ++e)
-    out.fields[e].values = Eigen::Map<const Field>(extra[e].data(), static_cast<Eigen::Index>(extra[e].size()));
-  return out;
+  rows.extra.resize(h.extra_col.size());
+  for (std::size_t e = 0; e < rows.extra.size(); ++e)
+    rows.file.fields.push_back(
+        {h.extra_names[e], Eigen::Map<const Field>(rows.extra[e].data(), static_cast<Eigen::Index>(rows.extra[e].size()))});
+  rows.extra.clear();
+}
+
+}  // namespace detail
+
+CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int dim) {
+  return read_csv_columns(in, name, dim, true);
+}
+
+CloudFile read_csv_columns(std::istream& in, const std::string& name, int dim, bool tag_required) {
+  check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
+  const detail::CsvHeader h = detail::read_csv_header(in, name, tag_required);
+  detail::CsvRows rows;
+  rows.file.source = name;
+  std::string line;
+  for (std::size_t lineno = h.lines + 1; std::getline(in, line); ++lineno) detail::parse_csv_row(line, lineno, h, name, rows);
+  check<InputError>(!rows.file.cloud.positions.empty(), name, ": no particles after the header");
+  detail::finish_csv_rows(rows, h, detail::settle_csv_dimension(h, rows.any_nonzero, dim, name));
+  return std::move(rows.file);
 }
 
 PointCloud read_csv(std::istream& in, const std::string& name, int dim) {

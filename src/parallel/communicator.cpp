@@ -137,6 +137,43 @@ std::vector<long long> gather_over_ranks(const Communicator& c, long long v) {
   if (c.distributed()) MPI_Allgather(&v, 1, MPI_LONG_LONG, all.data(), 1, MPI_LONG_LONG, mpi(c));
   return all;
 }
+namespace {
+// Counts and displacements of an MPI v-collective; refuses what an int cannot count.
+void v_layout(const std::vector<long long>& sizes, std::vector<int>& counts, std::vector<int>& displs) {
+  counts.resize(sizes.size());
+  displs.resize(sizes.size());
+  long long total = 0;
+  for (std::size_t r = 0; r < sizes.size(); ++r) {
+    check<ResourceError>(total + sizes[r] <= std::numeric_limits<int>::max(), "an exchange of ", total + sizes[r],
+                         " values exceeds what one MPI call can count (2^31 - 1): use more ranks");
+    counts[r] = static_cast<int>(sizes[r]);
+    displs[r] = static_cast<int>(total);
+    total += sizes[r];
+  }
+}
+}  // namespace
+
+std::vector<double> gather_over_ranks(const Communicator& c, const std::vector<double>& mine) {
+  if (!c.distributed()) return mine;
+  std::vector<int> counts, displs;
+  v_layout(gather_over_ranks(c, static_cast<long long>(mine.size())), counts, displs);
+  std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                 MPI_DOUBLE, mpi(c));
+  return all;
+}
+
+std::vector<double> scatter_from_root(const Communicator& c, const std::vector<double>& on_root, long long count) {
+  if (!c.distributed()) return on_root;
+  std::vector<int> counts, displs;
+  v_layout(gather_over_ranks(c, count), counts, displs);
+  // (The root's size is the caller's contract: a check on one rank would leave the others waiting.)
+  std::vector<double> mine(static_cast<std::size_t>(count));
+  MPI_Scatterv(on_root.data(), counts.data(), displs.data(), MPI_DOUBLE, mine.data(), static_cast<int>(count),
+               MPI_DOUBLE, 0, mpi(c));
+  return mine;
+}
+
 std::vector<std::string> gather_strings(const Communicator& c, const std::vector<std::string>& mine) {
   if (!c.distributed()) return mine;
   std::string packed;

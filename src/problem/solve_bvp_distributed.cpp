@@ -7,14 +7,15 @@
 // Every stage that can fail on one rank runs in `collective`, so a failure anywhere is the
 // same typed exception on every rank (no rank waits in a collective the others left).
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <functional>
+#include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -31,19 +32,6 @@ void check_size(const Field& v, Index n, const char* name, bool required) {
   if (v.size() == 0 && !required) return;
   check<InputError>(v.size() == n, "boundary value problem: ", name, " has ", v.size(), " values for ", n,
                     " particles of this rank's part of the cloud (size mismatch)");
-}
-
-// The spacing every rank agrees on, as the serial estimate_spacing would give it where it
-// needs no neighbour search: the cloud's, else (|domain| / N)^(1/d).
-Real agreed_spacing(const BoundaryValueProblem& p, const BvpSolveOptions& o, Index global_n, const Communicator& comm) {
-  Real dx = o.spacing > 0 ? o.spacing : p.cloud.spacing;
-  dx = max_over_ranks(comm, dx);
-  if (dx > 0) return dx;
-  const Real measure = max_over_ranks(comm, p.cloud.size() > 0 ? p.cloud.domain.measure() : 0.0);
-  const int dim = static_cast<int>(max_over_ranks(comm, static_cast<double>(p.cloud.size() > 0 ? p.cloud.dim : 0)));
-  check<ConfigError>(measure > 0 && dim > 0, "a distributed solve needs the particle spacing: give "
-                     "BvpSolveOptions::spacing (or cloud.spacing, or a cloud with a known domain)");
-  return std::pow(measure / static_cast<Real>(global_n), 1.0 / dim);
 }
 
 std::vector<char> owned_mask(const DistributedCloud& dc, std::initializer_list<Tag> tags) {
@@ -100,43 +88,12 @@ CsrMatrix globalise(const LinearSystem& sys, const std::vector<Index>& global_do
   return A;
 }
 
-// A message from code that ran on the local cloud names local particle numbers ("particle
-// 12", "particles 3 and 4"): reworded with the global numbers the user knows.
-// (A scan by hand: <regex> doubled this file's compile time.)
+// A message from code that ran on the local cloud names local particle numbers: reworded
+// with the global numbers the user knows.
 std::string with_global_numbers(const std::string& message, const DistributedCloud& dc) {
-  std::string out;
-  std::size_t at = 0;
-  // Copies the digits at `at` as a global number (if they are a local particle's).
-  const auto number = [&]() {
-    std::size_t end = at;
-    while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
-    if (end == at || end - at > 12) return false;  // not a particle number (nor one stoll could overflow on)
-    const long long local = std::stoll(message.substr(at, end - at));
-    out += local < dc.local_size() ? std::to_string(dc.global_id[static_cast<std::size_t>(local)])
-                                   : message.substr(at, end - at);
-    at = end;
-    return true;
-  };
-  for (;;) {
-    const std::size_t word = message.find("particle", at);
-    if (word == std::string::npos) break;
-    std::size_t digits = word + 8;
-    if (digits < message.size() && message[digits] == 's') ++digits;
-    if (digits >= message.size() || message[digits] != ' ') {
-      out.append(message, at, digits - at);
-      at = digits;
-      continue;
-    }
-    out.append(message, at, digits + 1 - at);
-    at = digits + 1;
-    if (number() && message.compare(at, 5, " and ") == 0) {
-      out += " and ";
-      at += 5;
-      number();
-    }
-  }
-  out.append(message, at, std::string::npos);
-  return out;
+  return renumber_particles(message, [&](long long local) {
+    return local < dc.local_size() ? static_cast<long long>(dc.global_id[static_cast<std::size_t>(local)]) : local;
+  });
 }
 
 // A stage on the local cloud: collective, and its errors name global particle numbers.
@@ -175,8 +132,6 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
     check<ConfigError>(std::isfinite(o.infeasible_tolerance) && o.infeasible_tolerance > 0,
                        "infeasible tolerance must be positive and finite, got ", o.infeasible_tolerance);
     check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "support radius h must be >= 0 (0: from the h-factor), got ", o.h);
-    check<ConfigError>(o.h > 0 || o.h_mode != SmoothingMode::Covering, "a distributed solve supports --h-mode fixed "
-                       "and knn (the covering radius is not computed over ranks yet)");
     check<ConfigError>(o.h_knn >= 0, "h-knn (k of the k-th neighbour) must be >= 1, or 0 for the default 2d; got ",
                        o.h_knn);
     check<ConfigError>(std::isfinite(o.h_factor) && o.h_factor > 0, "h-factor must be positive and finite, got ", o.h_factor);
@@ -189,10 +144,21 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   const auto method = builtin_methods().create(o.method, o.method_options);
   const long long global_n = sum_over_ranks(comm, static_cast<long long>(n_chunk));
   Real dx = 0;
-  collective(comm, [&] { dx = agreed_spacing(p, o, static_cast<Index>(std::max<long long>(global_n, 1)), comm); });
+  // The serial estimate_spacing of the whole cloud (its spacing, the domain's density, or
+  // the median k-th neighbour distance of a user's cloud).
+  dx = o.spacing > 0 ? o.spacing : estimate_spacing_over_ranks(p.cloud, comm);
   s.spacing = dx;
   s.h = o.h > 0 ? o.h : o.h_factor * dx;
-  const bool knn = o.h <= 0 && o.h_mode == SmoothingMode::Knn;
+  const bool knn = o.h <= 0 && o.h_mode == SmoothingMode::Knn, covering = o.h <= 0 && o.h_mode == SmoothingMode::Covering;
+  if (covering) {
+    const int dim = static_cast<int>(max_over_ranks(comm, static_cast<double>(p.cloud.size() ? p.cloud.dim : 0)));
+    collective(comm, [&] {
+      check<ConfigError>(p.cloud.size() == 0 || p.cloud.domain.shape != Domain::Shape::None,
+                         "--h-mode covering needs a known domain (box or ball) for the covering radius; a cloud "
+                         "without one (e.g. read from a file) cannot use it: use fixed or knn");
+      check<InputError>(global_n > dim, "the covering radius needs more than ", dim, " particles");
+    });
+  }
 
   // Partition with a halo as wide as the method's rows read: reach() supports (2 for D2 = D D
   // and for Shepard/Voronoi volumes of the neighbours, 3 for their VRSPH volumes).
@@ -202,6 +168,21 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   // knn radii h_i = kappa r_k(i): exact on the owner when every particle within r_k(i) is
   // local, i.e. r_k <= the halo width; the halo must also hold reach x max h_i. Widen and
   // partition again until both hold (one round for clouds without large holes).
+  // Covering: h = kappa max(dx, r_N), r_N exact from each rank's owned Voronoi cells when
+  // the halo holds every particle within 2 r_N of the owned ones (covering_radius.hpp);
+  // the halo must also hold reach x h. Widen and partition again until both hold.
+  while (covering) {
+    CoveringRadius mine;
+    local_stage(dc, [&] { mine = covering_radius_of_owned(dc.local, dc.owned, dx); });
+    const Real r = max_over_ranks(comm, mine.radius), h = o.h_factor * std::max(dx, r);
+    const Real need = std::max(2 * r, reach * h) * (1 + 1e-9);
+    if (need <= dc.halo_width) {
+      s.covering_radius = r;
+      s.h = h;
+      break;
+    }
+    dc = distribute(p.cloud, std::max(need, 2 * dc.halo_width), comm);
+  }
   std::vector<Real> radii;
   if (knn) {
     const int k = o.h_knn > 0 ? o.h_knn : 2 * std::max(dc.local.dim, 1);

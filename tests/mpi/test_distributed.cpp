@@ -4,12 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <set>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/cloud/box_faces.hpp>
 #include <typeinfo>
 #include <vrsph/core/error.hpp>
+#include <vrsph/io/cloud_file.hpp>
+#include <vrsph/io/csv.hpp>
+#include <vrsph/io/vtu.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
@@ -221,9 +226,6 @@ TEST(DistributedSolve, UnsupportedSettingsAreConfigErrors) {
   const auto [b, e] = my_slice(full.size());
   BvpSolveOptions o;
   o.communicator = world();
-  o.h_mode = SmoothingMode::Covering;
-  EXPECT_THROW(solve(part_of(whole, b, e), o), ConfigError);
-  o.h_mode = SmoothingMode::Fixed;
   o.solver.type = SolverType::UmfPack;
   EXPECT_THROW(solve(part_of(whole, b, e), o), ConfigError);
 }
@@ -334,6 +336,136 @@ TEST(DistributedSolve, KnnRadiiAsSerial) {
     const auto [s, b] = solve_my_part(whole, serial);
     EXPECT_NEAR(s.h, ref.h, 1e-12 * ref.h);
     for (Index k = 0; k < s.u.size(); ++k) ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-9) << method << " particle " << b + k;
+  }
+}
+
+// h = kappa max(dx, r_N) with the exact covering radius over the ranks: a box in 1D and 2D,
+// a disk, and a box with a hole whose r_N is many halo widths (the halo is widened).
+TEST(DistributedSolve, CoveringRadiusAsSerial) {
+  CloudSpec disk;
+  disk.family = CloudFamily::Disk;
+  disk.n = 16;
+  PointCloud holed = perturbed_box(2, 20, 4);
+  {
+    PointCloud kept;
+    kept.dim = 2;
+    kept.spacing = holed.spacing;
+    kept.domain = holed.domain;
+    for (Index i = 0; i < holed.size(); ++i) {
+      const Vec3& x = holed.positions[static_cast<std::size_t>(i)];
+      if ((x - Vec3(0.4, 0.5, 0)).norm() > 0.22 || holed.tags[static_cast<std::size_t>(i)] != Tag::Interior)
+        kept.add(x, holed.tags[static_cast<std::size_t>(i)]);
+    }
+    holed = kept;
+  }
+  const std::vector<std::pair<PointCloud, Real>> clouds = {
+      {perturbed_box(1, 24, 2), 2.5}, {perturbed_box(2, 16, 5), 2.2}, {make_study_cloud(disk).cloud, 2.2}, {holed, 1.2}};
+  for (const auto& [cloud, kappa] : clouds) {
+    const BoundaryValueProblem whole = problem_on(cloud);
+    for (const char* method : {"sph", "vrsph"}) {
+      BvpSolveOptions serial = serial_options(method, 16);
+      serial.spacing = cloud.spacing;
+      serial.h_mode = SmoothingMode::Covering;
+      serial.h_factor = kappa;
+      serial.on_infeasible = InfeasiblePolicy::Warn;
+      const BvpSolution ref = solve(whole, serial);
+      const auto [s, b] = solve_my_part(whole, serial);
+      ASSERT_GT(ref.covering_radius, 0);
+      EXPECT_DOUBLE_EQ(s.covering_radius, ref.covering_radius) << method << " " << cloud.dim << "D";
+      EXPECT_DOUBLE_EQ(s.h, ref.h);
+      for (Index k = 0; k < s.u.size(); ++k) ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-9) << method << " particle " << b + k;
+    }
+  }
+}
+
+namespace {
+// A file every rank can read, written by rank 0 (names unique per test run).
+std::string shared_file(const std::string& name, const std::function<void(const std::string&)>& write) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("vrsph-mpi-" + std::to_string(world().size()) + "-" + name)).string();
+  if (world().is_root()) write(path);
+  barrier(world());
+  return path;
+}
+
+void expect_part_of(const CloudFilePart& part, const CloudFile& whole) {
+  EXPECT_EQ(part.total, whole.cloud.size());
+  EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(part.file.cloud.size())), whole.cloud.size());
+  EXPECT_EQ(offset_over_ranks(world(), part.file.cloud.size()), part.first);
+  EXPECT_EQ(part.file.cloud.dim, whole.cloud.dim);
+  EXPECT_EQ(part.file.cloud.has_normals(), whole.cloud.has_normals());
+  ASSERT_EQ(part.file.fields.size(), whole.fields.size());
+  for (Index k = 0; k < part.file.cloud.size(); ++k) {
+    const auto i = static_cast<std::size_t>(part.first + k), sk = static_cast<std::size_t>(k);
+    ASSERT_EQ(part.file.cloud.positions[sk], whole.cloud.positions[i]) << "particle " << i;
+    ASSERT_EQ(part.file.cloud.tags[sk], whole.cloud.tags[i]);
+    if (whole.cloud.has_normals()) ASSERT_EQ(part.file.cloud.normals[sk], whole.cloud.normals[i]);
+    for (std::size_t f = 0; f < whole.fields.size(); ++f) {
+      ASSERT_EQ(part.file.fields[f].name, whole.fields[f].name);
+      ASSERT_EQ(part.file.fields[f].values[k], whole.fields[f].values[static_cast<Index>(i)]);
+    }
+  }
+}
+}  // namespace
+
+// Each rank parses only its byte range of a CSV file; VTU is read on rank 0 and scattered.
+// Together the parts are the serial read, in file order, with the fields.
+TEST(DistributedFile, PartsOfACloudFileAreTheSerialRead) {
+  PointCloud c = perturbed_box(2, 23, 7);
+  const std::string csv = shared_file("parts.csv", [&](const std::string& path) {
+    std::ofstream out(path);
+    out.precision(17);
+    out << "\xEF\xBB\xBF\n\nX, y ,tag,nx,ny,coef\n";  // BOM, blank lines, spaces and upper case
+    for (Index i = 0; i < c.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      out << c.positions[si][0] << ',' << c.positions[si][1] << ',' << to_string(c.tags[si]) << ','
+          << c.normals[si][0] << ',' << c.normals[si][1] << ',' << 1 + i * 0.5 << (i % 97 == 5 ? "\r\n\n" : "\n");
+    }
+  });
+  const CloudFile whole = read_cloud_file(csv);
+  ASSERT_EQ(whole.cloud.dim, 2);
+  expect_part_of(read_cloud_file_part(csv, 0, world()), whole);
+  const std::string vtu = shared_file("parts.vtu", [&](const std::string& path) {
+    PointField coef{"coef", whole.fields[0].values};
+    write_vtu(path, whole.cloud, {coef});
+  });
+  expect_part_of(read_cloud_file_part(vtu, 0, world()), read_cloud_file(vtu));
+  // A 3D request on a 2D file: the serial message on every rank.
+  std::string serial, parallel;
+  try { (void)read_cloud_file(csv, 3); } catch (const InputError& e) { serial = e.what(); }
+  try { (void)read_cloud_file_part(csv, 3, world()); } catch (const InputError& e) { parallel = e.what(); }
+  EXPECT_FALSE(serial.empty());
+  EXPECT_EQ(parallel, serial);
+}
+
+// A bad row deep in the file: the message names the file's line, as the serial read does,
+// on every rank (the rank that parsed it, which is not rank 0, is named too).
+TEST(DistributedFile, ABadRowIsNamedByItsLineOnEveryRank) {
+  const std::string csv = shared_file("bad.csv", [&](const std::string& path) {
+    std::ofstream out(path);
+    out << "x,y,tag\n";
+    for (int i = 0; i < 400; ++i) out << (i == 333 ? "0.5,oops,interior" : "0.25,0.125,interior") << "\n" << (i % 50 ? "" : "\n");
+  });
+  std::string serial, parallel;
+  try { (void)read_cloud_file(csv); } catch (const InputError& e) { serial = e.what(); }
+  try { (void)read_cloud_file_part(csv, 0, world()); } catch (const InputError& e) { parallel = e.what(); }
+  EXPECT_NE(serial.find(":342:"), std::string::npos) << serial;
+  EXPECT_NE(parallel.find(serial), std::string::npos) << parallel;  // after "rank r: " when r > 0
+  const std::string empty = shared_file("empty.csv", [&](const std::string& path) { std::ofstream(path) << "x,y,tag\n\n"; });
+  EXPECT_THROW((void)read_cloud_file_part(empty, 0, world()), InputError);
+}
+
+// The spacing of a cloud without a domain (a user's file): the serial estimate, from
+// distances computed on the owners (median k-th neighbour; 1D median gap; small clouds).
+TEST(DistributedFile, SpacingWithoutADomainAsSerial) {
+  for (const auto& [dim, n] : std::vector<std::pair<int, int>>{{1, 40}, {2, 5}, {2, 30}, {3, 9}}) {
+    PointCloud c = perturbed_box(dim, n, 11);
+    c.domain = Domain{};
+    c.spacing = 0;
+    if (dim == 1) c.positions[7] = c.positions[8];  // a duplicate: counted once
+    const Real serial = estimate_spacing(c);
+    const auto [b, e] = my_slice(c.size());
+    EXPECT_NEAR(estimate_spacing_over_ranks(slice(c, b, e), world()), serial, 1e-14 * serial) << dim << "D n=" << n;
   }
 }
 

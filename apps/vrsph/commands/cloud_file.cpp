@@ -36,10 +36,12 @@ void reject_generator_options(const CLI::App& cmd, const char* source, bool geom
       check<ConfigError>(cmd.count(opt) == 0, opt, " needs --geometry");
 }
 
-// The cloud of one run: the file, or the geometry filled at `spacing`.
-CloudFile load_cloud(const StudyArgs& a, const CloudFileArgs& file, const std::string& path, double spacing,
-                     const CLI::App& cmd) {
-  if (file.geometry.empty()) return read_cloud_file(path, a.dim_opt->count() ? a.dim : 0);
+// This rank's part of the cloud of one run: the file (read in parallel under mpirun, see
+// read_cloud_file_part), or the geometry filled at `spacing` (every rank fills the whole
+// geometry and keeps its slice).
+CloudFilePart load_cloud(const StudyArgs& a, const CloudFileArgs& file, const std::string& path, double spacing,
+                         const CLI::App& cmd, const Communicator& comm) {
+  if (file.geometry.empty()) return read_cloud_file_part(path, a.dim_opt->count() ? a.dim : 0, comm);
   GeometryRequest r;
   r.path = file.geometry;
   r.spacing = spacing;
@@ -48,12 +50,18 @@ CloudFile load_cloud(const StudyArgs& a, const CloudFileArgs& file, const std::s
   r.seed = a.seed;
   r.neumann_where = file.neumann_where;
   r.dirichlet_where = file.dirichlet_where;
-  CloudFile cf;
-  cf.source = path;
-  cf.cloud = make_geometry_cloud(r).cloud;
-  check<InputError>(!a.dim_opt->count() || a.dim == cf.cloud.dim, "--dim ", a.dim, " does not match the ",
-                    cf.cloud.dim, "D geometry ", file.geometry);
-  return cf;
+  CloudFilePart part;
+  part.file.source = path;
+  collective(comm, [&] {
+    PointCloud whole = make_geometry_cloud(r).cloud;
+    check<InputError>(!a.dim_opt->count() || a.dim == whole.dim, "--dim ", a.dim, " does not match the ", whole.dim,
+                      "D geometry ", file.geometry);
+    const auto total = static_cast<long long>(whole.size());
+    part.total = static_cast<Index>(total);
+    part.first = static_cast<Index>(total * comm.rank() / comm.size());
+    part.file.cloud = slice(whole, part.first, static_cast<Index>(total * (comm.rank() + 1) / comm.size()));
+  });
+  return part;
 }
 
 // The label of a geometry run, e.g. "torus.stl@0.05".
@@ -92,55 +100,51 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
                     const MethodOptions& method_options, double h, double spacing, const CLI::App& cmd) {
   Stopwatch watch;
   FileRun r;
-  CloudFile cf = load_cloud(a, file, path, spacing, cmd);
+  // Under mpirun each rank holds only its part of the particles (the file's order) and the
+  // solve is distributed; sizes, errors and diagnostics are the whole cloud's.
+  const Communicator& comm = communicator();
+  CloudFilePart part = load_cloud(a, file, path, spacing, cmd, comm);
+  const CloudFile& cf = part.file;
   const auto column = [&](const std::string& name, const char* option) {
     return name.empty() ? nullptr : &cf.field(name, option);
   };
-  const ProblemValues values{column(file.u_column, "--u-column"), column(file.a_column, "--a-column"),
-                             column(file.f_column, "--f-column"), column(file.g_column, "--g-column"),
-                             column(file.q_column, "--q-column")};
+  ProblemValues values;
   std::vector<Real> volumes;
-  if (!file.volume_column.empty()) {
-    const Field& v = cf.field(file.volume_column, "--volume-column");
-    for (Index i = 0; i < v.size(); ++i)
-      check<InputError>(v[i] > 0, path, ": --volume-column '", file.volume_column, "' is not positive (", v[i],
-                        ") at particle ", i);
-    volumes.assign(v.data(), v.data() + v.size());
-  }
   ProblemExpressions expressions{a.u, a.a, a.f, a.g, a.q};
-  if (!a.mobility.empty()) expressions.mobility = parse_expression_list(a.mobility, "--mobility");
-  r.ep = problem_from_expressions(cf.cloud, expressions, values);
+  collective(comm, [&] {
+    try {
+      values = {column(file.u_column, "--u-column"), column(file.a_column, "--a-column"),
+                column(file.f_column, "--f-column"), column(file.g_column, "--g-column"),
+                column(file.q_column, "--q-column")};
+      if (!file.volume_column.empty()) {
+        const Field& v = cf.field(file.volume_column, "--volume-column");
+        for (Index i = 0; i < v.size(); ++i)
+          check<InputError>(v[i] > 0, path, ": --volume-column '", file.volume_column, "' is not positive (", v[i],
+                            ") at particle ", i);
+        volumes.assign(v.data(), v.data() + v.size());
+      }
+      if (!a.mobility.empty()) expressions.mobility = parse_expression_list(a.mobility, "--mobility");
+      r.ep = problem_from_expressions(cf.cloud, expressions, values);
+    } catch (const std::exception& e) {  // particles named by their place in the file
+      if (part.first == 0) throw;
+      rethrow_with_message(e, renumber_particles(e.what(), [&](long long i) { return i + part.first; }));
+    }
+  });
   r.ep.problem.fix_constant = a.fix_constant;
   BvpSolveOptions o = solve_options(a, method, method_options, h);
   o.label = method + " on " + path;
-  // Under mpirun every rank has read the whole file; each keeps its slice of the particles
-  // (the file's order) and the solve is distributed. The spacing is the whole cloud's.
-  const Communicator& comm = communicator();
-  const auto total = static_cast<long long>(r.ep.problem.cloud.size());
-  const Index first = static_cast<Index>(total * comm.rank() / comm.size()),
-              last = static_cast<Index>(total * (comm.rank() + 1) / comm.size());
-  PointCloud whole;
-  if (comm.distributed()) {
-    o.communicator = comm;
-    if (o.h <= 0) o.spacing = estimate_spacing(r.ep.problem.cloud);
-    whole = r.ep.problem.cloud;
-    r.ep.problem = part_of(r.ep.problem, first, last);
-    if (r.ep.exact.size()) r.ep.exact = Field(r.ep.exact.segment(first, last - first));
-  }
+  if (comm.distributed()) o.communicator = comm;
   r.s = solve(r.ep.problem, o);
   print_warnings(r.s.warnings);
-  if (r.ep.exact.size()) {
-    // On the whole cloud (the near-boundary split measures the distance to its boundary
-    // particles), with this rank's errors only, then summed over the ranks.
-    const PointCloud& c = comm.distributed() ? whole : r.ep.problem.cloud;
-    Eigen::MatrixXd err = Eigen::MatrixXd::Zero(c.size(), 1);
-    err.col(0).segment(comm.distributed() ? first : 0, r.s.u.size()) = r.s.u - r.ep.exact;
-    std::vector<char> rows = unknown_mask(c);
-    for (Index i = 0; i < c.size(); ++i)
-      if (comm.distributed() && (i < first || i >= last)) rows[static_cast<std::size_t>(i)] = 0;
+  if (any_rank(comm, r.ep.exact.size() > 0)) {
+    const PointCloud& c = r.ep.problem.cloud;
+    Eigen::MatrixXd err(c.size(), 1);
+    err.col(0) = r.s.u - r.ep.exact;
     // L2 weights: the file's volumes, else the estimated spacing to the power d.
     if (volumes.empty()) volumes.assign(static_cast<std::size_t>(c.size()), std::pow(r.s.spacing, c.dim));
-    r.errors = reduce_over_ranks(error_norms(err, rows, c, r.s.h, volumes), comm, 0);
+    // Near the boundary: within one support radius of the nearest tagged boundary particle
+    // (of every rank's part).
+    r.errors = error_norms_over_ranks(err, unknown_mask(c), c, r.s.h, volumes, comm, part.first);
   }
   r.seconds = watch.seconds();
   return r;

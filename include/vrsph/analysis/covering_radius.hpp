@@ -11,6 +11,7 @@
 // with its true nearest-particle distance (k-d tree), so a superset of candidates can
 // never overestimate. All particles (ghosts included) count as covering points.
 #include <functional>
+#include <span>
 #include <vector>
 #include <vrsph/cloud/point_cloud.hpp>
 
@@ -26,6 +27,18 @@ struct CoveringRadius {
 
 /// Throws InputError for a cloud without a box or ball domain, or with fewer than d+1 particles.
 CoveringRadius covering_radius(const PointCloud& cloud);
+
+/// One rank's share of the covering radius of a distributed cloud: the largest distance
+/// from a candidate point (as above, of the `local` cloud: owned and halo particles) to
+/// its nearest particle, over the candidates nearest to an `owned` particle. Exactness:
+/// the local Voronoi cell of an owned particle contains its cell in the whole cloud, so
+/// the maximum over ranks is >= r_N; a candidate at distance d from its nearest owned
+/// particle is scored exactly when every particle within 2d of that one is local. Hence,
+/// with a halo of every particle within w of the owned ones, the maximum over ranks is
+/// r_N exactly when it is <= w / 2 (else: widen the halo and call again). `spacing` sets
+/// the round-off tolerance of the domain test (as the whole cloud's spacing would).
+/// `nearest` is a local index; a rank without owned particles gives radius 0.
+CoveringRadius covering_radius_of_owned(const PointCloud& local, std::span<const char> owned, Real spacing);
 
 /// The covering radius over a general domain (a polygon, a solid bounded by a surface), given
 /// by a membership test and a sample of its boundary in which every boundary point has a

@@ -23,16 +23,23 @@ struct ErrorReport {
   ErrorNorms all, interior, near_boundary;
 };
 
+/// The norms of the whole cloud from every rank's (collective; serial: unchanged). `first_id`
+/// is the global number of this rank's first particle: `worst` becomes a global number.
+ErrorReport reduce_over_ranks(const ErrorReport& mine, const Communicator& comm, Index first_id);
+
 /// err: N x c pointwise errors; rows: which particles count; near_distance: particles
 /// whose distance to the domain boundary is below it count as near-boundary (use the
 /// support radius: their kernels would be truncated without ghosts; without a known domain
 /// the distance is to the nearest tagged boundary particle); volumes: N values
 /// or empty (equal volumes).
-/// The norms of the whole cloud from every rank's (collective; serial: unchanged). `first_id`
-/// is the global number of this rank's first particle: `worst` becomes a global number.
-ErrorReport reduce_over_ranks(const ErrorReport& mine, const Communicator& comm, Index first_id);
-
 ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
                         Real near_distance, std::span<const Real> volumes = {});
+
+/// error_norms of the whole cloud when each rank passes its part, numbered from `first_id`
+/// (collective; serial: error_norms). Without a known domain the near-boundary distance is
+/// to the tagged boundary particles of every rank, gathered on each (a surface's worth).
+ErrorReport error_norms_over_ranks(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& part,
+                                   Real near_distance, std::span<const Real> volumes, const Communicator& comm,
+                                   Index first_id);
 
 }  // namespace vrsph

@@ -3,6 +3,7 @@
 // whole text must be the number (no trailing characters, no embedded NUL byte, no
 // empty string), so "0.5\0junk" or "3abc" are errors rather than 0.5 or 3.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -23,5 +24,10 @@ std::string to_lower(std::string text);
 /// Printable form of a text for error messages: control bytes (NUL, tab, ...) and
 /// non-ASCII bytes become \\xNN, and long texts are cut at `max_length` characters.
 std::string printable(std::string_view text, std::size_t max_length = 80);
+
+/// `message` with the particle numbers it names ("particle 12", "particles 3 and 4") mapped
+/// by `number_of`: a message from code that ran on one rank's part of a cloud, reworded
+/// with the whole cloud's numbers.
+std::string renumber_particles(const std::string& message, const std::function<long long(long long)>& number_of);
 
 }  // namespace vrsph

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 #include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/parallel/communicator.hpp>
 
 namespace vrsph {
 
@@ -26,5 +27,21 @@ struct CloudFile {
 /// Reads a cloud file by its extension: .vtu/.vtp (VTK XML, see vtk_cloud.hpp), .msh (Gmsh,
 /// see gmsh_cloud.hpp), anything else as CSV (see csv.hpp). Throws IoError/InputError naming the file and line or array.
 CloudFile read_cloud_file(const std::string& path, int dim = 0);
+
+/// This rank's part of a cloud file that every rank of `comm` reads together (collective).
+/// The parts are consecutive runs of the file's particles in rank order, so a particle's
+/// number is its place in the file, and no rank holds the whole cloud:
+///  * CSV: each rank reads and parses only its own byte range of the rows (every rank reads
+///    the header); line numbers in messages are the file's.
+///  * VTK XML and Gmsh: rank 0 reads the file, then hands each rank its slice (MPI_Scatterv)
+///    and keeps only its own; so rank 0 holds the whole cloud while it reads.
+/// The dimension is settled by all rows together. Errors are thrown on every rank (the
+/// first in file order). Serial communicator: read_cloud_file.
+struct CloudFilePart {
+  CloudFile file;   ///< this rank's particles and their fields
+  Index first = 0;  ///< number of the first of them in the file
+  Index total = 0;  ///< particles in the whole file
+};
+CloudFilePart read_cloud_file_part(const std::string& path, int dim, const Communicator& comm);
 
 }  // namespace vrsph

@@ -55,6 +55,11 @@ bool any_rank(const Communicator& comm, bool value);
 long long offset_over_ranks(const Communicator& comm, long long value);
 /// Every rank's value, in rank order.
 std::vector<long long> gather_over_ranks(const Communicator& comm, long long value);
+/// Every rank's values concatenated in rank order, on every rank.
+std::vector<double> gather_over_ranks(const Communicator& comm, const std::vector<double>& mine);
+/// Consecutive slices of the root's values, `count` of them to this rank (counts in rank
+/// order; on_root is read on rank 0 only and must hold their sum). Serial: on_root.
+std::vector<double> scatter_from_root(const Communicator& comm, const std::vector<double>& on_root, long long count);
 /// Strings from every rank concatenated on every rank in rank order.
 std::vector<std::string> gather_strings(const Communicator& comm, const std::vector<std::string>& mine);
 /// (value, index) with the largest value; ties: the smallest index.

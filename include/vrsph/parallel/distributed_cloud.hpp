@@ -55,6 +55,14 @@ struct DistributedCloud {
 /// ranks than particles; a halo width that is not positive and finite).
 DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Communicator& comm);
 
+/// estimate_spacing (point_cloud.hpp) of the union of every rank's chunk, the same value on
+/// every rank (collective): the chunks' spacing, else (|domain| / particles inside)^(1/d),
+/// else the serial statistic (median k-th neighbour distance, 1D: median gap; small clouds:
+/// mean nearest-neighbour distance) of the same per-particle distances, each computed by
+/// its owner over a halo widened until no particle beyond it could change the distance.
+/// Equal to the serial value (the mean to round-off). Throws as estimate_spacing does.
+Real estimate_spacing_over_ranks(const PointCloud& chunk, const Communicator& comm);
+
 /// Values of the input chunk (one per chunk particle, chunk order) at the local particles
 /// (owned and halo, local order). Collective.
 Field chunk_to_local(const DistributedCloud& dc, const Field& chunk_values);
