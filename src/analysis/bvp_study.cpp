@@ -249,13 +249,11 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     run.resident_bytes_before = resident_memory_bytes();
     reset_peak_resident_memory();
   }
-  // Distributed: this rank makes only its slice of the serial numbering (lattices).
+  // Distributed: this rank makes only its part of the serial numbering.
   const Communicator& comm = p.communicator;
-  spec.part = comm.rank();
-  spec.parts = comm.size();
-  StudyCloud sc;
+  spec.communicator = comm;
+  StudyCloud sc = make_study_cloud(spec);  // (collective)
   collective(comm, [&] {
-    sc = make_study_cloud(spec);
     run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(flux_faces(p), p.dim), sc.dx);
   });
   run.neumann_particles = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(run.neumann_particles)));

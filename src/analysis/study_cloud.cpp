@@ -31,7 +31,10 @@ void check_study_settings(int dim, Real h_factor, Real delta, Real regular_layer
                      regular_layer);
 }
 
-StudyCloud make_study_cloud(const CloudSpec& spec) {
+namespace {
+// This rank's part of the cloud; total, first and (centroids) spacing and longest edge
+// are completed over the ranks by make_study_cloud.
+StudyCloud make_part(const CloudSpec& spec, Index& centroid_inside) {
   check<InputError>(spec.box.shape == Domain::Shape::Box, "study clouds need a box domain");
   check<ConfigError>(spec.n >= 1, "number of intervals n must be >= 1, got ", spec.n);
   const Real side = spec.box.hi[0] - spec.box.lo[0];
@@ -39,11 +42,10 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
   StudyCloud out;
   out.dx = dx;
   const int ghost_layers = spec.ghost_width > 0 ? ghost_layers_for(spec.ghost_width - dx, dx) : 0;
-  check<ConfigError>(spec.parts >= 1 && spec.part >= 0 && spec.part < spec.parts, "cloud part ", spec.part, " of ",
-                     spec.parts);
+  const int part = spec.communicator.rank(), parts = spec.communicator.size();
   const auto part_of = [&](Index total) {  // this part's slice of a cloud of `total` particles
     const auto t = static_cast<long long>(total);
-    return ParticleRange{static_cast<Index>(t * spec.part / spec.parts), static_cast<Index>(t * (spec.part + 1) / spec.parts)};
+    return ParticleRange{static_cast<Index>(t * part / parts), static_cast<Index>(t * (part + 1) / parts)};
   };
   switch (spec.family) {
     case CloudFamily::Uniform:
@@ -54,13 +56,13 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
       long long whole = 1;
       for (int k = 0; k < spec.box.dim; ++k) whole *= per_axis;
       // (A whole cloud is generated and checked by the lattice generator, n first.)
-      check<ConfigError>(spec.parts == 1 || whole < std::numeric_limits<Index>::max(), "the lattice would have ", whole,
+      check<ConfigError>(parts == 1 || whole < std::numeric_limits<Index>::max(), "the lattice would have ", whole,
                          " particles, more than a 32-bit index can number: reduce --n");
-      const ParticleRange range = spec.parts > 1 ? part_of(static_cast<Index>(whole)) : ParticleRange{};
+      const ParticleRange range = parts > 1 ? part_of(static_cast<Index>(whole)) : ParticleRange{};
       out.cloud = vertex ? vertex_lattice(spec.box, spec.n, ghost_layers, range)
                          : cell_centred_lattice(spec.box, spec.n, ghost_layers == 0, ghost_layers, range);
-      out.total = out.cloud.size() + (spec.parts > 1 ? static_cast<Index>(whole) - (range.end - range.begin) : 0);
-      out.first = spec.parts > 1 ? range.begin : 0;
+      out.total = out.cloud.size() + (parts > 1 ? static_cast<Index>(whole) - (range.end - range.begin) : 0);
+      out.first = parts > 1 ? range.begin : 0;
       if (spec.family == CloudFamily::Perturbed && out.cloud.size() > 0) {
         PerturbOptions o;
         o.delta = spec.delta;
@@ -72,24 +74,44 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
       }
       return out;
     }
-    case CloudFamily::Centroids:
-      out.cloud = mesh_centroids(spec.box, dx, spec.seed, spec.ghost_width, spec.ghost_width <= 0, &out.max_edge);
-      break;
+    case CloudFamily::Centroids: {
+      // A range of node layers (mesh_centroids_part); the numbers come from the other parts.
+      MeshCentroidsPart m = mesh_centroids_part(spec.box, dx, spec.seed, spec.ghost_width, spec.ghost_width <= 0, part, parts);
+      out.cloud = std::move(m.cloud);
+      out.max_edge = m.max_edge;
+      centroid_inside = m.inside;
+      return out;
+    }
     case CloudFamily::Disk: {
       check<ConfigError>(spec.ghost_width <= 0, "the disk cloud has no ghost particles (use --no-ghosts)");
-      out.cloud = ball_cloud(spec.box.dim, 0.5 * side, spec.n);
+      // Only this part of it.
+      out.total = ball_cloud_size(spec.box.dim, 0.5 * side, spec.n);
+      const ParticleRange range = parts > 1 ? part_of(out.total) : ParticleRange{};
+      out.first = parts > 1 ? range.begin : 0;
+      out.cloud = ball_cloud(spec.box.dim, 0.5 * side, spec.n, range);
       const Vec3 centre = 0.5 * (spec.box.lo + spec.box.hi);
       for (auto& x : out.cloud.positions) x += centre;
       out.cloud.domain = Domain::ball(spec.box.dim, centre, 0.5 * side);
-      break;
+      return out;
     }
   }
-  // Scattered families: the whole cloud (its generation is global), then this part of it.
-  out.total = out.cloud.size();
-  if (spec.parts > 1) {
-    const ParticleRange r = part_of(out.total);
-    out.first = r.begin;
-    out.cloud = slice(out.cloud, r.begin, r.end);
+  return out;
+}
+}  // namespace
+
+StudyCloud make_study_cloud(const CloudSpec& spec) {
+  const Communicator& comm = spec.communicator;
+  StudyCloud out;
+  Index inside = 0;
+  collective(comm, [&] { out = make_part(spec, inside); });
+  if (spec.family == CloudFamily::Centroids) {
+    const long long mine = out.cloud.size();
+    out.total = static_cast<Index>(sum_over_ranks(comm, mine));
+    out.first = static_cast<Index>(offset_over_ranks(comm, mine));
+    out.max_edge = max_over_ranks(comm, out.max_edge);
+    // Nominal spacing from the particle density inside the box (as mesh_centroids).
+    const long long all_inside = sum_over_ranks(comm, static_cast<long long>(inside));
+    out.cloud.spacing = std::pow(spec.box.measure() / static_cast<Real>(std::max<long long>(all_inside, 1)), 1.0 / spec.box.dim);
   }
   return out;
 }

@@ -168,51 +168,112 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
   }
 }
 
-PointCloud ball_cloud(int dim, Real radius, int n) {
+namespace {
+// The ball cloud's numbering without its particles: interior lattice points row by row
+// (x outermost, the last axis innermost), then the surface particles. A row's points are
+// those of the inner index t with |t| <= T (the distance to the centre grows with |t|, and
+// +t and -t give the same square), so its count comes from a bisection for T.
+struct BallLayout {
+  int dim = 1, m = 0;
+  Real radius = 0, dx = 0;
+  Domain ball;
+  std::vector<Index> row_start;  ///< first interior number of each row, and the total last
+  Index surface = 0;             ///< surface particles (after the interior ones)
+
+  BallLayout(int d, Real r, int n) : dim(d), m(n / 2 + 1), radius(r), dx(2 * r / n), ball(Domain::ball(d, Vec3::Zero(), r)) {
+    const int rows_per_axis = 2 * m + 1, rows = dim == 1 ? 1 : dim == 2 ? rows_per_axis : rows_per_axis * rows_per_axis;
+    row_start.assign(static_cast<std::size_t>(rows) + 1, 0);
+    for (int row = 0; row < rows; ++row) {
+      const int reach = half_width(row);
+      row_start[static_cast<std::size_t>(row) + 1] = row_start[static_cast<std::size_t>(row)] + (reach < 0 ? 0 : 2 * reach + 1);
+    }
+    if (dim == 1) surface = 2;
+    else if (dim == 2) surface = std::max(8, static_cast<int>(std::lround(2 * std::numbers::pi * radius / dx)));
+    else surface = std::max(12, static_cast<int>(std::lround(4 * std::numbers::pi * radius * radius / (dx * dx))));
+  }
+  Index interior() const { return row_start.back(); }
+  Index size() const { return interior() + surface; }
+  // Lattice point t of a row: rows are (k) in 2D and (k, j) in 3D, k outermost.
+  Vec3 point(int row, int t) const {
+    if (dim == 1) return Vec3(t * dx, 0, 0);
+    if (dim == 2) return Vec3((row - m) * dx, t * dx, 0);
+    return Vec3((row / (2 * m + 1) - m) * dx, (row % (2 * m + 1) - m) * dx, t * dx);
+  }
+  // At least dx/2 inside the surface (the test every interior point passes).
+  bool inside(const Vec3& x) const { return ball.signed_distance(x) >= 0.5 * dx - 1e-12 * dx; }
+  // The largest t in [0, m] of a row whose point is inside, -1 if none.
+  int half_width(int row) const {
+    if (!inside(point(row, 0))) return -1;
+    int lo = 0, hi = m;  // inside(lo) holds
+    while (lo < hi) {
+      const int mid = lo + (hi - lo + 1) / 2;
+      if (inside(point(row, mid))) lo = mid;
+      else hi = mid - 1;
+    }
+    return lo;
+  }
+  // Surface particle s: its outward normal (the position is radius x normal).
+  Vec3 surface_normal(Index s) const {
+    if (dim == 1) return Vec3(s == 0 ? -1 : 1, 0, 0);
+    if (dim == 2) {
+      const Real t = 2 * std::numbers::pi * static_cast<Real>(s) / static_cast<Real>(surface);
+      return Vec3(std::cos(t), std::sin(t), 0);
+    }
+    const Real golden = std::numbers::pi * (3 - std::sqrt(5.0));
+    const Real z = 1 - 2 * (static_cast<Real>(s) + 0.5) / static_cast<Real>(surface), rr = std::sqrt(1 - z * z),
+               t = golden * static_cast<Real>(s);
+    return Vec3(rr * std::cos(t), rr * std::sin(t), z);
+  }
+};
+
+void check_ball(int dim, Real radius, int n) {
   check<InputError>(dim >= 1 && dim <= 3, "ball cloud dimension must be 1, 2 or 3, got ", dim);
   check<InputError>(radius > 0 && std::isfinite(radius), "ball radius must be positive, got ", radius);
   check<ConfigError>(n >= 2 && n <= 100000, "ball cloud needs n in 2..100000 intervals per diameter, got ", n);
+  check<ConfigError>(dim < 3 || n <= 4000, "a 3D ball cloud with n = ", n, " intervals per diameter is unreasonably large");
+}
+}  // namespace
+
+Index ball_cloud_size(int dim, Real radius, int n) {
+  check_ball(dim, radius, n);
+  return BallLayout(dim, radius, n).size();
+}
+
+PointCloud ball_cloud(int dim, Real radius, int n, const ParticleRange& range) {
+  check_ball(dim, radius, n);
+  const BallLayout layout(dim, radius, n);
+  const Index whole = layout.size();
+  check<ConfigError>(range.end < 0 || (0 <= range.begin && range.begin <= range.end && range.end <= whole),
+                     "particle range ", range.begin, "..", range.end, " of a ball cloud of ", whole, " particles");
+  const Index begin = range.end < 0 ? 0 : range.begin, end = range.end < 0 ? whole : range.end;
   PointCloud c;
   c.dim = dim;
   c.domain = Domain::ball(dim, Vec3::Zero(), radius);
-  const Real dx = 2 * radius / n;
-  c.spacing = dx;
-  check_memory_estimate(std::pow(n + 3.0, dim) * bytes_per_particle,
-                        detail::concat("the ball cloud (about ", std::pow(n + 3.0, dim), " particles)"),
+  c.spacing = layout.dx;
+  check_memory_estimate(static_cast<double>(end - begin) * bytes_per_particle,
+                        detail::concat("the ball cloud (", end - begin, " particles)"),
                         "reduce --n (intervals per diameter) or the dimension");
-  c.normals.clear();
-  c.normals.reserve(16);
-  auto add = [&](const Vec3& x, Tag t, const Vec3& nrm) {
-    c.positions.push_back(x);
-    c.tags.push_back(t);
+  c.positions.reserve(static_cast<std::size_t>(end - begin));
+  c.tags.reserve(static_cast<std::size_t>(end - begin));
+  c.normals.reserve(static_cast<std::size_t>(end - begin));
+  // Interior rows that overlap [begin, end), each from its first number.
+  const auto first_row = std::upper_bound(layout.row_start.begin(), layout.row_start.end(), begin) - layout.row_start.begin() - 1;
+  for (auto row = static_cast<std::size_t>(std::max<std::ptrdiff_t>(first_row, 0));
+       row + 1 < layout.row_start.size() && layout.row_start[row] < end; ++row) {
+    const Index count = layout.row_start[row + 1] - layout.row_start[row], reach = (count - 1) / 2;
+    for (Index t = 0; t < count; ++t) {
+      const Index number = layout.row_start[row] + t;
+      if (number < begin || number >= end) continue;
+      c.positions.push_back(layout.point(static_cast<int>(row), static_cast<int>(t - reach)));
+      c.tags.push_back(Tag::Interior);
+      c.normals.push_back(Vec3::Zero());
+    }
+  }
+  for (Index s = std::max<Index>(begin - layout.interior(), 0); s < layout.surface && layout.interior() + s < end; ++s) {
+    const Vec3 nrm = layout.surface_normal(s);
+    c.positions.push_back(radius * nrm);
+    c.tags.push_back(Tag::Dirichlet);
     c.normals.push_back(nrm);
-  };
-  // Interior lattice points at least dx/2 inside the surface.
-  const int m = n / 2 + 1;
-  for (int k = -m; k <= m; ++k)
-    for (int j = (dim > 1 ? -m : 0); j <= (dim > 1 ? m : 0); ++j)
-      for (int i = (dim > 2 ? -m : 0); i <= (dim > 2 ? m : 0); ++i) {
-        Vec3 x(k * dx, j * dx, i * dx);
-        if (c.domain.signed_distance(x) >= 0.5 * dx - 1e-12 * dx) add(x, Tag::Interior, Vec3::Zero());
-      }
-  if (dim == 1) {
-    add(Vec3(-radius, 0, 0), Tag::Dirichlet, Vec3(-1, 0, 0));
-    add(Vec3(radius, 0, 0), Tag::Dirichlet, Vec3(1, 0, 0));
-  } else if (dim == 2) {
-    const int nb = std::max(8, static_cast<int>(std::lround(2 * std::numbers::pi * radius / dx)));
-    for (int k = 0; k < nb; ++k) {
-      const Real t = 2 * std::numbers::pi * k / nb;
-      const Vec3 nrm(std::cos(t), std::sin(t), 0);
-      add(radius * nrm, Tag::Dirichlet, nrm);
-    }
-  } else {
-    const int nb = std::max(12, static_cast<int>(std::lround(4 * std::numbers::pi * radius * radius / (dx * dx))));
-    const Real golden = std::numbers::pi * (3 - std::sqrt(5.0));
-    for (int k = 0; k < nb; ++k) {
-      const Real z = 1 - 2 * (k + 0.5) / nb, rr = std::sqrt(1 - z * z), t = golden * k;
-      const Vec3 nrm(rr * std::cos(t), rr * std::sin(t), z);
-      add(radius * nrm, Tag::Dirichlet, nrm);
-    }
   }
   return c;
 }

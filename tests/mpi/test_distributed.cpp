@@ -291,24 +291,42 @@ TEST(DistributedSolve, EveryRegisteredMethodAsSerialIn1DAnd2D) {
   }
 }
 
-// Each rank generates only its slice of a lattice, and the slices are the serial cloud's.
-TEST(DistributedStudy, LatticePartsAreSlicesOfTheWholeCloud) {
-  for (const Layout layout : {Layout::Vertex, Layout::CellCentred}) {
+// Each rank generates only its part of a built-in cloud, and the parts in rank order are
+// the serial cloud: lattices (both layouts), the disk/ball, and the mesh centroids (whose
+// parts triangulate only their layers of nodes and a margin).
+TEST(DistributedStudy, CloudPartsAreTheWholeCloud) {
+  struct Case {
+    CloudFamily family;
+    Layout layout;
+    int dim, n;
+    Real ghost_width;
+  };
+  for (const Case& k : {Case{CloudFamily::Perturbed, Layout::Vertex, 3, 7, 0}, Case{CloudFamily::Perturbed, Layout::CellCentred, 3, 7, 0},
+                        Case{CloudFamily::Disk, Layout::Vertex, 2, 15, 0}, Case{CloudFamily::Disk, Layout::Vertex, 3, 9, 0},
+                        Case{CloudFamily::Centroids, Layout::Vertex, 2, 14, 0}, Case{CloudFamily::Centroids, Layout::Vertex, 2, 10, 0.25},
+                        Case{CloudFamily::Centroids, Layout::Vertex, 3, 5, 0}}) {
     CloudSpec spec;
-    spec.family = CloudFamily::Perturbed;
-    spec.box = Domain::unit_box(3);
-    spec.n = 7;
-    spec.layout = layout;
+    spec.family = k.family;
+    spec.box = Domain::unit_box(k.dim);
+    spec.n = k.n;
+    spec.layout = k.layout;
+    spec.ghost_width = k.ghost_width;
     spec.seed = 12;
     const StudyCloud whole = make_study_cloud(spec);
-    spec.part = world().rank();
-    spec.parts = world().size();
+    spec.communicator = world();
     const StudyCloud part = make_study_cloud(spec);
-    EXPECT_EQ(part.total, whole.cloud.size());
-    EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(part.cloud.size())), whole.cloud.size());
-    for (Index k = 0; k < part.cloud.size(); ++k) {
-      ASSERT_EQ(part.cloud.positions[static_cast<std::size_t>(k)], whole.cloud.positions[static_cast<std::size_t>(part.first + k)]);
-      ASSERT_EQ(part.cloud.tags[static_cast<std::size_t>(k)], whole.cloud.tags[static_cast<std::size_t>(part.first + k)]);
+    const std::string what = to_string(k.family) + " " + std::to_string(k.dim) + "D";
+    EXPECT_EQ(part.total, whole.cloud.size()) << what;
+    EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(part.cloud.size())), whole.cloud.size()) << what;
+    EXPECT_EQ(offset_over_ranks(world(), part.cloud.size()), part.first) << what;
+    EXPECT_EQ(part.cloud.spacing, whole.cloud.spacing) << what;
+    EXPECT_EQ(part.max_edge, whole.max_edge) << what;
+    EXPECT_EQ(part.cloud.domain.shape, whole.cloud.domain.shape) << what;
+    for (Index i = 0; i < part.cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i), wi = static_cast<std::size_t>(part.first + i);
+      ASSERT_EQ(part.cloud.positions[si], whole.cloud.positions[wi]) << what << " particle " << wi;
+      ASSERT_EQ(part.cloud.tags[si], whole.cloud.tags[wi]) << what;
+      if (whole.cloud.has_normals()) ASSERT_EQ(part.cloud.normals[si], whole.cloud.normals[wi]) << what;
     }
   }
 }

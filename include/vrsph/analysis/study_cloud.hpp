@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 #include <vrsph/cloud/generate.hpp>
+#include <vrsph/parallel/communicator.hpp>
 
 namespace vrsph {
 
@@ -27,10 +28,11 @@ struct CloudSpec {
   std::uint64_t seed = 1;
   bool perturb_boundary = false;     ///< Perturbed: also move boundary particles along their faces
   Real regular_layer = 0;            ///< Perturbed: first-layer particles move only tangentially (width in dx)
-  /// One rank's part of a distributed run: part p of `parts` is the slice
-  /// [N p / parts, N (p + 1) / parts) of the whole cloud's numbering. Lattices (uniform,
-  /// perturbed) generate only that slice; centroids and disk make the whole cloud and cut it.
-  int part = 0, parts = 1;
+  /// The ranks that share the cloud (default: this process alone). With several, each rank
+  /// makes only its part, and the parts in rank order are the whole cloud's numbering:
+  /// lattices and the disk the slice [N r / P, N (r + 1) / P); centroids a range of the
+  /// mesh's node layers (mesh_centroids_part). make_study_cloud is then collective.
+  Communicator communicator;
 };
 
 struct StudyCloud {
@@ -41,6 +43,7 @@ struct StudyCloud {
   Index first = 0;    ///< number of cloud's first particle in the whole cloud
 };
 
+/// Throws (on every rank of spec.communicator) ConfigError/InputError for bad settings.
 StudyCloud make_study_cloud(const CloudSpec& spec);
 
 /// The settings every study shares: dimension 1..3, a positive finite h-factor, a

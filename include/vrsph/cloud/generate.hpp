@@ -51,8 +51,11 @@ void perturb(PointCloud& cloud, const PerturbOptions& options);
 /// Scattered particles in a disk (2D), ball (3D) or interval (1D) of the given radius
 /// centred at the origin: interior particles on the lattice of spacing dx = 2R/n at
 /// least dx/2 inside, boundary particles (Dirichlet, radial normals) evenly on the
-/// surface at spacing ~dx (Fibonacci sphere in 3D).
-PointCloud ball_cloud(int dim, Real radius, int n);
+/// surface at spacing ~dx (Fibonacci sphere in 3D). Numbering: the interior points row by
+/// row (x outermost), then the surface ones; `range` makes only those particles.
+PointCloud ball_cloud(int dim, Real radius, int n, const ParticleRange& range = {});
+/// Particles of ball_cloud(dim, radius, n), counted without making them.
+Index ball_cloud_size(int dim, Real radius, int n);
 
 /// Centroids of a triangulation (2D) / tetrahedralisation (3D) of the box with maximum
 /// edge length below dx ([QW] Example 3; METHODS P12 substitute for the MATLAB mesh):
@@ -63,5 +66,18 @@ PointCloud ball_cloud(int dim, Real radius, int n);
 /// 0) become Dirichlet particles. `max_edge` receives the longest mesh edge.
 PointCloud mesh_centroids(const Domain& box, Real dx, std::uint64_t seed, Real ghost_width, bool boundary_particles,
                           Real* max_edge = nullptr);
+
+/// Part `part` of `parts` of the mesh_centroids cloud, made without the rest: the particles
+/// of a range of node layers along the last axis (see mesh_centroids.cpp), so that the
+/// parts in order are the whole cloud's numbering (which is layer by layer: the centroids
+/// of the simplices whose lowest-numbered node lies in the layer, then the layer's boundary
+/// nodes). The spacing needs every part's `inside` count: it is left 0 here.
+struct MeshCentroidsPart {
+  PointCloud cloud;
+  Real max_edge = 0;  ///< longest edge of this part's simplices
+  Index inside = 0;   ///< particles not tagged Ghost
+};
+MeshCentroidsPart mesh_centroids_part(const Domain& box, Real dx, std::uint64_t seed, Real ghost_width,
+                                      bool boundary_particles, int part, int parts);
 
 }  // namespace vrsph

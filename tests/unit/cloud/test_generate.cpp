@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
@@ -84,6 +85,43 @@ TEST(Generate, BallCloud) {
       }
     }
   }
+}
+
+// The interior is every lattice point at least dx/2 inside (x outermost), as a direct scan
+// finds them; parts made alone are slices of the whole cloud.
+TEST(Generate, BallCloudRowsAndParts) {
+  for (int dim = 1; dim <= 3; ++dim)
+    for (int n : {2, 7, 12}) {
+      const Real radius = 0.75, dx = 2 * radius / n;
+      const PointCloud c = ball_cloud(dim, radius, n);
+      ASSERT_EQ(ball_cloud_size(dim, radius, n), c.size());
+      std::vector<Vec3> scan;
+      const int m = n / 2 + 1;
+      for (int k = -m; k <= m; ++k)
+        for (int j = dim > 1 ? -m : 0; j <= (dim > 1 ? m : 0); ++j)
+          for (int i = dim > 2 ? -m : 0; i <= (dim > 2 ? m : 0); ++i)
+            if (c.domain.signed_distance(Vec3(k * dx, j * dx, i * dx)) >= 0.5 * dx - 1e-12 * dx)
+              scan.emplace_back(k * dx, j * dx, i * dx);
+      ASSERT_EQ(c.count(Tag::Interior), static_cast<Index>(scan.size())) << dim << "D n=" << n;
+      for (std::size_t p = 0; p < scan.size(); ++p) ASSERT_EQ(c.positions[p], scan[p]);
+      for (Index p = static_cast<Index>(scan.size()); p < c.size(); ++p) {
+        const auto sp = static_cast<std::size_t>(p);
+        ASSERT_EQ(c.tags[sp], Tag::Dirichlet);
+        ASSERT_NEAR(c.positions[sp].norm(), radius, 1e-14);
+        ASSERT_EQ(c.positions[sp], radius * c.normals[sp]);
+      }
+      Index cuts[] = {0, 1, c.size() / 3, static_cast<Index>(scan.size()), c.size() - 1, c.size()};
+      std::sort(std::begin(cuts), std::end(cuts));
+      for (std::size_t a = 0; a + 1 < std::size(cuts); ++a) {
+        const PointCloud part = ball_cloud(dim, radius, n, {cuts[a], cuts[a + 1]});
+        ASSERT_EQ(part.size(), cuts[a + 1] - cuts[a]);
+        for (Index p = 0; p < part.size(); ++p) {
+          ASSERT_EQ(part.positions[static_cast<std::size_t>(p)], c.positions[static_cast<std::size_t>(cuts[a] + p)]);
+          ASSERT_EQ(part.tags[static_cast<std::size_t>(p)], c.tags[static_cast<std::size_t>(cuts[a] + p)]);
+        }
+      }
+      EXPECT_THROW((void)ball_cloud(dim, radius, n, {0, c.size() + 1}), ConfigError);
+    }
 }
 
 TEST(Generate, MeshCentroidsHaveShortEdgesAndLieInTheMesh) {
