@@ -15,6 +15,8 @@ GeometryCloud make_geometry_cloud(const GeometryRequest& r) {
   fill.delta = r.fill == "perturbed" ? r.delta.value_or(0.3) : 0;
   fill.seed = r.seed;
   fill.pattern = r.fill == "blue-noise" ? FillPattern::BlueNoise : FillPattern::Lattice;
+  fill.part = r.part;
+  fill.parts = r.parts;
   GeometryCloud g = fill_geometry(r.path, fill);
   if (!r.neumann_where.empty() || !r.dirichlet_where.empty()) {
     const bool by_neumann = !r.neumann_where.empty();

@@ -15,6 +15,7 @@ struct GeometryRequest {
   std::optional<double> delta;          ///< perturbed: amplitude in spacings (default 0.3)
   std::uint64_t seed = 1;
   std::string neumann_where, dirichlet_where;  ///< expressions; at most one of them
+  int part = 0, parts = 1;                      ///< lattice fills: this part only (GeometryFill)
 };
 
 /// Checks the request (fill name, delta only with perturbed, not both expressions), fills the

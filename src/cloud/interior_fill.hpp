@@ -2,6 +2,7 @@
 // The interior particles of a geometry fill, shared by the polygon (polygon.cpp) and the closed
 // surface (surface.cpp): the same lattice or blue-noise rule in 2D and 3D.
 #include <cstdint>
+#include <vrsph/core/error.hpp>
 #include <vrsph/cloud/blue_noise.hpp>
 #include <vrsph/cloud/geometry_fill.hpp>
 #include <vrsph/cloud/point_cloud.hpp>
@@ -22,7 +23,9 @@ void add_interior_particles(PointCloud& cloud, const Vec3& lo, const Vec3& hi, c
     cloud.tags.push_back(Tag::Interior);
     cloud.normals.push_back(Vec3::Zero());
   };
+  check<ConfigError>(f.parts >= 1 && f.part >= 0 && f.part < f.parts, "geometry fill: part ", f.part, " of ", f.parts);
   if (f.pattern == FillPattern::BlueNoise) {
+    check<ConfigError>(f.parts == 1, "a blue-noise fill grows from the whole boundary: it cannot be made in parts");
     const std::vector<Vec3> seeds = cloud.positions;
     for (const Vec3& x : grow_blue_noise(dim, blue_noise_radius_factor(dim) * f.spacing, seeds, admissible, blue_noise_seed))
       put(x);
@@ -30,8 +33,11 @@ void add_interior_particles(PointCloud& cloud, const Vec3& lo, const Vec3& hi, c
   }
   const auto n = [&](int k) { return k < dim ? static_cast<long long>((hi[k] - lo[k]) / f.spacing) + 1 : 0; };
   const long long nx = n(0), ny = n(1), nz = n(2);
-  for (long long kz = 0; kz <= nz; ++kz)
-    for (long long ky = 0; ky <= ny; ++ky)
+  // This part's layers of the outermost axis (the last one): [layers p / P, layers (p + 1) / P).
+  const long long layers = (dim == 3 ? nz : ny) + 1;
+  const long long l0 = layers * f.part / f.parts, l1 = layers * (f.part + 1) / f.parts;
+  for (long long kz = dim == 3 ? l0 : 0; kz <= (dim == 3 ? l1 - 1 : nz); ++kz)
+    for (long long ky = dim == 3 ? 0 : l0; ky <= (dim == 3 ? ny : l1 - 1); ++ky)
       for (long long kx = 0; kx <= nx; ++kx) {
         Vec3 x = lo + f.spacing * Vec3(static_cast<Real>(kx), static_cast<Real>(ky), static_cast<Real>(kz));
         if (f.delta > 0) {

@@ -178,7 +178,7 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
   const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1);
   check<ResourceError>(lattice < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
                        " lattice points over the geometry: choose a larger spacing");
-  check_memory_estimate(lattice * (2 * sizeof(Vec3) + sizeof(Tag)),
+  check_memory_estimate(lattice / f.parts * (2 * sizeof(Vec3) + sizeof(Tag)),
                         detail::concat("the cloud of the geometry (up to ", lattice, " particles)"),
                         "choose a larger --spacing");
   PointCloud c;
@@ -193,7 +193,7 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
   };
   // Boundary: each edge split into ceil(length / spacing) pieces; the outward normal of the
   // domain is the ring's outward normal for the outer ring and its inward one for holes.
-  for (std::size_t r = 0; r < p.rings.size(); ++r) {
+  for (std::size_t r = 0; r < p.rings.size() && f.part == 0; ++r) {  // (a part > 0: interior layers only)
     const auto& ring = p.rings[r];
     const Real orientation = signed_area(ring) > 0 ? 1 : -1;  // +1: counter-clockwise
     const Real side = (r == 0 ? 1 : -1) * orientation;
@@ -216,7 +216,7 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
     return inside_polygon(p, x) && distance_to_polygon_boundary(p, x) >= 0.5 * f.spacing;
   };
   detail::add_interior_particles(c, lo, hi, f, f.seed, admissible);
-  validate(c);
+  if (c.size() > 0 || f.parts == 1) validate(c);  // (a part may be empty)
   return c;
 }
 

@@ -183,23 +183,13 @@ ClosedSurface read_closed_surface(const std::string& path) {
   return s;
 }
 
-PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
-  check<ConfigError>(std::isfinite(f.spacing) && f.spacing > 0, "the spacing must be positive and finite, got ", f.spacing);
-  check<ConfigError>(std::isfinite(f.delta) && f.delta >= 0 && f.delta < 0.5, "the perturbation must be in [0, 0.5), got ",
-                     f.delta);
+namespace {
+// The boundary particles of a fill: sharp edges and corners first, then a Poisson-disk set
+// on the faces; tagged by the surface's Neumann regions.
+void add_surface_particles(const ClosedSurface& surface, const GeometryFill& f, PointCloud& cloud) {
   const auto& impl = surface.impl();
   const Mesh& m = impl.mesh;
-  const Vec3 lo = impl.lo, hi = impl.hi;
-  const Real smallest = (hi - lo).minCoeff();
-  check<ConfigError>(f.spacing * 3 <= smallest, "the spacing ", f.spacing, " is too large for the geometry: its ",
-                     "bounding box is ", smallest, " thin (at least 3 particles across are needed)");
-  const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1) * ((hi[2] - lo[2]) / f.spacing + 1);
-  const double on_surface = 30 * impl.area / (f.spacing * f.spacing);
-  check<ResourceError>(lattice < 2e9 && on_surface < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
-                       " lattice points over the geometry: choose a larger spacing");
-  check_memory_estimate(lattice * (2 * sizeof(Vec3) + sizeof(Tag)) + on_surface * 2 * sizeof(Vec3),
-                        detail::concat("the cloud of the geometry (up to ", lattice, " particles)"), "choose a larger --spacing");
-
+  const Real area_density = 30 * impl.area / (f.spacing * f.spacing);
   // Sharp edges (faces meeting at more than 40 degrees) and their vertices get particles of
   // their own first, so that edges and corners are resolved and carry a normal between the
   // faces'; a vertex's normal is its faces' normals weighted by their angles at the vertex
@@ -251,7 +241,7 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
     cumulative.push_back(total);
     face_of.push_back(fc);
   }
-  const auto candidates = static_cast<std::uint64_t>(std::ceil(on_surface));
+  const auto candidates = static_cast<std::uint64_t>(std::ceil(area_density));
   std::vector<Vec3> cand, cand_nrm;
   cand.reserve(candidates);
   cand_nrm.reserve(candidates);
@@ -264,9 +254,6 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
     cand.push_back((1 - s) * c[0] + s * (1 - t) * c[1] + s * t * c[2]);  // uniform on the triangle
     cand_nrm.push_back(impl.face_normal[static_cast<std::size_t>(fc)]);
   }
-  PointCloud cloud;
-  cloud.dim = 3;
-  cloud.spacing = f.spacing;
   const auto put = [&cloud](const Vec3& x, Tag t, const Vec3& n) {
     cloud.positions.push_back(x);
     cloud.tags.push_back(t);
@@ -276,10 +263,33 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
   for (std::size_t k = 0; k < fixed.size(); ++k) put(fixed[k], kind(fixed[k]), fixed_nrm[k]);
   for (std::size_t k : thin_to_blue_noise(cand, blue_noise_radius_factor(2) * f.spacing, fixed, f.seed + 2))
     put(cand[k], kind(cand[k]), cand_nrm[k]);
+}
+}  // namespace
+
+PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
+  check<ConfigError>(std::isfinite(f.spacing) && f.spacing > 0, "the spacing must be positive and finite, got ", f.spacing);
+  check<ConfigError>(std::isfinite(f.delta) && f.delta >= 0 && f.delta < 0.5, "the perturbation must be in [0, 0.5), got ",
+                     f.delta);
+  const auto& impl = surface.impl();
+  const Vec3 lo = impl.lo, hi = impl.hi;
+  const Real smallest = (hi - lo).minCoeff();
+  check<ConfigError>(f.spacing * 3 <= smallest, "the spacing ", f.spacing, " is too large for the geometry: its ",
+                     "bounding box is ", smallest, " thin (at least 3 particles across are needed)");
+  const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1) * ((hi[2] - lo[2]) / f.spacing + 1);
+  const double on_surface = 30 * impl.area / (f.spacing * f.spacing);
+  check<ResourceError>(lattice < 2e9 && on_surface < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
+                       " lattice points over the geometry: choose a larger spacing");
+  check_memory_estimate(lattice / f.parts * (2 * sizeof(Vec3) + sizeof(Tag)) + (f.part == 0 ? on_surface * 2 * sizeof(Vec3) : 0),
+                        detail::concat("the cloud of the geometry (up to ", lattice, " particles)"), "choose a larger --spacing");
+
+  PointCloud cloud;
+  cloud.dim = 3;
+  cloud.spacing = f.spacing;
+  if (f.part == 0) add_surface_particles(surface, f, cloud);  // (a part > 0: interior layers only)
   // Interior: at least half a spacing inside the surface.
   const auto admissible = [&](const Vec3& x) { return surface.contains(x) && surface.distance(x) >= 0.5 * f.spacing; };
   detail::add_interior_particles(cloud, lo, hi, f, f.seed + 3, admissible);
-  validate(cloud);
+  if (cloud.size() > 0 || f.parts == 1) validate(cloud);  // (a part may be empty)
   return cloud;
 }
 

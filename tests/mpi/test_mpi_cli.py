@@ -56,6 +56,11 @@ class SameTables(unittest.TestCase):
                       "--cloud", "perturbed", "--n", "12,24", "--solver", "petsc", "--petsc-options", DIRECT], 1e-10,
                      ranks=(2,))
 
+    def test_centroid_and_disk_clouds_made_per_rank_with_covering_h(self):
+        for cloud in ("centroids", "disk"):
+            self.compare(["study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", cloud, "--n", "16,24",
+                          "--h-mode", "covering", "--solver", "petsc", "--petsc-options", DIRECT], 1e-10, ranks=(3,))
+
     def test_issue_command_with_amg(self):
         # GMRES + BoomerAMG to rtol 1e-10 on both sides: equal to the solver's tolerance.
         self.compare(["study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", "perturbed", "--n", "40,80",
@@ -93,6 +98,31 @@ class Output(unittest.TestCase):
                 self.assertAlmostEqual(b[key] / a[key], 1.0, delta=1e-9, msg=key)
             self.assertEqual(b["vtu"], "s.pvtu")
             self.assertTrue(os.path.exists(os.path.join(d, "s_1.vtu")))
+            # Byte ranges of the CSV on 3 ranks, and a VTU file read on rank 0 and scattered.
+            self.assertEqual(run(0, "cloud", "--input", "c.csv", "--output", "c.vtu", cwd=d).returncode, 0)
+            for ranks, name in ((3, "c.csv"), (2, "c.vtu")):
+                p = run(ranks, *[name if x == "c.csv" else x for x in args], cwd=d)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                c = json.loads(p.stdout)["rows"][0]
+                self.assertEqual(c["particles"], a["particles"])
+                for key in ("error_inf", "error_l2", "h", "spacing"):
+                    self.assertAlmostEqual(c[key] / a[key], 1.0, delta=1e-9, msg=f"{key} from {name} on {ranks} ranks")
+
+
+    def test_geometry_filled_in_parts(self):
+        # A lattice fill makes only each rank's layers (rank 0 also the surface); blue noise
+        # is made whole on every rank. Both give the serial solve.
+        cube = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "errors", "fixtures", "cube.off")
+        for fill in ("perturbed", "blue-noise"):
+            args = ["solve", "--geometry", cube, "--spacing", "0.125", "--fill", fill, "--u", "x*y+z^2", "--method", "vrsph",
+                    "--solver", "petsc", "--petsc-options", DIRECT, "--format", "json"]
+            serial, par = run(0, *args), run(3, *args)
+            self.assertEqual(serial.returncode, 0, serial.stderr)
+            self.assertEqual(par.returncode, 0, par.stderr)
+            a, b = json.loads(serial.stdout)["rows"][0], json.loads(par.stdout)["rows"][0]
+            self.assertEqual(a["particles"], b["particles"], fill)
+            for key in ("error_inf", "error_l2", "h"):
+                self.assertAlmostEqual(b[key] / a[key], 1.0, delta=1e-9, msg=f"{key} {fill}")
 
 
 class BadInput(unittest.TestCase):
@@ -101,6 +131,16 @@ class BadInput(unittest.TestCase):
         self.assertEqual(p.returncode, code, p.stderr)
         self.assertIn(fragment, p.stderr)
         self.assertEqual(p.stderr.count("vrsph: "), 1, "one message, from rank 0: " + p.stderr)
+
+    def test_bad_row_of_a_cloud_file_read_in_parallel(self):
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, "bad.csv"), "w") as f:
+                f.write("x,y,tag\n" + "".join(f"{i / 100},{(i * 7 % 100) / 100},interior\n" for i in range(300)))
+                f.write("0.5,nan,interior\n")
+            p = run(3, "solve", "--cloud-file", "bad.csv", "--u", "x", "--solver", "petsc", timeout=120, cwd=d)
+            self.assertEqual(p.returncode, 3, p.stderr)
+            self.assertIn("bad.csv:302: column y is not finite", p.stderr)
+            self.assertEqual(p.stderr.count("vrsph: "), 1, p.stderr)
 
     def test_serial_only_command(self):
         self.expect(2, 2, "runs on one rank", "cloud", "--family", "perturbed", "--n", "8")

@@ -37,8 +37,9 @@ void reject_generator_options(const CLI::App& cmd, const char* source, bool geom
 }
 
 // This rank's part of the cloud of one run: the file (read in parallel under mpirun, see
-// read_cloud_file_part), or the geometry filled at `spacing` (every rank fills the whole
-// geometry and keeps its slice).
+// read_cloud_file_part), or the geometry filled at `spacing` (a lattice fill makes only
+// this rank's layers, and rank 0 the boundary; a blue-noise fill, which grows from the whole
+// boundary, is made whole on every rank, which keeps its slice).
 CloudFilePart load_cloud(const StudyArgs& a, const CloudFileArgs& file, const std::string& path, double spacing,
                          const CLI::App& cmd, const Communicator& comm) {
   if (file.geometry.empty()) return read_cloud_file_part(path, a.dim_opt->count() ? a.dim : 0, comm);
@@ -50,17 +51,27 @@ CloudFilePart load_cloud(const StudyArgs& a, const CloudFileArgs& file, const st
   r.seed = a.seed;
   r.neumann_where = file.neumann_where;
   r.dirichlet_where = file.dirichlet_where;
+  const bool in_parts = file.fill != "blue-noise";
+  if (in_parts) {
+    r.part = comm.rank();
+    r.parts = comm.size();
+  }
   CloudFilePart part;
   part.file.source = path;
   collective(comm, [&] {
-    PointCloud whole = make_geometry_cloud(r).cloud;
-    check<InputError>(!a.dim_opt->count() || a.dim == whole.dim, "--dim ", a.dim, " does not match the ", whole.dim,
-                      "D geometry ", file.geometry);
-    const auto total = static_cast<long long>(whole.size());
-    part.total = static_cast<Index>(total);
-    part.first = static_cast<Index>(total * comm.rank() / comm.size());
-    part.file.cloud = slice(whole, part.first, static_cast<Index>(total * (comm.rank() + 1) / comm.size()));
+    part.file.cloud = make_geometry_cloud(r).cloud;
+    check<InputError>(!a.dim_opt->count() || a.dim == part.file.cloud.dim, "--dim ", a.dim, " does not match the ",
+                      part.file.cloud.dim, "D geometry ", file.geometry);
   });
+  const auto mine = static_cast<long long>(part.file.cloud.size());
+  if (in_parts) {
+    part.total = static_cast<Index>(sum_over_ranks(comm, mine));
+    part.first = static_cast<Index>(offset_over_ranks(comm, mine));
+  } else {
+    part.total = static_cast<Index>(mine);
+    part.first = static_cast<Index>(mine * comm.rank() / comm.size());
+    part.file.cloud = slice(part.file.cloud, part.first, static_cast<Index>(mine * (comm.rank() + 1) / comm.size()));
+  }
   return part;
 }
 

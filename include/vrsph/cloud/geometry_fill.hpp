@@ -15,6 +15,11 @@ struct GeometryFill {
   Real delta = 0;    ///< lattice perturbation amplitude in units of spacing, [0, 0.5); lattice pattern only
   std::uint64_t seed = 1;
   FillPattern pattern = FillPattern::Lattice;
+  /// Lattice fills can be made in parts (one per MPI rank): part p of `parts` holds a range
+  /// of the interior lattice's layers along the last axis, and part 0 also the boundary
+  /// particles; the parts in order are the whole cloud's numbering (boundary first, then the
+  /// lattice layer by layer). Blue noise grows from the boundary: whole clouds only.
+  int part = 0, parts = 1;
 };
 
 /// Poisson-disk exclusion radius, as a fraction of the spacing, that gives about one particle

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/cloud/polygon.hpp>
@@ -187,4 +188,40 @@ TEST(Surface, GeneralCoveringRadiusBracketsTheExactOneOfABox) {
     EXPECT_LE(general.radius, exact.radius + 1e-12) << "dim " << dim;
     EXPECT_GE(general.radius + general.uncertainty, exact.radius) << "dim " << dim;
   }
+}
+
+namespace {
+// Parts made alone, concatenated in order, are the whole fill.
+void expect_parts_are_the_whole(const std::function<PointCloud(const GeometryFill&)>& fill, GeometryFill f) {
+  const PointCloud whole = fill(f);
+  for (int parts : {2, 3, 7}) {
+    std::vector<Vec3> x;
+    std::vector<Tag> t;
+    for (int p = 0; p < parts; ++p) {
+      f.part = p;
+      f.parts = parts;
+      const PointCloud c = fill(f);
+      if (p > 0) {
+        EXPECT_EQ(c.count(Tag::Dirichlet) + c.count(Tag::Neumann), 0) << "part " << p << " of " << parts;
+      }
+      x.insert(x.end(), c.positions.begin(), c.positions.end());
+      t.insert(t.end(), c.tags.begin(), c.tags.end());
+    }
+    EXPECT_EQ(x, whole.positions) << parts << " parts";
+    EXPECT_EQ(t, whole.tags);
+  }
+  f.pattern = FillPattern::BlueNoise;
+  EXPECT_THROW_MSG(fill(f), ConfigError, "cannot be made in parts");
+}
+}  // namespace
+
+TEST(Surface, LatticeFillsInPartsAreTheWholeFill) {
+  const ClosedSurface s = read_closed_surface(write("parts.off", box_off(1, 0.6, 0.7)));
+  GeometryFill f;
+  f.spacing = 0.1;
+  f.delta = 0.3;
+  expect_parts_are_the_whole([&](const GeometryFill& g) { return fill_surface(s, g); }, f);
+  const Polygon plate = parse_geojson_polygon(R"({"type": "Polygon", "coordinates": [[[0,0],[2,0],[2,1],[0,1],[0,0]],
+    [[0.7,0.3],[0.7,0.7],[1.1,0.7],[1.1,0.3],[0.7,0.3]]]})", "plate.geojson");
+  expect_parts_are_the_whole([&](const GeometryFill& g) { return fill_polygon(plate, g); }, f);
 }
