@@ -36,6 +36,20 @@ PointCloud perturbed_box(int dim, int n, std::uint64_t seed) {
   return make_study_cloud(spec).cloud;
 }
 
+// The cloud without its interior particles within `radius` of `centre` (a hole).
+PointCloud with_hole(const PointCloud& full, const Vec3& centre, Real radius) {
+  PointCloud holed;
+  holed.dim = full.dim;
+  holed.spacing = full.spacing;
+  holed.domain = full.domain;
+  for (Index i = 0; i < full.size(); ++i) {
+    const Vec3& x = full.positions[static_cast<std::size_t>(i)];
+    if ((x - centre).norm() > radius || full.tags[static_cast<std::size_t>(i)] != Tag::Interior)
+      holed.add(x, full.tags[static_cast<std::size_t>(i)]);
+  }
+  return holed;
+}
+
 // This rank's slice of the serial numbering.
 std::pair<Index, Index> my_slice(Index total) {
   const auto t = static_cast<long long>(total);
@@ -334,18 +348,8 @@ TEST(DistributedStudy, CloudPartsAreTheWholeCloud) {
 // Per-particle radii from the k-th neighbour: computed on the owners, halo widened as needed.
 TEST(DistributedSolve, KnnRadiiAsSerial) {
   for (const char* method : {"vrsph", "sph"}) {
-    PointCloud full = perturbed_box(2, 20, 6);
     // A hole in the middle: radii vary, and the k-th neighbours of its rim are far away.
-    PointCloud holed;
-    holed.dim = 2;
-    holed.spacing = full.spacing;
-    holed.domain = full.domain;
-    for (Index i = 0; i < full.size(); ++i) {
-      const Vec3& x = full.positions[static_cast<std::size_t>(i)];
-      if ((x - Vec3(0.5, 0.5, 0)).norm() > 0.2 || full.tags[static_cast<std::size_t>(i)] != Tag::Interior)
-        holed.add(x, full.tags[static_cast<std::size_t>(i)]);
-    }
-    const BoundaryValueProblem whole = problem_on(holed);
+    const BoundaryValueProblem whole = problem_on(with_hole(perturbed_box(2, 20, 6), Vec3(0.5, 0.5, 0), 0.2));
     BvpSolveOptions serial = serial_options(method, 20);
     serial.h_mode = SmoothingMode::Knn;
     serial.h_knn = 8;
@@ -363,19 +367,7 @@ TEST(DistributedSolve, CoveringRadiusAsSerial) {
   CloudSpec disk;
   disk.family = CloudFamily::Disk;
   disk.n = 16;
-  PointCloud holed = perturbed_box(2, 20, 4);
-  {
-    PointCloud kept;
-    kept.dim = 2;
-    kept.spacing = holed.spacing;
-    kept.domain = holed.domain;
-    for (Index i = 0; i < holed.size(); ++i) {
-      const Vec3& x = holed.positions[static_cast<std::size_t>(i)];
-      if ((x - Vec3(0.4, 0.5, 0)).norm() > 0.22 || holed.tags[static_cast<std::size_t>(i)] != Tag::Interior)
-        kept.add(x, holed.tags[static_cast<std::size_t>(i)]);
-    }
-    holed = kept;
-  }
+  const PointCloud holed = with_hole(perturbed_box(2, 20, 4), Vec3(0.4, 0.5, 0), 0.22);
   const std::vector<std::pair<PointCloud, Real>> clouds = {
       {perturbed_box(1, 24, 2), 2.5}, {perturbed_box(2, 16, 5), 2.2}, {make_study_cloud(disk).cloud, 2.2}, {holed, 1.2}};
   for (const auto& [cloud, kappa] : clouds) {
