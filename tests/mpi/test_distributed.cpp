@@ -340,7 +340,9 @@ TEST(DistributedStudy, CloudPartsAreTheWholeCloud) {
       const auto si = static_cast<std::size_t>(i), wi = static_cast<std::size_t>(part.first + i);
       ASSERT_EQ(part.cloud.positions[si], whole.cloud.positions[wi]) << what << " particle " << wi;
       ASSERT_EQ(part.cloud.tags[si], whole.cloud.tags[wi]) << what;
-      if (whole.cloud.has_normals()) ASSERT_EQ(part.cloud.normals[si], whole.cloud.normals[wi]) << what;
+      if (whole.cloud.has_normals()) {
+        ASSERT_EQ(part.cloud.normals[si], whole.cloud.normals[wi]) << what;
+      }
     }
   }
 }
@@ -409,7 +411,9 @@ void expect_part_of(const CloudFilePart& part, const CloudFile& whole) {
     const auto i = static_cast<std::size_t>(part.first + k), sk = static_cast<std::size_t>(k);
     ASSERT_EQ(part.file.cloud.positions[sk], whole.cloud.positions[i]) << "particle " << i;
     ASSERT_EQ(part.file.cloud.tags[sk], whole.cloud.tags[i]);
-    if (whole.cloud.has_normals()) ASSERT_EQ(part.file.cloud.normals[sk], whole.cloud.normals[i]);
+    if (whole.cloud.has_normals()) {
+      ASSERT_EQ(part.file.cloud.normals[sk], whole.cloud.normals[i]);
+    }
     for (std::size_t f = 0; f < whole.fields.size(); ++f) {
       ASSERT_EQ(part.file.fields[f].name, whole.fields[f].name);
       ASSERT_EQ(part.file.fields[f].values[k], whole.fields[f].values[static_cast<Index>(i)]);
