@@ -41,7 +41,8 @@ struct CloudArgs {
   bool regularity = false, normalise_volumes = false;
   std::string volumes = "uniform";
   double dn_radius = 0, c0 = 1;
-  long long dn_direct_limit = 3000, dn_block = 500;
+  long long dn_direct_limit = 3000, dn_block = 500, dn_flow_above = 20000;
+  std::string dn_method = "auto";
 };
 
 // The --regularity rows: what [IM] says about this set, before anything is solved on it.
@@ -56,6 +57,9 @@ void add_regularity_rows(const PointCloud& cloud, const CloudArgs& a, Real h,
   o.deviation.radius = a.dn_radius;
   o.deviation.direct_limit = static_cast<Index>(a.dn_direct_limit);
   o.deviation.block_particles = static_cast<Index>(a.dn_block);
+  o.deviation.method = parse_deviation_method(a.dn_method);
+  check<ConfigError>(a.dn_flow_above >= 0, "--dn-flow-above must be >= 0, got ", a.dn_flow_above);
+  o.deviation.flow_above = static_cast<Index>(a.dn_flow_above);
   o.deviation.normalise_volumes = a.normalise_volumes;
   const RegularityReport r = regularity(cloud, o);
   const VoronoiDeviation& d = r.deviation;
@@ -168,6 +172,11 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--dn-direct-limit", a->dn_direct_limit, "With --regularity: above this many particles d_N is "
                   "bounded by spatial blocks (an upper bound)")->capture_default_str();
   cmd->add_option("--dn-block", a->dn_block, "With --regularity: particles per block")->capture_default_str();
+  cmd->add_option("--dn-method", a->dn_method, "With --regularity: how d_N is bounded: lp (LP (63), minimised over "
+                  "decompositions), flow (one decomposition by a potential flow over the pairs: an upper bound, seconds "
+                  "at 10^5 particles), auto (lp up to --dn-flow-above particles, flow above)")->capture_default_str();
+  cmd->add_option("--dn-flow-above", a->dn_flow_above, "With --regularity and --dn-method auto: more particles than this "
+                  "use the flow")->capture_default_str();
   cmd->add_flag("--normalise-volumes", a->normalise_volumes, "With --regularity: scale the volumes to the cells' sum "
                 "(else a mismatch is an error: LP (63) would be infeasible)");
   cmd->add_option("--c0", a->c0, "With --regularity: the constant c0 of h^m >= c0 (r_N + d_N)")->capture_default_str();
@@ -277,7 +286,8 @@ void add_cloud_command(CLI::App& app) {
                          "--regularity needs a box or disk domain (a generated family, or a cloud file whose domain is known)");
       add_regularity_rows(cloud, *a, sp.radius, add);
     } else {
-      for (const char* opt : {"--volumes", "--dn-radius", "--dn-direct-limit", "--dn-block", "--normalise-volumes", "--c0"})
+      for (const char* opt : {"--volumes", "--dn-radius", "--dn-direct-limit", "--dn-block", "--dn-method", "--dn-flow-above",
+                              "--normalise-volumes", "--c0"})
         check<ConfigError>(cmd->count(opt) == 0, opt, " needs --regularity");
     }
     if (a->check_brute) add("brute_force_check", std::string("agrees"));

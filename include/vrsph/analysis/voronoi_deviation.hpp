@@ -22,7 +22,18 @@
 
 namespace vrsph {
 
+/// How d_N is bounded: LP (63) (the minimum over the decompositions within the pair radius;
+/// by spatial blocks above direct_limit), or the potential flow: one decomposition from a
+/// graph-Laplacian solve over the pairs, an upper bound that is not minimised but costs one
+/// sparse factorisation (10^5 particles in about a second). Auto: the LP up to flow_above
+/// particles, the flow above.
+enum class DeviationMethod { Auto, Lp, Flow };
+/// "auto" | "lp" | "flow"; throws ConfigError otherwise.
+DeviationMethod parse_deviation_method(const std::string& name);
+
 struct VoronoiDeviationOptions {
+  DeviationMethod method = DeviationMethod::Auto;
+  Index flow_above = 20000;    ///< Auto: more particles than this use the potential flow
   Real radius = 0;             ///< pair radius rho; 0 = 2 dx (dx = the cloud's spacing)
   Index direct_limit = 3000;   ///< more particles: block decomposition
   Index block_particles = 500; ///< target particles per block
@@ -34,7 +45,7 @@ struct VoronoiDeviationOptions {
 struct VoronoiDeviation {
   Real value = 0;               ///< d_N (or its upper bound)
   bool is_upper_bound = false;
-  std::string method;           ///< "lp" | "lp-restricted" | "lp-blocks"
+  std::string method;           ///< "lp" | "lp-restricted" | "lp-blocks" | "potential-flow"
   Real radius = 0;              ///< rho used (the first feasible of rho, 1.5 rho, ...)
   Index worst = -1;             ///< particle attaining the maximum
   Index blocks = 1;

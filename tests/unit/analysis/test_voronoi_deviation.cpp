@@ -72,3 +72,42 @@ TEST(VoronoiDeviation, VolumesMustSumToTheDomain) {
   V.pop_back();
   EXPECT_THROW(voronoi_deviation(c, V, cells), InputError);
 }
+
+// The potential flow is one decomposition, not the minimum: an upper bound on the full LP's
+// d_N, 0 for Voronoi volumes, and (measured on these sets) not far above the LP's bound.
+// Auto takes it above flow_above particles and falls back on the LP where it cannot carry
+// the surplus (layout A: halved face cells).
+TEST(VoronoiDeviation, PotentialFlowIsAnUpperBoundAndAutoFallsBackOnTheLp) {
+  const PointCloud c = perturbed(2, 16);
+  const auto cells = voronoi_cell_measures(c);
+  const auto V = uniform_volumes(c);
+  VoronoiDeviationOptions full;
+  full.radius = 10;
+  const Real exact = voronoi_deviation(c, V, cells, full).value;
+  VoronoiDeviationOptions flow;
+  flow.method = DeviationMethod::Flow;
+  const auto f = voronoi_deviation(c, V, cells, flow);
+  EXPECT_EQ(f.method, "potential-flow");
+  EXPECT_TRUE(f.is_upper_bound);
+  EXPECT_GE(f.value, exact * (1 - 1e-9));
+  EXPECT_LE(f.value, 1.5 * exact);
+  EXPECT_NEAR(voronoi_deviation(c, cells, cells, flow).value, 0, 1e-12);
+  for (int dim : {1, 3}) {
+    const PointCloud d = perturbed(dim, dim == 1 ? 60 : 5);
+    const auto dc = voronoi_cell_measures(d);
+    EXPECT_GE(voronoi_deviation(d, uniform_volumes(d), dc, flow).value,
+              voronoi_deviation(d, uniform_volumes(d), dc).value * (1 - 1e-9)) << dim << "D";
+  }
+  VoronoiDeviationOptions automatic;
+  automatic.flow_above = 100;
+  EXPECT_EQ(voronoi_deviation(c, V, cells, automatic).method, "potential-flow");
+  automatic.flow_above = 1000;
+  EXPECT_EQ(voronoi_deviation(c, V, cells, automatic).method, "lp-restricted");
+  PointCloud a = vertex_lattice(Domain::unit_box(2), 24);
+  perturb(a, {.delta = 0.5, .seed = 3});
+  const auto ac = voronoi_cell_measures(a);
+  automatic.flow_above = 100;
+  EXPECT_NE(voronoi_deviation(a, uniform_volumes(a), ac, automatic).method, "potential-flow");
+  EXPECT_THROW_MSG(voronoi_deviation(a, uniform_volumes(a), ac, flow), NumericalError, "use --dn-method lp");
+  EXPECT_THROW_MSG(parse_deviation_method("simplex"), ConfigError, "known: auto, lp, flow");
+}
