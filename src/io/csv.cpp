@@ -137,7 +137,7 @@ void finish_csv_rows(CsvRows& rows, const CsvHeader& h, int dim) {
   c.dim = dim;
   for (auto& n : c.normals)
     for (int k = c.dim; k < 3; ++k) n[k] = 0;
-  validate(c);
+  if (!c.positions.empty()) validate(c);  // (one rank's part of a file may hold no row; a whole file was checked)
   rows.extra.resize(h.extra_col.size());
   for (std::size_t e = 0; e < rows.extra.size(); ++e)
     rows.file.fields.push_back(

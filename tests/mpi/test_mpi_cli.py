@@ -142,6 +142,16 @@ class BadInput(unittest.TestCase):
             self.assertIn("bad.csv:302: column y is not finite", p.stderr)
             self.assertEqual(p.stderr.count("vrsph: "), 1, p.stderr)
 
+    def test_cloud_file_smaller_than_the_ranks(self):
+        # A rank whose byte range holds no row is allowed; the whole cloud's problem is named.
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, "one.csv"), "w") as f:
+                f.write("x,y,tag\n0.5,0.5,interior\n")
+            p = run(3, "solve", "--cloud-file", "one.csv", "--u", "x", "--solver", "petsc", timeout=120, cwd=d)
+            self.assertEqual(p.returncode, 4, p.stderr)
+            self.assertIn("the cloud has only 1 particle", p.stderr)
+            self.assertEqual(p.stderr.count("vrsph: "), 1, p.stderr)
+
     def test_serial_only_command(self):
         self.expect(2, 2, "runs on one rank", "cloud", "--family", "perturbed", "--n", "8")
 
