@@ -122,14 +122,9 @@ ErrorReport error_norms_over_ranks(const Eigen::MatrixXd& err, std::span<const c
       mine.insert(mine.end(), {x[0], x[1], x[2]});
     }
     const std::vector<double> all = gather_over_ranks(comm, mine);
-    PointCloud boundary;
-    boundary.dim = std::max(part.dim, 1);
-    boundary.tags.assign(all.size() / 3, Tag::Dirichlet);
-    for (std::size_t k = 0; k < all.size(); k += 3) boundary.positions.emplace_back(all[k], all[k + 1], all[k + 2]);
-    boundary.tags.insert(boundary.tags.end(), part.positions.size(), Tag::Interior);  // the part's own, untagged
-    boundary.positions.insert(boundary.positions.end(), part.positions.begin(), part.positions.end());
-    const std::vector<Real> d = distance_to_tagged_boundary(boundary);
-    wall.assign(d.end() - static_cast<std::ptrdiff_t>(part.positions.size()), d.end());
+    std::vector<Vec3> boundary;
+    for (std::size_t k = 0; k < all.size(); k += 3) boundary.emplace_back(all[k], all[k + 1], all[k + 2]);
+    wall = distance_to_points(boundary, std::max(part.dim, 1), part.positions);
   }
   ErrorReport mine;
   collective(comm, [&] { mine = norms(err, rows, part, near_distance, volumes, known_domain ? nullptr : &wall, first_id); });

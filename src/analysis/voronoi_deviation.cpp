@@ -147,6 +147,22 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
   return {cols, 3 * n};
 }
 
+// phi with L phi = E for the weighted graph Laplacian L given by `trip` (diagonal and
+// off-diagonal entries; sum E = 0): the constant is pinned by phi_0 = 0. A residual left
+// means a disconnected graph: NumericalError naming `disconnected`.
+Eigen::VectorXd graph_potential(Index n, std::vector<Eigen::Triplet<Real>> trip, const Eigen::Ref<const Eigen::VectorXd>& E,
+                                const char* disconnected) {
+  trip.emplace_back(0, 0, 1.0);
+  Eigen::SparseMatrix<Real> L(n, n);
+  L.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>> ldlt(L);
+  Eigen::VectorXd phi = ldlt.solve(E);
+  L.coeffRef(0, 0) -= 1.0;
+  check<NumericalError>(ldlt.info() == Eigen::Success && (L * phi - E).norm() <= 1e-8 * (E.norm() + 1),
+                        "Voronoi deviation: ", disconnected);
+  return phi;
+}
+
 // Potential flow on the block graph: per crossing pair (i in k, j in l) the transport
 // a_ij = c_ij max(0, phi_k - phi_l), c_ij = min(|sigma_i|, |sigma_j|) (scaled: ~1), so that
 // small cells (at the domain's edge) are not asked to pass as much as full ones; the
@@ -167,16 +183,9 @@ void crossing_flows(const Problem& p, const std::vector<Index>& block_of, Index 
     trip.emplace_back(kl.first, kl.first, w);
     trip.emplace_back(kl.first, kl.second, -w);
   }
-  trip.emplace_back(0, 0, 1.0);  // pins the constant: with sum E = 0 it gives phi_0 = 0
-  Eigen::SparseMatrix<Real> L(nblocks, nblocks);
-  L.setFromTriplets(trip.begin(), trip.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>> ldlt(L);
-  Eigen::Map<const Eigen::VectorXd> E(imbalance.data(), nblocks);
-  const Eigen::VectorXd phi = ldlt.solve(E);
-  L.coeffRef(0, 0) -= 1.0;
-  check<NumericalError>(ldlt.info() == Eigen::Success && (L * phi - E).norm() <= 1e-8 * (E.norm() + 1),
-                        "Voronoi deviation: the block graph is disconnected (blocks without pairs between them); "
-                        "use a larger pair radius or --dn-direct-limit");
+  const Eigen::VectorXd phi = graph_potential(nblocks, std::move(trip), Eigen::Map<const Eigen::VectorXd>(imbalance.data(), nblocks),
+                                              "the block graph is disconnected (blocks without pairs between them); use "
+                                              "a larger pair radius or --dn-direct-limit");
   for (std::size_t i = 0; i < p.cells.size(); ++i) {
     const auto nbr = p.pairs.of(static_cast<Index>(i));
     for (std::size_t s = 0; s < nbr.size(); ++s) {
@@ -213,15 +222,8 @@ bool potential_flow(const Problem& p, Transport& t) {
       trip.emplace_back(i, nbr[s], -c);
     }
   }
-  trip.emplace_back(0, 0, 1.0);  // pins the constant: with sum E = 0 it gives phi_0 = 0
-  Eigen::SparseMatrix<Real> L(n, n);
-  L.setFromTriplets(trip.begin(), trip.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>> ldlt(L);
-  const Eigen::VectorXd phi = ldlt.solve(E);
-  L.coeffRef(0, 0) -= 1.0;
-  check<NumericalError>(ldlt.info() == Eigen::Success && (L * phi - E).norm() <= 1e-8 * (E.norm() + 1),
-                        "Voronoi deviation: the pair graph is disconnected (particles without pairs between them); "
-                        "use a larger pair radius");
+  const Eigen::VectorXd phi = graph_potential(n, std::move(trip), E, "the pair graph is disconnected (particles without "
+                                              "pairs between them); use a larger pair radius");
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     const auto nbr = p.pairs.of(i);

@@ -190,18 +190,25 @@ std::vector<Real> kth_neighbour_distance(const PointCloud& cloud, int k) {
   return d;
 }
 
-std::vector<Real> distance_to_tagged_boundary(const PointCloud& cloud) {
+std::vector<Real> distance_to_points(const std::vector<Vec3>& points, int dim, const std::vector<Vec3>& queries) {
+  if (points.empty()) return std::vector<Real>(queries.size(), std::numeric_limits<Real>::infinity());
   PointCloud wall;
-  wall.dim = cloud.dim;
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const Tag t = cloud.tags[static_cast<std::size_t>(i)];
-    if (t == Tag::Dirichlet || t == Tag::Neumann) wall.add(cloud.positions[static_cast<std::size_t>(i)], t);
-  }
-  if (wall.size() == 0) return std::vector<Real>(static_cast<std::size_t>(cloud.size()), std::numeric_limits<Real>::infinity());
+  wall.dim = dim;
+  wall.positions = points;
+  wall.tags.assign(points.size(), Tag::Dirichlet);
   std::vector<Real> d;
   std::vector<Index> nearest;
-  detail::nearest_particles(wall, cloud.positions, d, nearest);
+  detail::nearest_particles(wall, queries, d, nearest);
   return d;
+}
+
+std::vector<Real> distance_to_tagged_boundary(const PointCloud& cloud) {
+  std::vector<Vec3> wall;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Tag t = cloud.tags[static_cast<std::size_t>(i)];
+    if (t == Tag::Dirichlet || t == Tag::Neumann) wall.push_back(cloud.positions[static_cast<std::size_t>(i)]);
+  }
+  return distance_to_points(wall, cloud.dim, cloud.positions);
 }
 
 Real mean_nearest_neighbour_distance(const PointCloud& cloud) {

@@ -51,5 +51,8 @@ std::vector<Real> kth_neighbour_distance(const PointCloud& cloud, int k);
 /// Neumann; 0 for those themselves), infinity if the cloud has none: "near the boundary"
 /// for clouds without a known domain (users' files).
 std::vector<Real> distance_to_tagged_boundary(const PointCloud& cloud);
+/// Per query, the distance to the nearest of `points` (of dimension dim), infinity if there
+/// are none: e.g. to boundary particles gathered from every MPI rank.
+std::vector<Real> distance_to_points(const std::vector<Vec3>& points, int dim, const std::vector<Vec3>& queries);
 
 }  // namespace vrsph
