@@ -50,6 +50,11 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   check<InputError>(!scope || static_cast<Index>(scope->rows.size()) == n, "assemble: row mask has ",
                     scope ? scope->rows.size() : 0, " entries for ", n, " particles");
   const auto assembled = [&](std::size_t si) { return !scope || scope->rows[si] != 0; };
+  // Balance rows (Stencil::wall_flux): a Neumann particle keeps its L row, which already
+  // approximates div(a grad u) - c_i q_i; the flux data enter as c_i q_i (and c_i beta_i u_i).
+  const bool balance = !L.wall_flux.empty();
+  check<InputError>(!balance || static_cast<Index>(L.wall_flux.size()) == n, "assemble: wall fluxes for ",
+                    L.wall_flux.size(), " of ", n, " rows");
   // Scoped: the assembled unknowns first (pass 0), the halo unknowns after them (pass 1).
   for (int pass = 0; pass < (scope ? 2 : 1); ++pass)
     for (Index i = 0; i < n; ++i) {
@@ -67,8 +72,10 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
       const bool flux = cloud.tags[si] == Tag::Neumann && i != pinned;
       if (flux) {
         ++neumann_count;
-        check<InputError>(boundary != nullptr && boundary->gradient != nullptr, "particle ", i,
+        check<InputError>(boundary != nullptr && (balance || boundary->gradient != nullptr), "particle ", i,
                           " is a Neumann particle but no flux (gradient) stencil was given");
+        check<InputError>(!balance || std::isfinite(L.wall_flux[si]), "Neumann particle ", i,
+                          " has no finite wall flux in its balance row");
         check<InputError>(cloud.has_normals() && cloud.normals[si].norm() > 0, "Neumann particle ", i,
                           " has no outward normal (a flux condition needs one)");
         check<InputError>(boundary->q.size() == n && std::isfinite(boundary->q[i]), "Neumann data q missing or not finite at particle ", i);
@@ -76,7 +83,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
       }
       sys.dof_of_particle[si] = static_cast<Index>(sys.particle_of_dof.size());
       sys.particle_of_dof.push_back(i);
-      check<InputError>(flux || std::isfinite(f[i]), "right-hand side f is not finite at particle ", i);
+      check<InputError>((flux && !balance) || std::isfinite(f[i]), "right-hand side f is not finite at particle ", i);
     }
   if (scope) {
     sys.rows_owned = 0;
@@ -88,7 +95,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
                                           "a constant (singular system); fix the constant (--fix-constant, or BoundaryValueProblem::pinned)"
                                         : "the cloud has no Dirichlet particle: the problem is singular");
   }
-  const Stencil* G = neumann_count > 0 ? boundary->gradient : nullptr;
+  const Stencil* G = neumann_count > 0 && !balance ? boundary->gradient : nullptr;
   if (G) {
     check<InputError>(G->rows() == n && G->components() == cloud.dim && G->kind == OperatorKind::Gradient,
                       "flux stencil must be a gradient stencil with ", n, " rows and ", cloud.dim, " components");
@@ -102,14 +109,20 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   sys.b.resize(m);
   const auto row_of = [&](Index d) -> const Stencil& {
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
-    return cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann && i != pinned ? *G : L;
+    return cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann && i != pinned && !balance ? *G : L;
   };
   // Entry k of row d's stencil R. A flux row a_i n_i . (G u)_i = q_i is one scalar row
   // from the d gradient components.
   const auto weight = [&](Index d, const Stencil& R, Index k) -> Real {
     const auto sk = static_cast<std::size_t>(k);
-    if (&R == &L) return L.values[0][sk];
     const auto si = static_cast<std::size_t>(sys.particle_of_dof[static_cast<std::size_t>(d)]);
+    if (&R == &L) {
+      // A balance row's Robin term: a du/dn = q - beta u, so -c q becomes -c q + c beta u.
+      if (balance && R.col[sk] == static_cast<Index>(si) && cloud.tags[si] == Tag::Neumann && boundary &&
+          boundary->robin.size() > 0)
+        return L.values[0][sk] - L.wall_flux[si] * boundary->robin[static_cast<Index>(si)];
+      return L.values[0][sk];
+    }
     const Real scale = boundary->coefficient ? (*boundary->coefficient)[static_cast<Index>(si)] : 1;
     const Eigen::MatrixXd* M = boundary->mobility;
     Real w = 0;
@@ -161,7 +174,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     }
     const bool flux = cloud.tags[si] == Tag::Neumann;
     const Stencil& R = row_of(d);
-    Real rhs = flux ? boundary->q[i] : f[i];
+    Real rhs = flux ? (balance ? f[i] - L.wall_flux[si] * boundary->q[i] : boundary->q[i]) : f[i];
     if (flux && boundary->robin.size() > 0 && boundary->robin[i] > 0) anchored[static_cast<std::size_t>(d)] = 1;
     for (Index k = R.row_begin(i); k < R.row_end(i); ++k) {
       const Index j = R.col[static_cast<std::size_t>(k)];

@@ -97,6 +97,10 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
   const auto method = builtin_methods().create(o.method, o.method_options);
   check<ConfigError>(!neumann || method->info().supports(OperatorKind::Gradient), "method ", o.method,
                      " has no gradient stencil for the Neumann rows");
+  // Balance rows make a Neumann particle an evolving unknown with the flux as a source; the
+  // time steppers here hold flux rows as constraints at every step. Not combined yet.
+  check<ConfigError>(!neumann || !method->balances_flux_rows(), "method ", o.method, ": flux=balance is for steady "
+                     "problems (study, solve); diffuse needs the gradient flux rows (flux=gradient)");
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
   if (p.mobility.size()) req.mobility = &p.mobility;

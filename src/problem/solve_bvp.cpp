@@ -1,3 +1,4 @@
+#include <optional>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -157,8 +158,10 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   watch.restart();
   const auto method = builtin_methods().create(o.method, o.method_options);
   check<ConfigError>(method->info().supports(OperatorKind::DivAGrad), "method ", o.method, " does not provide div-a-grad");
-  check<ConfigError>(s.neumann_particles == 0 || method->info().supports(OperatorKind::Gradient), "method ", o.method,
-                     " has no gradient stencil for Neumann rows");
+  // Balance rows (VRSPH flux=balance): the Neumann particles' rows come with the operator.
+  const bool balance = s.neumann_particles > 0 && method->balances_flux_rows();
+  check<ConfigError>(s.neumann_particles == 0 || balance || method->info().supports(OperatorKind::Gradient), "method ",
+                     o.method, " has no gradient stencil for Neumann rows");
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
   req.coefficient = tensor ? nullptr : &a;
@@ -169,11 +172,12 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     check<InputError>(p.grad_a.allFinite(), "the gradient of the coefficient a is not finite");
     req.coefficient_gradient = &p.grad_a;
   }
-  req.rows = interior;
+  const std::vector<char>& operator_rows = balance ? unknown : interior;
+  req.rows = operator_rows;
   const Discretisation disc{cloud, nl, o.kernel, s.spacing};
   Stencil L = method->build(disc, req);
   Stencil G;
-  if (s.neumann_particles > 0) {
+  if (s.neumann_particles > 0 && !balance) {
     StencilRequest greq;
     greq.kind = OperatorKind::Gradient;
     greq.rows = flux;
@@ -208,7 +212,10 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     s.warnings.push_back(msg);
   };
   report(summarise_local_residuals(L, interior, o.infeasible_tolerance), "interior");
-  if (s.neumann_particles > 0) report(summarise_local_residuals(G, flux, o.infeasible_tolerance), "Neumann");
+  if (s.neumann_particles > 0)
+    report(summarise_local_residuals(balance ? L : G, flux, o.infeasible_tolerance), balance ? "Neumann (balance)" : "Neumann");
+  for (std::size_t i = 0; i < L.negative_volumes.size(); ++i)
+    if (operator_rows[i] && L.negative_volumes[i] > 0) ++s.signed_rows;
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (interior[si] && !L.condition.empty()) s.condition_max = std::max(s.condition_max, L.condition[si]);
@@ -217,7 +224,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   // A coefficient near the floating-point range (1e300) overflows the weights: say so here
   // rather than let the solver report a NaN residual.
   for (Index i = 0; i < n; ++i) {
-    if (!interior[static_cast<std::size_t>(i)]) continue;
+    if (!operator_rows[static_cast<std::size_t>(i)]) continue;
     for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
       if (!std::isfinite(L.values[0][static_cast<std::size_t>(k)])) {
         const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
@@ -226,8 +233,13 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                                             "mobility (or 1/h^2) overflows; rescale the problem"));
       }
   }
-  detail::summarise_transmissibilities(L, interior, s);
-  if (method->info().monotone && s.negative_transmissibilities > 0) {
+  detail::summarise_transmissibilities(L, operator_rows, s);
+  if (s.signed_rows > 0) {
+    s.warnings.push_back(detail::concat(
+        o.label.empty() ? o.method : o.label, ": ", s.signed_rows, " row(s) took negative volumes to meet moment "
+        "conditions no non-negative volumes meet (boundary=signed; ", s.negative_transmissibilities,
+        " negative off-diagonal weight(s)): -L is not an M-matrix there"));
+  } else if (method->info().monotone && s.negative_transmissibilities > 0) {
     std::string rows;
     for (std::size_t k = 0; k < s.negative_rows.size(); ++k) rows += detail::concat(k ? ", " : "", s.negative_rows[k]);
     s.warnings.push_back(detail::concat(
@@ -236,7 +248,18 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
         "anisotropy or disorder; [SPE] (92)/(93), xi_max = ", s.xi_max, "); first rows: ", rows));
   }
   if (o.check_m_matrix) {
-    const MMatrixReport mm = check_m_matrix(L, s.neumann_particles > 0 ? std::span<const char>(interior) : unknown);
+    // Balance rows with Robin data: the assembly adds -c_i beta_i to their diagonal (strict
+    // dominance), so the test sees that too.
+    std::optional<Stencil> robin_rows;
+    if (balance && p.robin.size() > 0 && p.robin.maxCoeff() > 0) {
+      robin_rows = L;
+      for (Index i = 0; i < n; ++i)
+        if (flux[static_cast<std::size_t>(i)])
+          robin_rows->values[0][static_cast<std::size_t>(L.diag[static_cast<std::size_t>(i)])] -=
+              L.wall_flux[static_cast<std::size_t>(i)] * p.robin[i];
+    }
+    const MMatrixReport mm = check_m_matrix(robin_rows ? *robin_rows : L,
+                                            s.neumann_particles > 0 && !balance ? std::span<const char>(interior) : unknown);
     s.m_matrix = mm.is_m_matrix();
     s.m_matrix_summary = mm.summary();
   }
@@ -245,7 +268,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   watch.restart();
   BoundaryRows bc;
   if (s.neumann_particles > 0) {
-    bc.gradient = &G;
+    bc.gradient = balance ? nullptr : &G;
     bc.coefficient = tensor ? nullptr : &a;
     bc.mobility = tensor ? &p.mobility : nullptr;
     bc.q = p.q;

@@ -1,3 +1,4 @@
+#include <optional>
 // The boundary value problem over MPI ranks: the serial pipeline of solve_bvp.cpp on each
 // rank's owned particles plus a halo, with every diagnostic reduced over the ranks.
 //
@@ -259,9 +260,13 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   s.neumann_particles = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(std::count(flux.begin(), flux.end(), 1))));
   collective(comm, [&] {
     check<InputError>(s.neumann_particles == 0 || with_q, "boundary value problem: Neumann particles need the flux q");
-    check<ConfigError>(s.neumann_particles == 0 || method->info().supports(OperatorKind::Gradient), "method ", o.method,
-                       " has no gradient stencil for Neumann rows");
+    check<ConfigError>(s.neumann_particles == 0 || method->balances_flux_rows() ||
+                           method->info().supports(OperatorKind::Gradient),
+                       "method ", o.method, " has no gradient stencil for Neumann rows");
   });
+  // Balance rows (VRSPH flux=balance): the Neumann particles' rows come with the operator.
+  const bool balance = s.neumann_particles > 0 && method->balances_flux_rows();
+  const std::vector<char>& operator_rows = balance ? unknown : interior;
 
   // Neighbours of the local particles; only the owned rows must have some (halo particles at
   // the halo's edge are incomplete and are never rows).
@@ -294,12 +299,12 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   req.coefficient = tensor ? nullptr : &a;
   req.mobility = tensor ? &mobility : nullptr;
   if (grad_a.size()) req.coefficient_gradient = &grad_a;
-  req.rows = interior;
+  req.rows = operator_rows;
   const Discretisation disc{cloud, nl, o.kernel, dx, dc.global_size};
   Stencil L, G;
   local_stage(dc, [&] {
     L = method->build(disc, req);
-    if (s.neumann_particles > 0) {
+    if (s.neumann_particles > 0 && !balance) {
       StencilRequest greq;
       greq.kind = OperatorKind::Gradient;
       greq.rows = flux;
@@ -324,7 +329,9 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   // Diagnostics over every rank.
   collective(comm, [&] {
     report_infeasible(dc, summarise_local_residuals(L, interior, o.infeasible_tolerance), "interior", o, s);
-    if (s.neumann_particles > 0) report_infeasible(dc, summarise_local_residuals(G, flux, o.infeasible_tolerance), "Neumann", o, s);
+    if (s.neumann_particles > 0)
+      report_infeasible(dc, summarise_local_residuals(balance ? L : G, flux, o.infeasible_tolerance),
+                        balance ? "Neumann (balance)" : "Neumann", o, s);
   });
   Real condition = 0;
   for (Index i = 0; i < n; ++i) {
@@ -335,7 +342,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   s.condition_max = max_over_ranks(comm, condition);
   collective(comm, [&] {
     for (Index i = 0; i < n; ++i) {
-      if (!interior[static_cast<std::size_t>(i)]) continue;
+      if (!operator_rows[static_cast<std::size_t>(i)]) continue;
       for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
         if (!std::isfinite(L.values[0][static_cast<std::size_t>(k)])) {
           const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
@@ -346,13 +353,21 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
     }
   });
   {
-    summarise_transmissibilities(L, interior, s);  // this rank's rows, then over the ranks
+    summarise_transmissibilities(L, operator_rows, s);  // this rank's rows, then over the ranks
+    long long signed_rows = 0;
+    for (std::size_t i = 0; i < L.negative_volumes.size(); ++i) signed_rows += operator_rows[i] && L.negative_volumes[i] > 0;
+    s.signed_rows = static_cast<Index>(sum_over_ranks(comm, signed_rows));
     const long long negative = s.negative_transmissibilities;
     const Real xi = max_over_ranks(comm, std::isnan(s.xi_max) ? -std::numeric_limits<Real>::infinity() : s.xi_max);
     s.negative_transmissibilities = static_cast<Index>(sum_over_ranks(comm, negative));
     for (Index& i : s.negative_rows) i = dc.global_id[static_cast<std::size_t>(i)];
     s.xi_max = std::isfinite(xi) ? xi : std::nan("");
-    if (method->info().monotone && s.negative_transmissibilities > 0)
+    if (s.signed_rows > 0)
+      s.warnings.push_back(concat(o.label.empty() ? o.method : o.label, ": ", s.signed_rows, " row(s) took negative "
+                                  "volumes to meet moment conditions no non-negative volumes meet (boundary=signed; ",
+                                  s.negative_transmissibilities, " negative off-diagonal weight(s)): -L is not an "
+                                  "M-matrix there"));
+    else if (method->info().monotone && s.negative_transmissibilities > 0)
       s.warnings.push_back(concat(o.label.empty() ? o.method : o.label, ": ", s.negative_transmissibilities,
                                   " negative off-diagonal weight(s) in interior rows of a scheme meant to be monotone: "
                                   "the maximum principle does not hold there ([SPE] (92)/(93), xi_max = ", s.xi_max, ")"));
@@ -360,9 +375,19 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   if (o.check_m_matrix) {
     // Rows: the owned interior rows (all owned unknowns without flux rows); columns: every
     // unknown, halo copies included; chains followed over the ranks.
-    const std::vector<char>& rows = s.neumann_particles > 0 ? interior : unknown;
-    std::vector<char> columns = s.neumann_particles > 0 ? tag_mask(cloud, {Tag::Interior}) : unknown_all;
-    const MMatrixReport mm = check_m_matrix(L, columns, 1e-12, rows,
+    const bool flux_rows_apart = s.neumann_particles > 0 && !balance;
+    const std::vector<char>& rows = flux_rows_apart ? interior : unknown;
+    std::vector<char> columns = flux_rows_apart ? tag_mask(cloud, {Tag::Interior}) : unknown_all;
+    // Balance rows with Robin data: the assembly adds -c_i beta_i to their diagonal.
+    std::optional<Stencil> robin_rows;
+    if (balance && robin.size() > 0 && robin.maxCoeff() > 0) {
+      robin_rows = L;
+      for (Index i = 0; i < n; ++i)
+        if (flux[static_cast<std::size_t>(i)])
+          robin_rows->values[0][static_cast<std::size_t>(L.diag[static_cast<std::size_t>(i)])] -=
+              L.wall_flux[static_cast<std::size_t>(i)] * robin[i];
+    }
+    const MMatrixReport mm = check_m_matrix(robin_rows ? *robin_rows : L, columns, 1e-12, rows,
                                             [&](std::span<const Index> off, std::span<const Index> tgt, std::vector<char> seeds) {
                                               return reach_over_ranks(dc, off, tgt, std::move(seeds));
                                             });
@@ -412,7 +437,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   }
   BoundaryRows bc;
   if (s.neumann_particles > 0) {
-    bc.gradient = &G;
+    bc.gradient = balance ? nullptr : &G;
     bc.coefficient = tensor ? nullptr : &a;
     bc.mobility = tensor ? &mobility : nullptr;
     bc.q = q;

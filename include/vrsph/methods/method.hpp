@@ -80,6 +80,10 @@ class Method {
   /// volumes of the neighbours (averages of the NNLS volumes of every row that sees them). A
   /// distributed solve sizes its halo by it (reach x h).
   virtual int reach() const { return info().stencil_rings; }
+  /// True when this method's Laplacian / div(a grad) rows at Neumann particles are balance
+  /// rows (Stencil::wall_flux) that take the flux data themselves: a boundary value problem
+  /// then asks for those rows in the operator request and builds no gradient (flux) stencil.
+  virtual bool balances_flux_rows() const { return false; }
 };
 
 /// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.

@@ -101,6 +101,8 @@ struct BvpSolution {
   /// two-point-flux structure and the maximum principle are lost there), and the rows.
   Index negative_transmissibilities = 0;
   std::vector<Index> negative_rows;  ///< the first few interior particles with one
+  /// Rows that took negative volumes to meet their moment conditions (VRSPH boundary=signed).
+  Index signed_rows = 0;
   Real xi_max = std::nan("");       ///< [SPE](94) max over interior rows of max_J ξ_I·Δ_J (NaN: not an [SPE] scheme)
   std::string m_matrix_summary;
   SolveReport solve;

@@ -40,6 +40,14 @@ struct Stencil {
   /// ξ_I = C_Iᵀ Ñ_I. The factors 1 - ξ_I·Δ_J of S/M-SPH are all positive iff it is < 1
   /// ((93)); empty for other methods.
   std::vector<Real> xi;
+  /// Per-row wall flux c_i >= 0 of a balance row (VRSPH flux=balance), empty if none: at a
+  /// Neumann particle with c_i > 0 the Laplacian / div(a grad) row approximates
+  /// div(a grad u)_i - c_i q_i, q = a ∂u/∂n (n·M grad u with a mobility), so the assembly
+  /// moves c_i q_i to the right-hand side instead of using a gradient (flux) row.
+  std::vector<Real> wall_flux;
+  /// Per-row count of negative volumes a row took to meet its moment conditions (VRSPH
+  /// boundary=signed), empty if none: such rows lose the M-matrix sign structure.
+  std::vector<int> negative_volumes;
 
   Index rows() const { return static_cast<Index>(row_ptr.size()) - 1; }
   Index nnz() const { return row_ptr.back(); }

@@ -6,9 +6,15 @@
 
 namespace vrsph {
 
+namespace {
+std::size_t table_index(MomentConditions c) {
+  return c == MomentConditions::Gradient ? 0 : c == MomentConditions::Laplace ? 1 : 2;
+}
+}  // namespace
+
 const std::vector<std::array<int, 3>>& moment_exponents(MomentConditions c, int dim) {
   static const auto table = [] {
-    std::array<std::array<std::vector<std::array<int, 3>>, 3>, 2> t;
+    std::array<std::array<std::vector<std::array<int, 3>>, 3>, 3> t;
     for (int d = 1; d <= 3; ++d)
       for (int deg = 0; deg <= 2; ++deg)
         for (int a0 = deg; a0 >= 0; --a0)
@@ -17,11 +23,12 @@ const std::vector<std::array<int, 3>>& moment_exponents(MomentConditions c, int 
             if ((d < 2 && a[1]) || (d < 3 && a[2])) continue;
             t[1][static_cast<std::size_t>(d - 1)].push_back(a);                 // Laplace: |alpha| <= 2
             if (deg >= 1) t[0][static_cast<std::size_t>(d - 1)].push_back(a);   // Gradient: 1 <= |alpha| <= 2
+            if (deg <= 1) t[2][static_cast<std::size_t>(d - 1)].push_back(a);   // WallLaplace: |alpha| <= 1
           }
     return t;
   }();
   check<ConfigError>(dim >= 1 && dim <= 3, "moment conditions: dimension must be 1, 2 or 3, got ", dim);
-  return table[c == MomentConditions::Laplace ? 1 : 0][static_cast<std::size_t>(dim - 1)];
+  return table[table_index(c)][static_cast<std::size_t>(dim - 1)];
 }
 
 int moment_rows(MomentConditions c, int dim) { return dim * static_cast<int>(moment_exponents(c, dim).size()); }
@@ -48,10 +55,9 @@ struct MergedRow {
 };
 const std::vector<MergedRow>& merged_rows(MomentConditions c, int dim) {
   static const auto table = [] {
-    std::array<std::array<std::vector<MergedRow>, 3>, 2> t;
-    for (int ci = 0; ci < 2; ++ci)
+    std::array<std::array<std::vector<MergedRow>, 3>, 3> t;
+    for (const auto cond : {MomentConditions::Gradient, MomentConditions::Laplace, MomentConditions::WallLaplace})
       for (int d = 1; d <= 3; ++d) {
-        const auto cond = ci ? MomentConditions::Laplace : MomentConditions::Gradient;
         std::vector<std::pair<std::array<int, 3>, int>> rows;
         std::vector<Real> target;
         for (int beta = 0; beta < d; ++beta)
@@ -67,7 +73,7 @@ const std::vector<MergedRow>& merged_rows(MomentConditions c, int dim) {
               ++it->second;  // identical row, identical target (both 0: only gamma = 2 e_beta has b = 1)
             }
           }
-        auto& out = t[static_cast<std::size_t>(ci)][static_cast<std::size_t>(d - 1)];
+        auto& out = t[table_index(cond)][static_cast<std::size_t>(d - 1)];
         for (std::size_t r = 0; r < rows.size(); ++r) {
           const Real w = std::sqrt(static_cast<Real>(rows[r].second));
           out.push_back({rows[r].first, w, w * target[r], monomial_index(rows[r].first)});
@@ -75,7 +81,7 @@ const std::vector<MergedRow>& merged_rows(MomentConditions c, int dim) {
       }
     return t;
   }();
-  return table[c == MomentConditions::Laplace ? 1 : 0][static_cast<std::size_t>(dim - 1)];
+  return table[table_index(c)][static_cast<std::size_t>(dim - 1)];
 }
 }  // namespace
 
@@ -143,7 +149,8 @@ void build_moment_system(MomentConditions c, int dim, const Vec3* xji, const Rea
   }
 }
 
-void moment_targets(int dim, MomentRows layout, const MomentTarget& t, Real* b) {
+void moment_targets(MomentConditions c, int dim, MomentRows layout, const MomentTarget& t, Real* b) {
+  check<ConfigError>(c != MomentConditions::Gradient, "moment targets apply to the Laplace conditions only");
   // Row (beta, alpha) of the literal system: Σ v (Y/2) x^(alpha + e_beta); its target is
   // first_beta / 2 for alpha = 0 (Σ w x_beta = first_beta) and second_beta for alpha = e_beta.
   const auto target = [&](const std::array<int, 3>& gamma) -> Real {
@@ -155,11 +162,11 @@ void moment_targets(int dim, MomentRows layout, const MomentTarget& t, Real* b) 
     return 0;
   };
   if (layout == MomentRows::Merged) {
-    const auto& rows = merged_rows(MomentConditions::Laplace, dim);
+    const auto& rows = merged_rows(c, dim);
     for (std::size_t r = 0; r < rows.size(); ++r) b[r] = rows[r].weight * target(rows[r].gamma);
     return;
   }
-  const auto& alphas = moment_exponents(MomentConditions::Laplace, dim);
+  const auto& alphas = moment_exponents(c, dim);
   for (int beta = 0; beta < dim; ++beta)
     for (std::size_t a = 0; a < alphas.size(); ++a) {
       std::array<int, 3> g = alphas[a];
@@ -167,6 +174,17 @@ void moment_targets(int dim, MomentRows layout, const MomentTarget& t, Real* b) 
       // Only (beta, alpha = 0) reaches gamma = e_beta and (beta, e_beta) reaches 2 e_beta.
       b[static_cast<std::size_t>(beta) * alphas.size() + a] = target(g);
     }
+}
+
+int first_moment_row(MomentConditions c, int dim, MomentRows layout, int k) {
+  check<ConfigError>(c != MomentConditions::Gradient && k >= 0 && k < dim,
+                     "first_moment_row: Laplace conditions and an axis below the dimension");
+  if (layout == MomentRows::Full) return k * static_cast<int>(moment_exponents(c, dim).size());  // (beta = k, alpha = 0)
+  const auto& rows = merged_rows(c, dim);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    if (rows[r].gamma[0] + rows[r].gamma[1] + rows[r].gamma[2] == 1 && rows[r].gamma[static_cast<std::size_t>(k)] == 1)
+      return static_cast<int>(r);
+  throw std::logic_error("first_moment_row: no row x_k");
 }
 
 }  // namespace vrsph

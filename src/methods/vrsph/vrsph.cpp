@@ -18,6 +18,13 @@ MethodInfo vrsph_info() {
            {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"},
            {"rows", "merged (identical moment rows merged with sqrt(multiplicity) weights: same objective, "
                     "smaller system; default) | full (the literal 3/12/30 rows)"},
+           {"boundary", "nnls (rows whose moment conditions no v >= 0 meets keep the NNLS best fit: [QW]; default) | "
+                        "signed (such rows get exact moments with few, small negative volumes: second order up to "
+                        "the wall, the M-matrix sign structure lost in those rows)"},
+           {"flux", "gradient (Neumann/Robin rows a n.(G u) + beta u = q from VRSPH's gradient; default) | balance (the "
+                    "div(a grad) row at the wall particle with a wall-flux unknown c >= 0 in its first moments, "
+                    "sum w x_ji = -c n: the row approximates div(a grad u) - c a du/dn and takes q as data; "
+                    "monotone, second order)"},
            pair_mean_option()}};
   info.monotone = true;
   info.tensor_mobility = true;  // div(M grad u) by anisotropic moment targets (beyond [QW], docs/methods.md)
@@ -72,8 +79,11 @@ class Vrsph final : public Method {
                        "(every row empty); give >= 1, or omit it for the default 3 x neighbours");
     rows_ = o.get_choice("rows", "merged", {"merged", "full"}) == "merged" ? MomentRows::Merged : MomentRows::Full;
     mean_ = read_pair_mean(o);
+    signed_ = o.get_choice("boundary", "nnls", {"nnls", "signed"}) == "signed";
+    balance_ = o.get_choice("flux", "gradient", {"gradient", "balance"}) == "balance";
   }
   const MethodInfo& info() const override { return info_; }
+  bool balances_flux_rows() const override { return balance_; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);
@@ -84,8 +94,40 @@ class Vrsph final : public Method {
                        "from anisotropic moment targets and have no pair coefficient (give the scalar a when K is "
                        "isotropic)");
     const std::vector<MomentTarget> targets = tensor ? mobility_targets(disc, *req.mobility, req.rows) : std::vector<MomentTarget>{};
+    const auto& cloud = disc.cloud;
+    VolumeOptions vo;
+    vo.nnls = nnls_;
+    vo.layout = rows_;
+    vo.infeasible = signed_ ? InfeasibleRowPolicy::Signed : InfeasibleRowPolicy::Keep;
+    // Balance rows: the requested Neumann particles of a Laplacian / div(a grad) request.
+    std::vector<char> wall;
+    std::vector<Vec3> conormal;
+    if (balance_ && laplace) {
+      wall.assign(static_cast<std::size_t>(cloud.size()), 0);
+      bool any = false;
+      for (Index i = 0; i < cloud.size(); ++i) {
+        const auto si = static_cast<std::size_t>(i);
+        wall[si] = cloud.tags[si] == Tag::Neumann && (req.rows.empty() || req.rows[si]);
+        any = any || wall[si];
+      }
+      if (any) {
+        check<InputError>(cloud.has_normals(), "vrsph flux=balance: the cloud has Neumann particles but no normals");
+        conormal.assign(static_cast<std::size_t>(cloud.size()), Vec3::Zero());
+        for (Index i = 0; i < cloud.size(); ++i) {
+          const auto si = static_cast<std::size_t>(i);
+          if (!wall[si]) continue;
+          const Vec3& nn = cloud.normals[si];
+          check<InputError>(nn.allFinite() && nn.norm() > 0, "vrsph flux=balance: Neumann particle ", i,
+                            " has no outward normal");
+          conormal[si] = nn.normalized();
+          if (tensor)
+            for (int k = 0; k < cloud.dim; ++k) conormal[si][k] *= (*req.mobility)(i, k);
+        }
+        vo.wall = {wall, conormal};
+      }
+    }
     ReconstructedVolumes vol = reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
-                                                   req.rows, nnls_, rows_, targets);
+                                                   req.rows, vo, targets);
     if (tensor)  // residuals relative to |b| as for the Laplacian (|b| = sqrt(d)), so one tolerance serves both
       for (std::size_t i = 0; i < targets.size(); ++i) {
         const MomentTarget& t = targets[i];
@@ -93,7 +135,6 @@ class Vrsph final : public Method {
         if (bnorm > 0) vol.residual[i] *= std::sqrt(static_cast<Real>(disc.cloud.dim)) / bnorm;
       }
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name);
-    const auto& cloud = disc.cloud;
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
@@ -126,6 +167,8 @@ class Vrsph final : public Method {
     set_difference_diagonal(s);
     s.residual = vol.residual;
     s.local_failure = vol.failed;
+    s.wall_flux = std::move(vol.wall_flux);
+    if (signed_) s.negative_volumes = std::move(vol.negative);
     return s;
   }
 
@@ -134,6 +177,8 @@ class Vrsph final : public Method {
   NnlsOptions nnls_;
   MomentRows rows_ = MomentRows::Merged;
   PairMean mean_ = PairMean::Arithmetic;  // scalar coefficient only: the tensor path has no pair coefficient
+  bool signed_ = false;   // boundary=signed
+  bool balance_ = false;  // flux=balance
 };
 
 }  // namespace

@@ -15,7 +15,10 @@
 
 namespace vrsph {
 
-enum class MomentConditions { Gradient, Laplace };
+/// WallLaplace: the Laplace rows with |alpha| <= 1 only (first and second moments, 2 / 6 / 12
+/// rows), the set a balance row at a wall particle can meet with v >= 0 from one side: there
+/// every x_ji points inwards, so the odd third moments cannot vanish (beyond [QW]; docs/methods.md).
+enum class MomentConditions { Gradient, Laplace, WallLaplace };
 
 /// Multi-indices alpha in the row order above (inner loop).
 const std::vector<std::array<int, 3>>& moment_exponents(MomentConditions c, int dim);
@@ -41,8 +44,12 @@ struct MomentTarget {
   Vec3 first = Vec3::Zero();
   Vec3 second = Vec3::Ones();
 };
-/// Overwrites b (rows of the given layout) with the target's right-hand side (Laplace only).
-void moment_targets(int dim, MomentRows layout, const MomentTarget& target, Real* b);
+/// Overwrites b (rows of the given layout) with the target's right-hand side (Laplace or
+/// WallLaplace).
+void moment_targets(MomentConditions c, int dim, MomentRows layout, const MomentTarget& target, Real* b);
+/// Row of the system (Laplace or WallLaplace, given layout) that holds the first moment
+/// Σ v (Y/2) (x_ji)_k: where a balance row's wall-flux column enters.
+int first_moment_row(MomentConditions c, int dim, MomentRows layout, int k);
 
 /// Fills the rows x n matrix A (column j for neighbour j; column-major, or row-major as the
 /// NNLS solver works on it) and b (rows). xji[j] = x_j - x_i, half_y[j] = Y_ij / 2 =

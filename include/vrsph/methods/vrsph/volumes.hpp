@@ -17,6 +17,35 @@ struct ReconstructedVolumes {
   std::vector<char> failed;        ///< 1 where NNLS hit its iteration cap
   std::vector<int> iterations;     ///< NNLS iterations per row
   std::vector<int> positive;       ///< number of v_j > 0 per row
+  std::vector<char> signed_row;    ///< 1 where InfeasibleRowPolicy::Signed replaced the NNLS volumes
+  std::vector<int> negative;       ///< number of v_j < 0 per row (signed rows only)
+  std::vector<Real> wall_flux;     ///< balance rows: c_i >= 0 of Σ w x_ji = first - c_i conormal_i; else empty
+};
+
+/// What a row whose NNLS volumes leave the moment conditions unmet (relative residual
+/// above VolumeOptions::signed_threshold) gets.
+///  Keep:   the NNLS best fit (the paper's VRSPH; the row is reported infeasible).
+///  Signed: exact moments with few, small negative volumes (signed_volumes.hpp); the row
+///          loses the M-matrix sign structure.
+enum class InfeasibleRowPolicy { Keep, Signed };
+
+/// Balance rows at wall particles (VRSPH flux=balance): the WallLaplace conditions with one
+/// more non-negative unknown, the wall flux c_i, entering the first moments along the
+/// conormal: Σ_j w_j x_ji = first_i - c_i conormal_i, Σ_j w_j x_ji x_jiᵀ = 2 diag(second_i).
+/// The row then approximates div(a grad u)_i - c_i (a ∂u/∂n)_i to O(h) (O(h^2) after
+/// division by c_i ~ 1/h: the classic ghost-point Neumann row), and a Neumann or Robin
+/// condition enters it as data.
+struct WallRows {
+  std::span<const char> rows;      ///< per particle: 1 = balance row (empty: none)
+  std::span<const Vec3> conormal;  ///< per particle: n_i for a scalar a, M_i n_i for a mobility
+};
+
+struct VolumeOptions {
+  NnlsOptions nnls;
+  MomentRows layout = MomentRows::Merged;
+  InfeasibleRowPolicy infeasible = InfeasibleRowPolicy::Keep;
+  Real signed_threshold = 1e-10;  ///< relative residual ||A v - b|| / ||b|| beyond which a row is signed
+  WallRows wall;
 };
 
 /// The neighbour geometry of particle i that its moment system is built from:
@@ -31,6 +60,11 @@ void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, 
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
                                          std::span<const char> rows = {}, const NnlsOptions& nnls = {},
                                          MomentRows layout = MomentRows::Merged,
+                                         std::span<const MomentTarget> targets = {});
+/// The same with the policies for infeasible rows and balance rows (Laplace conditions only
+/// for the latter two).
+ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
+                                         std::span<const char> rows, const VolumeOptions& options,
                                          std::span<const MomentTarget> targets = {});
 
 }  // namespace vrsph
