@@ -160,6 +160,7 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       const LocalResidualSummary local = summarise_local_residuals(s, rows_mask, 1e-6, 0);
       row.max_local_residual = local.max_relative;
       row.infeasible = local.infeasible;
+      for (std::size_t i = 0; i < s.negative_volumes.size(); ++i) row.signed_rows += rows_mask[i] && s.negative_volumes[i] > 0;
       row.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(evaluated);
       row.neighbours_min = nmin;
       row.neighbours_max = nmax;
@@ -194,7 +195,7 @@ Table to_table(const OperatorStudyResult& r) {
   Table t;
   t.columns = {"method", "n", "N", "N_total", "dx", "h", "error_inf", "order_inf", "error_l2", "order_l2", "error_rms",
                "error_inf_interior", "error_inf_boundary", "neighbours_mean", "nnz_per_row", "max_local_residual", "infeasible",
-               "condition_max",
+               "signed_rows", "condition_max",
                "seconds_neighbours", "seconds_stencil"};
   for (const auto& row : r.rows) {
     t.add_row({{"method", row.method},
@@ -214,6 +215,7 @@ Table to_table(const OperatorStudyResult& r) {
                {"nnz_per_row", row.nnz_per_row},
                {"max_local_residual", row.max_local_residual},
                {"infeasible", static_cast<long long>(row.infeasible)},
+               {"signed_rows", static_cast<long long>(row.signed_rows)},
                {"condition_max", row.condition_max > 0 ? row.condition_max : std::nan("")},
                {"seconds_neighbours", row.seconds_neighbours},
                {"seconds_stencil", row.seconds_stencil}});

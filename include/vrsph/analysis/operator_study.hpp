@@ -64,6 +64,7 @@ struct OperatorStudyRow {
   Real nnz_per_row = 0;
   Real max_local_residual = 0;  ///< max over evaluated rows of the method's local residual / sqrt(d)
   Index infeasible = 0;         ///< evaluated rows with local residual / sqrt(d) > 1e-6 (or failed local solve)
+  Index signed_rows = 0;        ///< evaluated rows that took negative volumes (VRSPH boundary=signed)
   Real condition_max = 0;       ///< largest local-system condition number over evaluated rows (0: none)
   Real seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_apply = 0;
 };

@@ -1,0 +1,186 @@
+// VRSPH at walls beyond [QW] (issue 17): the WallLaplace moment set and balance rows
+// (flux=balance), and exact moments for rows no non-negative volumes satisfy
+// (boundary=signed). Exactness and sign structure here; orders in convergence/.
+#include <cmath>
+#include <vrsph/assembly/assemble.hpp>
+#include <vrsph/cloud/box_faces.hpp>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/methods/vrsph/moments.hpp>
+#include <vrsph/methods/vrsph/signed_volumes.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+// Layout A on the unit box, interior perturbed by U(-dx/2, dx/2), the faces x1, y1 (and z1)
+// Neumann.
+PointCloud walled_cloud(int dim, int n, bool perturbed = true) {
+  PointCloud c = vertex_lattice(Domain::unit_box(dim), n);
+  if (perturbed) perturb(c, {});
+  std::vector<std::string> faces{"x1", "y1"};
+  if (dim == 3) faces.push_back("z1");
+  if (dim == 1) faces = {"x1"};
+  retag_neumann_faces(c, parse_box_faces(faces, dim), c.spacing);
+  return c;
+}
+
+Stencil build(const PointCloud& c, const std::string& options, OperatorKind kind = OperatorKind::Laplacian,
+              const Field* a = nullptr) {
+  MethodOptions mo;
+  mo.set("flux", "balance");
+  if (!options.empty()) mo.set(options.substr(0, options.find('=')), options.substr(options.find('=') + 1));
+  const auto method = builtin_methods().create("vrsph", mo);
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList nl = find_neighbours(c, sp);
+  StencilRequest req;
+  req.kind = kind;
+  req.coefficient = a;
+  return method->build({c, nl, KernelType::CubicSpline, c.spacing}, req);
+}
+}  // namespace
+
+TEST(VrsphWalls, WallMomentSetHasTheFirstAndSecondMomentsOnly) {
+  EXPECT_EQ(moment_rows(MomentConditions::WallLaplace, 1), 2);
+  EXPECT_EQ(moment_rows(MomentConditions::WallLaplace, 2), 6);
+  EXPECT_EQ(moment_rows(MomentConditions::WallLaplace, 3), 12);
+  EXPECT_EQ(moment_rows(MomentConditions::WallLaplace, 2, MomentRows::Merged), 5);  // x xx xy y yy
+  EXPECT_EQ(moment_rows(MomentConditions::WallLaplace, 3, MomentRows::Merged), 9);
+  // The first-moment rows: (beta = k, alpha = 0) in the literal order, x and y among the merged.
+  EXPECT_EQ(first_moment_row(MomentConditions::WallLaplace, 2, MomentRows::Full, 1), 3);
+  EXPECT_EQ(first_moment_row(MomentConditions::WallLaplace, 2, MomentRows::Merged, 0), 0);
+  EXPECT_EQ(first_moment_row(MomentConditions::WallLaplace, 2, MomentRows::Merged, 1), 3);
+  EXPECT_EQ(first_moment_row(MomentConditions::Laplace, 1, MomentRows::Merged, 0), 0);
+  EXPECT_THROW((void)first_moment_row(MomentConditions::Gradient, 2, MomentRows::Merged, 0), ConfigError);
+}
+
+TEST(VrsphWalls, BalanceRowsAreExactOnQuadraticsWithNonNegativeWeights) {
+  // At a Neumann particle the row approximates div(a grad u) - c (a du/dn): with the first
+  // and second moments exact, sum_j w_ij (u_j - u_i) + c_i n_i.grad u = Laplacian u holds
+  // exactly for quadratic u, with w >= 0 and c > 0 (the row of an M-matrix).
+  for (const int dim : {1, 2, 3}) {
+    const PointCloud c = walled_cloud(dim, dim == 3 ? 6 : 12);
+    const Stencil L = build(c, "");
+    ASSERT_EQ(static_cast<Index>(L.wall_flux.size()), c.size());
+    const auto quad = [&](const Vec3& x) { return 1 + x[0] - 2 * x[1] + x[0] * x[0] + 3 * x[0] * x[1] - 0.5 * x[2] * x[2] + x[1] * x[2]; };
+    const auto grad = [&](const Vec3& x) { return Vec3(1 + 2 * x[0] + 3 * x[1], -2 + 3 * x[0] + x[2], -x[2] + x[1]); };
+    const Real lap = 2 + (dim == 3 ? -1.0 : 0.0);
+    Field u(c.size());
+    for (Index i = 0; i < c.size(); ++i) u[i] = quad(c.positions[static_cast<std::size_t>(i)]);
+    const Field Lu = apply_component(L, u, 0);
+    Index walls = 0;
+    for (Index i = 0; i < c.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (c.tags[si] != Tag::Neumann) continue;
+      ++walls;
+      Vec3 g = grad(c.positions[si]);
+      for (int k = dim; k < 3; ++k) g[k] = 0;
+      const Real dudn = g.dot(c.normals[si]);
+      EXPECT_GT(L.wall_flux[si], 0) << "dim " << dim << " particle " << i;
+      EXPECT_NEAR(Lu[i] + L.wall_flux[si] * dudn, lap, 1e-8 * L.wall_flux[si] / c.spacing) << "dim " << dim << " particle " << i;
+      for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
+        if (L.col[static_cast<std::size_t>(k)] != i) EXPECT_GE(L.values[0][static_cast<std::size_t>(k)], 0);
+    }
+    EXPECT_GT(walls, 0) << dim;
+  }
+}
+
+TEST(VrsphWalls, BalanceRowsPreferNearNeighboursAndCoupleTheLatticeColours) {
+  // On a lattice VRSPH's interior rows are the diagonal five-point stencil, which leaves the
+  // two checkerboard colours uncoupled; the wall rows take the nearest neighbours (the
+  // ghost-point five-point row) and couple them, so a pure Neumann problem has one constant.
+  const PointCloud c = walled_cloud(2, 8, false);
+  const Stencil L = build(c, "");
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Neumann) continue;
+    bool odd = false;  // a weight to a particle of the other colour
+    for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
+      const Index j = L.col[static_cast<std::size_t>(k)];
+      const Vec3 d = (c.positions[static_cast<std::size_t>(j)] - c.positions[si]) / c.spacing;
+      if (j != i && L.values[0][static_cast<std::size_t>(k)] > 0 && std::lround(d[0] + d[1]) % 2 != 0) odd = true;
+    }
+    EXPECT_TRUE(odd) << "wall particle " << i;
+  }
+}
+
+TEST(VrsphWalls, DivAGradBalanceRowsCarryTheCoefficient) {
+  // Morris form with a(x) = 1 + x + y: exact on linear u, sum w (a_i + a_j)/2 (u_j - u_i) +
+  // c a_i du/dn = div(a grad u) = grad a . grad u.
+  const PointCloud c = walled_cloud(2, 12);
+  Field a(c.size());
+  for (Index i = 0; i < c.size(); ++i) a[i] = 1 + c.positions[static_cast<std::size_t>(i)][0] + c.positions[static_cast<std::size_t>(i)][1];
+  const Stencil L = build(c, "", OperatorKind::DivAGrad, &a);
+  Field u(c.size());
+  for (Index i = 0; i < c.size(); ++i) u[i] = 2 * c.positions[static_cast<std::size_t>(i)][0] - c.positions[static_cast<std::size_t>(i)][1];
+  const Field Lu = apply_component(L, u, 0);
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Neumann) continue;
+    const Real dudn = 2 * c.normals[si][0] - c.normals[si][1];
+    EXPECT_NEAR(Lu[i] + L.wall_flux[si] * a[i] * dudn, 1.0, 1e-8 * L.wall_flux[si] / c.spacing) << i;
+  }
+}
+
+TEST(VrsphWalls, SignedVolumesMeetMomentsNoNonNegativeVolumesMeet) {
+  // 1D row next to a wall: the wall particle at distance 0.2, the inner neighbours at 0.9 and
+  // 1.8: sum w d = 0 and sum w d^3 = 0 need an inner neighbour closer than the wall.
+  const std::vector<Vec3> d{Vec3(-0.2, 0, 0), Vec3(0.9, 0, 0), Vec3(1.8, 0, 0), Vec3(2.7, 0, 0)};
+  const std::vector<Real> hy{1.0, 0.8, 0.5, 0.2};
+  const int m = moment_rows(MomentConditions::Laplace, 1, MomentRows::Merged);
+  std::vector<Real> A(static_cast<std::size_t>(m) * d.size()), b(static_cast<std::size_t>(m)), v(d.size());
+  build_moment_system(MomentConditions::Laplace, 1, d.data(), hy.data(), static_cast<int>(d.size()), A.data(), b.data(),
+                      MomentRows::Merged, MatrixOrder::RowMajor);
+  NnlsSolver nnls;
+  const NnlsResult plain = nnls.solve(A.data(), m, static_cast<int>(d.size()), b.data(), v.data(), {}, MatrixOrder::RowMajor);
+  EXPECT_GT(plain.residual, 1e-3);  // infeasible for v >= 0
+  SignedVolumeSolver solver;
+  const SignedVolumesResult r = solver.solve(A.data(), m, static_cast<int>(d.size()), b.data(), v.data());
+  EXPECT_LT(r.residual, 1e-12);
+  EXPECT_GE(r.negative, 1);
+  EXPECT_LT(r.negative, static_cast<int>(d.size()));
+  EXPECT_GT(v[0], 0);  // the wall neighbour keeps a positive volume
+}
+
+TEST(VrsphWalls, SignedBoundaryLeavesNoInfeasibleRowAndKeepsFeasibleRowsAsTheyWere) {
+  // Perturbed layout A without a regular layer: rows next to the wall are infeasible for
+  // v >= 0; boundary=signed meets every row's moments, and rows NNLS satisfies are untouched.
+  PointCloud c = vertex_lattice(Domain::unit_box(2), 24);
+  perturb(c, {});
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList nl = find_neighbours(c, sp);
+  const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
+  const auto plain = builtin_methods().create("vrsph", {})->build(disc, {});
+  MethodOptions mo;
+  mo.set("boundary", "signed");
+  const auto fixed = builtin_methods().create("vrsph", mo)->build(disc, {});
+  Index infeasible = 0, signed_rows = 0;
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Interior) continue;
+    const bool bad = plain.residual[si] > 1e-10 * std::sqrt(2.0);
+    infeasible += bad;
+    signed_rows += fixed.negative_volumes[si] > 0;
+    EXPECT_LT(fixed.residual[si], 1e-10) << i;
+    if (!bad)
+      for (Index k = plain.row_begin(i); k < plain.row_end(i); ++k)
+        EXPECT_EQ(plain.values[0][static_cast<std::size_t>(k)], fixed.values[0][static_cast<std::size_t>(k)]) << i;
+  }
+  EXPECT_GT(infeasible, 10);
+  EXPECT_EQ(signed_rows, infeasible);
+}
+
+TEST(VrsphWalls, BadOptionsAndCloudsAreNamed) {
+  EXPECT_THROW_MSG((void)builtin_methods().create("vrsph", [] { MethodOptions o; o.set("flux", "mirror"); return o; }()),
+                   ConfigError, "flux");
+  EXPECT_THROW_MSG((void)builtin_methods().create("vrsph", [] { MethodOptions o; o.set("boundary", "grow!"); return o; }()),
+                   ConfigError, "boundary");
+  PointCloud c = walled_cloud(2, 6);
+  c.normals.clear();
+  EXPECT_THROW_MSG((void)build(c, ""), InputError, "has no outward normal");
+}
