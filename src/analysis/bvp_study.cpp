@@ -280,7 +280,8 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   }
   // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0);
   // sampled only for them (an expression's gradient costs 4d evaluations per particle).
-  if (pf.m.empty() && builtin_methods().info(method_name).uses_coefficient_gradient) bvp.grad_a = sample_gradient(*pf.a, cloud);
+  if (pf.m.empty() && builtin_methods().create(method_name, options_for(p.method_options, method_name))->needs_coefficient_gradient())
+    bvp.grad_a = sample_gradient(*pf.a, cloud);
   bvp.f = sample(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
   bvp.g = sample(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
   if (run.neumann_particles > 0) {

@@ -53,6 +53,8 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   // Balance rows (Stencil::wall_flux): a Neumann particle keeps its L row, which already
   // approximates div(a grad u) - c_i q_i; the flux data enter as c_i q_i (and c_i beta_i u_i).
   const bool balance = !L.wall_flux.empty();
+  check<InputError>(L.rhs.empty() || L.rhs.size() == L.col.size(), "assemble: right-hand-side weights for ",
+                    L.rhs.size(), " of ", L.col.size(), " stencil entries");
   check<InputError>(!balance || static_cast<Index>(L.wall_flux.size()) == n, "assemble: wall fluxes for ",
                     L.wall_flux.size(), " of ", n, " rows");
   // Scoped: the assembled unknowns first (pass 0), the halo unknowns after them (pass 1).
@@ -160,6 +162,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
 
   std::vector<char> anchored(static_cast<std::size_t>(m), 0);  // row couples to a known particle
   std::atomic<Index> bad_g{n};                                 // smallest known particle with g not finite
+  std::atomic<Index> bad_f{n};  // compact rows: smallest particle whose f they average and is not finite
 #pragma omp parallel for schedule(static)
   for (Index d = 0; d < m; ++d) {
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
@@ -174,7 +177,22 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     }
     const bool flux = cloud.tags[si] == Tag::Neumann;
     const Stencil& R = row_of(d);
-    Real rhs = flux ? (balance ? f[i] - L.wall_flux[si] * boundary->q[i] : boundary->q[i]) : f[i];
+    Real fi = f[i];
+    if (!L.rhs.empty() && (!flux || balance)) {  // compact rows: a weighted average of f
+      fi = 0;
+      for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
+        const Real mu = L.rhs[static_cast<std::size_t>(k)];
+        if (mu == 0) continue;
+        const Index j = L.col[static_cast<std::size_t>(k)];
+        if (!std::isfinite(f[j])) {
+          Index seen = bad_f.load();
+          while (j < seen && !bad_f.compare_exchange_weak(seen, j)) {
+          }
+        }
+        fi += mu * f[j];
+      }
+    }
+    Real rhs = flux ? (balance ? fi - L.wall_flux[si] * boundary->q[i] : boundary->q[i]) : fi;
     if (flux && boundary->robin.size() > 0 && boundary->robin[i] > 0) anchored[static_cast<std::size_t>(d)] = 1;
     for (Index k = R.row_begin(i); k < R.row_end(i); ++k) {
       const Index j = R.col[static_cast<std::size_t>(k)];
@@ -198,6 +216,8 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
              out - row_ptr[static_cast<std::size_t>(d)]);
   }
   check<InputError>(bad_g.load() == n, "boundary value g is not finite at particle ", bad_g.load());
+  check<InputError>(bad_f.load() == n, "right-hand side f is not finite at particle ", bad_f.load(),
+                    " (a compact row averages f over its stencil, boundary particles included)");
   for (Index i = 0; i < n; ++i)
     if (!unknown[static_cast<std::size_t>(i)]) sys.known[i] = g[i];
   if (scope) {  // connectivity needs every rank: the caller's

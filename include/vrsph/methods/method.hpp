@@ -84,6 +84,9 @@ class Method {
   /// rows (Stencil::wall_flux) that take the flux data themselves: a boundary value problem
   /// then asks for those rows in the operator request and builds no gradient (flux) stencil.
   virtual bool balances_flux_rows() const { return false; }
+  /// True when this method (with its options) wants StencilRequest::coefficient_gradient for
+  /// div(a grad): the Taylor-type methods' a Δu + ∇a·∇u form, VRSPH rhs=compact.
+  virtual bool needs_coefficient_gradient() const { return info().uses_coefficient_gradient; }
 };
 
 /// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.

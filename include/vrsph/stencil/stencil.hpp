@@ -48,6 +48,10 @@ struct Stencil {
   /// Per-row count of negative volumes a row took to meet its moment conditions (VRSPH
   /// boundary=signed), empty if none: such rows lose the M-matrix sign structure.
   std::vector<int> negative_volumes;
+  /// Right-hand-side weights on the same pattern as col (VRSPH rhs=compact), empty if none:
+  /// row i then approximates Σ_k rhs[k] (L u)(x_col[k]) rather than (L u)(x_i), so a boundary
+  /// value problem's right-hand side is Σ_k rhs[k] f[col[k]] instead of f_i.
+  std::vector<Real> rhs;
 
   Index rows() const { return static_cast<Index>(row_ptr.size()) - 1; }
   Index nnz() const { return row_ptr.back(); }

@@ -8,7 +8,20 @@
 namespace vrsph {
 
 namespace {
-constexpr Real kNearPower = 2;  // balance rows: column scale (r_min / r_j)^kNearPower
+// Nearer neighbours first: each of the n columns of the rows x n moment matrix scaled by
+// (r_min / r_j)^2, the factors kept in `scale` (the volumes found are multiplied by them).
+// The feasible set is unchanged; NNLS's path, which admits the column with the largest
+// multiplier, then prefers the nearest neighbours (measured: the power 2 helps, 8 breaks
+// perturbed rows; docs/methods.md).
+void prefer_near(const Vec3* xji, std::size_t n, Real* A, std::size_t rows, MatrixOrder order, std::vector<Real>& scale) {
+  Real r_min = std::numeric_limits<Real>::infinity();
+  for (std::size_t j = 0; j < n; ++j) r_min = std::min(r_min, xji[j].norm());
+  scale.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    scale[j] = std::pow(r_min / xji[j].norm(), 2);
+    for (std::size_t r = 0; r < rows; ++r) (order == MatrixOrder::RowMajor ? A[r * n + j] : A[j * rows + r]) *= scale[j];
+  }
+}
 }  // namespace
 
 void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y) {
@@ -99,7 +112,10 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
         // Row-major: the layout the solver works on, so it copies nothing.
         build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
         if (!targets.empty()) moment_targets(conditions, dim, layout, targets[si], b.data());
+        if (opt.prefer_near) prefer_near(xji.data(), ucnt, A.data(), static_cast<std::size_t>(m), MatrixOrder::RowMajor, near_);
         const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, opt.nnls, MatrixOrder::RowMajor);
+        if (opt.prefer_near)
+          for (std::size_t j = 0; j < ucnt; ++j) v[j] *= near_[j];
         out.residual[si] = r.residual;
         out.failed[si] = r.status != NnlsStatus::Converged;
         out.iterations[si] = r.iterations;
@@ -110,19 +126,10 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
         build_moment_system(MomentConditions::WallLaplace, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout,
                             MatrixOrder::ColumnMajor);
         if (!targets.empty()) moment_targets(MomentConditions::WallLaplace, dim, layout, targets[si], b.data());
-        // Nearer neighbours first: each column scaled by (r_min / r_j)^2 (the volumes are
-        // scaled back below). The feasible set is unchanged; NNLS's path, which picks the
-        // column with the largest multiplier, then prefers the nearest neighbours. On a
-        // lattice it otherwise takes the diagonal neighbours only, and the wall rows, like
-        // VRSPH's interior rows there, leave the two checkerboard sublattices uncoupled: a
-        // pure Neumann problem then has two constants.
-        Real r_min = std::numeric_limits<Real>::infinity();
-        for (std::size_t j = 0; j < ucnt; ++j) r_min = std::min(r_min, xji[j].norm());
-        near_.resize(ucnt);
-        for (std::size_t j = 0; j < ucnt; ++j) {
-          near_[j] = std::pow(r_min / xji[j].norm(), kNearPower);
-          for (std::size_t r = 0; r < ur; ++r) A[j * ur + r] *= near_[j];
-        }
+        // Nearer neighbours first (prefer_near): on a lattice NNLS otherwise takes the diagonal
+        // neighbours only, and the wall rows, like VRSPH's interior rows there, leave the two
+        // checkerboard sublattices uncoupled: a pure Neumann problem then has two constants.
+        prefer_near(xji.data(), ucnt, A.data(), ur, MatrixOrder::ColumnMajor, near_);
         for (std::size_t j = 0; j < ucnt; ++j) {
           Real s2 = 0;
           for (std::size_t r = 0; r < ur; ++r) s2 += A[j * ur + r] * A[j * ur + r];
@@ -159,7 +166,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
       if (!signed_solver) signed_solver.emplace();
       const SignedVolumesResult sr = signed_solver->solve(Aw.data(), rows_i, static_cast<int>(cols), b.data(), xw.data());
       if (!(sr.residual < out.residual[si])) continue;  // never worse than the NNLS fit
-      for (std::size_t j = 0; j < ucnt; ++j) v[j] = wall ? xw[j] * near_[j] : xw[j];
+      for (std::size_t j = 0; j < ucnt; ++j) v[j] = wall || opt.prefer_near ? xw[j] * near_[j] : xw[j];
       if (wall) out.wall_flux[si] = 2 * kappa * xw[ucnt];
       out.residual[si] = sr.residual;
       out.failed[si] = 0;

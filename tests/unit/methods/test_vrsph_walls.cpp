@@ -184,3 +184,84 @@ TEST(VrsphWalls, BadOptionsAndCloudsAreNamed) {
   c.normals.clear();
   EXPECT_THROW_MSG((void)build(c, ""), InputError, "has no outward normal");
 }
+
+TEST(VrsphCompact, RowsAreExactOnQuarticsWithPositiveWeightsAndAverage) {
+  // rhs=compact: Σ_j w_ij (p_j - p_i) = Σ_k μ_ik (L p)(x_k) for every p of degree <= 4 (degree 3
+  // where 4 admits no positive solution), w >= 0, μ >= 0, Σ μ = 1; with a variable a the
+  // operator is a Δp + ∇a·∇p.
+  PointCloud c = vertex_lattice(Domain::unit_box(2), 16);
+  perturb(c, {});
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList nl = find_neighbours(c, sp);
+  Field a(c.size());
+  Eigen::MatrixXd ga(c.size(), 2);
+  for (Index i = 0; i < c.size(); ++i) {
+    const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+    a[i] = 1 + x[0] * x[0] + x[1];
+    ga(i, 0) = 2 * x[0];
+    ga(i, 1) = 1;
+  }
+  MethodOptions mo;
+  mo.set("rhs", "compact");
+  const auto method = builtin_methods().create("vrsph", mo);
+  EXPECT_TRUE(method->needs_coefficient_gradient());
+  StencilRequest req;
+  req.kind = OperatorKind::DivAGrad;
+  req.coefficient = &a;
+  req.coefficient_gradient = &ga;
+  const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
+  const Stencil L = method->build(disc, req);
+  ASSERT_EQ(L.rhs.size(), L.col.size());
+  // p = x^3 y - 2 x y^2 + y^4 (quartic part) and L p = a Δp + ∇a·∇p.
+  const auto p = [](const Vec3& x) { return x[0] * x[0] * x[0] * x[1] - 2 * x[0] * x[1] * x[1] + x[1] * x[1] * x[1] * x[1]; };
+  const auto Lp = [](const Vec3& x) {
+    const Real px = 3 * x[0] * x[0] * x[1] - 2 * x[1] * x[1], py = x[0] * x[0] * x[0] - 4 * x[0] * x[1] + 4 * x[1] * x[1] * x[1];
+    const Real lap = 6 * x[0] * x[1] - 4 * x[0] + 12 * x[1] * x[1];
+    return (1 + x[0] * x[0] + x[1]) * lap + 2 * x[0] * px + py;
+  };
+  Index quartic = 0;
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Interior) continue;
+    Real lhs = 0, rhs = 0, mu_sum = 0;
+    for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
+      const auto sk = static_cast<std::size_t>(k);
+      const Index j = L.col[sk];
+      const Vec3& xj = c.positions[static_cast<std::size_t>(j)];
+      lhs += L.values[0][sk] * p(xj);
+      rhs += L.rhs[sk] * Lp(xj);
+      mu_sum += L.rhs[sk];
+      EXPECT_GE(L.rhs[sk], 0) << i;
+      if (j != i) EXPECT_GE(L.values[0][sk], 0) << i;
+    }
+    EXPECT_NEAR(mu_sum, 1, 1e-12) << i;
+    EXPECT_LT(L.residual[si], 1e-8) << i;
+    // Degree-4 rows are exact on p; a degree-3 row (by the wall) only on its cubic part.
+    if (std::abs(lhs - rhs) < 1e-6 * (1 + std::abs(rhs))) ++quartic;
+  }
+  EXPECT_GT(quartic, c.count(Tag::Interior) * 9 / 10);
+}
+
+TEST(VrsphCompact, AssemblyAveragesFAndNamesANonFiniteValueItReads) {
+  PointCloud c = vertex_lattice(Domain::unit_box(2), 8);
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList nl = find_neighbours(c, sp);
+  MethodOptions mo;
+  mo.set("rhs", "compact");
+  const Stencil L = builtin_methods().create("vrsph", mo)->build({c, nl, KernelType::CubicSpline, c.spacing}, {});
+  std::vector<char> unknown(static_cast<std::size_t>(c.size()));
+  Index boundary = -1;
+  for (Index i = 0; i < c.size(); ++i) {
+    unknown[static_cast<std::size_t>(i)] = c.tags[static_cast<std::size_t>(i)] == Tag::Interior;
+    if (!unknown[static_cast<std::size_t>(i)] && boundary < 0) boundary = i;
+  }
+  Field f = Field::Ones(c.size()), g = Field::Zero(c.size());
+  const LinearSystem sys = assemble(L, c, unknown, f, g);
+  for (Index d = 0; d < sys.size(); ++d) EXPECT_NEAR(sys.b[d], 1.0, 1e-12);  // a positive average of 1
+  // A compact row reads f at its boundary neighbours too: a NaN there is named.
+  for (Index i = 0; i < c.size(); ++i)
+    if (!unknown[static_cast<std::size_t>(i)]) f[i] = std::nan("");
+  EXPECT_THROW_MSG((void)assemble(L, c, unknown, f, g), InputError, "compact row averages f");
+}

@@ -45,6 +45,9 @@ struct VolumeOptions {
   MomentRows layout = MomentRows::Merged;
   InfeasibleRowPolicy infeasible = InfeasibleRowPolicy::Keep;
   Real signed_threshold = 1e-10;  ///< relative residual ||A v - b|| / ||b|| beyond which a row is signed
+  /// Scale the NNLS columns by (r_min / r_j)^2 so that its path prefers the nearest neighbours
+  /// (same feasible set, another vertex; balance rows always do).
+  bool prefer_near = false;
   WallRows wall;
 };
 

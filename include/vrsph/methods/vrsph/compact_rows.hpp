@@ -1,0 +1,34 @@
+#pragma once
+// Compact high-order rows (VRSPH option rhs=compact, beyond [QW]; docs/methods.md): a
+// generalisation of Collatz's Mehrstellen scheme to particles. Row i is
+//   Σ_j w_ij (u_j - u_i) = Σ_k μ_ik f_k,   w >= 0, μ >= 0, Σ_k μ_ik = 1,
+// with w and μ found together (one NNLS per particle) so that the row is exact for every
+// polynomial p of degree <= `degree` with f = L p = a Δp + ∇a·∇p at the stencil's particles.
+// The left-hand side keeps VRSPH's M-matrix sign structure; the right-hand side becomes a
+// positive average of f. Exact for degree 4: truncation O(h^3) (O(h^4) where the cloud is
+// symmetric enough for the fifth moments to vanish, e.g. a lattice), against O(h^2) for the
+// point right-hand side f_i. Where degree 4 admits no w, μ >= 0 (next to a wall) degree 3
+// is tried (O(h^2), still positive); rows with neither are left to the caller (VRSPH falls
+// back on its own row with μ = δ_ik).
+#include <span>
+#include <vrsph/methods/method.hpp>
+
+namespace vrsph {
+
+struct CompactRows {
+  std::vector<char> ok;         ///< per particle: 1 = a compact row was found
+  std::vector<char> degree;     ///< per particle: the polynomial degree its row is exact for (0: none)
+  std::vector<Real> w;          ///< aligned with the neighbour slots (row i: w_ij >= 0)
+  std::vector<Real> mu;         ///< aligned with the neighbour slots (μ_ij of the neighbours)
+  std::vector<Real> mu_self;    ///< per particle: μ_ii
+  std::vector<Real> residual;   ///< per particle: ||A x - b|| / ||b|| of the local system
+};
+
+/// rows: the particles to build (empty: every non-ghost particle). a, grad_a: the
+/// coefficient and its gradient at every particle (nullptr: a = 1, ∇a = 0). Each row takes
+/// the highest degree from `degree` down to `min_degree` (>= 3) that admits w, μ >= 0;
+/// tolerance: relative residual above which a degree is not met.
+CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a,
+                         const Eigen::MatrixXd* grad_a, int degree, int min_degree, Real tolerance);
+
+}  // namespace vrsph

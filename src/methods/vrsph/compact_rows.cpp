@@ -1,0 +1,175 @@
+#include <Eigen/QR>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/vrsph/compact_rows.hpp>
+#include <vrsph/methods/vrsph/nnls.hpp>
+
+namespace vrsph {
+
+namespace {
+constexpr Real kPolishBelow = 1e-6;  // residuals NNLS left that the polish is tried on
+
+std::vector<std::array<int, 3>> monomials(int dim, int degree) {
+  std::vector<std::array<int, 3>> out;
+  for (int deg = 1; deg <= degree; ++deg)
+    for (int a0 = deg; a0 >= 0; --a0)
+      for (int a1 = deg - a0; a1 >= 0; --a1) {
+        const std::array<int, 3> a{a0, a1, deg - a0 - a1};
+        if ((dim < 2 && a[1]) || (dim < 3 && a[2])) continue;
+        out.push_back(a);
+      }
+  return out;
+}
+
+// e^alpha with the powers of e's coordinates tabulated (pw[k][p] = e_k^p).
+Real power(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int, 3>& a) {
+  return pw[0][static_cast<std::size_t>(a[0])] * pw[1][static_cast<std::size_t>(a[1])] * pw[2][static_cast<std::size_t>(a[2])];
+}
+
+// (a Δq + h ∇a·∇q)(e) for q = e^alpha, in the units of the scaled row (see below).
+Real operator_on_monomial(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int, 3>& al, Real a, const Vec3& ga_h,
+                          int dim) {
+  Real lap = 0, adv = 0;
+  for (int k = 0; k < dim; ++k) {
+    const auto uk = static_cast<std::size_t>(k);
+    if (al[uk] >= 2) {
+      std::array<int, 3> b = al;
+      b[uk] -= 2;
+      lap += al[uk] * (al[uk] - 1) * power(pw, b);
+    }
+    if (al[uk] >= 1) {
+      std::array<int, 3> b = al;
+      b[uk] -= 1;
+      adv += ga_h[k] * al[uk] * power(pw, b);
+    }
+  }
+  return a * lap + adv;
+}
+
+// NNLS stops at a residual of ~1e-12 of the scaled system; the row's truncation error is
+// that residual over h (the degree-1 rows), which at fine resolution is no longer below the
+// O(h^3) it is meant to reach. The minimum-norm correction on the positive support removes
+// it when it keeps every volume positive (it always does for a residual this small, unless a
+// volume is at round-off). Returns the residual left.
+Real polish(const std::vector<Real>& A, int R, std::size_t C, const std::vector<Real>& b, std::vector<Real>& x) {
+  const Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> M(A.data(), R, static_cast<Eigen::Index>(C));
+  Eigen::Map<Eigen::VectorXd> xv(x.data(), static_cast<Eigen::Index>(C));
+  const Eigen::Map<const Eigen::VectorXd> bv(b.data(), R);
+  const Eigen::VectorXd r = bv - M * xv;
+  std::vector<Eigen::Index> support;
+  for (Eigen::Index j = 0; j < xv.size(); ++j)
+    if (xv[j] > 0) support.push_back(j);
+  Eigen::MatrixXd S(R, static_cast<Eigen::Index>(support.size()));
+  for (std::size_t k = 0; k < support.size(); ++k) S.col(static_cast<Eigen::Index>(k)) = M.col(support[k]);
+  const Eigen::VectorXd d = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(S).solve(r);
+  bool positive = true;
+  for (std::size_t k = 0; k < support.size(); ++k) positive = positive && xv[support[k]] + d[static_cast<Eigen::Index>(k)] > 0;
+  if (positive && (S * d - r).norm() < r.norm())
+    for (std::size_t k = 0; k < support.size(); ++k) xv[support[k]] += d[static_cast<Eigen::Index>(k)];
+  return (bv - M * xv).norm();
+}
+
+void tabulate(const Vec3& e, int degree, std::array<std::array<Real, 8>, 3>& pw) {
+  for (int k = 0; k < 3; ++k) {
+    pw[static_cast<std::size_t>(k)][0] = 1;
+    for (int p = 1; p <= degree; ++p)
+      pw[static_cast<std::size_t>(k)][static_cast<std::size_t>(p)] = pw[static_cast<std::size_t>(k)][static_cast<std::size_t>(p - 1)] * e[k];
+  }
+}
+}  // namespace
+
+CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a, const Eigen::MatrixXd* grad_a,
+                         int degree, int min_degree, Real tolerance) {
+  const PointCloud& cloud = disc.cloud;
+  const NeighbourList& nl = disc.neighbours;
+  const Index n = cloud.size();
+  const int dim = cloud.dim;
+  check<ConfigError>(min_degree >= 3 && min_degree <= degree && degree <= 6, "compact rows: polynomial degrees ", min_degree,
+                     "..", degree, " outside 3..6");
+  check<InputError>(!a || a->size() == n, "compact rows: coefficient has ", a ? a->size() : 0, " values for ", n, " particles");
+  check<InputError>(!grad_a || (grad_a->rows() == n && grad_a->cols() == dim), "compact rows: grad a must be ", n, " x ", dim);
+  check<InputError>(nl.distances.size() == nl.indices.size(), "compact rows need neighbour lists with cached distances");
+  // Rows: one per monomial q = e^alpha of e = (x - x_i)/h, scaled by h^-|alpha| (with
+  // ŵ = w h^2 every entry is O(1)): Σ_j ŵ_j q(e_j) - Σ_k μ_k (a_k Δq + h ∇a_k·∇q)(e_k) = 0;
+  // then Σ_k μ_k = 1.
+  std::vector<std::vector<std::array<int, 3>>> mono(static_cast<std::size_t>(degree) + 1);
+  for (int d = min_degree; d <= degree; ++d) mono[static_cast<std::size_t>(d)] = monomials(dim, d);
+  const int R_max = static_cast<int>(mono[static_cast<std::size_t>(degree)].size()) + 1;
+  CompactRows out;
+  out.ok.assign(static_cast<std::size_t>(n), 0);
+  out.degree.assign(static_cast<std::size_t>(n), 0);
+  out.w.assign(static_cast<std::size_t>(nl.total()), 0.0);
+  out.mu.assign(static_cast<std::size_t>(nl.total()), 0.0);
+  out.mu_self.assign(static_cast<std::size_t>(n), 0.0);
+  out.residual.assign(static_cast<std::size_t>(n), 0.0);
+  Index max_count = 0;
+  for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
+#pragma omp parallel
+  {
+    NnlsSolver solver(R_max, 2 * static_cast<int>(max_count) + 1);
+    std::vector<Real> A, b, x, scale;
+    std::array<std::array<Real, 8>, 3> pw{};
+#pragma omp for schedule(dynamic, 64)
+    for (Index i = 0; i < n; ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
+      if (!wanted) continue;
+      const auto nbr = nl.of(i);
+      const std::size_t cnt = nbr.size();
+      const std::size_t C = 2 * cnt + 1;
+      const Real h = nl.radius(i);
+      // Nearer neighbours first (columns scaled by (r_min / r_j)^2, volumes scaled back).
+      Real r_min = std::numeric_limits<Real>::infinity();
+      const auto dist = nl.distances_of(i);
+      for (std::size_t j = 0; j < cnt; ++j) r_min = std::min(r_min, dist[j]);
+      scale.assign(cnt, 1.0);
+      for (std::size_t j = 0; j < cnt; ++j) scale[j] = std::pow(r_min / dist[j], 2);
+      // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
+      // positive row with the O(h) part of the truncation moved into the average of f).
+      for (int deg = degree; deg >= min_degree && !out.ok[si]; --deg) {
+        const auto& mo = mono[static_cast<std::size_t>(deg)];
+        const int R = static_cast<int>(mo.size()) + 1;
+        A.assign(static_cast<std::size_t>(R) * C, 0.0);
+        b.assign(static_cast<std::size_t>(R), 0.0);
+        b[static_cast<std::size_t>(R - 1)] = 1;
+        const auto column = [&](std::size_t col, Index p, bool is_w, Real s) {
+          const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[si]) / h;
+          tabulate(e, deg, pw);
+          const Real ap = a ? (*a)[p] : 1.0;
+          Vec3 ga = Vec3::Zero();
+          if (grad_a)
+            for (int k = 0; k < dim; ++k) ga[k] = h * (*grad_a)(p, k);
+          for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r)
+            A[r * C + col] = s * (is_w ? power(pw, mo[r]) : -operator_on_monomial(pw, mo[r], ap, ga, dim));
+          if (!is_w) A[static_cast<std::size_t>(R - 1) * C + col] = s;
+        };
+        for (std::size_t j = 0; j < cnt; ++j) {
+          column(j, nbr[j], true, scale[j]);
+          column(cnt + j, nbr[j], false, scale[j]);
+        }
+        column(2 * cnt, i, false, 1.0);
+        x.assign(C, 0.0);
+        const NnlsResult r = solver.solve(A.data(), R, static_cast<int>(C), b.data(), x.data(), {}, MatrixOrder::RowMajor);
+        // NNLS may stop at a residual somewhat above the tolerance (its multiplier test is
+        // relative to ||A||): the polish below finishes such near-exact rows.
+        const Real res = r.residual <= kPolishBelow ? polish(A, R, C, b, x) : r.residual;
+        if (deg == degree || res < out.residual[si]) out.residual[si] = res;
+        if (!(r.status == NnlsStatus::Converged && res <= tolerance)) continue;
+        out.ok[si] = 1;
+        out.degree[si] = static_cast<char>(deg);
+        out.residual[si] = res;
+        const std::size_t off = static_cast<std::size_t>(nl.offsets[si]);
+        for (std::size_t j = 0; j < cnt; ++j) {
+          out.w[off + j] = x[j] * scale[j] / (h * h);
+          out.mu[off + j] = x[cnt + j] * scale[j];
+        }
+        out.mu_self[si] = x[2 * cnt];
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace vrsph
