@@ -74,6 +74,7 @@ py::dict stencil(const PointCloud& cloud, const std::string& method_name, const 
   out["residual"] = s.residual.empty() ? py::object(py::none()) : py::object(owning_array(std::move(s.residual)));
   out["condition"] = s.condition.empty() ? py::object(py::none()) : py::object(owning_array(std::move(s.condition)));
   out["infeasible"] = owning_array(std::move(b.infeasible));
+  out["rhs"] = s.rhs.empty() ? py::object(py::none()) : py::object(owning_array(std::move(s.rhs)));
   out["h"] = b.h;
   out["spacing"] = b.spacing;
   out["n"] = cloud.size();

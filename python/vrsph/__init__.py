@@ -72,6 +72,10 @@ class Stencil:
         self.matrices = tuple(
             scipy.sparse.csr_matrix((data, raw["indices"], raw["indptr"]), shape=shape, copy=False)
             for data in raw["data"])
+        # vrsph rhs=compact: the rows stand for Σ_k μ_ik (L u)(x_k); rhs is that averaging
+        # operator (same pattern), so L u = rhs @ f is the discrete problem. None otherwise.
+        self.rhs = None if raw.get("rhs") is None else scipy.sparse.csr_matrix(
+            (raw["rhs"], raw["indices"], raw["indptr"]), shape=shape, copy=False)
         self.residual = raw["residual"]
         self.condition = raw["condition"]
         self.infeasible = raw["infeasible"]
@@ -103,6 +107,9 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     s = Stencil(raw, len(cloud))
     if diagnostics:
         return s
+    if s.rhs is not None:
+        raise ConfigError("these rows (vrsph rhs=compact) come with right-hand-side weights: L u = M f, not f; "
+                          "call stencil(..., diagnostics=True) and use .matrix and .rhs")
     return s.matrices if operator == "gradient" else s.matrices[0]
 
 

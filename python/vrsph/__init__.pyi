@@ -46,6 +46,7 @@ class Stencil:
     residual: npt.NDArray[np.float64] | None
     condition: npt.NDArray[np.float64] | None
     infeasible: npt.NDArray[np.int32]
+    rhs: scipy.sparse.csr_matrix | None
     h: float
     spacing: float
     @property

@@ -146,9 +146,7 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
       if (!s.rhs.empty()) {
         // Compact rows (VRSPH rhs=compact) approximate the average Σ_k μ_ik (L u)(x_k) of the
         // operator over their stencil, not its value at x_i: that is what they are compared with.
-        Stencil average = s;
-        average.values.assign(1, s.rhs);
-        exact = apply(average, Field(exact.col(0)));
+        exact.col(0) = average_rhs(s, Field(exact.col(0)));
       }
       std::vector<char> rows_mask(static_cast<std::size_t>(cloud.size()));
       Index evaluated = 0, nmin = std::numeric_limits<Index>::max(), nmax = 0;

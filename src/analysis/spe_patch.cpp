@@ -181,6 +181,7 @@ SpePatchResult run_spe_patch(const SpePatchParams& params) {
   for (const auto& v : p.variants) {
     StencilRequest req{heterogeneous ? OperatorKind::DivAGrad : OperatorKind::Laplacian, heterogeneous ? &m : nullptr};
     const Stencil s = builtin_methods().create(v.method, v.options)->build(disc, req);
+    require_point_rows(s, "the [SPE] patch test");
     const Field value = apply_component(s, u, 0);
     SpePatchSummary sum;
     sum.label = v.label;

@@ -65,6 +65,7 @@ Spectrum vibration_spectrum(const SpectrumParams& p) {
   req.kind = OperatorKind::Laplacian;
   req.rows = interior;
   const Stencil K = method->build({cloud, nl, p.kernel, cloud.spacing}, req);
+  require_point_rows(K, "the spectrum");
   // Fixed ends: their columns drop out (x = 0 there).
   Eigen::MatrixXd minus_k = Eigen::MatrixXd::Zero(m, m);
   for (Index i = 0; i < cloud.size(); ++i) {

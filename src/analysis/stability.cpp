@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vrsph/stencil/apply.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/stability.hpp>
 #include <vrsph/core/error.hpp>
@@ -80,6 +81,7 @@ StabilityResult run_stability(const StabilityParams& p) {
     StencilRequest req{OperatorKind::Laplacian};
     req.rows = rows;
     const Stencil L = method->build(disc, req);
+    require_point_rows(L, "the stability study");
     StabilityRow row;
     row.method = name;
     row.particles = cloud.size();

@@ -108,6 +108,7 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
   req.rows = interior;
   const Discretisation disc{cloud, nl, o.kernel, dx};
   const Stencil L = method->build(disc, req);
+  require_point_rows(L, "diffuse");
   Stencil G;  // the method's gradient on the Neumann rows: flux rows n·M (G u) = q, as in the steady solve
   if (neumann) {
     StencilRequest greq;

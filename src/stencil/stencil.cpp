@@ -79,6 +79,27 @@ Field apply_component(const Stencil& s, const Field& u, int component) {
   return out;
 }
 
+Field average_rhs(const Stencil& s, const Field& f) {
+  if (s.rhs.empty()) return f;
+  check<InputError>(f.size() == s.rows() && s.rhs.size() == s.col.size(), "average_rhs: ", f.size(), " values, ",
+                    s.rows(), " rows, ", s.rhs.size(), " weights for ", s.col.size(), " entries (size mismatch)");
+  Field out(s.rows());
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < s.rows(); ++i) {
+    Real acc = 0;
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k)
+      acc += s.rhs[static_cast<std::size_t>(k)] * f[s.col[static_cast<std::size_t>(k)]];
+    out[i] = acc;
+  }
+  return out;
+}
+
+void require_point_rows(const Stencil& s, const std::string& use) {
+  check<ConfigError>(s.rhs.empty(), use, ": the ", s.method, " rows carry right-hand-side weights (rhs=compact: L u "
+                     "approximates an average of the operator over the stencil, not its value at the particle); use "
+                     "rhs=point here");
+}
+
 SparseView as_eigen(const Stencil& s, int component) {
   check<InputError>(component >= 0 && component < s.components(), "as_eigen: component ", component,
                     " out of range for a stencil with ", s.components(), " components");

@@ -12,6 +12,12 @@ using SparseView = Eigen::Map<const SparseMatrix>;
 Eigen::MatrixXd apply(const Stencil& s, const Field& u);
 /// One component only.
 Field apply_component(const Stencil& s, const Field& u, int component);
+/// The right-hand-side average a row stands for (Stencil::rhs): Σ_k rhs[k] f[col[k]] per
+/// row, or f itself when the stencil has no such weights.
+Field average_rhs(const Stencil& s, const Field& f);
+/// ConfigError naming `use` when the stencil has right-hand-side weights (compact rows),
+/// for uses that take L u as the operator's value at each particle (spectra, time steps).
+void require_point_rows(const Stencil& s, const std::string& use);
 /// Zero-copy view of one component (the stencil must outlive the view).
 SparseView as_eigen(const Stencil& s, int component = 0);
 

@@ -4,6 +4,8 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <vrsph/methods/pair_mean.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include <vrsph/methods/registry.hpp>
 #include <vrsph/methods/vrsph/vrsph.hpp>
 
 namespace vrsph {
@@ -29,7 +31,8 @@ MethodInfo vrsph_info() {
            {"rhs", "point (the row approximates div(a grad u) at x_i, right-hand side f_i; default) | compact (a "
                    "generalised Mehrstellen row: w >= 0 and a positive average of f over the stencil, found together "
                    "so that the row is exact on polynomials of degree <= 4: O(h^3) truncation, O(h^4) on lattices; "
-                   "rows where none exists, next to walls, keep the point form; div-a-grad needs grad a)"},
+                   "rows where none exists keep the point form; div-a-grad uses grad a when given, else FPM's "
+                   "quadratic fit of a)"},
            {"prefer", "none (the NNLS columns as [QW]; default) | near (columns scaled by (r_min/r_j)^2: NNLS then "
                       "picks the nearest neighbours; same moments, a more compact row)"},
            pair_mean_option()}};
@@ -93,7 +96,7 @@ class Vrsph final : public Method {
   }
   const MethodInfo& info() const override { return info_; }
   bool balances_flux_rows() const override { return balance_; }
-  bool needs_coefficient_gradient() const override { return compact_; }
+  bool needs_coefficient_gradient() const override { return compact_; }  // better than the fit it falls back on
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);
@@ -200,16 +203,29 @@ class Vrsph final : public Method {
                           Stencil& s) const {
     const PointCloud& cloud = disc.cloud;
     const bool divagrad = req.kind == OperatorKind::DivAGrad;
-    check<ConfigError>(!divagrad || req.coefficient_gradient != nullptr,
-                       "vrsph rhs=compact with div-a-grad needs the gradient of a at the particles "
-                       "(StencilRequest::coefficient_gradient; the studies sample it from the expression of a)");
+    // ∇a: given (the studies sample it from the expression of a), zero for a constant a, else
+    // estimated by FPM's quadratic fit (second order: the rows then keep O(h^2) where a varies).
+    Eigen::MatrixXd estimated;
+    const Eigen::MatrixXd* grad_a = req.coefficient_gradient;
+    if (divagrad && !grad_a) {
+      const Field& a = *req.coefficient;
+      estimated = Eigen::MatrixXd::Zero(cloud.size(), cloud.dim);
+      if (a.size() > 0 && a.maxCoeff() != a.minCoeff()) {
+        MethodOptions fit;
+        fit.set("gradient_order", "2");
+        StencilRequest greq;
+        greq.kind = OperatorKind::Gradient;
+        estimated = apply(builtin_methods().create("fpm", fit)->build(disc, greq), a);
+      }
+      grad_a = &estimated;
+    }
     std::vector<char> rows(static_cast<std::size_t>(cloud.size()), 0);
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
       rows[si] = (req.rows.empty() ? cloud.tags[si] != Tag::Ghost : req.rows[si] != 0) && (wall.empty() || !wall[si]);
     }
     const CompactRows c = compact_rows(disc, rows, divagrad ? req.coefficient : nullptr,
-                                       divagrad ? req.coefficient_gradient : nullptr, 4, 3, kCompactTolerance);
+                                       divagrad ? grad_a : nullptr, 4, 3, kCompactTolerance);
     s.rhs.assign(s.col.size(), 0.0);
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
