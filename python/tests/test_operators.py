@@ -37,6 +37,24 @@ def test_vrsph_laplacian_is_exact_on_quadratics_and_minus_l_has_m_matrix_signs()
     assert (L.data[off] >= 0).all() and (L.data[~off] <= 0).all()
 
 
+def test_compact_rows_come_with_their_right_hand_side_weights():
+    # vrsph rhs=compact: L u = M f with M a positive average (rows sum to 1); the plain call
+    # refuses to hand back L alone, which would silently drop M.
+    c = vrsph.cloud.perturbed(dim=2, n=16, seed=1)
+    with pytest.raises(vrsph.ConfigError, match="right-hand-side weights"):
+        vrsph.stencil(c, method="vrsph", options={"rhs": "compact"})
+    s = vrsph.stencil(c, method="vrsph", options={"rhs": "compact"}, diagnostics=True)
+    interior = c.tags == vrsph.INTERIOR
+    M = s.rhs
+    assert M is not None and M.shape == s.matrix.shape
+    assert np.abs(np.asarray(M.sum(axis=1)).ravel()[interior] - 1).max() < 1e-12 and (M.data >= 0).all()
+    x, y = c.points.T
+    u = x ** 4 + x * y ** 3  # exact on quartics: L u = M (Laplacian u)
+    lap = 12 * x ** 2 + 6 * x * y
+    assert np.abs((s.matrix @ u - M @ lap)[interior]).max() < 1e-6
+    assert vrsph.stencil(c, method="vrsph", diagnostics=True).rhs is None
+
+
 def test_div_a_grad_takes_a_callable_coefficient_and_bad_arguments_raise():
     c = vrsph.cloud.lattice(dim=2, n=10)
     A = vrsph.stencil(c, method="sph", operator="div-a-grad", coefficient=lambda x, y: 1 + x * x)

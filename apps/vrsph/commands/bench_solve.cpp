@@ -26,6 +26,7 @@ struct SolveBenchArgs {
   int dim = 2, threads = 0;
   std::string n = "100,200,400", method = "vrsph", cloud = "perturbed", solvers = "petsc", petsc_options, anchor,
               anchor_script;
+  std::vector<std::string> method_opts;
   std::uint64_t seed = 1;
   double h_factor = 3;
   bool baseline = false;
@@ -92,6 +93,7 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--solver", a->solvers, "Comma-separated solvers: petsc, auto, umfpack, sparselu, bicgstab")
       ->capture_default_str();
   cmd->add_option("--petsc-options", a->petsc_options, "PETSc options (after the defaults and PETSC_OPTIONS)");
+  cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value (repeatable)");
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
@@ -133,7 +135,9 @@ void add_solve_bench(CLI::App& bench) {
       o.petsc_options = a->petsc_options;
       solver_options.push_back(o);
     }
-    (void)builtin_methods().create(a->method);  // ConfigError on an unknown method, before any run
+    p.method_options = parse_method_options(a->method_opts, {a->method});
+    // ConfigError on an unknown method or option, before any run.
+    (void)builtin_methods().create(a->method, options_for(p.method_options, a->method));
 
     std::vector<AnchorRow> anchor;
     if (!a->anchor.empty()) {
@@ -183,6 +187,7 @@ void add_solve_bench(CLI::App& bench) {
     meta["dim"] = a->dim;
     meta["cloud"] = a->cloud;
     meta["method"] = a->method;
+    meta["method_options"] = a->method_opts;
 #ifdef _OPENMP
     meta["threads"] = omp_get_max_threads();
 #else
