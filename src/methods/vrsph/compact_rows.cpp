@@ -9,7 +9,8 @@
 namespace vrsph {
 
 namespace {
-constexpr Real kPolishBelow = 1e-6;  // residuals NNLS left that the polish is tried on
+constexpr Real kPolishBelow = 1e-6;   // residuals NNLS left that the polish is tried on,
+constexpr Real kPolishAbove = 1e-13;  // above round-off (most rows: the polish would be a no-op)
 
 std::vector<std::array<int, 3>> monomials(int dim, int degree) {
   std::vector<std::array<int, 3>> out;
@@ -81,7 +82,7 @@ void tabulate(const Vec3& e, int degree, std::array<std::array<Real, 8>, 3>& pw)
 }  // namespace
 
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a, const Eigen::MatrixXd* grad_a,
-                         int degree, int min_degree, Real tolerance) {
+                         int degree, int min_degree, Real tolerance, const CompactWalls& walls) {
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const Index n = cloud.size();
@@ -91,6 +92,9 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   check<InputError>(!a || a->size() == n, "compact rows: coefficient has ", a ? a->size() : 0, " values for ", n, " particles");
   check<InputError>(!grad_a || (grad_a->rows() == n && grad_a->cols() == dim), "compact rows: grad a must be ", n, " x ", dim);
   check<InputError>(nl.distances.size() == nl.indices.size(), "compact rows need neighbour lists with cached distances");
+  const bool any_wall = !walls.rows.empty();
+  check<InputError>(!any_wall || (static_cast<Index>(walls.rows.size()) == n && static_cast<Index>(walls.conormal.size()) == n),
+                    "compact rows: wall mask and conormals need one entry per particle");
   // Rows: one per monomial q = e^alpha of e = (x - x_i)/h, scaled by h^-|alpha| (with
   // ŵ = w h^2 every entry is O(1)): Σ_j ŵ_j q(e_j) - Σ_k μ_k (a_k Δq + h ∇a_k·∇q)(e_k) = 0;
   // then Σ_k μ_k = 1.
@@ -104,11 +108,12 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   out.mu.assign(static_cast<std::size_t>(nl.total()), 0.0);
   out.mu_self.assign(static_cast<std::size_t>(n), 0.0);
   out.residual.assign(static_cast<std::size_t>(n), 0.0);
+  if (any_wall) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
   Index max_count = 0;
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
 #pragma omp parallel
   {
-    NnlsSolver solver(R_max, 2 * static_cast<int>(max_count) + 1);
+    NnlsSolver solver(R_max, 2 * static_cast<int>(max_count) + 2);
     std::vector<Real> A, b, x, scale;
     std::array<std::array<Real, 8>, 3> pw{};
 #pragma omp for schedule(dynamic, 64)
@@ -118,7 +123,8 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
       if (!wanted) continue;
       const auto nbr = nl.of(i);
       const std::size_t cnt = nbr.size();
-      const std::size_t C = 2 * cnt + 1;
+      const bool wall = any_wall && walls.rows[si];
+      const std::size_t C = 2 * cnt + 1 + (wall ? 1 : 0);  // w, μ of the neighbours, μ_ii, the wall flux
       const Real h = nl.radius(i);
       // Nearer neighbours first (columns scaled by (r_min / r_j)^2, volumes scaled back).
       Real r_min = std::numeric_limits<Real>::infinity();
@@ -150,11 +156,18 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
           column(cnt + j, nbr[j], false, scale[j]);
         }
         column(2 * cnt, i, false, 1.0);
+        if (wall)  // ĉ = c h times a_i n·∇q(0): only the degree-1 monomials q = e_k have ∇q(0) != 0
+          for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r) {
+            const auto& al = mo[r];
+            if (al[0] + al[1] + al[2] != 1) continue;
+            for (int k = 0; k < dim; ++k)
+              if (al[static_cast<std::size_t>(k)] == 1) A[r * C + 2 * cnt + 1] = walls.conormal[si][k];
+          }
         x.assign(C, 0.0);
         const NnlsResult r = solver.solve(A.data(), R, static_cast<int>(C), b.data(), x.data(), {}, MatrixOrder::RowMajor);
         // NNLS may stop at a residual somewhat above the tolerance (its multiplier test is
         // relative to ||A||): the polish below finishes such near-exact rows.
-        const Real res = r.residual <= kPolishBelow ? polish(A, R, C, b, x) : r.residual;
+        const Real res = r.residual > kPolishAbove && r.residual <= kPolishBelow ? polish(A, R, C, b, x) : r.residual;
         if (deg == degree || res < out.residual[si]) out.residual[si] = res;
         if (!(r.status == NnlsStatus::Converged && res <= tolerance)) continue;
         out.ok[si] = 1;
@@ -166,6 +179,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
           out.mu[off + j] = x[cnt + j] * scale[j];
         }
         out.mu_self[si] = x[2 * cnt];
+        if (wall) out.wall_flux[si] = x[2 * cnt + 1] / h;
       }
     }
   }

@@ -432,6 +432,7 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
     case 9: return solve_impl<9>(A, m, n, b, x, options, order);
     case 10: return solve_impl<10>(A, m, n, b, x, options, order);
     case 12: return solve_impl<12>(A, m, n, b, x, options, order);
+    case 15: return solve_impl<15>(A, m, n, b, x, options, order);  // 2D compact rows (rhs=compact)
     case 16: return solve_impl<16>(A, m, n, b, x, options, order);
     case 19: return solve_impl<19>(A, m, n, b, x, options, order);
     case 27: return solve_impl<27>(A, m, n, b, x, options, order);

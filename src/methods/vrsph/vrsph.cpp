@@ -182,7 +182,7 @@ class Vrsph final : public Method {
     s.local_failure = vol.failed;
     s.wall_flux = std::move(vol.wall_flux);
     if (signed_) s.negative_volumes = std::move(vol.negative);
-    if (compact_ && laplace && !tensor) apply_compact_rows(disc, req, wall, s);
+    if (compact_ && laplace && !tensor) apply_compact_rows(disc, req, wall, conormal, s);
     set_difference_diagonal(s);
     return s;
   }
@@ -199,8 +199,10 @@ class Vrsph final : public Method {
 
   // Overwrites the rows that admit a compact (Mehrstellen) form and records every row's
   // right-hand-side weights (δ_ik for the rows that keep the point form).
+  // Balance (wall) rows take the compact form too where it exists, with the wall flux c_i
+  // of the compact system (conormal: the unit n_i of the balance rows).
   void apply_compact_rows(const Discretisation& disc, const StencilRequest& req, const std::vector<char>& wall,
-                          Stencil& s) const {
+                          const std::vector<Vec3>& conormal, Stencil& s) const {
     const PointCloud& cloud = disc.cloud;
     const bool divagrad = req.kind == OperatorKind::DivAGrad;
     // ∇a: given (the studies sample it from the expression of a), zero for a constant a, else
@@ -222,10 +224,18 @@ class Vrsph final : public Method {
     std::vector<char> rows(static_cast<std::size_t>(cloud.size()), 0);
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
-      rows[si] = (req.rows.empty() ? cloud.tags[si] != Tag::Ghost : req.rows[si] != 0) && (wall.empty() || !wall[si]);
+      rows[si] = req.rows.empty() ? cloud.tags[si] != Tag::Ghost : req.rows[si] != 0;
+    }
+    std::vector<Vec3> flux_direction;  // a_i n_i: the compact row's flux term is c_i (a n·∇u)_i
+    CompactWalls walls;
+    if (!conormal.empty()) {
+      flux_direction = conormal;
+      if (divagrad)
+        for (Index i = 0; i < cloud.size(); ++i) flux_direction[static_cast<std::size_t>(i)] *= (*req.coefficient)[i];
+      walls = {wall, flux_direction};
     }
     const CompactRows c = compact_rows(disc, rows, divagrad ? req.coefficient : nullptr,
-                                       divagrad ? grad_a : nullptr, 4, 3, kCompactTolerance);
+                                       divagrad ? grad_a : nullptr, 4, 3, kCompactTolerance, walls);
     s.rhs.assign(s.col.size(), 0.0);
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
@@ -242,6 +252,7 @@ class Vrsph final : public Method {
         s.rhs[slot] = c.mu[off + static_cast<std::size_t>(k)];
       }
       s.rhs[d] = c.mu_self[si];
+      if (!c.wall_flux.empty() && wall[si]) s.wall_flux[si] = c.wall_flux[si];
       // The row's local problem is now the compact one (|b| = 1): its residual, on the
       // scale the summaries use (relative residual x sqrt(d)).
       s.residual[si] = c.residual[si] * std::sqrt(static_cast<Real>(cloud.dim));

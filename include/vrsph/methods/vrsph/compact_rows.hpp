@@ -22,6 +22,15 @@ struct CompactRows {
   std::vector<Real> mu;         ///< aligned with the neighbour slots (μ_ij of the neighbours)
   std::vector<Real> mu_self;    ///< per particle: μ_ii
   std::vector<Real> residual;   ///< per particle: ||A x - b|| / ||b|| of the local system
+  std::vector<Real> wall_flux;  ///< wall rows: c_i >= 0 of Σ w (u_j - u_i) = Σ μ f - c_i q_i; else empty
+};
+
+/// Compact balance rows at wall particles (with flux=balance): one more unknown c_i >= 0 and
+/// the row exact on p for Σ_j w_ij (p_j - p_i) + c_i (a n·∇p)_i = Σ_k μ_ik (L p)(x_k), so that
+/// a Neumann condition a ∂u/∂n = q enters as -c_i q_i on the right-hand side.
+struct CompactWalls {
+  std::span<const char> rows;      ///< per particle: 1 = a wall row (empty: none)
+  std::span<const Vec3> conormal;  ///< per particle: a_i n_i (the flux q = conormal·∇u)
 };
 
 /// rows: the particles to build (empty: every non-ghost particle). a, grad_a: the
@@ -29,6 +38,7 @@ struct CompactRows {
 /// the highest degree from `degree` down to `min_degree` (>= 3) that admits w, μ >= 0;
 /// tolerance: relative residual above which a degree is not met.
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a,
-                         const Eigen::MatrixXd* grad_a, int degree, int min_degree, Real tolerance);
+                         const Eigen::MatrixXd* grad_a, int degree, int min_degree, Real tolerance,
+                         const CompactWalls& walls = {});
 
 }  // namespace vrsph
