@@ -28,6 +28,20 @@ PointCloud walled_cloud(int dim, int n, bool perturbed = true) {
   return c;
 }
 
+// A perturbed layout-A cloud (all faces Dirichlet) and its neighbours at h = 3 dx.
+struct PerturbedSetup {
+  PointCloud cloud;
+  NeighbourList neighbours;
+};
+PerturbedSetup perturbed_setup(int n) {
+  PerturbedSetup s{vertex_lattice(Domain::unit_box(2), n), {}};
+  perturb(s.cloud, {});
+  SearchParams sp;
+  sp.radius = 3 * s.cloud.spacing;
+  s.neighbours = find_neighbours(s.cloud, sp);
+  return s;
+}
+
 Stencil build(const PointCloud& c, const std::string& options, OperatorKind kind = OperatorKind::Laplacian,
               const Field* a = nullptr) {
   MethodOptions mo;
@@ -149,12 +163,9 @@ TEST(VrsphWalls, SignedVolumesMeetMomentsNoNonNegativeVolumesMeet) {
 TEST(VrsphWalls, SignedBoundaryLeavesNoInfeasibleRowAndKeepsFeasibleRowsAsTheyWere) {
   // Perturbed layout A without a regular layer: rows next to the wall are infeasible for
   // v >= 0; boundary=signed meets every row's moments, and rows NNLS satisfies are untouched.
-  PointCloud c = vertex_lattice(Domain::unit_box(2), 24);
-  perturb(c, {});
-  SearchParams sp;
-  sp.radius = 3 * c.spacing;
-  const NeighbourList nl = find_neighbours(c, sp);
-  const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
+  const PerturbedSetup setup = perturbed_setup(24);
+  const PointCloud& c = setup.cloud;
+  const Discretisation disc{c, setup.neighbours, KernelType::CubicSpline, c.spacing};
   const auto plain = builtin_methods().create("vrsph", {})->build(disc, {});
   MethodOptions mo;
   mo.set("boundary", "signed");
@@ -189,11 +200,8 @@ TEST(VrsphCompact, RowsAreExactOnQuarticsWithPositiveWeightsAndAverage) {
   // rhs=compact: Σ_j w_ij (p_j - p_i) = Σ_k μ_ik (L p)(x_k) for every p of degree <= 4 (degree 3
   // where 4 admits no positive solution), w >= 0, μ >= 0, Σ μ = 1; with a variable a the
   // operator is a Δp + ∇a·∇p.
-  PointCloud c = vertex_lattice(Domain::unit_box(2), 16);
-  perturb(c, {});
-  SearchParams sp;
-  sp.radius = 3 * c.spacing;
-  const NeighbourList nl = find_neighbours(c, sp);
+  const PerturbedSetup setup = perturbed_setup(16);
+  const PointCloud& c = setup.cloud;
   Field a(c.size());
   Eigen::MatrixXd ga(c.size(), 2);
   for (Index i = 0; i < c.size(); ++i) {
@@ -210,7 +218,7 @@ TEST(VrsphCompact, RowsAreExactOnQuarticsWithPositiveWeightsAndAverage) {
   req.kind = OperatorKind::DivAGrad;
   req.coefficient = &a;
   req.coefficient_gradient = &ga;
-  const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
+  const Discretisation disc{c, setup.neighbours, KernelType::CubicSpline, c.spacing};
   const Stencil L = method->build(disc, req);
   ASSERT_EQ(L.rhs.size(), L.col.size());
   // p = x^3 y - 2 x y^2 + y^4 (quartic part) and L p = a Δp + ∇a·∇p.
