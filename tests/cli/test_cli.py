@@ -60,6 +60,23 @@ class Operator(unittest.TestCase):
                        "--n", "16,32,64", "--seed", "5")
         self.assertLess(out["fitted_order_inf"]["sph"], -0.5)
 
+    def test_vrsph_wall_options_interface(self):
+        # Issue 17's interface (also run under the sanitizers): boundary=signed leaves no
+        # infeasible row without ghosts; flux=balance and rhs=compact through study, Robin too.
+        out = run_json("operator", "--problem", "qw-trunc", "--method", "vrsph", "--method-opt",
+                       "vrsph:boundary=signed", "--cloud", "perturbed", "--no-ghosts", "--n", "16,32")
+        self.assertEqual([r["infeasible"] for r in out["rows"]], [0, 0])
+        self.assertGreater(out["rows"][1]["signed_rows"], 0)
+        for extra in (["--neumann", "x1,y1"], ["--robin", "x1,y1", "--beta", "1+x"]):
+            for opts in (["vrsph:flux=balance"], ["vrsph:flux=balance", "vrsph:rhs=compact"]):
+                args = ["study", "--u", "cos(2*x)*sin(3*y)+x^2", "--method", "vrsph", "--cloud", "perturbed",
+                        "--n", "8,16", *extra]
+                for o in opts:
+                    args += ["--method-opt", o]
+                rows = run_json(*args)["rows"]
+                self.assertLess(rows[1]["error_inf"], rows[0]["error_inf"], (extra, opts))
+                self.assertTrue(rows[1]["mmatrix"], (extra, opts))
+
     def test_expression_and_exact(self):
         out = run_json("operator", "--problem", "unit-box", "--dim", "1", "--operator", "second-derivative",
                        "--u", "sin(2*x)", "--exact", "-4*sin(2*x)", "--n", "16,32", "--h-factor", "6")
