@@ -30,7 +30,7 @@ MethodInfo vrsph_info() {
                     "monotone, second order)"},
            {"rhs", "point (the row approximates div(a grad u) at x_i, right-hand side f_i; default) | compact (a "
                    "generalised Mehrstellen row: w >= 0 and a positive average of f over the stencil, found together "
-                   "so that the row is exact on polynomials of degree <= 4: O(h^3) truncation, O(h^4) on lattices; "
+                   "so that the row is exact on polynomials of degree <= 4: O(h^3) truncation; "
                    "rows where none exists keep the point form; div-a-grad uses grad a when given, else FPM's "
                    "quadratic fit of a)"},
            {"prefer", "none (the NNLS columns as [QW]; default) | near (columns scaled by (r_min/r_j)^2: NNLS then "

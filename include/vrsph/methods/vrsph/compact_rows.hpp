@@ -5,9 +5,9 @@
 // with w and μ found together (one NNLS per particle) so that the row is exact for every
 // polynomial p of degree <= `degree` with f = L p = a Δp + ∇a·∇p at the stencil's particles.
 // The left-hand side keeps VRSPH's M-matrix sign structure; the right-hand side becomes a
-// positive average of f. Exact for degree 4: truncation O(h^3) (O(h^4) where the cloud is
-// symmetric enough for the fifth moments to vanish, e.g. a lattice), against O(h^2) for the
-// point right-hand side f_i. Where degree 4 admits no w, μ >= 0 (next to a wall) degree 3
+// positive average of f. Exact for degree 4: truncation O(h^3), against O(h^2) for the
+// point right-hand side f_i (also on a lattice: the NNLS vertex is not symmetric, so the
+// fifth moments do not vanish; measured order 3.0 there). Where degree 4 admits no w, μ >= 0 (next to a wall) degree 3
 // is tried (O(h^2), still positive); rows with neither are left to the caller (VRSPH falls
 // back on its own row with μ = δ_ik).
 #include <span>
