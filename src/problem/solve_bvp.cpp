@@ -1,4 +1,3 @@
-#include <optional>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -214,8 +213,6 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   report(summarise_local_residuals(L, interior, o.infeasible_tolerance), "interior");
   if (s.neumann_particles > 0)
     report(summarise_local_residuals(balance ? L : G, flux, o.infeasible_tolerance), balance ? "Neumann (balance)" : "Neumann");
-  for (std::size_t i = 0; i < L.negative_volumes.size(); ++i)
-    if (operator_rows[i] && L.negative_volumes[i] > 0) ++s.signed_rows;
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (interior[si] && !L.condition.empty()) s.condition_max = std::max(s.condition_max, L.condition[si]);
@@ -235,10 +232,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   }
   detail::summarise_transmissibilities(L, operator_rows, s);
   if (s.signed_rows > 0) {
-    s.warnings.push_back(detail::concat(
-        o.label.empty() ? o.method : o.label, ": ", s.signed_rows, " row(s) took negative volumes to meet moment "
-        "conditions no non-negative volumes meet (boundary=signed; ", s.negative_transmissibilities,
-        " negative off-diagonal weight(s)): -L is not an M-matrix there"));
+    s.warnings.push_back(detail::signed_rows_warning(o.label.empty() ? o.method : o.label, s));
   } else if (method->info().monotone && s.negative_transmissibilities > 0) {
     std::string rows;
     for (std::size_t k = 0; k < s.negative_rows.size(); ++k) rows += detail::concat(k ? ", " : "", s.negative_rows[k]);
@@ -248,16 +242,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
         "anisotropy or disorder; [SPE] (92)/(93), xi_max = ", s.xi_max, "); first rows: ", rows));
   }
   if (o.check_m_matrix) {
-    // Balance rows with Robin data: the assembly adds -c_i beta_i to their diagonal (strict
-    // dominance), so the test sees that too.
-    std::optional<Stencil> robin_rows;
-    if (balance && p.robin.size() > 0 && p.robin.maxCoeff() > 0) {
-      robin_rows = L;
-      for (Index i = 0; i < n; ++i)
-        if (flux[static_cast<std::size_t>(i)])
-          robin_rows->values[0][static_cast<std::size_t>(L.diag[static_cast<std::size_t>(i)])] -=
-              L.wall_flux[static_cast<std::size_t>(i)] * p.robin[i];
-    }
+    const std::optional<Stencil> robin_rows = detail::with_robin_diagonal(L, flux, p.robin);
     const MMatrixReport mm = check_m_matrix(robin_rows ? *robin_rows : L,
                                             s.neumann_particles > 0 && !balance ? std::span<const char>(interior) : unknown);
     s.m_matrix = mm.is_m_matrix();

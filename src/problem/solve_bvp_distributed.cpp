@@ -1,4 +1,3 @@
-#include <optional>
 // The boundary value problem over MPI ranks: the serial pipeline of solve_bvp.cpp on each
 // rank's owned particles plus a halo, with every diagnostic reduced over the ranks.
 //
@@ -354,19 +353,14 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   });
   {
     summarise_transmissibilities(L, operator_rows, s);  // this rank's rows, then over the ranks
-    long long signed_rows = 0;
-    for (std::size_t i = 0; i < L.negative_volumes.size(); ++i) signed_rows += operator_rows[i] && L.negative_volumes[i] > 0;
-    s.signed_rows = static_cast<Index>(sum_over_ranks(comm, signed_rows));
+    s.signed_rows = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(s.signed_rows)));
     const long long negative = s.negative_transmissibilities;
     const Real xi = max_over_ranks(comm, std::isnan(s.xi_max) ? -std::numeric_limits<Real>::infinity() : s.xi_max);
     s.negative_transmissibilities = static_cast<Index>(sum_over_ranks(comm, negative));
     for (Index& i : s.negative_rows) i = dc.global_id[static_cast<std::size_t>(i)];
     s.xi_max = std::isfinite(xi) ? xi : std::nan("");
     if (s.signed_rows > 0)
-      s.warnings.push_back(concat(o.label.empty() ? o.method : o.label, ": ", s.signed_rows, " row(s) took negative "
-                                  "volumes to meet moment conditions no non-negative volumes meet (boundary=signed; ",
-                                  s.negative_transmissibilities, " negative off-diagonal weight(s)): -L is not an "
-                                  "M-matrix there"));
+      s.warnings.push_back(signed_rows_warning(o.label.empty() ? o.method : o.label, s));
     else if (method->info().monotone && s.negative_transmissibilities > 0)
       s.warnings.push_back(concat(o.label.empty() ? o.method : o.label, ": ", s.negative_transmissibilities,
                                   " negative off-diagonal weight(s) in interior rows of a scheme meant to be monotone: "
@@ -378,15 +372,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
     const bool flux_rows_apart = s.neumann_particles > 0 && !balance;
     const std::vector<char>& rows = flux_rows_apart ? interior : unknown;
     std::vector<char> columns = flux_rows_apart ? tag_mask(cloud, {Tag::Interior}) : unknown_all;
-    // Balance rows with Robin data: the assembly adds -c_i beta_i to their diagonal.
-    std::optional<Stencil> robin_rows;
-    if (balance && robin.size() > 0 && robin.maxCoeff() > 0) {
-      robin_rows = L;
-      for (Index i = 0; i < n; ++i)
-        if (flux[static_cast<std::size_t>(i)])
-          robin_rows->values[0][static_cast<std::size_t>(L.diag[static_cast<std::size_t>(i)])] -=
-              L.wall_flux[static_cast<std::size_t>(i)] * robin[i];
-    }
+    const std::optional<Stencil> robin_rows = with_robin_diagonal(L, flux, robin);
     const MMatrixReport mm = check_m_matrix(robin_rows ? *robin_rows : L, columns, 1e-12, rows,
                                             [&](std::span<const Index> off, std::span<const Index> tgt, std::vector<char> seeds) {
                                               return reach_over_ranks(dc, off, tgt, std::move(seeds));

@@ -1,13 +1,18 @@
 #pragma once
-// Internal: the negative-transmissibility and [SPE] ξ summary of the interior rows, shared
-// by the serial solve and each rank's rows of the distributed one.
+// Internal: the negative-transmissibility, signed-row and [SPE] ξ summary of the operator
+// rows, and the M-matrix test's view of balance rows with Robin data, shared by the serial
+// solve and each rank's rows of the distributed one.
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
+#include <vrsph/core/error.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
 
 namespace vrsph::detail {
 
-// Negative off-diagonal weights of the interior rows and the [SPE] ξ diagnostic.
+// Negative off-diagonal weights of the given rows, the rows that took negative volumes (VRSPH
+// boundary=signed) and the [SPE] ξ diagnostic.
 inline void summarise_transmissibilities(const Stencil& L, const std::vector<char>& interior, BvpSolution& s) {
   for (Index i = 0; i < L.rows(); ++i) {
     const auto si = static_cast<std::size_t>(i);
@@ -18,8 +23,29 @@ inline void summarise_transmissibilities(const Stencil& L, const std::vector<cha
       neg += L.col[static_cast<std::size_t>(k)] != i && L.values[0][static_cast<std::size_t>(k)] < -1e-12 * scale;
     s.negative_transmissibilities += neg;
     if (neg > 0 && s.negative_rows.size() < 10) s.negative_rows.push_back(i);
+    if (!L.negative_volumes.empty() && L.negative_volumes[si] > 0) ++s.signed_rows;
     if (!L.xi.empty()) s.xi_max = std::isnan(s.xi_max) ? L.xi[si] : std::max(s.xi_max, L.xi[si]);
   }
+}
+
+// The warning for rows that took negative volumes (after the summary, over every rank).
+inline std::string signed_rows_warning(const std::string& label, const BvpSolution& s) {
+  return concat(label, ": ", s.signed_rows, " row(s) took negative volumes to meet moment conditions no non-negative "
+                "volumes meet (boundary=signed; ", s.negative_transmissibilities,
+                " negative off-diagonal weight(s)): -L is not an M-matrix there");
+}
+
+// Balance rows with Robin data: the assembly adds -c_i beta_i to their diagonal (strict
+// dominance), so the M-matrix test must see it too. A copy of L with that diagonal, or
+// nothing when there is no such row.
+inline std::optional<Stencil> with_robin_diagonal(const Stencil& L, const std::vector<char>& flux, const Field& robin) {
+  if (L.wall_flux.empty() || robin.size() == 0 || robin.maxCoeff() <= 0) return std::nullopt;
+  Stencil out = L;
+  for (Index i = 0; i < L.rows(); ++i)
+    if (flux[static_cast<std::size_t>(i)])
+      out.values[0][static_cast<std::size_t>(L.diag[static_cast<std::size_t>(i)])] -=
+          L.wall_flux[static_cast<std::size_t>(i)] * robin[i];
+  return out;
 }
 
 }  // namespace vrsph::detail
