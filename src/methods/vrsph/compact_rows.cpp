@@ -1,9 +1,9 @@
 #include <Eigen/QR>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
+#include <vrsph/methods/vrsph/moments.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
 
 namespace vrsph {
@@ -126,12 +126,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
       const bool wall = any_wall && walls.rows[si];
       const std::size_t C = 2 * cnt + 1 + (wall ? 1 : 0);  // w, μ of the neighbours, μ_ii, the wall flux
       const Real h = nl.radius(i);
-      // Nearer neighbours first (columns scaled by (r_min / r_j)^2, volumes scaled back).
-      Real r_min = std::numeric_limits<Real>::infinity();
-      const auto dist = nl.distances_of(i);
-      for (std::size_t j = 0; j < cnt; ++j) r_min = std::min(r_min, dist[j]);
-      scale.assign(cnt, 1.0);
-      for (std::size_t j = 0; j < cnt; ++j) scale[j] = std::pow(r_min / dist[j], 2);
+      nearest_first_scales(nl.distances_of(i), scale);  // the w and μ columns of neighbour j, scaled back below
       // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
       // positive row with the O(h) part of the truncation moved into the average of f).
       for (int deg = degree; deg >= min_degree && !out.ok[si]; --deg) {

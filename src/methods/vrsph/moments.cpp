@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/moments.hpp>
@@ -185,6 +186,13 @@ int first_moment_row(MomentConditions c, int dim, MomentRows layout, int k) {
     if (rows[r].gamma[0] + rows[r].gamma[1] + rows[r].gamma[2] == 1 && rows[r].gamma[static_cast<std::size_t>(k)] == 1)
       return static_cast<int>(r);
   throw std::logic_error("first_moment_row: no row x_k");
+}
+
+void nearest_first_scales(std::span<const Real> distances, std::vector<Real>& scale) {
+  Real r_min = std::numeric_limits<Real>::infinity();
+  for (const Real d : distances) r_min = std::min(r_min, d);
+  scale.resize(distances.size());
+  for (std::size_t j = 0; j < distances.size(); ++j) scale[j] = std::pow(r_min / distances[j], 2);
 }
 
 }  // namespace vrsph

@@ -1,5 +1,4 @@
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/signed_volumes.hpp>
@@ -8,19 +7,13 @@
 namespace vrsph {
 
 namespace {
-// Nearer neighbours first: each of the n columns of the rows x n moment matrix scaled by
-// (r_min / r_j)^2, the factors kept in `scale` (the volumes found are multiplied by them).
-// The feasible set is unchanged; NNLS's path, which admits the column with the largest
-// multiplier, then prefers the nearest neighbours (measured: the power 2 helps, 8 breaks
-// perturbed rows; docs/methods.md).
-void prefer_near(const Vec3* xji, std::size_t n, Real* A, std::size_t rows, MatrixOrder order, std::vector<Real>& scale) {
-  Real r_min = std::numeric_limits<Real>::infinity();
-  for (std::size_t j = 0; j < n; ++j) r_min = std::min(r_min, xji[j].norm());
-  scale.resize(n);
-  for (std::size_t j = 0; j < n; ++j) {
-    scale[j] = std::pow(r_min / xji[j].norm(), 2);
+// Nearer neighbours first: the n columns of the rows x n moment matrix scaled by
+// nearest_first_scales (kept in `scale`: the volumes found are multiplied by them).
+void prefer_near(std::span<const Real> dist, Real* A, std::size_t rows, MatrixOrder order, std::vector<Real>& scale) {
+  nearest_first_scales(dist, scale);
+  const std::size_t n = dist.size();
+  for (std::size_t j = 0; j < n; ++j)
     for (std::size_t r = 0; r < rows; ++r) (order == MatrixOrder::RowMajor ? A[r * n + j] : A[j * rows + r]) *= scale[j];
-  }
 }
 }  // namespace
 
@@ -112,7 +105,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
         // Row-major: the layout the solver works on, so it copies nothing.
         build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
         if (!targets.empty()) moment_targets(conditions, dim, layout, targets[si], b.data());
-        if (opt.prefer_near) prefer_near(xji.data(), ucnt, A.data(), static_cast<std::size_t>(m), MatrixOrder::RowMajor, near_);
+        if (opt.prefer_near) prefer_near(nl.distances_of(i), A.data(), static_cast<std::size_t>(m), MatrixOrder::RowMajor, near_);
         const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, opt.nnls, MatrixOrder::RowMajor);
         if (opt.prefer_near)
           for (std::size_t j = 0; j < ucnt; ++j) v[j] *= near_[j];
@@ -129,7 +122,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
         // Nearer neighbours first (prefer_near): on a lattice NNLS otherwise takes the diagonal
         // neighbours only, and the wall rows, like VRSPH's interior rows there, leave the two
         // checkerboard sublattices uncoupled: a pure Neumann problem then has two constants.
-        prefer_near(xji.data(), ucnt, A.data(), ur, MatrixOrder::ColumnMajor, near_);
+        prefer_near(nl.distances_of(i), A.data(), ur, MatrixOrder::ColumnMajor, near_);
         for (std::size_t j = 0; j < ucnt; ++j) {
           Real s2 = 0;
           for (std::size_t r = 0; r < ur; ++r) s2 += A[j * ur + r] * A[j * ur + r];

@@ -10,6 +10,7 @@
 // Gradient version (4.1): 1 <= |alpha| <= 2 -> 2 / 10 / 27 rows.
 // Rows are unscaled and duplicates are kept (METHODS P6): scaling changes the minimiser.
 #include <array>
+#include <span>
 #include <vrsph/core/types.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
 
@@ -51,6 +52,12 @@ void moment_targets(MomentConditions c, int dim, MomentRows layout, const Moment
 /// Σ v (Y/2) (x_ji)_k: where a balance row's wall-flux column enters.
 int first_moment_row(MomentConditions c, int dim, MomentRows layout, int k);
 
+/// Column scales (r_min / r_j)^2 for the neighbours at the given distances: multiplying the
+/// moment columns by them (and the volumes found back by them) leaves the feasible set as it
+/// is while NNLS's path, which admits the column with the largest multiplier, prefers the
+/// nearest neighbours (VRSPH prefer=near, balance and compact rows; the power 2 helps, 8 broke
+/// perturbed rows, docs/methods.md).
+void nearest_first_scales(std::span<const Real> distances, std::vector<Real>& scale);
 /// Fills the rows x n matrix A (column j for neighbour j; column-major, or row-major as the
 /// NNLS solver works on it) and b (rows). xji[j] = x_j - x_i, half_y[j] = Y_ij / 2 =
 /// -W'(r_ij)/r_ij >= 0.
