@@ -163,6 +163,7 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
   std::vector<char> anchored(static_cast<std::size_t>(m), 0);  // row couples to a known particle
   std::atomic<Index> bad_g{n};                                 // smallest known particle with g not finite
   std::atomic<Index> bad_f{n};  // compact rows: smallest particle whose f they average and is not finite
+  const Field f_average = L.rhs.empty() ? Field() : average_rhs(L, f);
 #pragma omp parallel for schedule(static)
   for (Index d = 0; d < m; ++d) {
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
@@ -177,21 +178,16 @@ LinearSystem assemble(const Stencil& L, const PointCloud& cloud, std::span<const
     }
     const bool flux = cloud.tags[si] == Tag::Neumann;
     const Stencil& R = row_of(d);
-    Real fi = f[i];
-    if (!L.rhs.empty() && (!flux || balance)) {  // compact rows: a weighted average of f
-      fi = 0;
+    const bool averaged = !L.rhs.empty() && (!flux || balance);  // compact rows: a weighted average of f
+    const Real fi = averaged ? f_average[i] : f[i];
+    if (averaged && !std::isfinite(fi))  // name the particle whose f made it so
       for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
-        const Real mu = L.rhs[static_cast<std::size_t>(k)];
-        if (mu == 0) continue;
         const Index j = L.col[static_cast<std::size_t>(k)];
-        if (!std::isfinite(f[j])) {
-          Index seen = bad_f.load();
-          while (j < seen && !bad_f.compare_exchange_weak(seen, j)) {
-          }
+        if (L.rhs[static_cast<std::size_t>(k)] == 0 || std::isfinite(f[j])) continue;
+        Index seen = bad_f.load();
+        while (j < seen && !bad_f.compare_exchange_weak(seen, j)) {
         }
-        fi += mu * f[j];
       }
-    }
     Real rhs = flux ? (balance ? fi - L.wall_flux[si] * boundary->q[i] : boundary->q[i]) : fi;
     if (flux && boundary->robin.size() > 0 && boundary->robin[i] > 0) anchored[static_cast<std::size_t>(d)] = 1;
     for (Index k = R.row_begin(i); k < R.row_end(i); ++k) {

@@ -87,8 +87,10 @@ Field average_rhs(const Stencil& s, const Field& f) {
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < s.rows(); ++i) {
     Real acc = 0;
-    for (Index k = s.row_begin(i); k < s.row_end(i); ++k)
-      acc += s.rhs[static_cast<std::size_t>(k)] * f[s.col[static_cast<std::size_t>(k)]];
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+      const Real mu = s.rhs[static_cast<std::size_t>(k)];
+      if (mu != 0) acc += mu * f[s.col[static_cast<std::size_t>(k)]];  // f is read only where a row weighs it
+    }
     out[i] = acc;
   }
   return out;

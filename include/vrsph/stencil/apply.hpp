@@ -13,7 +13,7 @@ Eigen::MatrixXd apply(const Stencil& s, const Field& u);
 /// One component only.
 Field apply_component(const Stencil& s, const Field& u, int component);
 /// The right-hand-side average a row stands for (Stencil::rhs): Σ_k rhs[k] f[col[k]] per
-/// row, or f itself when the stencil has no such weights.
+/// row over its non-zero weights, or f itself when the stencil has no such weights.
 Field average_rhs(const Stencil& s, const Field& f);
 /// ConfigError naming `use` when the stencil has right-hand-side weights (compact rows),
 /// for uses that take L u as the operator's value at each particle (spectra, time steps).
