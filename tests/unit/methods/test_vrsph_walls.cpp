@@ -97,7 +97,9 @@ TEST(VrsphWalls, BalanceRowsAreExactOnQuadraticsWithNonNegativeWeights) {
       EXPECT_GT(L.wall_flux[si], 0) << "dim " << dim << " particle " << i;
       EXPECT_NEAR(Lu[i] + L.wall_flux[si] * dudn, lap, 1e-8 * L.wall_flux[si] / c.spacing) << "dim " << dim << " particle " << i;
       for (Index k = L.row_begin(i); k < L.row_end(i); ++k)
-        if (L.col[static_cast<std::size_t>(k)] != i) EXPECT_GE(L.values[0][static_cast<std::size_t>(k)], 0);
+        if (L.col[static_cast<std::size_t>(k)] != i) {
+          EXPECT_GE(L.values[0][static_cast<std::size_t>(k)], 0);
+        }
     }
     EXPECT_GT(walls, 0) << dim;
   }
@@ -178,9 +180,10 @@ TEST(VrsphWalls, SignedBoundaryLeavesNoInfeasibleRowAndKeepsFeasibleRowsAsTheyWe
     infeasible += bad;
     signed_rows += fixed.negative_volumes[si] > 0;
     EXPECT_LT(fixed.residual[si], 1e-10) << i;
-    if (!bad)
+    if (!bad) {
       for (Index k = plain.row_begin(i); k < plain.row_end(i); ++k)
         EXPECT_EQ(plain.values[0][static_cast<std::size_t>(k)], fixed.values[0][static_cast<std::size_t>(k)]) << i;
+    }
   }
   EXPECT_GT(infeasible, 10);
   EXPECT_EQ(signed_rows, infeasible);
@@ -241,7 +244,9 @@ TEST(VrsphCompact, RowsAreExactOnQuarticsWithPositiveWeightsAndAverage) {
       rhs += L.rhs[sk] * Lp(xj);
       mu_sum += L.rhs[sk];
       EXPECT_GE(L.rhs[sk], 0) << i;
-      if (j != i) EXPECT_GE(L.values[0][sk], 0) << i;
+      if (j != i) {
+        EXPECT_GE(L.values[0][sk], 0) << i;
+      }
     }
     EXPECT_NEAR(mu_sum, 1, 1e-12) << i;
     EXPECT_LT(L.residual[si], 1e-8) << i;
@@ -295,7 +300,9 @@ TEST(VrsphCompact, WallRowsCarryTheFluxAndAreExactOnCubics) {
       lhs += L.values[0][sk] * p(xj);
       rhs += L.rhs[sk] * lap(xj);
       EXPECT_GE(L.rhs[sk], 0);
-      if (L.col[sk] != i) EXPECT_GE(L.values[0][sk], 0);
+      if (L.col[sk] != i) {
+        EXPECT_GE(L.values[0][sk], 0);
+      }
     }
     EXPECT_GT(L.wall_flux[si], 0) << i;
     // A corner between two Neumann faces (one averaged normal) admits no compact row: it keeps
