@@ -5,6 +5,7 @@
 #include <numeric>
 #include <random>
 #include <vrsph/analysis/im_table1.hpp>
+#include <vrsph/analysis/plane_wave_multiplier.hpp>
 #include <vrsph/cloud/im_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
@@ -18,6 +19,9 @@ namespace {
 constexpr Real two_pi = 2 * std::numbers::pi;
 
 char operator_of(const std::string& weight) { return weight.rfind("pi", 0) == 0 ? 'v' : weight.rfind("grad", 0) == 0 ? 'g' : 'l'; }
+WeightOperator weight_operator(char op) {
+  return op == 'v' ? WeightOperator::Interpolant : op == 'g' ? WeightOperator::Gradient : WeightOperator::Laplacian;
+}
 
 // One (level, m): the errors of every requested weight at the evaluation points.
 struct LevelCloud {
@@ -25,6 +29,9 @@ struct LevelCloud {
   long long first = 0, per_axis = 0;
   std::vector<Index> points;  // evaluation particles (in Omega)
   Index in_omega = 0;
+  // ImVolumes::Cells: the cell length along an axis per lattice index (empty: uniform volumes)
+  std::vector<Real> cell_length;
+  Real interior_volume = 0;  // V_i of the particles around Omega
 };
 
 LevelCloud make_level(const ImTable1Options& o, int level) {
@@ -39,6 +46,14 @@ LevelCloud make_level(const ImTable1Options& o, int level) {
   long long last = 0;
   im_lattice_range(spec.dx, spec.margin, L.first, last);
   L.per_axis = last - L.first + 1;
+  L.interior_volume = L.cloud.domain.measure() / static_cast<Real>(L.cloud.size());
+  if (o.volumes == ImVolumes::Cells) {
+    // [(i - 1/2) dx, (i + 1/2) dx], the first and last stretched to -H and 1 + H: a tiling of Omega_H.
+    L.cell_length.assign(static_cast<std::size_t>(L.per_axis), spec.dx);
+    L.cell_length.front() = (static_cast<Real>(L.first) + 0.5) * spec.dx + spec.margin;
+    L.cell_length.back() = 1 + spec.margin - (static_cast<Real>(last) - 0.5) * spec.dx;
+    L.interior_volume = std::pow(spec.dx, o.dim);
+  }
   for (Index p = 0; p < L.cloud.size(); ++p) {
     const Vec3& x = L.cloud.positions[static_cast<std::size_t>(p)];
     bool inside = true;
@@ -55,6 +70,12 @@ LevelCloud make_level(const ImTable1Options& o, int level) {
   return L;
 }
 }  // namespace
+
+ImVolumes parse_im_volumes(const std::string& name, const char* option) {
+  if (name == "uniform") return ImVolumes::Uniform;
+  if (name == "cells") return ImVolumes::Cells;
+  throw ConfigError(detail::concat(option, " must be uniform (|Omega_H| / N, [IM] 5.4) or cells (the lattice cells), got '", name, "'"));
+}
 
 Real im_theoretical_order(const std::string& weight, int m) {
   if (m <= 1) return std::numeric_limits<Real>::quiet_NaN();
@@ -78,7 +99,15 @@ std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
   for (int level : o.levels) {
     const LevelCloud L = make_level(o, level);
     const Real dx = L.cloud.spacing;
-    const Real V = L.cloud.domain.measure() / static_cast<Real>(L.cloud.size());
+    const Real volume_bias = L.interior_volume / std::pow(dx, d) - 1;
+    // V of lattice point q = (a, b, c)
+    auto volume = [&L, d](long long a, long long b, long long c) {
+      if (L.cell_length.empty()) return L.interior_volume;
+      Real v = L.cell_length[static_cast<std::size_t>(a)];
+      if (d > 1) v *= L.cell_length[static_cast<std::size_t>(b)];
+      if (d > 2) v *= L.cell_length[static_cast<std::size_t>(c)];
+      return v;
+    };
     std::vector<Real> u(L.cloud.positions.size());
 #pragma omp parallel for schedule(static)
     for (std::size_t p = 0; p < u.size(); ++p) u[p] = std::sin(two_pi * L.cloud.positions[p].sum());
@@ -116,6 +145,7 @@ std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
                 const Real r = xji.norm();
                 if (r >= h) continue;
                 ++local_pairs;
+                const Real V = volume(a, b, c);
                 const Real du = u[q] - up;
                 for (std::size_t w = 0; w < nw; ++w) {
                   const Real wv = weights[w].value(r, h);
@@ -157,6 +187,9 @@ std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
         row.in_omega = L.in_omega;
         row.neighbours_mean = static_cast<Real>(pairs) / static_cast<Real>(L.points.size());
         row.error_rel = err[w];
+        row.volume_bias = volume_bias;
+        const Real mu = plane_wave_multiplier(weights[w], weight_operator(operator_of(o.weights[w])), two_pi * std::sqrt(Real(d)) * h);
+        row.error_integral = std::abs(1 - (1 + volume_bias) * mu);
         row.order = row.order_fit = std::numeric_limits<Real>::quiet_NaN();
         std::vector<const ImTable1Row*> previous;  // the same (weight, m) on earlier levels, newest first
         for (auto it = rows.rbegin(); it != rows.rend() && previous.size() < 3; ++it)

@@ -791,9 +791,14 @@ class ImRegularity(unittest.TestCase):
         rows = run_json("operator", "--problem", "im-table1", "--method", "gpm", "--weight", "delta1", "--m", "3",
                         "--levels", "5,6,7")["rows"]
         self.assertEqual(len(rows), 3)
-        for key in ("dx", "h", "error_rel", "order", "order_fit", "theoretical_order"):
+        for key in ("dx", "h", "error_rel", "order", "order_fit", "theoretical_order", "volume_bias", "error_integral"):
             self.assertIn(key, rows[-1])
         self.assertAlmostEqual(rows[0]["h"], 2.6 / 32)
+        self.assertAlmostEqual(rows[0]["volume_bias"], 1.44 / (1521 / 32**2) - 1)  # |Omega_H| / N against dx^2
+        cells = run_json("operator", "--problem", "im-table1", "--weight", "delta1", "--m", "3", "--levels", "5",
+                         "--volumes", "cells")["rows"]
+        self.assertEqual(cells[0]["volume_bias"], 0)
+        self.assertLess(cells[0]["error_integral"], rows[0]["error_integral"])
         self.assertGreater(rows[-1]["order"], 1.0)
         r = run("operator", "--problem", "im-table1", "--weight", "delta9", check=False)
         self.assertEqual(r.returncode, 2)

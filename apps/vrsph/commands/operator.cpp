@@ -40,6 +40,7 @@ struct OperatorArgs {
   std::string at;  // --at points.csv: gpm at arbitrary points
   std::string im_weights = "pi1,pi2,pi3,grad1,grad2,grad3,delta1,delta2,delta3", im_m = "1,3,5", im_levels = "5,6,7,8";
   long long im_points = 10000;
+  std::string im_volumes = "uniform";
   OutputOptions out;
   CLI::Option *dim_opt = nullptr, *kernel_opt = nullptr, *h_factor_opt = nullptr, *delta_opt = nullptr,
               *ghosts_opt = nullptr, *h_knn_opt = nullptr;
@@ -182,13 +183,14 @@ void operator_im_table1(const OperatorArgs& a, const CLI::App& cmd) {
   o.levels = parse_int_list(a.im_levels, "--levels");
   check<ConfigError>(a.im_points >= 1, "--points must be >= 1, got ", a.im_points);
   o.max_points = static_cast<Index>(a.im_points);
+  o.volumes = parse_im_volumes(a.im_volumes, "--volumes");
   o.seed = a.seed;
   Progress progress;
   o.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
   const auto rows = im_table1(o);
   Table t;
   t.columns = {"series", "weight", "m", "level", "dx", "h", "particles", "in_omega", "evaluated", "neighbours_mean",
-               "error_rel", "order", "order_fit", "theoretical_order", "seconds"};
+               "error_rel", "order", "order_fit", "theoretical_order", "volume_bias", "error_integral", "seconds"};
   for (const auto& r : rows) {
     auto nan_to_empty = [](Real v) -> TableCell { return std::isfinite(v) ? TableCell{v} : TableCell{std::monostate{}}; };
     t.add_row({{"series", r.weight + " m=" + std::to_string(r.m)}, {"weight", r.weight}, {"m", static_cast<long long>(r.m)},
@@ -196,7 +198,8 @@ void operator_im_table1(const OperatorArgs& a, const CLI::App& cmd) {
                {"particles", static_cast<long long>(r.particles)}, {"in_omega", static_cast<long long>(r.in_omega)},
                {"evaluated", static_cast<long long>(r.evaluated)}, {"neighbours_mean", r.neighbours_mean},
                {"error_rel", r.error_rel}, {"order", nan_to_empty(r.order)}, {"order_fit", nan_to_empty(r.order_fit)},
-               {"theoretical_order", nan_to_empty(im_theoretical_order(r.weight, r.m))}, {"seconds", r.seconds}});
+               {"theoretical_order", nan_to_empty(im_theoretical_order(r.weight, r.m))}, {"volume_bias", r.volume_bias},
+               {"error_integral", r.error_integral}, {"seconds", r.seconds}});
   }
   emit(t, a.out, R"({"problem": "im-table1", "reference": "004_9e9d00b5a1203d0f.txt Table 1, METHODS 5.4"})", "h", "error_rel",
        "series", "[IM] Table 1: relative max-norm error against h");
@@ -252,11 +255,14 @@ void add_operator_command(CLI::App& app) {
   cmd->add_option("--levels", a->im_levels, "im-table1: dx = 2^-level")->capture_default_str();
   cmd->add_option("--points", a->im_points, "im-table1: evaluation points per level (a seeded random subset of the "
                   "particles in Omega when there are more)")->capture_default_str();
+  cmd->add_option("--volumes", a->im_volumes, "im-table1: particle volumes uniform (|Omega_H| / N, [IM] 5.4) or cells "
+                  "(the lattice cells stretched to the boundary of Omega_H: dx^d inside, a control without the "
+                  "volume bias)")->capture_default_str();
   cmd->callback([a, cmd] {
     validate_output(a->out);
     if (!a->at.empty()) return operator_at_points(*a, *cmd);
     if (a->problem == "im-table1") return operator_im_table1(*a, *cmd);
-    for (const char* opt : {"--weight", "--m", "--levels", "--points"})
+    for (const char* opt : {"--weight", "--m", "--levels", "--points", "--volumes"})
       check<ConfigError>(cmd->count(opt) == 0, opt, " applies to --problem im-table1 only");
     if (a->problem == "spe-patch") {
       check<ConfigError>(a->cloud_file.empty(), "--cloud-file does not apply to --problem spe-patch");
