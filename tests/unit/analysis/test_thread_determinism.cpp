@@ -52,15 +52,20 @@ StudyCloud perturbed(int dim, int n) {
   return make_study_cloud(spec);
 }
 
-void skip_without_threads() {
-#ifndef _OPENMP
-  GTEST_SKIP() << "built without OpenMP: nothing runs in parallel";
+#ifdef _OPENMP
+constexpr bool built_with_openmp = true;
+#else
+constexpr bool built_with_openmp = false;
 #endif
-}
 }  // namespace
 
+// GTEST_SKIP returns from the function it is written in, so it must stand in the test body
+// itself: from a helper it skipped nothing and the test ran to its end anyway.
+#define SKIP_WITHOUT_THREADS() \
+  if (!built_with_openmp) GTEST_SKIP() << "built without OpenMP: nothing runs in parallel"
+
 TEST(ThreadDeterminism, CloudGenerationAndNeighbourSearch) {
-  skip_without_threads();
+  SKIP_WITHOUT_THREADS();
   for (const int dim : {2, 3}) {
     const auto [one, two] = with_one_and_two_threads([&] { return perturbed(dim, dim == 2 ? 90 : 18); });
     ASSERT_GT(one.cloud.size(), 4096);
@@ -97,7 +102,7 @@ struct StencilSetup {
 }  // namespace
 
 TEST(ThreadDeterminism, EveryMethodsStencilForEveryOperator) {
-  skip_without_threads();
+  SKIP_WITHOUT_THREADS();
   const StencilSetup plane(2, 70), line(1, 6000);  // the [AAR] methods are 1D only
   int checked = 0;
   for (const auto& info : builtin_methods().list()) {
@@ -132,7 +137,7 @@ TEST(ThreadDeterminism, EveryMethodsStencilForEveryOperator) {
 }
 
 TEST(ThreadDeterminism, SamplingExpressionsAndErrorNorms) {
-  skip_without_threads();
+  SKIP_WITHOUT_THREADS();
   const StudyCloud sc = perturbed(2, 80);
   // An expression (cloned per thread) and a catalogue function (shared).
   const auto u = make_expression_function("sin(3*x)*exp(y) + x*y^2", 2);
@@ -151,7 +156,7 @@ TEST(ThreadDeterminism, SamplingExpressionsAndErrorNorms) {
 }
 
 TEST(ThreadDeterminism, SamplingErrorNamesTheFirstBadParticle) {
-  skip_without_threads();
+  SKIP_WITHOUT_THREADS();
   // log(x - 0.5) is NaN for x < 0.5: with any thread count the message names the particle a
   // serial loop meets first.
   const StudyCloud sc = perturbed(2, 80);
@@ -169,7 +174,7 @@ TEST(ThreadDeterminism, SamplingErrorNamesTheFirstBadParticle) {
 }
 
 TEST(ThreadDeterminism, WholeBoundaryValueSolve) {
-  skip_without_threads();
+  SKIP_WITHOUT_THREADS();
   for (const char* method : {"vrsph", "sph", "fpm"}) {
     BvpStudyParams p;
     p.cloud = CloudFamily::Perturbed;
