@@ -18,13 +18,13 @@ struct HalfSpace {
 HalfSpace bisector(const Vec3& p, const Vec3& q) { return {q - p, 0.5 * (q - p).dot(q + p)}; }
 
 // ---- 2D: a convex polygon cut by half-planes (Sutherland–Hodgman) ----
-using Polygon = std::vector<Vec3>;
+using FacePolygon = std::vector<Vec3>;
 
 // The part of the convex polygon `poly` on the half-space's side; the points where it
 // meets the cutting plane are appended to `on_plane` (if given). Fewer than 3 points: empty.
-Polygon clip_polygon(const Polygon& poly, const HalfSpace& h, Polygon* on_plane = nullptr) {
+FacePolygon clip_polygon(const FacePolygon& poly, const HalfSpace& h, FacePolygon* on_plane = nullptr) {
   const Real tol = 1e-14 * (std::abs(h.c) + h.n.norm());
-  Polygon out;
+  FacePolygon out;
   for (std::size_t k = 0; k < poly.size(); ++k) {
     const Vec3& a = poly[k];
     const Vec3& b = poly[(k + 1) % poly.size()];
@@ -36,14 +36,14 @@ Polygon clip_polygon(const Polygon& poly, const HalfSpace& h, Polygon* on_plane 
       if (on_plane) on_plane->push_back(out.back());
     }
   }
-  return out.size() >= 3 ? out : Polygon{};
+  return out.size() >= 3 ? out : FacePolygon{};
 }
 
-void clip(Polygon& poly, const HalfSpace& h) {
+void clip(FacePolygon& poly, const HalfSpace& h) {
   if (!poly.empty()) poly = clip_polygon(poly, h);
 }
 
-Real polygon_area(const Polygon& p) {
+Real polygon_area(const FacePolygon& p) {
   Real a = 0;
   for (std::size_t k = 0; k < p.size(); ++k) {
     const Vec3& u = p[k];
@@ -71,7 +71,7 @@ Real triangle_disk_area(Vec3 a, Vec3 b, Real R) {
   return arc(a, p0) + chord(p0, p1) + arc(p1, b);
 }
 
-Real polygon_disk_area(const Polygon& p, const Vec3& centre, Real R) {
+Real polygon_disk_area(const FacePolygon& p, const Vec3& centre, Real R) {
   Real a = 0;
   for (std::size_t k = 0; k < p.size(); ++k)
     a += triangle_disk_area(p[k] - centre, p[(k + 1) % p.size()] - centre, R);
@@ -79,7 +79,7 @@ Real polygon_disk_area(const Polygon& p, const Vec3& centre, Real R) {
 }
 
 // ---- 3D: a convex polyhedron as a list of planar faces, cut by half-spaces ----
-using Polyhedron = std::vector<Polygon>;
+using Polyhedron = std::vector<FacePolygon>;
 
 Polyhedron box_polyhedron(const Vec3& lo, const Vec3& hi) {
   auto v = [&](int m) { return Vec3(m & 1 ? hi[0] : lo[0], m & 2 ? hi[1] : lo[1], m & 4 ? hi[2] : lo[2]); };
@@ -92,9 +92,9 @@ Polyhedron box_polyhedron(const Vec3& lo, const Vec3& hi) {
 void clip(Polyhedron& poly, const HalfSpace& h) {
   if (poly.empty()) return;
   Polyhedron out;
-  Polygon cap;  // points on the cutting plane
+  FacePolygon cap;  // points on the cutting plane
   for (const auto& face : poly) {
-    Polygon kept = clip_polygon(face, h, &cap);
+    FacePolygon kept = clip_polygon(face, h, &cap);
     if (!kept.empty()) out.push_back(std::move(kept));
   }
   if (cap.size() >= 3) {  // order the cap's points by angle about their centroid
@@ -173,7 +173,7 @@ std::vector<Real> voronoi_cell_measures(const PointCloud& cloud) {
       return (cloud.positions[static_cast<std::size_t>(a)] - p).squaredNorm() < (cloud.positions[static_cast<std::size_t>(b)] - p).squaredNorm();
     });
     if (cloud.dim == 2) {
-      Polygon cell{Vec3(lo[0], lo[1], 0), Vec3(hi[0], lo[1], 0), Vec3(hi[0], hi[1], 0), Vec3(lo[0], hi[1], 0)};
+      FacePolygon cell{Vec3(lo[0], lo[1], 0), Vec3(hi[0], lo[1], 0), Vec3(hi[0], hi[1], 0), Vec3(lo[0], hi[1], 0)};
       for (Index j : nb) clip(cell, bisector(p, cloud.positions[static_cast<std::size_t>(j)]));
       out[si] = box ? polygon_area(cell) : polygon_disk_area(cell, dom.centre, dom.radius);
     } else {

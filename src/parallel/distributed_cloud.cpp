@@ -44,20 +44,20 @@ namespace {
 using detail::CloudExchange;
 
 // A serial Communicator is this process alone, even inside an mpirun job.
-MPI_Comm mpi(const Communicator& c) { return c.distributed() ? MPI_Comm_f2c(c.fortran_handle()) : MPI_COMM_SELF; }
+MPI_Comm mpi_or_self(const Communicator& c) { return c.distributed() ? MPI_Comm_f2c(c.fortran_handle()) : MPI_COMM_SELF; }
 
-void call(PetscErrorCode code, const char* what) {
+void sf_call(PetscErrorCode code, const char* what) {
   if (code != 0) throw NumericalError(detail::concat("PETSc star forest (", what, ") failed with error ", code));
 }
 
 // A graph with contiguous leaves 0..remote.size()-1 (ilocal null) or at `ilocal`.
 PetscSF make_sf(MPI_Comm comm, Index nroots, std::vector<PetscSFNode>& remote, std::vector<PetscInt>* ilocal) {
   PetscSF sf = nullptr;
-  call(PetscSFCreate(comm, &sf), "create");
-  call(PetscSFSetGraph(sf, nroots, static_cast<PetscInt>(remote.size()), ilocal ? ilocal->data() : nullptr,
+  sf_call(PetscSFCreate(comm, &sf), "create");
+  sf_call(PetscSFSetGraph(sf, nroots, static_cast<PetscInt>(remote.size()), ilocal ? ilocal->data() : nullptr,
                        PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES),
        "graph");
-  call(PetscSFSetUp(sf), "set-up");
+  sf_call(PetscSFSetUp(sf), "set-up");
   return sf;
 }
 
@@ -90,15 +90,15 @@ struct Unit {
 template <class T>
 void reduce(PetscSF sf, const T* leaf, T* root, int width = 1) {
   const Unit<T> unit(width);
-  call(PetscSFReduceBegin(sf, unit.type, leaf, root, MPI_REPLACE), "reduce");
-  call(PetscSFReduceEnd(sf, unit.type, leaf, root, MPI_REPLACE), "reduce");
+  sf_call(PetscSFReduceBegin(sf, unit.type, leaf, root, MPI_REPLACE), "reduce");
+  sf_call(PetscSFReduceEnd(sf, unit.type, leaf, root, MPI_REPLACE), "reduce");
 }
 // root -> leaves
 template <class T>
 void bcast(PetscSF sf, const T* root, T* leaf, int width = 1) {
   const Unit<T> unit(width);
-  call(PetscSFBcastBegin(sf, unit.type, root, leaf, MPI_REPLACE), "broadcast");
-  call(PetscSFBcastEnd(sf, unit.type, root, leaf, MPI_REPLACE), "broadcast");
+  sf_call(PetscSFBcastBegin(sf, unit.type, root, leaf, MPI_REPLACE), "broadcast");
+  sf_call(PetscSFBcastEnd(sf, unit.type, root, leaf, MPI_REPLACE), "broadcast");
 }
 
 // Leaves sent to ranks `dest` (one per leaf, any order): the root slot of each leaf on its
@@ -165,7 +165,7 @@ std::vector<int> partition(const Communicator& comm, const std::vector<std::uint
       at += counts[static_cast<std::size_t>(r)];
     }
     MPI_Allgatherv(keys.data(), static_cast<int>(keys.size()), MPI_UINT64_T, all.data(), counts.data(), displs.data(),
-                   MPI_UINT64_T, mpi(comm));
+                   MPI_UINT64_T, mpi_or_self(comm));
     // Order (key, global id): ties broken by id so that every rank sorts alike.
     std::vector<Index> order(all.size());
     std::iota(order.begin(), order.end(), 0);
@@ -252,7 +252,7 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
     std::array<double, 14> packed{static_cast<double>(static_cast<int>(d.shape)), static_cast<double>(d.dim),
                                   d.lo[0], d.lo[1], d.lo[2], d.hi[0], d.hi[1], d.hi[2], d.centre[0], d.centre[1],
                                   d.centre[2], d.radius, chunk.spacing, 0};
-    MPI_Bcast(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, source, mpi(comm));
+    MPI_Bcast(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, source, mpi_or_self(comm));
     Domain& out = dc.local.domain;
     out.shape = static_cast<Domain::Shape>(static_cast<int>(packed[0]));
     out.dim = static_cast<int>(packed[1]);
@@ -278,7 +278,7 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
 
   // Migration to the owners.
   auto ex = std::make_shared<CloudExchange>();
-  ex->comm = mpi(comm);
+  ex->comm = mpi_or_self(comm);
   ex->chunk_size = chunk.size();
   const std::vector<int> dest = partition(comm, keys, first_id, dc.global_size);
   std::vector<PetscSFNode> remote;

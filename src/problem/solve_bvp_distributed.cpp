@@ -107,7 +107,7 @@ void local_stage(const DistributedCloud& dc, const std::function<void()>& stage)
   });
 }
 
-double since(std::chrono::steady_clock::time_point t0) {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
@@ -504,7 +504,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   if (solver.dimension == 0) solver.dimension = cloud.dim;
   const auto t0 = std::chrono::steady_clock::now();
   collective(comm, [&] { s.solve = solve(global, x, solver); });
-  s.seconds_solve = max_over_ranks(comm, since(t0));
+  s.seconds_solve = max_over_ranks(comm, seconds_since(t0));
   peak(s.stage_peak_bytes.solve);
   s.warnings.insert(s.warnings.end(), s.solve.warnings.begin(), s.solve.warnings.end());
   collective(comm, [&] {

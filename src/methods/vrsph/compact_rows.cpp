@@ -25,7 +25,7 @@ std::vector<std::array<int, 3>> monomials(int dim, int degree) {
 }
 
 // e^alpha with the powers of e's coordinates tabulated (pw[k][p] = e_k^p).
-Real power(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int, 3>& a) {
+Real monomial(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int, 3>& a) {
   return pw[0][static_cast<std::size_t>(a[0])] * pw[1][static_cast<std::size_t>(a[1])] * pw[2][static_cast<std::size_t>(a[2])];
 }
 
@@ -38,12 +38,12 @@ Real operator_on_monomial(const std::array<std::array<Real, 8>, 3>& pw, const st
     if (al[uk] >= 2) {
       std::array<int, 3> b = al;
       b[uk] -= 2;
-      lap += al[uk] * (al[uk] - 1) * power(pw, b);
+      lap += al[uk] * (al[uk] - 1) * monomial(pw, b);
     }
     if (al[uk] >= 1) {
       std::array<int, 3> b = al;
       b[uk] -= 1;
-      adv += ga_h[k] * al[uk] * power(pw, b);
+      adv += ga_h[k] * al[uk] * monomial(pw, b);
     }
   }
   return a * lap + adv;
@@ -143,7 +143,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
           if (grad_a)
             for (int k = 0; k < dim; ++k) ga[k] = h * (*grad_a)(p, k);
           for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r)
-            A[r * C + col] = s * (is_w ? power(pw, mo[r]) : -operator_on_monomial(pw, mo[r], ap, ga, dim));
+            A[r * C + col] = s * (is_w ? monomial(pw, mo[r]) : -operator_on_monomial(pw, mo[r], ap, ga, dim));
           if (!is_w) A[static_cast<std::size_t>(R - 1) * C + col] = s;
         };
         for (std::size_t j = 0; j < cnt; ++j) {

@@ -43,7 +43,7 @@ bool same_bits(const V& a, const V& b) {
 }
 
 // Large enough (> 4096 particles) that the size-gated loops run in parallel too.
-StudyCloud perturbed(int dim, int n) {
+StudyCloud perturbed_study_cloud(int dim, int n) {
   CloudSpec spec;
   spec.family = CloudFamily::Perturbed;
   spec.box = Domain::unit_box(dim);
@@ -67,7 +67,7 @@ constexpr bool built_with_openmp = false;
 TEST(ThreadDeterminism, CloudGenerationAndNeighbourSearch) {
   SKIP_WITHOUT_THREADS();
   for (const int dim : {2, 3}) {
-    const auto [one, two] = with_one_and_two_threads([&] { return perturbed(dim, dim == 2 ? 90 : 18); });
+    const auto [one, two] = with_one_and_two_threads([&] { return perturbed_study_cloud(dim, dim == 2 ? 90 : 18); });
     ASSERT_GT(one.cloud.size(), 4096);
     EXPECT_TRUE(same_bits(one.cloud.positions, two.cloud.positions)) << dim << "D positions";
     EXPECT_TRUE(same_bits(one.cloud.tags, two.cloud.tags)) << dim << "D tags";
@@ -91,7 +91,7 @@ struct StencilSetup {
   NeighbourList nl;
   Field a;
   Eigen::MatrixXd grad_a;
-  explicit StencilSetup(int dim, int n) : sc(perturbed(dim, n)) {
+  explicit StencilSetup(int dim, int n) : sc(perturbed_study_cloud(dim, n)) {
     SearchParams sp;
     sp.radius = 3 * sc.dx;
     nl = find_neighbours(sc.cloud, sp);
@@ -138,7 +138,7 @@ TEST(ThreadDeterminism, EveryMethodsStencilForEveryOperator) {
 
 TEST(ThreadDeterminism, SamplingExpressionsAndErrorNorms) {
   SKIP_WITHOUT_THREADS();
-  const StudyCloud sc = perturbed(2, 80);
+  const StudyCloud sc = perturbed_study_cloud(2, 80);
   // An expression (cloned per thread) and a catalogue function (shared).
   const auto u = make_expression_function("sin(3*x)*exp(y) + x*y^2", 2);
   const auto a = make_function("one-plus-r2", 2);
@@ -159,7 +159,7 @@ TEST(ThreadDeterminism, SamplingErrorNamesTheFirstBadParticle) {
   SKIP_WITHOUT_THREADS();
   // log(x - 0.5) is NaN for x < 0.5: with any thread count the message names the particle a
   // serial loop meets first.
-  const StudyCloud sc = perturbed(2, 80);
+  const StudyCloud sc = perturbed_study_cloud(2, 80);
   const auto u = make_expression_function("log(x - 0.5)", 2);
   const auto [m1, m2] = with_one_and_two_threads([&] {
     try {

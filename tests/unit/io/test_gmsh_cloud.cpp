@@ -10,7 +10,7 @@
 using namespace vrsph;
 
 namespace {
-const std::string dir = VRSPH_GMSH_FIXTURES;
+const std::string gmsh_dir = VRSPH_GMSH_FIXTURES;
 
 // The unit square as two triangles (MSH 2.2, no physical groups).
 const char* square22 = R"($MeshFormat
@@ -37,8 +37,8 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
 }  // namespace
 
 TEST(GmshCloud, Msh41And22GiveTheSameCloudWithOutwardNormalsAndPhysicalKinds) {
-  const CloudFile a = read_cloud_file(dir + "/plate_with_hole_41.msh");
-  const CloudFile b = read_cloud_file(dir + "/plate_with_hole_22.msh");
+  const CloudFile a = read_cloud_file(gmsh_dir + "/plate_with_hole_41.msh");
+  const CloudFile b = read_cloud_file(gmsh_dir + "/plate_with_hole_22.msh");
   const PointCloud& c = a.cloud;
   ASSERT_EQ(c.dim, 2);
   EXPECT_EQ(c.positions, b.cloud.positions);
