@@ -18,10 +18,6 @@ namespace vrsph {
 namespace {
 constexpr Real two_pi = 2 * std::numbers::pi;
 
-char operator_of(const std::string& weight) { return weight.rfind("pi", 0) == 0 ? 'v' : weight.rfind("grad", 0) == 0 ? 'g' : 'l'; }
-WeightOperator weight_operator(char op) {
-  return op == 'v' ? WeightOperator::Interpolant : op == 'g' ? WeightOperator::Gradient : WeightOperator::Laplacian;
-}
 
 // One (level, m): the errors of every requested weight at the evaluation points.
 struct LevelCloud {
@@ -80,7 +76,7 @@ ImVolumes parse_im_volumes(const std::string& name, const char* option) {
 Real im_theoretical_order(const std::string& weight, int m) {
   if (m <= 1) return std::numeric_limits<Real>::quiet_NaN();
   const int n = weight.back() == '3' ? 3 : 1;
-  const int k = operator_of(weight) == 'l' ? 2 : 1;
+  const int k = reference_weight_operator(weight) == WeightOperator::Laplacian ? 2 : 1;
   return std::min(m - k, n + 1);
 }
 
@@ -89,7 +85,11 @@ std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
   check<ConfigError>(!o.weights.empty() && !o.m.empty() && !o.levels.empty(), "im-table1 needs weights, m values and levels");
   check<ConfigError>(o.max_points >= 1, "im-table1: at least one evaluation point");
   std::vector<ReferenceWeight> weights;
-  for (const auto& w : o.weights) weights.push_back(reference_weight(w, o.dim));  // ConfigError on unknown names
+  std::vector<WeightOperator> ops;  // once per run, not per pair
+  for (const auto& w : o.weights) {
+    weights.push_back(reference_weight(w, o.dim));  // ConfigError on unknown names
+    ops.push_back(reference_weight_operator(w));
+  }
   for (int m : o.m) check<ConfigError>(m >= 1 && m <= 20, "im-table1: m must be in 1..20, got ", m);
   for (int l : o.levels) check<ConfigError>(l >= 2 && l <= 14, "im-table1: levels must be in 2..14 (dx = 2^-level), got ", l);
   const int d = o.dim;
@@ -149,10 +149,10 @@ std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
                 const Real du = u[q] - up;
                 for (std::size_t w = 0; w < nw; ++w) {
                   const Real wv = weights[w].value(r, h);
-                  switch (operator_of(o.weights[w])) {
-                    case 'v': value[w] += gpm::value_weight(V, wv) * u[q]; break;
-                    case 'g': if (r > 0) grad[w] += gpm::gradient_weight(d, V, wv, r, xji) * du; break;
-                    default: if (r > 0) lap[w] += gpm::laplacian_weight(d, V, wv, r) * du;
+                  switch (ops[w]) {
+                    case WeightOperator::Interpolant: value[w] += gpm::value_weight(V, wv) * u[q]; break;
+                    case WeightOperator::Gradient: if (r > 0) grad[w] += gpm::gradient_weight(d, V, wv, r, xji) * du; break;
+                    case WeightOperator::Laplacian: if (r > 0) lap[w] += gpm::laplacian_weight(d, V, wv, r) * du;
                   }
                 }
               }
@@ -160,11 +160,11 @@ std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
           Vec3 exact_grad = Vec3::Zero();
           for (int k = 0; k < d; ++k) exact_grad[k] = two_pi * c;
           for (std::size_t w = 0; w < nw; ++w) {
-            const char op = operator_of(o.weights[w]);
             // Relative to the sup norms of v, |grad v| and Delta v: 1, 2 pi sqrt(d), 4 pi^2 d.
-            const Real ew = op == 'v'   ? std::abs(value[w] - up)
-                            : op == 'g' ? (grad[w] - exact_grad).norm() / (two_pi * std::sqrt(static_cast<Real>(d)))
-                                        : std::abs(lap[w] + two_pi * two_pi * d * up) / (two_pi * two_pi * d);
+            const Real ew = ops[w] == WeightOperator::Interpolant ? std::abs(value[w] - up)
+                            : ops[w] == WeightOperator::Gradient
+                                ? (grad[w] - exact_grad).norm() / (two_pi * std::sqrt(static_cast<Real>(d)))
+                                : std::abs(lap[w] + two_pi * two_pi * d * up) / (two_pi * two_pi * d);
             local_err[w] = std::max(local_err[w], ew);
           }
         }
@@ -188,7 +188,7 @@ std::vector<ImTable1Row> im_table1(const ImTable1Options& o) {
         row.neighbours_mean = static_cast<Real>(pairs) / static_cast<Real>(L.points.size());
         row.error_rel = err[w];
         row.volume_bias = volume_bias;
-        const Real mu = plane_wave_multiplier(weights[w], weight_operator(operator_of(o.weights[w])), two_pi * std::sqrt(Real(d)) * h);
+        const Real mu = plane_wave_multiplier(weights[w], ops[w], two_pi * std::sqrt(Real(d)) * h);
         row.error_integral = std::abs(1 - (1 + volume_bias) * mu);
         row.order = row.order_fit = std::numeric_limits<Real>::quiet_NaN();
         std::vector<const ImTable1Row*> previous;  // the same (weight, m) on earlier levels, newest first

@@ -126,6 +126,13 @@ std::vector<std::string> reference_weight_names() {
   return {"pi1", "pi2", "pi3", "grad1", "grad2", "grad3", "delta1", "delta2", "delta3"};
 }
 
+WeightOperator reference_weight_operator(const std::string& name) {
+  if (name.rfind("pi", 0) == 0) return WeightOperator::Interpolant;
+  if (name.rfind("grad", 0) == 0) return WeightOperator::Gradient;
+  if (name.rfind("delta", 0) == 0) return WeightOperator::Laplacian;
+  throw ConfigError("'" + name + "' is not a reference weight name (pi*, grad* or delta*)");
+}
+
 ReferenceWeight reference_weight(const std::string& name, int dim) {
   check_dim(dim);
   std::vector<Piece> p;
@@ -135,9 +142,7 @@ ReferenceWeight reference_weight(const std::string& name, int dim) {
     // The tabulated 2D polynomials (pi3 (1 - r)(2 - 3r), grad3 r(1 - r)(5 - 7r), delta3
     // r²(1 - r)(3 - 4r)) are App. C's n = 3 weights of 2D; renormalised in 1D or 3D they would
     // lose their vanishing second moment, so every dimension gets its own App. C weight.
-    const WeightOperator op = name == "pi3" ? WeightOperator::Interpolant
-                              : name == "grad3" ? WeightOperator::Gradient : WeightOperator::Laplacian;
-    return ReferenceWeight(name, dim, construct_reference_weight(dim, op, 3).pieces());
+    return ReferenceWeight(name, dim, construct_reference_weight(dim, reference_weight_operator(name), 3).pieces());
   }
   else if (name == "grad1") p = normalised(monomial_times(1, {1, -1}), dim);           // r(1 - r)
   else if (name == "grad2" || name == "delta2") p = minus_r_derivative_over_d(normalised(cubic_spline(), dim), dim);

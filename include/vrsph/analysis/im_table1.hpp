@@ -3,8 +3,8 @@
 // method's interpolant, gradient and Laplacian with the reference weights pi/grad/delta
 // 1-3 on the perturbed lattices of cloud/im_cloud.hpp (Omega_H = (-0.1, 1.1)^d,
 // eta ~ U(-1/4, 1/4)), v = sin(2 pi (x_1 + ... + x_d)), V_i = |Omega_H| / N (or, as a
-// control, the lattice cells), and h_N = 2.6 * 2^(5/m - 5) * dx^(1/m). Errors are relative max norms over particles in
-// Omega = (0,1)^d: all of them, or a seeded random subset of `max_points` when there are
+// control, the lattice cells), and h_N = 2.6 * 2^(5/m - 5) * dx^(1/m). Errors are relative
+// max norms over particles in Omega = (0,1)^d: all of them, or a seeded random subset of `max_points` when there are
 // more (stated per row). Order = log(e_prev / e) / log(h_prev / h) between levels, as
 // [IM]; order_fit = the least-squares slope over up to four levels, less sensitive to the
 // level-to-level scatter of a maximum over a random subset.

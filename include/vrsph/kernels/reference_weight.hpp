@@ -61,6 +61,9 @@ Real unit_sphere_area(int dim);
 /// pi1..pi3, grad1..grad3, delta1..delta3 normalised in dimension dim (1..3). ConfigError otherwise.
 ReferenceWeight reference_weight(const std::string& name, int dim);
 std::vector<std::string> reference_weight_names();
+/// The operator a named weight is made for: pi* interpolant, grad* gradient, delta* Laplacian.
+/// ConfigError for any other name.
+WeightOperator reference_weight_operator(const std::string& name);
 
 /// App. C (METHODS §2.7): the polynomial weight for `op` in dimension dim with Hypothesis 1 of
 /// odd order n (1 <= n <= 15) and Hypothesis 2 of order q - 1; smooth_end adds w'(1) = 0

@@ -11,11 +11,6 @@ using namespace vrsph;
 namespace {
 const char* const weights[] = {"pi1", "pi2", "pi3", "grad1", "grad2", "grad3", "delta1", "delta2", "delta3"};
 
-WeightOperator operator_of(const std::string& name) {
-  return name.rfind("pi", 0) == 0 ? WeightOperator::Interpolant
-         : name.rfind("grad", 0) == 0 ? WeightOperator::Gradient : WeightOperator::Laplacian;
-}
-
 // The operator (2), (3) or (4) with its sum replaced by a midpoint rule on cells of side
 // `step` over [-1, 1]^d (h = 1), applied at x = 0 to v = sin(k.y + phi), divided by what the
 // exact operator gives there: mu.
@@ -59,7 +54,7 @@ TEST(PlaneWaveMultiplier, MatchesBruteForceQuadratureInEveryDimension) {
     for (const char* name : weights) {
       SCOPED_TRACE(std::string(name) + " d=" + std::to_string(d));
       const ReferenceWeight w = reference_weight(name, d);
-      const WeightOperator op = operator_of(name);
+      const WeightOperator op = reference_weight_operator(name);
       const Real mu = plane_wave_multiplier(w, op, k.norm());
       EXPECT_NEAR(mu, brute_force_multiplier(w, op, k, step[d]), tol[d]);
       EXPECT_LT(mu, 1);  // these weights smooth: every one damps the wave at |k| h = O(1)
@@ -72,7 +67,7 @@ TEST(PlaneWaveMultiplier, SmallWavenumberExpansion) {
     for (const char* name : weights) {
       SCOPED_TRACE(std::string(name) + " d=" + std::to_string(d));
       const ReferenceWeight w = reference_weight(name, d);
-      const WeightOperator op = operator_of(name);
+      const WeightOperator op = reference_weight_operator(name);
       EXPECT_NEAR(plane_wave_multiplier(w, op, 0), 1, 1e-13);
       // The interpolant's second moment, exactly: zero for the n = 3 weights (Hypothesis 1).
       if (op == WeightOperator::Interpolant) {
