@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/cloud/polygon.hpp>
@@ -23,16 +24,17 @@ std::string write(const std::string& name, const std::string& text) {
 
 // The box [0,a]x[0,b]x[0,c] as OFF, faces outward (flip: all inward), optionally without its top.
 std::string box_off(Real a, Real b, Real c, bool flip = false, bool open_top = false) {
-  std::string s = "OFF\n8 " + std::to_string(open_top ? 5 : 6) + " 0\n";
+  std::ostringstream s;  // (string appends here drew a GCC 12 -Wstringop-overflow false positive)
+  s << "OFF\n8 " << (open_top ? 5 : 6) << " 0\n";
   for (int k = 0; k < 8; ++k)
-    s += std::to_string((k & 1) * a) + " " + std::to_string(((k >> 1) & 1) * b) + " " + std::to_string(((k >> 2) & 1) * c) + "\n";
+    s << std::to_string((k & 1) * a) << " " << std::to_string(((k >> 1) & 1) * b) << " " << std::to_string(((k >> 2) & 1) * c) << "\n";
   const int faces[6][4] = {{0, 2, 3, 1}, {0, 1, 5, 4}, {0, 4, 6, 2}, {1, 3, 7, 5}, {2, 6, 7, 3}, {4, 5, 7, 6}};
   for (int f = 0; f < (open_top ? 5 : 6); ++f) {
-    s += "4";
-    for (int k = 0; k < 4; ++k) s += " " + std::to_string(faces[f][flip ? 3 - k : k]);
-    s += "\n";
+    s << "4";
+    for (int k = 0; k < 4; ++k) s << " " << faces[f][flip ? 3 - k : k];
+    s << "\n";
   }
-  return s;
+  return s.str();
 }
 }  // namespace
 

@@ -28,16 +28,16 @@ Real quadrature(const ReferenceWeight& w, int m) {
 }  // namespace
 
 TEST(ReferenceWeight, TabulatedTwoDimensionalConstants) {
-  const Real pi = std::numbers::pi, r = 0.3;
-  EXPECT_NEAR(reference_weight("pi1", 2).value(r), 3 / pi * (1 - r), 1e-13);
-  EXPECT_NEAR(reference_weight("pi2", 2).value(r), 40 / (7 * pi) * (1 - 6 * r * r + 6 * r * r * r), 1e-13);
-  EXPECT_NEAR(reference_weight("pi3", 2).value(r), 6 / pi * (1 - r) * (2 - 3 * r), 1e-13);  // S1: 6/π, not 5/π
-  EXPECT_NEAR(reference_weight("grad1", 2).value(r), 6 / pi * r * (1 - r), 1e-13);
-  EXPECT_NEAR(reference_weight("grad2", 2).value(r), 40 / (7 * pi) * (6 * r * r - 9 * r * r * r), 1e-13);
-  EXPECT_NEAR(reference_weight("grad2", 2).value(0.7), 40 / (7 * pi) * 3 * 0.7 * 0.09, 1e-13);
-  EXPECT_NEAR(reference_weight("grad3", 2).value(r), 15 / (2 * pi) * r * (1 - r) * (5 - 7 * r), 1e-13);
-  EXPECT_NEAR(reference_weight("delta1", 2).value(r), 10 / pi * r * r * (1 - r), 1e-13);
-  EXPECT_NEAR(reference_weight("delta3", 2).value(r), 30 / pi * r * r * (1 - r) * (3 - 4 * r), 1e-13);
+  const Real kPi = std::numbers::pi, r = 0.3;
+  EXPECT_NEAR(reference_weight("pi1", 2).value(r), 3 / kPi * (1 - r), 1e-13);
+  EXPECT_NEAR(reference_weight("pi2", 2).value(r), 40 / (7 * kPi) * (1 - 6 * r * r + 6 * r * r * r), 1e-13);
+  EXPECT_NEAR(reference_weight("pi3", 2).value(r), 6 / kPi * (1 - r) * (2 - 3 * r), 1e-13);  // S1: 6/π, not 5/π
+  EXPECT_NEAR(reference_weight("grad1", 2).value(r), 6 / kPi * r * (1 - r), 1e-13);
+  EXPECT_NEAR(reference_weight("grad2", 2).value(r), 40 / (7 * kPi) * (6 * r * r - 9 * r * r * r), 1e-13);
+  EXPECT_NEAR(reference_weight("grad2", 2).value(0.7), 40 / (7 * kPi) * 3 * 0.7 * 0.09, 1e-13);
+  EXPECT_NEAR(reference_weight("grad3", 2).value(r), 15 / (2 * kPi) * r * (1 - r) * (5 - 7 * r), 1e-13);
+  EXPECT_NEAR(reference_weight("delta1", 2).value(r), 10 / kPi * r * r * (1 - r), 1e-13);
+  EXPECT_NEAR(reference_weight("delta3", 2).value(r), 30 / kPi * r * r * (1 - r) * (3 - 4 * r), 1e-13);
   EXPECT_EQ(reference_weight("delta2", 2).value(r), reference_weight("grad2", 2).value(r));
   EXPECT_EQ(reference_weight("pi1", 2).value(1.0), 0);
   EXPECT_EQ(reference_weight("pi1", 2).value(1.5), 0);

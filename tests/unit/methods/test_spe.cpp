@@ -250,8 +250,9 @@ TEST(SpeSchemes, RowWithOnlyDimNeighboursFallsBackToTheBrookshawBracketAndIsRepo
   const NeighbourList nl = find_neighbours(c, sp);
   ASSERT_EQ(nl.count(0), 2);
   const Discretisation disc{c, nl, KernelType::CubicSplineSPE, c.spacing};
-  std::vector<char> rows(c.positions.size(), 0);
-  rows[0] = 1;  // the others have one neighbour: a singular A, not this test's subject
+  // Particle 0 only: the others have one neighbour, a singular A, not this test's subject.
+  const std::vector<char> rows = {1, 0, 0, 0, 0, 0, 0};
+  ASSERT_EQ(rows.size(), c.positions.size());
   for (const auto* m : {"s-sph", "m-sph"}) {
     const Stencil s = builtin_methods().create(m)->build(disc, {OperatorKind::Laplacian, nullptr, nullptr, rows});
     EXPECT_EQ(s.residual[0], 1) << m;
