@@ -14,6 +14,7 @@
 #include <iostream>
 #include <sstream>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
 #include <vrsph/core/parse.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/io/output_file.hpp>
@@ -144,6 +145,21 @@ Communicator& the_communicator() {
 
 const Communicator& communicator() { return the_communicator(); }
 void set_communicator(const Communicator& comm) { the_communicator() = comm; }
+namespace {
+bool& verbose_flag() {
+  static bool on = false;
+  return on;
+}
+}  // namespace
+bool verbose() { return verbose_flag(); }
+void note_row_forms(const std::vector<std::string>& methods, const std::map<std::string, MethodOptions>& options,
+                    StencilUse use) {
+  for (const auto& m : methods) {
+    const std::string note = builtin_methods().create(m, options_for(options, m))->row_forms(use);
+    if (!note.empty()) std::cerr << "vrsph: note: " << note << '\n';
+  }
+}
+void set_verbose(bool on) { verbose_flag() = on; }
 
 std::string pvtu_path(const std::string& vtu) {
   const auto ends = [&](const std::string& tail) {

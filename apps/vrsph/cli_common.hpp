@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <vrsph/io/table.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/methods/method.hpp>
 #include <vrsph/parallel/communicator.hpp>
 
 namespace vrsph::cli {
@@ -16,6 +17,13 @@ namespace vrsph::cli {
 /// rank, else serial (set once by main). Only rank 0 writes tables, files and warnings.
 const Communicator& communicator();
 void set_communicator(const Communicator& comm);
+/// Prints "vrsph: note: ..." for every method whose options resolve by the use (VRSPH's point
+/// rows for operator values): an operator-level run says which rows it took, never silently.
+void note_row_forms(const std::vector<std::string>& methods, const std::map<std::string, MethodOptions>& options,
+                    StencilUse use);
+/// --verbose (a global option): warnings come with their full lists (e.g. every infeasible row).
+bool verbose();
+void set_verbose(bool on);
 /// The .pvtu a distributed run writes for --vtu FILE.vtu (FILE.pvtu, pieces FILE_<rank>.vtu
 /// beside it); FILE.pvtu is kept. ConfigError for any other name.
 std::string pvtu_path(const std::string& vtu);

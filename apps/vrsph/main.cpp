@@ -41,7 +41,22 @@ void prefer_passive_openmp_threads(char** argv) {
 #endif
 }
 
+// An error every rank raised together (vrsph::collective, or every rank failing alike) is
+// printed once, by rank 0, and every rank exits with the same code. An error one rank met
+// alone may leave the others waiting in a collective: that rank prints it itself (its
+// std::cerr goes nowhere, so to the file descriptor) and ends every rank with the same code
+// (MPI_Abort), never a hang.
 int report(const char* kind, const std::exception& e, int code) {
+  const auto& comm = vrsph::cli::communicator();
+  // Three seconds: ranks that failed alike (a bad option value) arrive within milliseconds.
+  if (comm.distributed() && !vrsph::raised_on_every_rank(e) && !vrsph::every_rank_stops_here(3.0)) {
+    const std::string line = "vrsph: " + std::string(kind) + " (rank " + std::to_string(comm.rank()) + " of " +
+                             std::to_string(comm.size()) + "; every rank stopped): " + e.what() + "\n";
+    std::cout.flush();
+    if (::write(2, line.data(), line.size()) < 0) {
+    }  // nothing else to tell
+    vrsph::abort_all_ranks(comm, code);
+  }
   std::cerr << "vrsph: " << kind << ": " << e.what() << '\n';
   return code;
 }
@@ -82,8 +97,12 @@ int main(int argc, char** argv) {
   app.add_option("--max-memory", max_memory,
                  "Refuse runs whose estimated memory exceeds this (e.g. 8G, 512M; 0 = no limit; default: the memory "
                  "available when the run starts)");
+  bool verbose = false;
+  app.add_flag("--verbose", verbose, "Warnings with their full lists (e.g. every row that could not meet its moment "
+                                     "conditions); without it one line per kind of condition");
   // Runs after parsing, before the subcommand's callback.
   app.parse_complete_callback([&] {
+    vrsph::cli::set_verbose(verbose);
     vrsph::cli::reject_empty_values(app);
     // Under mpirun: the commands with a distributed pipeline; any other would only repeat
     // the same serial run on every rank.
@@ -141,12 +160,12 @@ int main(int argc, char** argv) {
     return report("numerical error", e, 5);
   } catch (const std::bad_alloc& e) {
     // Our estimates refuse oversized runs before allocating; this is the backstop.
-    std::cerr << "vrsph: resource limit: out of memory (" << e.what()
-              << "); reduce --n or --h-factor, or run on a machine with more memory\n";
-    return 2;
+    return report("resource limit",
+                  std::runtime_error(std::string("out of memory (") + e.what() +
+                                     "); reduce --n or --h-factor, or run on a machine with more memory"),
+                  2);
   } catch (const std::exception& e) {
-    std::cerr << "vrsph: internal error (a bug in vrsph: please report the command line): " << e.what() << '\n';
-    return 70;
+    return report("internal error (a bug in vrsph: please report the command line)", e, 70);
   }
   return 0;
 }

@@ -1,6 +1,8 @@
 // Boundary value problems: one solve on a cloud (data as expressions or arrays; the Python
 // layer turns callables into arrays), and the convergence study with the CLI's fields.
 #include <cmath>
+#include <regex>
+#include <vrsph/parallel/communicator.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/analysis/operator_study.hpp>
@@ -36,6 +38,13 @@ py::object cell(const TableCell& c) {
   }, c);
 }
 
+// A message that names the CLI's data options (--q, --q-column, --u, ...) reworded with the
+// parameters of vrsph.solve (q, u, ...): what a Python caller can act on.
+std::string python_names(const std::string& message) {
+  static const std::regex option("--(u|a|f|g|q|mobility)(-column)?\\b");
+  return std::regex_replace(message, option, "the parameter $1");
+}
+
 py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, const py::dict& values, const py::dict& opt) {
   const Index n = cloud.size();
   ProblemExpressions e{text(expressions, "u"), text(expressions, "a"), text(expressions, "f"), text(expressions, "g"),
@@ -67,6 +76,15 @@ py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, con
   o.on_infeasible = parse_infeasible_policy(opt["on_infeasible"].cast<std::string>());
   o.infeasible_tolerance = opt["infeasible_tol"].cast<double>();
   const bool fix_constant = opt["fix_constant"].cast<bool>();
+  o.keep_matrices = opt.contains("return_system") && opt["return_system"].cast<bool>();
+  // Robin data a du/dn + beta u = q at the Neumann particles: beta >= 0 per particle.
+  Field robin;
+  if (values.contains("robin") && !values["robin"].is_none()) {
+    robin = field_from(values["robin"], n, "robin");
+    for (Index i = 0; i < n; ++i)
+      check<InputError>(std::isfinite(robin[i]) && robin[i] >= 0, "robin: beta = ", robin[i], " at particle ", i,
+                        " must be finite and >= 0 (a du/dn + beta u = q)");
+  }
   check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "h must be >= 0 (0: h_factor x spacing), got ", o.h);
   struct Out {
     ExpressionProblem ep;
@@ -76,8 +94,20 @@ py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, con
   Out r = [&] {
     py::gil_scoped_release release;
     Out x;
-    x.ep = problem_from_expressions(cloud, e, pv);
+    try {
+      x.ep = problem_from_expressions(cloud, e, pv);
+    } catch (const std::exception& err) {  // the library's texts name the CLI's options
+      rethrow_with_message(err, python_names(err.what()));
+    }
     x.ep.problem.fix_constant = fix_constant;
+    if (robin.size()) {
+      // q derived from the exact u (no q given) is a du/dn: the Robin condition adds beta u.
+      const bool derived = x.ep.exact.size() && !pv.q && e.q.empty();
+      if (derived && x.ep.problem.q.size())
+        for (Index i = 0; i < n; ++i)
+          if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann) x.ep.problem.q[i] += robin[i] * x.ep.exact[i];
+      x.ep.problem.robin = robin;
+    }
     x.s = solve(x.ep.problem, o);
     if (x.ep.exact.size()) {  // errors over the unknowns, split at one support radius from the boundary
       const PointCloud& c = x.ep.problem.cloud;
@@ -107,6 +137,27 @@ py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, con
   d["solver_residual"] = s.solve.residual;
   d["solver_reason"] = s.solve.reason;
   d["warnings"] = s.warnings;
+  d["infeasible_residuals"] = s.infeasible_residuals;
+  if (s.wall_flux.size()) d["wall_flux"] = py::array_t<double>(s.wall_flux.size(), s.wall_flux.data());
+  if (o.keep_matrices) {
+    // The assembled system A x = b over the unknowns (dof k is particle dofs[k]) and the
+    // operator rows, as CSR arrays for scipy.sparse (Python builds the matrices).
+    const auto csr = [](const SparseMatrix& given) {
+      SparseMatrix M = given;
+      M.makeCompressed();
+      py::dict m;
+      m["indptr"] = py::array_t<int>(M.outerSize() + 1, M.outerIndexPtr());
+      m["indices"] = py::array_t<int>(M.nonZeros(), M.innerIndexPtr());
+      m["data"] = py::array_t<double>(M.nonZeros(), M.valuePtr());
+      m["shape"] = py::make_tuple(M.rows(), M.cols());
+      return m;
+    };
+    py::dict sys = csr(s.system.A);
+    sys["rhs"] = py::array_t<double>(s.system.b.size(), s.system.b.data());
+    sys["dofs"] = s.system.particle_of_dof;
+    d["system"] = sys;
+    d["operator_rows"] = csr(s.operator_rows);
+  }
   d["seconds_neighbours"] = s.seconds_neighbours;
   d["seconds_stencil"] = s.seconds_stencil;
   d["seconds_assemble"] = s.seconds_assemble;

@@ -72,6 +72,12 @@ class Stencil:
         self.matrices = tuple(
             scipy.sparse.csr_matrix((data, raw["indices"], raw["indptr"]), shape=shape, copy=False)
             for data in raw["data"])
+        if len(self.matrices) > 1:
+            # The components share one pattern (kept where any of them is non-zero): each its
+            # own copy without the others' zeros, so that nnz counts its non-zeros.
+            self.matrices = tuple(m.copy() for m in self.matrices)
+            for m in self.matrices:
+                m.eliminate_zeros()
         # vrsph rhs=compact: the rows stand for Σ_k μ_ik (L u)(x_k); rhs is that averaging
         # operator (same pattern), so L u = rhs @ f is the discrete problem. None otherwise.
         self.rhs = None if raw.get("rhs") is None else scipy.sparse.csr_matrix(
@@ -81,6 +87,9 @@ class Stencil:
         self.infeasible = raw["infeasible"]
         self.h = raw["h"]
         self.spacing = raw["spacing"]
+        # The row forms the method's defaults chose for operator values (VRSPH: point rows;
+        # solve() uses its compact and balance rows), "" when no option chose by the use.
+        self.row_forms = raw.get("row_forms", "")
 
     @property
     def matrix(self) -> scipy.sparse.csr_matrix:
@@ -91,7 +100,7 @@ class Stencil:
 
 def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
             h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
-            coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False):
+            coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False) -> "scipy.sparse.csr_matrix | tuple[scipy.sparse.csr_matrix, ...] | Stencil":
     """The stencil of ``method`` for ``operator`` (value, dx, dy, dz, gradient, laplacian,
     div-a-grad) on every non-ghost particle, as ``scipy.sparse.csr_matrix`` (N x N); the
     gradient as a tuple of ``dim`` matrices sharing one pattern.
@@ -163,7 +172,8 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
           method: str = "vrsph", options: Mapping[str, Any] | None = None,
           h: float | None = None, h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
-          infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None) -> Solution:
+          infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None, robin: Data = None,
+          return_system: bool = False) -> Solution:
     """Solves div(a grad u) = f with u = g on Dirichlet particles and a du/dn = q on Neumann
     ones (outward normals from the cloud), one call into the library.
 
@@ -173,7 +183,13 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
     :class:`Problem` may stand for the cloud and the data: ``solve(Problem(cloud, f=..., g=...))``.
     ``mobility``: a diagonal tensor M = diag(m_1..m_d) as one expression per direction instead
     of ``a`` (vrsph and the [SPE] schemes brookshaw, cb-sph, s-sph, m-sph); f and q then default to
-    div(M grad u) and n.M grad u."""
+    div(M grad u) and n.M grad u.
+
+    ``robin``: beta >= 0 per particle (a number, an array of N values or a callable): the Neumann
+    particles then carry a du/dn + beta u = q (with ``u`` given and no ``q``, q includes beta u).
+    ``return_system=True`` adds ``system`` (the assembled ``matrix`` A as scipy CSR over the
+    unknowns, ``rhs`` b and ``dofs``: the particle of each unknown) and ``operator_rows`` (the
+    div(a grad) rows over every particle); balance rows give ``wall_flux`` (c_i per particle)."""
     if isinstance(cloud, Problem):
         if any(d is not None for d in (f, g, q, a, u)):
             raise ConfigError("give the data in the Problem or as arguments, not both")
@@ -188,11 +204,19 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
             values[role] = _values(cloud, data, role)
     if mobility is not None:
         expressions["mobility"] = [mobility] if isinstance(mobility, str) else [str(m) for m in mobility]
+    if robin is not None:
+        values["robin"] = _values(cloud, robin, "robin")
     opts = dict(method=method, method_options=dict(options or {}), kernel=kernel,
                 h=0.0 if h is None else float(h), h_factor=float(h_factor), h_mode=h_mode, solver=solver,
                 petsc_options=petsc_options, fix_constant=bool(fix_constant), on_infeasible=on_infeasible,
-                infeasible_tol=float(infeasible_tol))
-    return Solution(_vrsph._solve(cloud, expressions, values, opts))
+                infeasible_tol=float(infeasible_tol), return_system=bool(return_system))
+    out = Solution(_vrsph._solve(cloud, expressions, values, opts))
+    for key in ("system", "operator_rows"):
+        if key in out:
+            raw = out[key]
+            m = scipy.sparse.csr_matrix((raw["data"], raw["indices"], raw["indptr"]), shape=tuple(raw["shape"]))
+            out[key] = m if key == "operator_rows" else {"matrix": m, "rhs": raw["rhs"], "dofs": np.asarray(raw["dofs"])}
+    return out
 
 
 def study(problem: str | None = None, methods: Sequence[str] = ("vrsph",), cloud: str = "uniform",

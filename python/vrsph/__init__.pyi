@@ -1,4 +1,4 @@
-from typing import Any, Callable, Mapping, Sequence, Union
+from typing import Any, Callable, Literal, Mapping, Sequence, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -49,12 +49,20 @@ class Stencil:
     rhs: scipy.sparse.csr_matrix | None
     h: float
     spacing: float
+    row_forms: str
     @property
     def matrix(self) -> scipy.sparse.csr_matrix: ...
 
+@overload
 def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
             h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
-            coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False) -> Any: ...
+            coefficient: Data = None, infeasible_tol: float = 1e-6, *,
+            diagnostics: Literal[True]) -> Stencil: ...
+@overload
+def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
+            h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
+            coefficient: Data = None, infeasible_tol: float = 1e-6,
+            diagnostics: Literal[False] = False) -> scipy.sparse.csr_matrix | tuple[scipy.sparse.csr_matrix, ...]: ...
 
 class Solution(dict[str, Any]):
     u: npt.NDArray[np.float64]
@@ -65,6 +73,11 @@ class Solution(dict[str, Any]):
     solver_residual: float
     h: float
     warnings: list[str]
+    infeasible_particles: list[int]
+    infeasible_residuals: list[float]
+    wall_flux: npt.NDArray[np.float64]  # balance rows only
+    system: dict[str, Any]  # return_system=True: matrix (csr), rhs, dofs
+    operator_rows: scipy.sparse.csr_matrix  # return_system=True
     def __getattr__(self, name: str) -> Any: ...
 
 class Problem:
@@ -81,7 +94,8 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
           method: str = "vrsph", options: Mapping[str, Any] | None = None, h: float | None = None,
           h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
-          infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None) -> Solution: ...
+          infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None, robin: Data = None,
+          return_system: bool = False) -> Solution: ...
 
 def study(problem: str | None = None, methods: Sequence[str] = ..., cloud: str = "uniform", n: Sequence[int] = ...,
           seeds: Sequence[int] = ..., dim: int | None = None, method_options: Mapping[str, Mapping[str, Any]] | None = None,

@@ -280,7 +280,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   }
   // Taylor-type methods use a Δu + ∇a·∇u with ∇a analytic when available (METHODS §3.0);
   // sampled only for them (an expression's gradient costs 4d evaluations per particle).
-  if (pf.m.empty() && builtin_methods().create(method_name, options_for(p.method_options, method_name))->needs_coefficient_gradient())
+  if (pf.m.empty() && builtin_methods().create(method_name, options_for(p.method_options, method_name))->needs_coefficient_gradient(StencilUse::System))
     bvp.grad_a = sample_gradient(*pf.a, cloud);
   bvp.f = sample(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
   bvp.g = sample(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
@@ -326,6 +326,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   run.nnz_per_row = sol.nnz_per_row;
   run.infeasible = sol.infeasible;
   run.infeasible_particles = sol.infeasible_particles;
+  run.infeasible_residuals = sol.infeasible_residuals;
   run.max_local_residual = sol.max_local_residual;
   run.condition_max = sol.condition_max;
   run.m_matrix = sol.m_matrix;

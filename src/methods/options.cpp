@@ -27,6 +27,7 @@ std::string MethodOptions::get_string(const std::string& key, const std::string&
 
 std::string MethodOptions::get_choice(const std::string& key, const std::string& fallback,
                                       const std::set<std::string>& allowed) const {
+  choice_defaults_.emplace(key, fallback);
   const std::string v = get_string(key, fallback);
   if (!allowed.count(v)) {
     std::string list;

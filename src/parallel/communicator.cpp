@@ -1,6 +1,8 @@
 // MPI behind Communicator: reductions, gathers and the collective error agreement.
 #include <petscsys.h>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdlib>
 #include <thread>
@@ -30,6 +32,12 @@ Kind kind_of(const std::exception& e) {
   return Other;
 }
 
+// What `collective` last threw on every rank (one thread runs the collectives of a rank).
+std::string& last_agreed_message() {
+  static std::string m;
+  return m;
+}
+
 [[noreturn]] void rethrow(int kind, const std::string& msg) {
   switch (kind) {
     case Input: throw InputError(msg);
@@ -54,8 +62,15 @@ bool Communicator::launched_in_parallel() {
   return false;
 }
 
+// A duplicate of PETSC_COMM_WORLD for the error exit's barrier only (every_rank_stops_here).
+MPI_Comm& exit_communicator() {
+  static MPI_Comm c = MPI_COMM_NULL;
+  return c;
+}
+
 Communicator Communicator::world() {
   detail::start_petsc();
+  if (exit_communicator() == MPI_COMM_NULL) MPI_Comm_dup(PETSC_COMM_WORLD, &exit_communicator());
   Communicator c;
   c.handle_ = static_cast<int>(MPI_Comm_c2f(PETSC_COMM_WORLD));
   MPI_Comm_rank(PETSC_COMM_WORLD, &c.rank_);
@@ -87,7 +102,79 @@ void collective(const Communicator& comm, const std::function<void()>& stage) {
   MPI_Bcast(sizes, 2, MPI_INT, first, mpi(comm));
   message.resize(static_cast<std::size_t>(sizes[1]));
   MPI_Bcast(message.data(), sizes[1], MPI_CHAR, first, mpi(comm));
-  rethrow(sizes[0], first == 0 ? message : detail::concat("rank ", first, ": ", message));
+  const std::string agreed = first == 0 ? message : detail::concat("rank ", first, ": ", message);
+  last_agreed_message() = agreed;
+  rethrow(sizes[0], agreed);
+}
+
+bool raised_on_every_rank(const std::exception& e) { return last_agreed_message() == e.what(); }
+
+void collective_or_abort(const Communicator& comm, const std::function<void()>& stage) {
+  if (!comm.distributed()) {
+    stage();
+    return;
+  }
+  int kind = None;
+  std::string message;
+  try {
+    stage();
+    return;
+  } catch (const std::exception& e) {
+    if (raised_on_every_rank(e)) throw;
+    kind = kind_of(e);
+    message = e.what();
+  } catch (...) {
+    kind = Other;
+    message = "unknown exception";
+  }
+  // Every rank failed alike: agree as `collective` does (all ranks are here, so the
+  // communicator is free). Otherwise the others wait inside the stage: end them all.
+  if (every_rank_stops_here(3.0)) {
+    collective(comm, [&] { rethrow(kind, message); });
+  }
+  const int code = kind == Config || kind == Resource ? 2 : kind == Input || kind == Io ? 3 : kind == Geometry ? 4
+                   : kind == Numerical ? 5 : 70;
+  const char* what = code == 2 ? "configuration error" : code == 3 ? "input error" : code == 4 ? "geometry error"
+                     : code == 5 ? "numerical error" : "internal error";
+  const std::string line = detail::concat("vrsph: ", what, " (rank ", comm.rank(), " of ", comm.size(),
+                                          "; every rank stopped): ", message, "\n");
+  if (::write(2, line.data(), line.size()) < 0) {
+  }  // nothing else to tell
+  abort_all_ranks(comm, code);
+}
+
+bool every_rank_stops_here(double seconds) {
+  if (exit_communicator() == MPI_COMM_NULL) return true;
+  int size = 1;
+  MPI_Comm_size(exit_communicator(), &size);
+  if (size == 1) return true;
+  MPI_Request request;
+  MPI_Ibarrier(exit_communicator(), &request);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int done = 0;
+  while (!done && std::chrono::steady_clock::now() < until) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return done != 0;
+}
+
+void abort_all_ranks(const Communicator& comm, int code) {
+  if (comm.distributed()) MPI_Abort(mpi(comm), code);
+  std::exit(code);
+}
+
+void fault_point(const Communicator& comm, const char* stage) {
+  static const std::string spec = [] {
+    const char* v = std::getenv("VRSPH_INJECT_FAULT");
+    return std::string(v ? v : "");
+  }();
+  if (spec.empty()) return;
+  const auto at = spec.find('@');
+  const std::string where = spec.substr(0, at);
+  const int rank = at == std::string::npos ? 0 : std::atoi(spec.c_str() + at + 1);
+  if (where == stage && rank == comm.rank())
+    throw NumericalError(detail::concat("injected fault at stage '", stage, "' on rank ", rank, " (VRSPH_INJECT_FAULT)"));
 }
 
 double sum_over_ranks(const Communicator& c, double v) {

@@ -466,8 +466,11 @@ void update_halo(const DistributedCloud& dc, std::vector<char>& v) {
 
 Field chunk_to_local(const DistributedCloud& dc, const Field& chunk_values) {
   const CloudExchange& ex = *dc.exchange;
-  check<InputError>(chunk_values.size() == ex.chunk_size, "a field has ", chunk_values.size(), " values for the ",
-                    ex.chunk_size, " particles of this rank's part of the cloud");
+  // Agreed before the exchange: a rank that stopped here would leave the others waiting in it.
+  collective(dc.comm, [&] {
+    check<InputError>(chunk_values.size() == ex.chunk_size, "a field has ", chunk_values.size(), " values for the ",
+                      ex.chunk_size, " particles of this rank's part of the cloud");
+  });
   std::vector<double> arrived(ex.arrival_to_local.size());
   reduce(ex.migration, chunk_values.data(), arrived.data());
   Field local = Field::Zero(dc.local_size());
@@ -484,8 +487,10 @@ Eigen::MatrixXd chunk_to_local(const DistributedCloud& dc, const Eigen::MatrixXd
 
 Field local_to_chunk(const DistributedCloud& dc, const Field& local_values) {
   const CloudExchange& ex = *dc.exchange;
-  check<InputError>(local_values.size() == dc.local_size(), "local_to_chunk: ", local_values.size(), " values for ",
-                    dc.local_size(), " particles");
+  collective(dc.comm, [&] {
+    check<InputError>(local_values.size() == dc.local_size(), "local_to_chunk: ", local_values.size(), " values for ",
+                      dc.local_size(), " particles");
+  });
   std::vector<double> arrived(ex.arrival_to_local.size());
   for (std::size_t k = 0; k < arrived.size(); ++k) arrived[k] = local_values[ex.arrival_to_local[k]];
   Field chunk = Field::Zero(ex.chunk_size);

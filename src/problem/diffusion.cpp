@@ -99,7 +99,7 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
                      " has no gradient stencil for the Neumann rows");
   // Balance rows make a Neumann particle an evolving unknown with the flux as a source; the
   // time steppers here hold flux rows as constraints at every step. Not combined yet.
-  check<ConfigError>(!neumann || !method->balances_flux_rows(), "method ", o.method, ": flux=balance is for steady "
+  check<ConfigError>(!neumann || !method->balances_flux_rows(StencilUse::Values), "method ", o.method, ": flux=balance is for steady "
                      "problems (study, solve); diffuse needs the gradient flux rows (flux=gradient)");
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;

@@ -158,11 +158,12 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   const auto method = builtin_methods().create(o.method, o.method_options);
   check<ConfigError>(method->info().supports(OperatorKind::DivAGrad), "method ", o.method, " does not provide div-a-grad");
   // Balance rows (VRSPH flux=balance): the Neumann particles' rows come with the operator.
-  const bool balance = s.neumann_particles > 0 && method->balances_flux_rows();
+  const bool balance = s.neumann_particles > 0 && method->balances_flux_rows(StencilUse::System);
   check<ConfigError>(s.neumann_particles == 0 || balance || method->info().supports(OperatorKind::Gradient), "method ",
                      o.method, " has no gradient stencil for Neumann rows");
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
+  req.use = StencilUse::System;
   req.coefficient = tensor ? nullptr : &a;
   req.mobility = tensor ? &p.mobility : nullptr;
   if (p.grad_a.size() && !tensor) {
@@ -179,6 +180,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   if (s.neumann_particles > 0 && !balance) {
     StencilRequest greq;
     greq.kind = OperatorKind::Gradient;
+    greq.use = StencilUse::System;
     greq.rows = flux;
     G = method->build(disc, greq);
   }
@@ -194,25 +196,26 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   mark(&s.stage_peak_bytes.stencil);
 
   // Diagnostics of the local problems (feasibility, conditioning) and of the matrix.
+  // One line per kind of row; every such row, worst first, in infeasible_particles.
   const auto report = [&](const LocalResidualSummary& local, const char* what) {
     s.max_local_residual = std::max(s.max_local_residual, local.max_relative);
     s.infeasible += local.infeasible;
     if (local.infeasible == 0) return;
-    std::string list;
-    for (std::size_t k = 0; k < local.worst.size(); ++k) {
-      s.infeasible_particles.push_back(local.worst[k].second);
-      list += detail::concat(k ? ", " : "", local.worst[k].second, " (", local.worst[k].first, ")");
+    for (const auto& [residual, i] : local.worst) {
+      s.infeasible_particles.push_back(i);
+      s.infeasible_residuals.push_back(residual);
     }
-    const std::string msg =
-        detail::concat(o.label.empty() ? o.method : o.label, ": ", local.infeasible, " ", what,
-                       " particle(s) with infeasible moment conditions or a singular local system (relative residual > ",
-                       o.infeasible_tolerance, "); worst: ", list);
+    const std::string msg = detail::infeasible_rows_warning(o.label.empty() ? o.method : o.label, local.infeasible, what,
+                                                    local.worst.front().first, local.worst.front().second,
+                                                    o.infeasible_tolerance);
     if (o.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
     s.warnings.push_back(msg);
   };
-  report(summarise_local_residuals(L, interior, o.infeasible_tolerance), "interior");
+  const std::size_t all = static_cast<std::size_t>(n);
+  report(summarise_local_residuals(L, interior, o.infeasible_tolerance, all), "interior");
   if (s.neumann_particles > 0)
-    report(summarise_local_residuals(balance ? L : G, flux, o.infeasible_tolerance), balance ? "Neumann (balance)" : "Neumann");
+    report(summarise_local_residuals(balance ? L : G, flux, o.infeasible_tolerance, all),
+           balance ? "Neumann (balance)" : "Neumann");
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (interior[si] && !L.condition.empty()) s.condition_max = std::max(s.condition_max, L.condition[si]);
@@ -263,6 +266,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   LinearSystem sys = assemble(L, cloud, unknown, p.f, p.g, &bc);
   // The stencils are in the system now; keep only the local residuals for the report.
   if (o.keep_matrices) s.operator_rows = as_eigen(L);
+  if (!L.wall_flux.empty()) s.wall_flux = Eigen::Map<const Field>(L.wall_flux.data(), n);
   s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
   L = Stencil();
   G = Stencil();

@@ -40,7 +40,8 @@ std::vector<char> owned_mask(const DistributedCloud& dc, std::initializer_list<T
   return m;
 }
 
-// Infeasible rows of this rank, named by global id, and the counts over every rank.
+// Infeasible rows of this rank, named by global id, and the counts over every rank; every
+// rank gets the whole list, worst first (as serial).
 void report_infeasible(const DistributedCloud& dc, const LocalResidualSummary& local, const char* what,
                        const BvpSolveOptions& o, BvpSolution& s) {
   const Communicator& comm = dc.comm;
@@ -48,18 +49,21 @@ void report_infeasible(const DistributedCloud& dc, const LocalResidualSummary& l
   const long long count = sum_over_ranks(comm, static_cast<long long>(local.infeasible));
   s.infeasible += static_cast<Index>(count);
   if (count == 0) return;
-  std::vector<std::string> mine;
+  std::vector<double> mine;  // (residual, global id) pairs; ids are exact in a double below 2^53
   for (const auto& [residual, i] : local.worst) {
-    const Index id = dc.global_id[static_cast<std::size_t>(i)];
-    s.infeasible_particles.push_back(id);
-    mine.push_back(concat(id, " (", residual, ")"));
+    mine.push_back(residual);
+    mine.push_back(static_cast<double>(dc.global_id[static_cast<std::size_t>(i)]));
   }
-  std::string list;
-  const std::vector<std::string> all = gather_strings(comm, mine);
-  for (std::size_t k = 0; k < all.size() && k < 10; ++k) list += concat(k ? ", " : "", all[k]);
-  const std::string msg = concat(o.label.empty() ? o.method : o.label, ": ", count, " ", what,
-                                 " particle(s) with infeasible moment conditions or a singular local system (relative "
-                                 "residual > ", o.infeasible_tolerance, "); some: ", list);
+  const std::vector<double> all = gather_over_ranks(comm, mine);
+  std::vector<std::pair<Real, Index>> rows;
+  for (std::size_t k = 0; k + 1 < all.size(); k += 2) rows.emplace_back(all[k], static_cast<Index>(all[k + 1]));
+  std::stable_sort(rows.begin(), rows.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  for (const auto& [residual, id] : rows) {
+    s.infeasible_particles.push_back(id);
+    s.infeasible_residuals.push_back(residual);
+  }
+  const std::string msg = infeasible_rows_warning(o.label.empty() ? o.method : o.label, count, what, rows.front().first,
+                                                  rows.front().second, o.infeasible_tolerance);
   if (o.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
   s.warnings.push_back(msg);
 }
@@ -119,6 +123,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   s.distribution.ranks = comm.size();
   const bool tensor = any_rank(comm, p.mobility.size() > 0);
   collective(comm, [&] {
+    fault_point(comm, "distribute");
     check_size(p.a, n_chunk, "a", false);
     check_size(p.f, n_chunk, "f", true);
     check_size(p.g, n_chunk, "g", true);
@@ -141,6 +146,24 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   });
   const bool with_a = any_rank(comm, p.a.size() > 0), with_grad_a = any_rank(comm, p.grad_a.size() > 0),
              with_q = any_rank(comm, p.q.size() > 0), with_robin = any_rank(comm, p.robin.size() > 0);
+  // A field given on some ranks' parts must be on every part that reads it. The flux data q
+  // and β are read only at Neumann particles: a part without any (a file that lists its
+  // Neumann particles last) may leave them empty and gets zeros. a, ∇a and the mobility are
+  // read everywhere: absent on one non-empty part while given on another is an error.
+  const Index chunk_neumann = p.cloud.count(Tag::Neumann);
+  collective(comm, [&] {
+    const auto needed = [&](bool given_somewhere, Index size, bool read_here, const char* what) {
+      check<InputError>(!given_somewhere || size > 0 || !read_here, "boundary value problem: ", what,
+                        " is given on other ranks' parts but not on this rank's part (", n_chunk, " particles, ",
+                        chunk_neumann, " Neumann); give it on every part that reads it");
+    };
+    needed(with_a, p.a.size(), n_chunk > 0, "the coefficient a");
+    needed(with_grad_a, p.grad_a.size(), n_chunk > 0, "grad a");
+    needed(tensor, p.mobility.size(), n_chunk > 0, "the mobility");
+    needed(with_q || chunk_neumann > 0, p.q.size(), chunk_neumann > 0, "the Neumann flux q");
+    needed(with_robin, p.robin.size(), chunk_neumann > 0, "the Robin coefficient");
+  });
+  const auto at_neumann = [&](const Field& v) { return v.size() ? v : Field(Field::Zero(n_chunk)); };
   const auto method = builtin_methods().create(o.method, o.method_options);
   const long long global_n = sum_over_ranks(comm, static_cast<long long>(n_chunk));
   Real dx = 0;
@@ -239,8 +262,8 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   const Field ones = Field::Ones(n_chunk);
   const Field a = chunk_to_local(dc, with_a ? p.a : ones);
   const Field f = chunk_to_local(dc, p.f), g = chunk_to_local(dc, p.g);
-  const Field q = with_q ? chunk_to_local(dc, p.q) : Field();
-  const Field robin = with_robin ? chunk_to_local(dc, p.robin) : Field();
+  const Field q = with_q ? chunk_to_local(dc, at_neumann(p.q)) : Field();
+  const Field robin = with_robin ? chunk_to_local(dc, at_neumann(p.robin)) : Field();
   const Eigen::MatrixXd mobility = tensor ? chunk_to_local(dc, p.mobility) : Eigen::MatrixXd();
   const Eigen::MatrixXd grad_a = with_grad_a && !tensor ? chunk_to_local(dc, p.grad_a) : Eigen::MatrixXd();
   collective(comm, [&] {
@@ -259,12 +282,12 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   s.neumann_particles = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(std::count(flux.begin(), flux.end(), 1))));
   collective(comm, [&] {
     check<InputError>(s.neumann_particles == 0 || with_q, "boundary value problem: Neumann particles need the flux q");
-    check<ConfigError>(s.neumann_particles == 0 || method->balances_flux_rows() ||
+    check<ConfigError>(s.neumann_particles == 0 || method->balances_flux_rows(StencilUse::System) ||
                            method->info().supports(OperatorKind::Gradient),
                        "method ", o.method, " has no gradient stencil for Neumann rows");
   });
   // Balance rows (VRSPH flux=balance): the Neumann particles' rows come with the operator.
-  const bool balance = s.neumann_particles > 0 && method->balances_flux_rows();
+  const bool balance = s.neumann_particles > 0 && method->balances_flux_rows(StencilUse::System);
   const std::vector<char>& operator_rows = balance ? unknown : interior;
 
   // Neighbours of the local particles; only the owned rows must have some (halo particles at
@@ -275,6 +298,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   sp.min_neighbours = 0;
   NeighbourList nl;
   local_stage(dc, [&] {
+    fault_point(comm, "neighbours");
     nl = find_neighbours(cloud, sp);
     for (Index i = 0; i < n; ++i)
       if (dc.owned[static_cast<std::size_t>(i)] && cloud.tags[static_cast<std::size_t>(i)] != Tag::Ghost && nl.count(i) < 1) {
@@ -295,6 +319,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   watch.restart();
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
+  req.use = StencilUse::System;
   req.coefficient = tensor ? nullptr : &a;
   req.mobility = tensor ? &mobility : nullptr;
   if (grad_a.size()) req.coefficient_gradient = &grad_a;
@@ -302,10 +327,12 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   const Discretisation disc{cloud, nl, o.kernel, dx, dc.global_size};
   Stencil L, G;
   local_stage(dc, [&] {
+    fault_point(comm, "stencil");
     L = method->build(disc, req);
     if (s.neumann_particles > 0 && !balance) {
       StencilRequest greq;
       greq.kind = OperatorKind::Gradient;
+      greq.use = StencilUse::System;
       greq.rows = flux;
       G = method->build(disc, greq);
     }
@@ -327,9 +354,10 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
 
   // Diagnostics over every rank.
   collective(comm, [&] {
-    report_infeasible(dc, summarise_local_residuals(L, interior, o.infeasible_tolerance), "interior", o, s);
+    const auto all = static_cast<std::size_t>(n);
+    report_infeasible(dc, summarise_local_residuals(L, interior, o.infeasible_tolerance, all), "interior", o, s);
     if (s.neumann_particles > 0)
-      report_infeasible(dc, summarise_local_residuals(balance ? L : G, flux, o.infeasible_tolerance),
+      report_infeasible(dc, summarise_local_residuals(balance ? L : G, flux, o.infeasible_tolerance, all),
                         balance ? "Neumann (balance)" : "Neumann", o, s);
   });
   Real condition = 0;
@@ -432,7 +460,10 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   bc.pinned = pinned;
   const AssemblyScope scope{unknown};
   LinearSystem sys;
-  local_stage(dc, [&] { sys = assemble(L, cloud, unknown_all, f, g, &bc, &scope); });
+  local_stage(dc, [&] {
+    fault_point(comm, "assemble");
+    sys = assemble(L, cloud, unknown_all, f, g, &bc, &scope);
+  });
   s.local_residual = L.residual.empty() ? Field::Zero(n) : Field(Eigen::Map<const Field>(L.residual.data(), n));
   L = Stencil();
   G = Stencil();
@@ -503,7 +534,11 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   solver.communicator = comm;
   if (solver.dimension == 0) solver.dimension = cloud.dim;
   const auto t0 = std::chrono::steady_clock::now();
-  collective(comm, [&] { s.solve = solve(global, x, solver); });
+  // PETSc's own collectives run inside: a failure on one rank cannot be agreed on there.
+  collective_or_abort(comm, [&] {
+    fault_point(comm, "solve");
+    s.solve = solve(global, x, solver);
+  });
   s.seconds_solve = max_over_ranks(comm, seconds_since(t0));
   peak(s.stage_peak_bytes.solve);
   s.warnings.insert(s.warnings.end(), s.solve.warnings.begin(), s.solve.warnings.end());

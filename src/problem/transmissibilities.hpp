@@ -35,6 +35,15 @@ inline std::string signed_rows_warning(const std::string& label, const BvpSoluti
                 " negative off-diagonal weight(s)): -L is not an M-matrix there");
 }
 
+// The one-line warning for rows whose local problem failed or exceeds the tolerance (over
+// every rank): the rows themselves are in BvpSolution::infeasible_particles, worst first.
+inline std::string infeasible_rows_warning(const std::string& label, long long count, const char* what, Real worst,
+                                           long long worst_particle, Real tolerance) {
+  return concat(label, ": ", count, " ", what, " row(s) could not meet their moment conditions (infeasible or a "
+                "singular local system; worst relative residual ", worst, " at particle ", worst_particle,
+                ", tolerance ", tolerance, ")");
+}
+
 // Balance rows with Robin data: the assembly adds -c_i beta_i to their diagonal (strict
 // dominance), so the M-matrix test must see it too. A copy of L with that diagonal, or
 // nothing when there is no such row.

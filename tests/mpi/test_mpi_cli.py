@@ -26,8 +26,14 @@ def run_json(ranks, *args):
     return json.loads(p.stdout)  # exactly one document: only rank 0 prints
 
 
+def close(a, b, rtol, atol):
+    """|b - a| <= rtol |a| + atol: errors near round-off (the compact rows are exact on
+    quadratics) are compared in absolute terms, larger ones relatively."""
+    return abs(b - a) <= rtol * abs(a) + atol
+
+
 class SameTables(unittest.TestCase):
-    def compare(self, args, rtol, ranks=(2, 4)):
+    def compare(self, args, rtol, ranks=(2, 4), atol=1e-12):
         serial = run_json(0, *args)
         for r in ranks:
             par = run_json(r, *args)
@@ -36,7 +42,9 @@ class SameTables(unittest.TestCase):
             for a, b in zip(serial["rows"], par["rows"]):
                 for key in ("N", "unknowns", "infeasible", "mmatrix"):
                     self.assertEqual(a[key], b[key], key)
-                for key in ("error_inf", "error_l2", "nnz_per_row", "neighbours_mean"):
+                for key in ("error_inf", "error_l2"):
+                    self.assertTrue(close(a[key], b[key], rtol, atol), f"{key} with {r} ranks: {b[key]} vs {a[key]}")
+                for key in ("nnz_per_row", "neighbours_mean"):
                     self.assertAlmostEqual(b[key] / a[key], 1.0, delta=rtol, msg=f"{key} with {r} ranks: {b[key]} vs {a[key]}")
 
     def test_example5_direct(self):
@@ -64,7 +72,7 @@ class SameTables(unittest.TestCase):
     def test_issue_command_with_amg(self):
         # GMRES + BoomerAMG to rtol 1e-10 on both sides: equal to the solver's tolerance.
         self.compare(["study", "--problem", "qw-ex5", "--method", "vrsph", "--cloud", "perturbed", "--n", "40,80",
-                      "--solver", "petsc"], 1e-6, ranks=(2,))
+                      "--solver", "petsc"], 1e-6, ranks=(2,), atol=1e-10)
 
 
 class Output(unittest.TestCase):
@@ -95,7 +103,7 @@ class Output(unittest.TestCase):
             for key in ("particles", "unknowns", "infeasible", "mmatrix"):
                 self.assertEqual(a[key], b[key], key)
             for key in ("error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"):
-                self.assertAlmostEqual(b[key] / a[key], 1.0, delta=1e-9, msg=key)
+                self.assertTrue(close(a[key], b[key], 1e-9, 1e-12), f"{key}: {b[key]} vs {a[key]}")
             self.assertEqual(b["vtu"], "s.pvtu")
             self.assertTrue(os.path.exists(os.path.join(d, "s_1.vtu")))
             # Byte ranges of the CSV on 3 ranks, and a VTU file read on rank 0 and scattered.
@@ -106,7 +114,7 @@ class Output(unittest.TestCase):
                 c = json.loads(p.stdout)["rows"][0]
                 self.assertEqual(c["particles"], a["particles"])
                 for key in ("error_inf", "error_l2", "h", "spacing"):
-                    self.assertAlmostEqual(c[key] / a[key], 1.0, delta=1e-9, msg=f"{key} from {name} on {ranks} ranks")
+                    self.assertTrue(close(a[key], c[key], 1e-9, 1e-12), f"{key} from {name} on {ranks} ranks")
 
 
     def test_geometry_filled_in_parts(self):
@@ -122,7 +130,63 @@ class Output(unittest.TestCase):
             a, b = json.loads(serial.stdout)["rows"][0], json.loads(par.stdout)["rows"][0]
             self.assertEqual(a["particles"], b["particles"], fill)
             for key in ("error_inf", "error_l2", "h"):
-                self.assertAlmostEqual(b[key] / a[key], 1.0, delta=1e-9, msg=f"{key} {fill}")
+                self.assertTrue(close(a[key], b[key], 1e-9, 1e-12), f"{key} {fill}: {b[key]} vs {a[key]}")
+
+
+class DataOnSomeRanks(unittest.TestCase):
+    """Issue 30: a file whose Neumann particles are listed last gives ranks without any; their
+    part has no flux data q, and the distributed solve must still equal the serial one."""
+
+    def test_neumann_particles_listed_last(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.assertEqual(run(0, "cloud", "--family", "perturbed", "--n", "24", "--output", "c.csv", cwd=d).returncode, 0)
+            with open(os.path.join(d, "c.csv")) as f:
+                header, *rows = f.read().splitlines()
+            # The faces x = 1 and y = 1 become Neumann (outward normals), and those rows go last.
+            cols = header.split(",")
+            out, wall = [], []
+            for line in rows:
+                v = dict(zip(cols, line.split(",")))
+                x, y = float(v["x"]), float(v["y"])
+                if v["tag"] == "dirichlet" and (x > 1 - 1e-12 or y > 1 - 1e-12) and min(x, y) > 1e-12:
+                    n = (1.0, 0.0) if x > 1 - 1e-12 and y < 1 - 1e-12 else (0.0, 1.0) if x < 1 - 1e-12 else (0.7071067811865476,) * 2
+                    wall.append(f"{x!r},{y!r},neumann,{n[0]!r},{n[1]!r}")
+                else:
+                    out.append(f"{x!r},{y!r},{v['tag']},0,0")
+            with open(os.path.join(d, "last.csv"), "w") as f:
+                f.write("x,y,tag,nx,ny\n" + "\n".join(out + wall) + "\n")
+            for solver in (("--solver", "petsc", "--petsc-options", DIRECT), ()):
+                args = ["solve", "--cloud-file", "last.csv", "--u", "exp(x)*sin(2*y)+x^2", *solver, "--format", "json"]
+                serial = run(0, *args, cwd=d)
+                self.assertEqual(serial.returncode, 0, serial.stderr)
+                a = json.loads(serial.stdout)["rows"][0]
+                for ranks in (2, 3):
+                    p = run(ranks, *args, cwd=d, timeout=120)
+                    self.assertEqual(p.returncode, 0, f"{ranks} ranks: {p.stderr}")
+                    b = json.loads(p.stdout)["rows"][0]
+                    self.assertEqual(a["unknowns"], b["unknowns"])
+                    for key in ("error_inf", "error_l2"):  # iterative (AMG, rtol 1e-10) or direct: to 1e-9 in u
+                        self.assertTrue(close(a[key], b[key], 0, 1e-9 if not solver else 1e-12),
+                                        f"{key} on {ranks} ranks {solver}: {b[key]} vs {a[key]}")
+
+
+class FaultOnOneRank(unittest.TestCase):
+    """Issue 30: a failure in any stage on any one rank ends every rank promptly with the
+    same exit code (no hang): inside the library's collectives it is agreed and reported once,
+    elsewhere the failing rank reports it and MPI_Abort ends the others."""
+
+    def test_every_stage(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.assertEqual(run(0, "cloud", "--family", "perturbed", "--n", "16", "--output", "c.csv", cwd=d).returncode, 0)
+            for stage in ("read", "problem", "distribute", "neighbours", "stencil", "assemble", "solve", "output"):
+                for rank in (0, 1):
+                    env = dict(ENV, VRSPH_INJECT_FAULT=f"{stage}@{rank}")
+                    cmd = [MPIRUN, "--allow-run-as-root", "-np", "2", "-x", "VRSPH_INJECT_FAULT", VRSPH, "solve",
+                           "--cloud-file", "c.csv", "--u", "x*y", "--solver", "petsc", "--vtu", "u.vtu"]
+                    p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, env=env, cwd=d)
+                    self.assertEqual(p.returncode, 5, f"{stage}@{rank}: {p.stderr}")
+                    self.assertIn(f"injected fault at stage '{stage}' on rank {rank}", p.stderr, stage)
+                    self.assertEqual(p.stderr.count("vrsph: "), 1, f"{stage}@{rank}: one message: {p.stderr}")
 
 
 class BadInput(unittest.TestCase):

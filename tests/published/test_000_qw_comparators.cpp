@@ -16,6 +16,7 @@ OperatorStudyResult compare(int dim, OperatorKind op, CloudFamily cloud, bool gh
   OperatorStudyParams p;
   p.dim = dim;
   p.methods = {"sph", "fpm", "cspm", "kgf", "vrsph"};
+  p.method_options["vrsph"].set("profile", "qw");
   p.op = op;
   p.cloud = cloud;
   p.ghosts = ghosts;

@@ -114,6 +114,7 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
   // Under mpirun each rank holds only its part of the particles (the file's order) and the
   // solve is distributed; sizes, errors and diagnostics are the whole cloud's.
   const Communicator& comm = communicator();
+  fault_point(comm, "read");  // outside any collective: the MPI tests' abort path
   CloudFilePart part = load_cloud(a, file, path, spacing, cmd, comm);
   const CloudFile& cf = part.file;
   const auto column = [&](const std::string& name, const char* option) {
@@ -124,6 +125,7 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
   ProblemExpressions expressions{a.u, a.a, a.f, a.g, a.q};
   collective(comm, [&] {
     try {
+      fault_point(comm, "problem");
       values = {column(file.u_column, "--u-column"), column(file.a_column, "--a-column"),
                 column(file.f_column, "--f-column"), column(file.g_column, "--g-column"),
                 column(file.q_column, "--q-column")};
@@ -147,6 +149,8 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
   if (comm.distributed()) o.communicator = comm;
   r.s = solve(r.ep.problem, o);
   print_warnings(r.s.warnings);
+  print_infeasible_rows(o.label, comm.distributed() ? PointCloud{} : r.ep.problem.cloud, r.s.infeasible_particles,
+                        r.s.infeasible_residuals);
   if (any_rank(comm, r.ep.exact.size() > 0)) {
     const PointCloud& c = r.ep.problem.cloud;
     Eigen::MatrixXd err(c.size(), 1);
@@ -284,13 +288,16 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
     fields.push_back({"u_exact", r.ep.exact});
     fields.push_back({"error", r.s.u - r.ep.exact});
   }
-  if (communicator().distributed())
+  fault_point(communicator(), "output");  // outside any collective: the MPI tests' abort path
+  if (a.vtu.empty()) {
+  } else if (communicator().distributed()) {
     collective(communicator(), [&] {
       write_pvtu_piece(pvtu_path(a.vtu), communicator().rank(), communicator().size(), r.ep.problem.cloud, fields,
                        parse_vtu_format(a.vtu_format));
     });
-  else
+  } else {
     write_vtu(a.vtu, r.ep.problem.cloud, fields, parse_vtu_format(a.vtu_format));
+  }
   if (!file.csv.empty()) write_field_csv(file.csv, r);
   if (!a.out.plot.empty())
     plot_solution(r.ep.problem.cloud, r.s.u, exact ? &r.ep.exact : nullptr, a.out.plot, methods.front() + " on " + label);
@@ -299,9 +306,9 @@ void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::
   if (exact) t.columns.insert(t.columns.end(), {"error_inf", "error_l2", "error_inf_interior", "error_inf_boundary"});
   t.columns.insert(t.columns.end(), {"seconds_total", "vtu"});
   auto row = row_of(methods.front(), r);
-  row.emplace_back("vtu", communicator().distributed() ? pvtu_path(a.vtu) : a.vtu);
+  row.emplace_back("vtu", communicator().distributed() && !a.vtu.empty() ? pvtu_path(a.vtu) : a.vtu);
   t.add_row(row);
-  std::cout << format_table(t, parse_table_format(a.out.format));
+  std::cout << solve_summary(t, a.out.format, r.s.warnings, r.s.infeasible_particles);
 }
 
 void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {

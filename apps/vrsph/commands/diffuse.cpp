@@ -154,7 +154,9 @@ void add_diffuse_command(CLI::App& app) {
     const Real a_max = problem.mobility.size() ? problem.mobility.maxCoeff() : problem.a.size() ? problem.a.maxCoeff() : 1.0;
     DiffusionOptions o;
     o.method = a->methods;
-    o.method_options = options_for(parse_method_options(a->method_opts, {a->methods}), a->methods);
+    const auto per_method = parse_method_options(a->method_opts, {a->methods});
+    note_row_forms({a->methods}, per_method, StencilUse::Values);
+    o.method_options = options_for(per_method, a->methods);
     o.kernel = parse_kernel(a->kernel);
     o.h_factor = 2 * a->f;
     o.spacing = dx;

@@ -8,6 +8,18 @@
 
 namespace vrsph::cli {
 
+namespace {
+// The method's choice options at their defaults, "key=value ...": a method created from
+// empty options has asked for each with its fallback (MethodOptions::choice_defaults).
+std::string choice_defaults(const std::string& method) {
+  const MethodOptions none;
+  (void)builtin_methods().create(method, none);
+  std::string out;
+  for (const auto& [key, value] : none.choice_defaults()) out += (out.empty() ? "" : " ") + key + "=" + value;
+  return out;
+}
+}  // namespace
+
 void add_methods_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("methods", "List the registered methods (name, paper, operators, claimed order)");
   auto format = std::make_shared<std::string>("md");
@@ -29,17 +41,24 @@ void add_methods_command(CLI::App& app) {
         auto opts = nlohmann::ordered_json::object();
         for (const auto& [k, v] : m.options) opts[k] = v;
         o["options"] = opts;
+        auto profiles = nlohmann::ordered_json::object();
+        for (const auto& [k, v] : m.profiles) profiles[k] = v;
+        o["profiles"] = profiles;
+        o["defaults"] = choice_defaults(m.name);
         list.push_back(o);
       }
       std::cout << list.dump(2) << '\n';
       return;
     }
     Table t;
-    t.columns = {"name", "paper", "operators", "claimed order"};
+    t.columns = {"name", "paper", "operators", "claimed order", "defaults", "profiles"};
     for (const auto& m : methods) {
-      std::string ops;
+      std::string ops, profiles;
+      const std::string defaults = choice_defaults(m.name);
       for (auto k : m.operators) ops += (ops.empty() ? "" : " ") + std::string(to_string(k));
-      t.add_row({{"name", m.name}, {"paper", m.paper}, {"operators", ops}, {"claimed order", m.claimed_order}});
+      for (const auto& [name, what] : m.profiles) profiles += (profiles.empty() ? "" : " | ") + name + ": " + what;
+      t.add_row({{"name", m.name}, {"paper", m.paper}, {"operators", ops}, {"claimed order", m.claimed_order},
+                 {"defaults", defaults}, {"profiles", profiles}});
     }
     std::cout << format_table(t, parse_table_format(*format));
   });

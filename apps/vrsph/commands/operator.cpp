@@ -56,6 +56,7 @@ void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
   const OperatorKind op = parse_operator(a.op);
   const auto methods = parse_name_list(a.methods, "--method");
   const auto options = parse_method_options(a.method_opts, methods);
+  note_row_forms(methods, options, StencilUse::Values);
   const auto u = make_function_or_expression(a.u.empty() ? "cos-pi" : a.u, cloud.dim);
   const auto coef = make_function_or_expression(a.a.empty() ? "one-plus-r2" : a.a, cloud.dim);
   const Field values = sample(*u, cloud);
@@ -277,6 +278,7 @@ void add_operator_command(CLI::App& app) {
     p.dim = a->dim_opt->count() ? a->dim : def.dim;
     p.methods = parse_name_list(a->methods, "--method");
     p.method_options = parse_method_options(a->method_opts, p.methods);
+    note_row_forms(p.methods, p.method_options, StencilUse::Values);
     p.op = parse_operator(a->op);
     p.cloud = parse_cloud_family(a->cloud);
     p.n = parse_int_list(a->n, "--n");

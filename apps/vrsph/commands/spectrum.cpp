@@ -48,6 +48,7 @@ void add_spectrum_command(CLI::App& app) {
     validate_output(a->out);
     const auto methods = parse_name_list(a->methods, "--method");
     const auto options = parse_method_options(a->method_opts, methods);
+    note_row_forms(methods, options, StencilUse::Values);
     const CloudFamily family = parse_cloud_family(a->cloud);
     check<ConfigError>(family == CloudFamily::Uniform || family == CloudFamily::Perturbed,
                        "vrsph spectrum: --cloud must be uniform or perturbed");

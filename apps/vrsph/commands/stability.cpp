@@ -78,6 +78,7 @@ void add_stability_command(CLI::App& app) {
     StabilityParams p;
     p.methods = parse_name_list(a->methods, "--method");
     p.method_options = parse_method_options(a->method_opts, p.methods);
+    note_row_forms(p.methods, p.method_options, StencilUse::Values);
     p.dim = a->dim;
     p.cloud = parse_cloud_family(a->cloud);
     check<ConfigError>(a->layout == "vertex" || a->layout == "cells", "--layout must be vertex or cells, got '",

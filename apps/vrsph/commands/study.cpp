@@ -136,17 +136,52 @@ SolverOptions solver_options(const StudyArgs& a) {
   return o;
 }
 
+// One line per kind of condition: the runs' infeasible-row warnings become one line (how many
+// runs, the first run's count and worst row); other warnings once each.
 void print_warnings(const std::vector<std::string>& warnings) {
   std::vector<std::string> infeasible, other;
   for (const auto& w : warnings)
-    if (w.find("infeasible moment conditions") != std::string::npos) infeasible.push_back(w);
+    if (w.find("could not meet their moment conditions") != std::string::npos) infeasible.push_back(w);
     else if (std::find(other.begin(), other.end(), w) == other.end()) other.push_back(w);
-  if (!infeasible.empty())
-    std::cerr << "vrsph: warning: " << infeasible.size()
-              << " run(s) had particles whose local problem failed (infeasible moment conditions or a singular local "
-                 "system) (expected next to the boundary on perturbed clouds, METHODS §3.2); first: "
-              << infeasible.front() << '\n';
+  if (infeasible.size() == 1)
+    std::cerr << "vrsph: warning: " << infeasible.front() << (verbose() ? "" : "; --verbose lists them") << '\n';
+  else if (!infeasible.empty())
+    std::cerr << "vrsph: warning: " << infeasible.size() << " runs had rows that could not meet their moment conditions "
+              << "(expected next to walls on perturbed clouds with profile=qw, docs/methods.md); first: "
+              << infeasible.front() << (verbose() ? "" : "; --verbose lists them") << '\n';
   for (const auto& w : other) std::cerr << "vrsph: warning: " << w << '\n';
+}
+
+void print_infeasible_rows(const std::string& label, const PointCloud& cloud, const std::vector<Index>& particles,
+                           const std::vector<Real>& residuals) {
+  if (!verbose() || particles.empty()) return;
+  std::cerr << "vrsph: " << label << ": " << particles.size() << " row(s) that could not meet their moment conditions "
+            << "(particle, relative residual, position):\n";
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    std::cerr << "  " << particles[k] << ' ' << (k < residuals.size() ? residuals[k] : std::nan(""));
+    const auto i = static_cast<std::size_t>(particles[k]);
+    if (i < cloud.positions.size()) {
+      const Vec3& x = cloud.positions[i];
+      std::cerr << " (" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+    }
+    std::cerr << '\n';
+  }
+}
+
+std::string solve_summary(Table t, const std::string& format, const std::vector<std::string>& warnings,
+                          const std::vector<Index>& infeasible) {
+  const TableFormat f = parse_table_format(format);
+  // Tables: the number of warnings (they went to stderr); JSON: the warnings themselves and
+  // every infeasible row in the one row of `solve`.
+  if (f != TableFormat::Json) {
+    t.columns.push_back("warnings");
+    t.rows.front().push_back(static_cast<long long>(warnings.size()));
+    return format_table(t, f);
+  }
+  auto j = nlohmann::ordered_json::parse(format_table(t, f));
+  j["rows"][0]["warnings"] = warnings;
+  j["rows"][0]["infeasible_particles"] = infeasible;
+  return j.dump(2) + "\n";
 }
 
 void add_study_command(CLI::App& app) {
@@ -229,7 +264,8 @@ void add_solve_command(CLI::App& app) {
   cmd->add_option("--csv", file->csv, "With --cloud-file: also write the fields as CSV (x,y,z,tag,u,...)");
   add_geometry_options(cmd, *file, false);
   add_column_options(cmd, *file, "--cloud-file");
-  cmd->add_option("--vtu", a->vtu, "Output VTU file (U, exact u, error, local residual)")->capture_default_str();
+  cmd->add_option("--vtu", a->vtu, "Write U, exact u, error and local residual to this VTU file (none without it; "
+                                  "under mpirun a .pvtu with one piece per rank)");
   cmd->add_option("--vtu-format", a->vtu_format, "VTU data: binary (base64, exact, smaller) or ascii")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
   cmd->add_option("--plot", a->out.plot, "Also draw u (and, with an exact u, the error) into this PNG file "
@@ -254,24 +290,29 @@ void add_solve_command(CLI::App& app) {
     if (p.communicator.distributed()) {
       check<ConfigError>(a->out.plot.empty(), "--plot draws the whole field on one rank: not available under mpirun "
                          "(open the .pvtu in ParaView)");
-      vtu = pvtu_path(vtu);
+      if (!vtu.empty()) vtu = pvtu_path(vtu);
     }
     std::vector<std::string> warnings;
     PointCloud cloud;
     const BvpRun r = run_bvp(p, methods.front(), *np, a->seed, true, &warnings, &cloud);
     print_warnings(warnings);
+    print_infeasible_rows(r.method + " n=" + std::to_string(r.n), p.communicator.distributed() ? PointCloud{} : cloud,
+                          r.infeasible_particles, r.infeasible_residuals);
     Eigen::MatrixXd U(r.U.size(), 1), ex(r.U.size(), 1), err(r.U.size(), 1), res(r.U.size(), 1);
     U.col(0) = r.U;
     ex.col(0) = r.exact;
     err.col(0) = r.U - r.exact;
     res.col(0) = r.local_residual;
     const std::vector<PointField> fields{{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}};
-    if (p.communicator.distributed())
+    fault_point(p.communicator, "output");  // outside any collective: the MPI tests' abort path
+    if (vtu.empty()) {
+    } else if (p.communicator.distributed()) {
       collective(p.communicator, [&] {
         write_pvtu_piece(vtu, p.communicator.rank(), p.communicator.size(), cloud, fields, parse_vtu_format(a->vtu_format));
       });
-    else
+    } else {
       write_vtu(vtu, cloud, fields, parse_vtu_format(a->vtu_format));
+    }
     if (!a->out.plot.empty()) plot_solution(cloud, r.U, &r.exact, a->out.plot, r.method + " n=" + std::to_string(r.n));
     Table t;
     t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
@@ -285,7 +326,7 @@ void add_solve_command(CLI::App& app) {
                                      r.seconds_solve},
                {"vtu", vtu},
                {"ranks", static_cast<long long>(p.communicator.size())}});
-    std::cout << format_table(t, parse_table_format(a->out.format));
+    std::cout << solve_summary(t, a->out.format, warnings, r.infeasible_particles);
   });
 }
 

@@ -12,7 +12,7 @@ namespace vrsph::cli {
 
 struct StudyArgs {
   std::string problem = "qw-ex5", methods = "vrsph", cloud = "uniform", n = "20,40,80,160", seeds, kernel = "cubic",
-              solver = "auto", petsc_options, on_infeasible = "warn", u, a, f, g, vtu = "solution.vtu";
+              solver = "auto", petsc_options, on_infeasible = "warn", u, a, f, g, vtu;  // vtu: written only when asked (--vtu)
   int dim = 2, h_knn = 0;
   std::string h_mode = "fixed";
   std::uint64_t seed = 1;
@@ -34,6 +34,14 @@ SolverOptions solver_options(const StudyArgs& a);
 /// Warnings of the runs on stderr: the infeasible-particle ones summarised (they are
 /// expected on perturbed clouds), every other kind once each.
 void print_warnings(const std::vector<std::string>& warnings);
+/// The one-row table of `vrsph solve` in its format; JSON adds the row's warnings and
+/// infeasible particles as lists, Markdown/CSV a count of warnings.
+std::string solve_summary(Table table, const std::string& format, const std::vector<std::string>& warnings,
+                          const std::vector<Index>& infeasible);
+/// With --verbose: every listed row, its residual and position (particle numbers of `cloud`;
+/// positions only where the number is one of its particles).
+void print_infeasible_rows(const std::string& label, const PointCloud& cloud, const std::vector<Index>& particles,
+                           const std::vector<Real>& residuals);
 
 /// Draws u (and its error, when the exact solution is given) over the cloud into png
 /// (share/plot_field.py).

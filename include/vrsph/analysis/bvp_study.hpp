@@ -99,7 +99,8 @@ struct BvpRun {
   Index infeasible = 0;      ///< rows whose local residual exceeds the tolerance (or failed)
   Real max_local_residual = 0;
   Real condition_max = 0;    ///< largest local-system condition number (Taylor-type methods; 0: none)
-  std::vector<Index> infeasible_particles;  ///< first few, for messages
+  std::vector<Index> infeasible_particles;  ///< every such row, worst first (BvpSolution)
+  std::vector<Real> infeasible_residuals;
   SolveReport solve;
   double seconds_cloud = 0, seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
   double seconds_data = 0;  ///< sampling a, f, g, q and the exact u, and the error norms

@@ -23,6 +23,8 @@ struct MethodInfo {
   std::vector<OperatorKind> operators;
   /// Options the method reads: {key, "help (default ...)"}.
   std::vector<std::pair<std::string, std::string>> options;
+  /// Named option sets (`profile=NAME`): {name, what it sets and why}; the first is the default.
+  std::vector<std::pair<std::string, std::string>> profiles = {};
   /// Neighbour rings a second-derivative row reaches (2 for D2 = D D): studies size ghost
   /// layers by it.
   int stencil_rings = 1;
@@ -52,6 +54,14 @@ struct Discretisation {
   Kernel kernel_at(Index i) const { return Kernel(kernel, cloud.dim, neighbours.radius(i)); }
 };
 
+/// What the rows are for. Values: row i approximates the operator at x_i, so apply(stencil, u)
+/// is compared with (L u)(x_i) (operator studies, spectra, time steppers, Python stencil()).
+/// System: the rows are equations of a boundary value problem; a method may then give rows
+/// whose right-hand side is a weighted average of f (Stencil::rhs, VRSPH rhs=compact) and
+/// Neumann rows that take the flux data themselves (Stencil::wall_flux, VRSPH flux=balance).
+/// A method's option left at "auto" chooses by this (docs/methods.md, "Defaults and profiles").
+enum class StencilUse { Values, System };
+
 struct StencilRequest {
   OperatorKind kind = OperatorKind::Laplacian;
   /// Values of a(x) > 0 at every particle; required for DivAGrad.
@@ -65,6 +75,9 @@ struct StencilRequest {
   /// DivAGrad with a diagonal tensor mobility: N x dim values m_k(x_i) > 0, in place of
   /// `coefficient` (exactly one of the two is given); only MethodInfo::tensor_mobility methods.
   const Eigen::MatrixXd* mobility = nullptr;
+  /// Point values or the equations of a boundary value problem (last, so that positional
+  /// initialisers {kind, coefficient, ...} keep their meaning).
+  StencilUse use = StencilUse::Values;
 };
 
 class Method {
@@ -81,12 +94,17 @@ class Method {
   /// distributed solve sizes its halo by it (reach x h).
   virtual int reach() const { return info().stencil_rings; }
   /// True when this method's Laplacian / div(a grad) rows at Neumann particles are balance
-  /// rows (Stencil::wall_flux) that take the flux data themselves: a boundary value problem
-  /// then asks for those rows in the operator request and builds no gradient (flux) stencil.
-  virtual bool balances_flux_rows() const { return false; }
+  /// rows (Stencil::wall_flux) that take the flux data themselves, for requests of this use:
+  /// a boundary value problem then asks for those rows in the operator request and builds no
+  /// gradient (flux) stencil.
+  virtual bool balances_flux_rows(StencilUse /*use*/) const { return false; }
   /// True when this method (with its options) wants StencilRequest::coefficient_gradient for
-  /// div(a grad): the Taylor-type methods' a Δu + ∇a·∇u form, VRSPH rhs=compact.
-  virtual bool needs_coefficient_gradient() const { return info().uses_coefficient_gradient; }
+  /// div(a grad) rows of this use: the Taylor-type methods' a Δu + ∇a·∇u form, VRSPH compact rows.
+  virtual bool needs_coefficient_gradient(StencilUse /*use*/) const { return info().uses_coefficient_gradient; }
+  /// The row forms this method's options resolve to for `use`, in words, when an option left
+  /// at its default chooses by the use (empty otherwise): what the CLI and Python print so that
+  /// an operator-level run never silently differs from a boundary value problem.
+  virtual std::string row_forms(StencilUse /*use*/) const { return {}; }
 };
 
 /// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.

@@ -29,10 +29,14 @@ class MethodOptions {
   /// Throws ConfigError naming every key no getter has read (call after construction).
   void reject_unused(const std::string& method) const;
   const std::map<std::string, std::string>& values() const { return values_; }
+  /// The fallback of every get_choice call so far, by key: a method created from empty
+  /// options has thereby listed its defaults (`vrsph methods`).
+  const std::map<std::string, std::string>& choice_defaults() const { return choice_defaults_; }
 
  private:
   std::map<std::string, std::string> values_;
   mutable std::set<std::string> used_;
+  mutable std::map<std::string, std::string> choice_defaults_;
 };
 
 /// The options given for `method` in a per-method map, or the defaults (empty options).

@@ -40,6 +40,31 @@ class Communicator {
 /// (same type, same message) of the lowest rank that failed. Serial: just runs it.
 void collective(const Communicator& comm, const std::function<void()>& stage);
 
+/// Whether `e` is the error `collective` last raised on every rank (the same message there):
+/// a caller may then report it once and exit. Any other exception on one rank of several may
+/// leave the others waiting in a collective: end them all with abort_all_ranks.
+bool raised_on_every_rank(const std::exception& e);
+/// Whether every rank of Communicator::world() reaches this call within `seconds` (a
+/// non-blocking barrier on a communicator of its own, so that a rank waiting in another
+/// collective never matches it). The CLI's error exit: all ranks failed alike (the same bad
+/// option), or some rank is elsewhere and abort_all_ranks must end it. Serial: true.
+bool every_rank_stops_here(double seconds);
+/// Ends every rank of `comm` now with exit status `code` (MPI_Abort): the backstop for an error
+/// one rank met outside `collective` (docs/parallel.md, "Errors on one rank").
+[[noreturn]] void abort_all_ranks(const Communicator& comm, int code);
+/// Test hook: with VRSPH_INJECT_FAULT=STAGE@RANK in the environment, throws NumericalError
+/// ("injected fault ...") on that rank when it reaches `stage`; nothing otherwise. The MPI
+/// tests use it to prove that a failure in any stage on any rank ends every rank cleanly.
+void fault_point(const Communicator& comm, const char* stage);
+
+/// For a stage that makes collective calls of its own (a PETSc solve): `collective` cannot
+/// agree on a failure there, since the ranks that did not fail wait inside the stage. On a
+/// throw: an error every rank raised (an inner `collective`, or every rank failing alike within
+/// seconds) is thrown on every rank as `collective` does; one rank's error alone is printed by
+/// that rank (to file descriptor 2, with its rank) and ends every rank through abort_all_ranks
+/// with the CLI's exit code of its kind (2 configuration, 3 input, 4 geometry, 5 numerical).
+void collective_or_abort(const Communicator& comm, const std::function<void()>& stage);
+
 /// Throws an exception of the same vrsph type as `e` (InputError, GeometryError, ...) with
 /// another message: a rank's error reworded (e.g. with global particle numbers).
 [[noreturn]] void rethrow_with_message(const std::exception& e, const std::string& message);

@@ -93,7 +93,10 @@ struct BvpSolution {
   Real covering_radius = 0;        ///< r_N when h_mode = covering
   Real neighbours_mean = 0, nnz_per_row = 0;
   Index infeasible = 0;            ///< rows whose local problem failed or exceeds the tolerance
-  std::vector<Index> infeasible_particles;  ///< the worst few
+  /// Every such row (global numbers under MPI), worst first, and its relative residual
+  /// (infinity: the local solve failed); `warnings` holds one line for them.
+  std::vector<Index> infeasible_particles;
+  std::vector<Real> infeasible_residuals;
   Real max_local_residual = 0;
   Real condition_max = 0;          ///< largest local-system condition number (0: none)
   bool m_matrix = false;           ///< -L is an M-matrix on the unknowns' rows
@@ -122,6 +125,9 @@ struct BvpSolution {
   /// over every particle (other rows empty), and the linear system that was solved.
   SparseMatrix operator_rows;
   LinearSystem system;
+  /// Balance rows (VRSPH flux=balance): the wall flux c_i >= 0 of each Neumann particle's row,
+  /// which approximates div(a grad u) - c_i (a du/dn)_i (0 elsewhere; empty without balance rows).
+  Field wall_flux;
   /// Distributed solves: ranks and what the partition moved (this rank's figures; the
   /// maxima over ranks in the `_max` fields).
   struct Distribution {

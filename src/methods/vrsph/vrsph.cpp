@@ -3,6 +3,7 @@
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <Eigen/LU>
 #include <cmath>
+#include <set>
 #include <vrsph/methods/pair_mean.hpp>
 #include <vrsph/stencil/apply.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -21,14 +22,20 @@ MethodInfo vrsph_info() {
            {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"},
            {"rows", "merged (identical moment rows merged with sqrt(multiplicity) weights: same objective, "
                     "smaller system; default) | full (the literal 3/12/30 rows)"},
+           {"profile", "default (our best correct rows: rhs and flux chosen by the use, see rhs/flux; default) | qw ([QW]'s "
+                       "published rows everywhere: rhs=point, flux=gradient, boundary=nnls, prefer=none; what the "
+                       "reproductions of [QW]'s tables pin)"},
            {"boundary", "nnls (rows whose moment conditions no v >= 0 meets keep the NNLS best fit: [QW]; default) | "
                         "signed (such rows get exact moments with few, small negative volumes: second order up to "
                         "the wall, the M-matrix sign structure lost in those rows)"},
-           {"flux", "gradient (Neumann/Robin rows a n.(G u) + beta u = q from VRSPH's gradient; default) | balance (the "
+           {"flux", "auto (balance in a boundary value problem, gradient for operator values; default) | gradient "
+                    "(Neumann/Robin rows a n.(G u) + beta u = q from VRSPH's gradient: [QW], first order) | balance (the "
                     "div(a grad) row at the wall particle with a wall-flux unknown c >= 0 in its first moments, "
                     "sum w x_ji = -c n: the row approximates div(a grad u) - c a du/dn and takes q as data; "
                     "monotone, second order)"},
-           {"rhs", "point (the row approximates div(a grad u) at x_i, right-hand side f_i; default) | compact (a "
+           {"rhs", "auto (compact in a boundary value problem with mean=arithmetic, point for operator values and with "
+                   "mean=harmonic; default) | point (the row "
+                   "approximates div(a grad u) at x_i, right-hand side f_i: [QW]) | compact (a "
                    "generalised Mehrstellen row: w >= 0 and a positive average of f over the stencil, found together "
                    "so that the row is exact on polynomials of degree <= 4: O(h^3) truncation; "
                    "rows where none exists keep the point form; div-a-grad uses grad a when given, else FPM's "
@@ -36,6 +43,11 @@ MethodInfo vrsph_info() {
            {"prefer", "none (the NNLS columns as [QW]; default) | near (columns scaled by (r_min/r_j)^2: NNLS then "
                       "picks the nearest neighbours; same moments, a more compact row)"},
            pair_mean_option()}};
+  info.profiles = {{"default", "rhs=auto flux=auto boundary=nnls prefer=none: boundary value problems get compact "
+                                "rows and balance Neumann rows (third/second order, -L an M-matrix), operator values "
+                                "the point rows"},
+                    {"qw", "rhs=point flux=gradient boundary=nnls prefer=none: [QW] (000_906375e5ed7c9bb7.txt) as "
+                           "published"}};
   info.monotone = true;
   info.tensor_mobility = true;  // div(M grad u) by anisotropic moment targets (beyond [QW], docs/methods.md)
   return info;
@@ -89,14 +101,34 @@ class Vrsph final : public Method {
                        "(every row empty); give >= 1, or omit it for the default 3 x neighbours");
     rows_ = o.get_choice("rows", "merged", {"merged", "full"}) == "merged" ? MomentRows::Merged : MomentRows::Full;
     mean_ = read_pair_mean(o);
-    signed_ = o.get_choice("boundary", "nnls", {"nnls", "signed"}) == "signed";
-    balance_ = o.get_choice("flux", "gradient", {"gradient", "balance"}) == "balance";
-    compact_ = o.get_choice("rhs", "point", {"point", "compact"}) == "compact";
-    near_ = o.get_choice("prefer", "none", {"none", "near"}) == "near";
+    qw_ = o.get_choice("profile", "default", {"default", "qw"}) == "qw";
+    // [QW]'s published rows: an option that says otherwise contradicts the profile.
+    const auto pinned = [&](const char* key, const char* fallback, const std::set<std::string>& allowed,
+                            const char* qw_value) {
+      const std::string v = o.get_choice(key, qw_ ? qw_value : fallback, allowed);
+      check<ConfigError>(!qw_ || v == qw_value, "method option ", key, "=", v, " contradicts profile=qw ([QW]'s rows are "
+                         "rhs=point, flux=gradient, boundary=nnls, prefer=none); drop one of the two");
+      return v;
+    };
+    signed_ = pinned("boundary", "nnls", {"nnls", "signed"}, "nnls") == "signed";
+    flux_ = choice_of(pinned("flux", "auto", {"auto", "gradient", "balance"}, "gradient"));
+    rhs_ = choice_of(pinned("rhs", "auto", {"auto", "point", "compact"}, "point"));
+    near_ = pinned("prefer", "none", {"none", "near"}, "none") == "near";
   }
   const MethodInfo& info() const override { return info_; }
-  bool balances_flux_rows() const override { return balance_; }
-  bool needs_coefficient_gradient() const override { return compact_; }  // better than the fit it falls back on
+  bool balances_flux_rows(StencilUse use) const override { return resolve(flux_, use); }
+  // Compact rows use grad a: better than the fit they fall back on.
+  bool needs_coefficient_gradient(StencilUse use) const override { return compact_rows_for(use); }
+  std::string row_forms(StencilUse use) const override {
+    if (flux_ != Choice::Auto && rhs_ != Choice::Auto) return {};
+    const bool system = use == StencilUse::System;
+    std::string chosen;
+    if (rhs_ == Choice::Auto) chosen = compact_rows_for(use) ? "rhs=compact" : "rhs=point";
+    if (flux_ == Choice::Auto) chosen += std::string(chosen.empty() ? "" : ", ") + (system ? "flux=balance" : "flux=gradient");
+    return detail::concat("vrsph: ", system ? "boundary value problem rows" : "point rows for operator values", " (",
+                          chosen, system ? "; [QW]'s rows: profile=qw)"
+                                         : "; boundary value problems default to rhs=compact, flux=balance)");
+  }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);
@@ -116,7 +148,8 @@ class Vrsph final : public Method {
     // Balance rows: the requested Neumann particles of a Laplacian / div(a grad) request.
     std::vector<char> wall;
     std::vector<Vec3> conormal;
-    if (balance_ && laplace) {
+    const bool balance = resolve(flux_, req.use), compact = compact_rows_for(req.use);
+    if (balance && laplace) {
       wall.assign(static_cast<std::size_t>(cloud.size()), 0);
       bool any = false;
       for (Index i = 0; i < cloud.size(); ++i) {
@@ -182,7 +215,7 @@ class Vrsph final : public Method {
     s.local_failure = vol.failed;
     s.wall_flux = std::move(vol.wall_flux);
     if (signed_) s.negative_volumes = std::move(vol.negative);
-    if (compact_ && laplace && !tensor) apply_compact_rows(disc, req, wall, conormal, s);
+    if (compact && laplace && !tensor) apply_compact_rows(disc, req, wall, conormal, s);
     set_difference_diagonal(s);
     return s;
   }
@@ -192,9 +225,24 @@ class Vrsph final : public Method {
   NnlsOptions nnls_;
   MomentRows rows_ = MomentRows::Merged;
   PairMean mean_ = PairMean::Arithmetic;  // scalar coefficient only: the tensor path has no pair coefficient
+  // An option's value; Auto resolves by StencilRequest::use (System: the second choice).
+  enum class Choice { Auto, First, Second };
+  static Choice choice_of(const std::string& v) {
+    return v == "auto" ? Choice::Auto : (v == "balance" || v == "compact") ? Choice::Second : Choice::First;
+  }
+  static bool resolve(Choice c, StencilUse use) {
+    return c == Choice::Second || (c == Choice::Auto && use == StencilUse::System);
+  }
+  // rhs=auto: compact rows in a boundary value problem, unless mean=harmonic says the
+  // coefficient is rough: the compact rows are exact on a smooth a (degree 4 with grad a), and
+  // across jumps the harmonic pair mean of the point rows is the better row (docs/methods.md).
+  bool compact_rows_for(StencilUse use) const {
+    return rhs_ == Choice::Auto ? use == StencilUse::System && mean_ == PairMean::Arithmetic : rhs_ == Choice::Second;
+  }
+  bool qw_ = false;       // profile=qw
   bool signed_ = false;   // boundary=signed
-  bool balance_ = false;  // flux=balance
-  bool compact_ = false;  // rhs=compact
+  Choice flux_ = Choice::Auto;  // gradient | balance
+  Choice rhs_ = Choice::Auto;   // point | compact
   bool near_ = false;     // prefer=near
 
   // Overwrites the rows that admit a compact (Mehrstellen) form and records every row's

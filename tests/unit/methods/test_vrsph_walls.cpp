@@ -216,7 +216,7 @@ TEST(VrsphCompact, RowsAreExactOnQuarticsWithPositiveWeightsAndAverage) {
   MethodOptions mo;
   mo.set("rhs", "compact");
   const auto method = builtin_methods().create("vrsph", mo);
-  EXPECT_TRUE(method->needs_coefficient_gradient());
+  EXPECT_TRUE(method->needs_coefficient_gradient(StencilUse::Values));  // asked for: any use
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
   req.coefficient = &a;
