@@ -152,12 +152,22 @@ bool& verbose_flag() {
 }
 }  // namespace
 bool verbose() { return verbose_flag(); }
+namespace {
+std::vector<std::string>& pending_notes() {
+  static std::vector<std::string> notes;
+  return notes;
+}
+}  // namespace
 void note_row_forms(const std::vector<std::string>& methods, const std::map<std::string, MethodOptions>& options,
                     StencilUse use) {
   for (const auto& m : methods) {
     const std::string note = builtin_methods().create(m, options_for(options, m))->row_forms(use);
-    if (!note.empty()) std::cerr << "vrsph: note: " << note << '\n';
+    if (!note.empty()) pending_notes().push_back(note);
   }
+}
+void print_notes() {
+  for (const auto& n : pending_notes()) std::cerr << "vrsph: note: " << n << '\n';
+  pending_notes().clear();
 }
 void set_verbose(bool on) { verbose_flag() = on; }
 

@@ -17,10 +17,12 @@ namespace vrsph::cli {
 /// rank, else serial (set once by main). Only rank 0 writes tables, files and warnings.
 const Communicator& communicator();
 void set_communicator(const Communicator& comm);
-/// Prints "vrsph: note: ..." for every method whose options resolve by the use (VRSPH's point
+/// Notes "vrsph: note: ..." for every method whose options resolve by the use (VRSPH's point
 /// rows for operator values): an operator-level run says which rows it took, never silently.
+/// The notes are printed by print_notes() after the command succeeded (an error comes first).
 void note_row_forms(const std::vector<std::string>& methods, const std::map<std::string, MethodOptions>& options,
                     StencilUse use);
+void print_notes();
 /// --verbose (a global option): warnings come with their full lists (e.g. every infeasible row).
 bool verbose();
 void set_verbose(bool on);

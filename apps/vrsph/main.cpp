@@ -130,6 +130,7 @@ int main(int argc, char** argv) {
   vrsph::cli::add_bench_command(app);
   try {
     app.parse(argc, argv);
+    vrsph::cli::print_notes();
     // Whatever a command printed must have reached stdout (a full disk, a closed pipe).
     vrsph::check_stream(std::cout, "to standard output");
   } catch (const CLI::ParseError& e) {

@@ -89,7 +89,7 @@ Real Kernel::d2W(Real r) const {
   return sigma_ * inv_h_d_ / (h_ * h_) * detail::kernel_profile(type_, dim_, r / h_).d2w;
 }
 void Kernel::dW_over_r(const Real* r, Real* out, int n) const {
-  const Real inv_h = 1 / h_, scale = sigma_ * inv_h_d_ * inv_h * inv_h;
+  const Real inv_h = 1 / h_, scale = sigma_ * inv_h_d_ * inv_h * inv_h;  // as the scalar form's sigma h^-d / h^2
   if (type_ != KernelType::CubicSpline) {
     for (int k = 0; k < n; ++k) out[k] = dW_over_r(r[k]);
     return;
@@ -99,7 +99,9 @@ void Kernel::dW_over_r(const Real* r, Real* out, int n) const {
   // the branches mispredicted). R > 0 for neighbours (coincident points are rejected), and
   // the unused quotient of a selected-away branch is discarded.
   for (int k = 0; k < n; ++k) {
-    const Real R = r[k] * inv_h;
+    // R = r / h as the scalar form computes it: at r = h a product with 1/h can round to just
+    // below 1 and give a round-off weight where the scalar form (the stencils') gives 0.
+    const Real R = r[k] / h_;
     const Real s = 1 - R;
     const Real inner = -12 + 18 * R;
     const Real outer = -6 * s * s / (R > 0 ? R : 1);

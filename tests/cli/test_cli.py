@@ -25,6 +25,34 @@ def run_json(*args):
     return json.loads(run(*args, "--format", "json").stdout)
 
 
+class NoUnaskedFiles(unittest.TestCase):
+    """Issue 30: a command writes only the files it is asked for: each runs in an empty
+    scratch directory (temporary files go to another one) and must leave it empty."""
+
+    COMMANDS = [
+        ("methods",), ("kernels",), ("cloud", "--family", "perturbed", "--n", "8"),
+        ("operator", "--problem", "qw-trunc", "--method", "sph,vrsph", "--n", "8,16"),
+        ("study", "--n", "8,16"), ("study", "--n", "8", "--neumann", "x1", "--method", "vrsph,fpm"),
+        ("solve", "--n", "12"), ("solve", "--n", "12", "--format", "json"),
+        ("spectrum", "--method", "sph", "--n", "16"), ("stability", "--method", "m-sph", "--n", "8"),
+        ("diffuse", "--nu", "0.2", "--t-end", "0.2"),
+        ("bench", "neighbours", "--n", "20", "--repeat", "1"), ("bench", "volumes", "--n", "20", "--repeat", "1"),
+    ]
+
+    def test_every_command_leaves_the_working_directory_as_it_was(self):
+        with tempfile.TemporaryDirectory() as work, tempfile.TemporaryDirectory() as tmp:
+            env = dict(os.environ, TMPDIR=tmp)
+            for args in self.COMMANDS:
+                p = subprocess.run([VRSPH, *args], capture_output=True, text=True, timeout=300, cwd=work, env=env)
+                self.assertEqual(p.returncode, 0, f"vrsph {' '.join(args)}: {p.stderr}")
+                self.assertEqual(os.listdir(work), [], f"vrsph {' '.join(args)} left files behind")
+            # Asked for: written, and nothing else.
+            p = subprocess.run([VRSPH, "solve", "--n", "12", "--vtu", "u.vtu"], capture_output=True, text=True,
+                               timeout=300, cwd=work, env=env)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(os.listdir(work), ["u.vtu"])
+
+
 class Methods(unittest.TestCase):
     def test_methods_json_lists_sph(self):
         methods = run_json("methods")
@@ -35,6 +63,46 @@ class Methods(unittest.TestCase):
             for key in ("name", "paper", "operators", "claimed_order"):
                 self.assertIn(key, m)
         self.assertIn("laplacian", names["sph"]["operators"])
+        # Defaults and profiles (issue 30): VRSPH's defaults choose by the use; profile=qw is [QW].
+        self.assertIn("rhs=auto", names["vrsph"]["defaults"])
+        self.assertIn("flux=auto", names["vrsph"]["defaults"])
+        self.assertIn("qw", names["vrsph"]["profiles"])
+        self.assertIn("default", names["vrsph"]["profiles"])
+
+    def test_operator_level_commands_say_they_use_point_rows(self):
+        p = run("operator", "--problem", "qw-trunc", "--method", "vrsph", "--n", "8,16")
+        self.assertIn("point rows for operator values", p.stderr)
+        p = run("operator", "--problem", "qw-trunc", "--method", "vrsph", "--n", "8", "--method-opt",
+                "vrsph:profile=qw")
+        self.assertNotIn("point rows for operator values", p.stderr)  # nothing chosen by the use
+
+    def test_profile_qw_reproduces_the_point_rows_and_contradictions_are_refused(self):
+        qw = run_json("study", "--n", "20", "--cloud", "perturbed", "--method-opt", "vrsph:profile=qw")["rows"][0]
+        spelled = run_json("study", "--n", "20", "--cloud", "perturbed", *[x for o in ("rhs=point", "flux=gradient",
+                           "boundary=nnls", "prefer=none") for x in ("--method-opt", "vrsph:" + o)])["rows"][0]
+        self.assertEqual(qw["error_inf"], spelled["error_inf"])
+        self.assertAlmostEqual(qw["error_inf"], 5.4787e-3, delta=5e-7)  # [QW] Table 2 row n = 20, seed 1
+        default = run_json("study", "--n", "20", "--cloud", "perturbed")["rows"][0]
+        self.assertLess(default["error_inf"], qw["error_inf"] / 20)
+        self.assertTrue(default["mmatrix"])
+        for bad in (("profile=qw", "rhs=compact"), ("profile=qw", "flux=balance"), ("profile=best",)):
+            p = run("study", "--n", "8", *[x for o in bad for x in ("--method-opt", "vrsph:" + o)], check=False)
+            self.assertEqual(p.returncode, 2, bad)
+            self.assertIn("contradicts profile=qw" if len(bad) == 2 else "is not one of: default, qw", p.stderr)
+
+    def test_one_line_warnings_and_verbose_lists(self):
+        args = ("solve", "--n", "40", "--cloud", "perturbed", "--method-opt", "vrsph:profile=qw")
+        p = run(*args)
+        lines = [l for l in p.stderr.splitlines() if l.startswith("vrsph: warning")]
+        self.assertEqual(len(lines), 1, p.stderr)
+        self.assertLess(len(lines[0]), 300)
+        self.assertIn("--verbose lists them", lines[0])
+        p = run("--verbose", *args, "--format", "json")
+        row = json.loads(p.stdout)["rows"][0]  # still valid JSON with --verbose
+        self.assertEqual(len(row["infeasible_particles"]), row["infeasible"])
+        self.assertEqual(len(row["warnings"]), 1)
+        listed = [l for l in p.stderr.splitlines() if l.startswith("  ")]
+        self.assertEqual(len(listed), row["infeasible"])
 
     def test_kernels(self):
         self.assertEqual(run("kernels").returncode, 0)

@@ -165,17 +165,24 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
   return r;
 }
 
-// x,y,z,tag,u[,local_residual][,u_exact,error] with 17 significant digits.
+// x,y,z,tag,u[,local_residual][,u_exact,error][,nx,ny,nz] with 17 significant digits (the
+// normals, when the cloud has them, let the field plot tell the domain from its holes).
 void write_fields(const std::string& path, const PointCloud& c, const Field& u, const Field* local_residual,
-                  const Field* exact) {
+                  const Field* exact, bool normals = false) {
+  normals = normals && c.has_normals();
   write_file(path, "CSV field file", [&](std::ostream& out) {
     out.precision(17);
-    out << "x,y,z,tag,u" << (local_residual ? ",local_residual" : "") << (exact ? ",u_exact,error" : "") << '\n';
+    out << "x,y,z,tag,u" << (local_residual ? ",local_residual" : "") << (exact ? ",u_exact,error" : "")
+        << (normals ? ",nx,ny,nz" : "") << '\n';
     for (Index i = 0; i < c.size(); ++i) {
       const Vec3& x = c.positions[static_cast<std::size_t>(i)];
       out << x[0] << ',' << x[1] << ',' << x[2] << ',' << to_string(c.tags[static_cast<std::size_t>(i)]) << ',' << u[i];
       if (local_residual) out << ',' << (*local_residual)[i];
       if (exact) out << ',' << (*exact)[i] << ',' << u[i] - (*exact)[i];
+      if (normals) {
+        const Vec3& nv = c.normals[static_cast<std::size_t>(i)];
+        out << ',' << nv[0] << ',' << nv[1] << ',' << nv[2];
+      }
       out << '\n';
     }
   });
@@ -216,7 +223,7 @@ const std::vector<std::pair<const char*, const char*>> column_options = {
 void plot_solution(const PointCloud& cloud, const Field& u, const Field* exact, const std::string& png,
                    const std::string& title) {
   const TemporaryFile csv("vrsph-fields", ".csv");
-  write_fields(csv.path(), cloud, u, nullptr, exact);
+  write_fields(csv.path(), cloud, u, nullptr, exact, true);
   run_plot_script("plot_field.py",
                   shell_quote(csv.path()) + " " + shell_quote(png) + " --dim " + std::to_string(cloud.dim) + " --title " +
                       shell_quote(title),

@@ -11,6 +11,8 @@ namespace {
 // below removes what is left), large enough that NNLS keeps the p and q columns of a
 // neighbour apart (they differ only in the penalty row).
 constexpr Real kPenalty = 1e-2;
+// Columns (equilibrated rows) shorter than this relative to the longest are round-off.
+constexpr Real kDeadColumn = 1e-10;
 }  // namespace
 
 SignedVolumesResult SignedVolumeSolver::solve(const Real* A, int m, int n, const Real* b, Real* v) {
@@ -22,11 +24,24 @@ SignedVolumesResult SignedVolumeSolver::solve(const Real* A, int m, int n, const
     for (std::size_t j = 0; j < un; ++j) big = std::max(big, std::abs(A[r * un + j]));
     if (big > 0) row_scale_[r] = 1 / big;
   }
+  Real widest = 0;
   for (std::size_t j = 0; j < un; ++j) {
     Real s = 0;
     for (std::size_t r = 0; r < um; ++r) s += std::pow(A[r * un + j] * row_scale_[r], 2);
-    col_scale_[j] = s > 0 ? std::sqrt(s) : 1.0;
+    col_scale_[j] = std::sqrt(s);
+    widest = std::max(widest, col_scale_[j]);
   }
+  // A neighbour at the edge of the support has a kernel weight of round-off size (W' -> 0 at
+  // r = h): equilibrating its column would make it as strong as any other and give it a
+  // volume of 1e28 that only that round-off balances (issue 30: rows exact to 1e-16 on their
+  // moment matrix and wrong by O(1) on the monomials). Such columns carry no information: left
+  // out (v_j = 0).
+  dead_.assign(un, 0);
+  for (std::size_t j = 0; j < un; ++j)
+    if (!(col_scale_[j] > kDeadColumn * widest)) {
+      dead_[j] = 1;
+      col_scale_[j] = 1;
+    }
   // M = [Ã -Ã; 0 μI] ((m + n) x 2n, row-major), c = [R b; 0].
   const std::size_t rows = um + un, cols = 2 * un;
   M_.assign(rows * cols, 0.0);
@@ -35,7 +50,7 @@ SignedVolumesResult SignedVolumeSolver::solve(const Real* A, int m, int n, const
   for (std::size_t r = 0; r < um; ++r) {
     c_[r] = row_scale_[r] * b[r];
     for (std::size_t j = 0; j < un; ++j) {
-      const Real a = A[r * un + j] * row_scale_[r] / col_scale_[j];
+      const Real a = dead_[j] ? 0.0 : A[r * un + j] * row_scale_[r] / col_scale_[j];
       At_[r * un + j] = a;
       M_[r * cols + j] = a;
       M_[r * cols + un + j] = -a;
@@ -71,7 +86,7 @@ SignedVolumesResult SignedVolumeSolver::solve(const Real* A, int m, int n, const
   }
   SignedVolumesResult out;
   for (std::size_t j = 0; j < un; ++j) {
-    v[j] = x[static_cast<Eigen::Index>(j)] / col_scale_[j];
+    v[j] = dead_[j] ? 0.0 : x[static_cast<Eigen::Index>(j)] / col_scale_[j];
     out.negative += v[j] < 0;
   }
   Real res = 0;

@@ -257,22 +257,28 @@ class Vrsph final : public Method {
     // estimated by FPM's quadratic fit (second order: the rows then keep O(h^2) where a varies).
     Eigen::MatrixXd estimated;
     const Eigen::MatrixXd* grad_a = req.coefficient_gradient;
-    if (divagrad && !grad_a) {
-      const Field& a = *req.coefficient;
-      estimated = Eigen::MatrixXd::Zero(cloud.size(), cloud.dim);
-      if (a.size() > 0 && a.maxCoeff() != a.minCoeff()) {
-        MethodOptions fit;
-        fit.set("gradient_order", "2");
-        StencilRequest greq;
-        greq.kind = OperatorKind::Gradient;
-        estimated = apply(builtin_methods().create("fpm", fit)->build(disc, greq), a);
-      }
-      grad_a = &estimated;
-    }
     std::vector<char> rows(static_cast<std::size_t>(cloud.size()), 0);
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
       rows[si] = req.rows.empty() ? cloud.tags[si] != Tag::Ghost : req.rows[si] != 0;
+    }
+    if (divagrad && !grad_a) {
+      const Field& a = *req.coefficient;
+      estimated = Eigen::MatrixXd::Zero(cloud.size(), cloud.dim);
+      if (a.size() > 0 && a.maxCoeff() != a.minCoeff()) {
+        // A row whose quadratic fit is singular (too few or one-sided neighbours: small knn
+        // supports, a hole's rim) has no grad a: it keeps the point form rather than fail.
+        MethodOptions fit;
+        fit.set("gradient_order", "2");
+        fit.set("on_singular", "warn");
+        StencilRequest greq;
+        greq.kind = OperatorKind::Gradient;
+        const Stencil g = builtin_methods().create("fpm", fit)->build(disc, greq);
+        estimated = apply(g, a);
+        for (std::size_t i = 0; i < g.local_failure.size(); ++i)
+          if (g.local_failure[i]) rows[i] = 0;
+      }
+      grad_a = &estimated;
     }
     std::vector<Vec3> flux_direction;  // a_i n_i: the compact row's flux term is c_i (a n·∇u)_i
     CompactWalls walls;

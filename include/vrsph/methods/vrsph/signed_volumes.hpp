@@ -29,6 +29,7 @@ class SignedVolumeSolver {
  private:
   NnlsSolver nnls_{64, 512};
   std::vector<Real> M_, c_, z_, row_scale_, col_scale_, At_;
+  std::vector<char> dead_;  // columns of round-off size (a neighbour on the support's edge): left out
 };
 
 }  // namespace vrsph
