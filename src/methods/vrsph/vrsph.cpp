@@ -3,6 +3,7 @@
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <Eigen/LU>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <vrsph/methods/pair_mean.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -173,8 +174,19 @@ class Vrsph final : public Method {
         vo.wall = {wall, conormal};
       }
     }
+    // Compact rows first; the point rows (their NNLS volumes) only where no compact row exists:
+    // the point NNLS of a row that then takes the compact form would be thrown away.
+    std::optional<CompactRows> compact_form;
+    std::vector<char> point_rows;  // empty: every requested row
+    if (compact && laplace && !tensor) {
+      compact_form = compact_system(disc, req, wall, conormal);
+      point_rows.assign(static_cast<std::size_t>(cloud.size()), 0);
+      for (Index i = 0; i < cloud.size(); ++i)
+        point_rows[static_cast<std::size_t>(i)] = row_requested(cloud, req, i) && !compact_form->ok[static_cast<std::size_t>(i)];
+    }
+    const std::span<const char> volume_rows = compact_form ? std::span<const char>(point_rows) : req.rows;
     ReconstructedVolumes vol = reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
-                                                   req.rows, vo, targets);
+                                                   volume_rows, vo, targets);
     if (tensor)  // residuals relative to |b| as for the Laplacian (|b| = sqrt(d)), so one tolerance serves both
       for (std::size_t i = 0; i < targets.size(); ++i) {
         const MomentTarget& t = targets[i];
@@ -186,7 +198,7 @@ class Vrsph final : public Method {
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
-      if (req.rows.empty() ? cloud.tags[si] == Tag::Ghost : !req.rows[si]) continue;
+      if (compact_form ? !point_rows[si] : !row_requested(cloud, req, i)) continue;
       const Kernel ker = disc.kernel_at(i);
       const auto nbr = disc.neighbours.of(i);
       const auto dist = disc.neighbours.distances_of(i);
@@ -215,7 +227,7 @@ class Vrsph final : public Method {
     s.local_failure = vol.failed;
     s.wall_flux = std::move(vol.wall_flux);
     if (signed_) s.negative_volumes = std::move(vol.negative);
-    if (compact && laplace && !tensor) apply_compact_rows(disc, req, wall, conormal, s);
+    if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
     set_difference_diagonal(s);
     return s;
   }
@@ -245,12 +257,11 @@ class Vrsph final : public Method {
   Choice rhs_ = Choice::Auto;   // point | compact
   bool near_ = false;     // prefer=near
 
-  // Overwrites the rows that admit a compact (Mehrstellen) form and records every row's
-  // right-hand-side weights (δ_ik for the rows that keep the point form).
+  // The compact (Mehrstellen) form of every requested row that admits one (CompactRows::ok).
   // Balance (wall) rows take the compact form too where it exists, with the wall flux c_i
   // of the compact system (conormal: the unit n_i of the balance rows).
-  void apply_compact_rows(const Discretisation& disc, const StencilRequest& req, const std::vector<char>& wall,
-                          const std::vector<Vec3>& conormal, Stencil& s) const {
+  CompactRows compact_system(const Discretisation& disc, const StencilRequest& req, const std::vector<char>& wall,
+                             const std::vector<Vec3>& conormal) const {
     const PointCloud& cloud = disc.cloud;
     const bool divagrad = req.kind == OperatorKind::DivAGrad;
     // ∇a: given (the studies sample it from the expression of a), zero for a constant a, else
@@ -288,8 +299,14 @@ class Vrsph final : public Method {
         for (Index i = 0; i < cloud.size(); ++i) flux_direction[static_cast<std::size_t>(i)] *= (*req.coefficient)[i];
       walls = {wall, flux_direction};
     }
-    const CompactRows c = compact_rows(disc, rows, divagrad ? req.coefficient : nullptr,
-                                       divagrad ? grad_a : nullptr, 4, 3, kCompactTolerance, walls);
+    return compact_rows(disc, rows, divagrad ? req.coefficient : nullptr, divagrad ? grad_a : nullptr, 4, 3,
+                        kCompactTolerance, walls);
+  }
+
+  // Writes the compact rows over the stencil and records every row's right-hand-side weights
+  // (δ_ik for the rows that keep the point form).
+  void store_compact_rows(const CompactRows& c, const Discretisation& disc, const std::vector<char>& wall, Stencil& s) const {
+    const PointCloud& cloud = disc.cloud;
     s.rhs.assign(s.col.size(), 0.0);
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
