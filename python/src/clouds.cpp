@@ -5,6 +5,7 @@
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/vtu.hpp>
 #include "bindings.hpp"
+#include "cloud_cache.hpp"
 
 namespace vrsph::python {
 
@@ -97,8 +98,9 @@ void bind_clouds(py::module_& m) {
                                    "A point cloud: positions, tags (0 interior, 1 dirichlet, 2 neumann, 3 ghost) and "
                                    "outward normals of boundary particles. Arrays are read-only views.")
       .def_readonly("dim", &PointCloud::dim, "Dimension (1, 2 or 3).")
-      .def_property_readonly("spacing", [](const PointCloud& c) { return estimate_spacing(c); },
-                             "The nominal particle spacing, or a robust estimate for clouds without one.")
+      .def_property_readonly("spacing", [](const py::object& self) { return cached_spacing(self); },
+                             "The nominal particle spacing, or a robust estimate for clouds without one (computed "
+                             "once; stencil() and solve() reuse it, and stencil() its neighbour lists).")
       .def("__len__", [](const PointCloud& c) { return c.size(); })
       .def_property_readonly(
           "points", [](py::object self) {

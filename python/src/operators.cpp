@@ -11,14 +11,16 @@
 #include <vrsph/stencil/operator_kind.hpp>
 #include <vrsph/stencil/properties.hpp>
 #include "bindings.hpp"
+#include "cloud_cache.hpp"
 
 namespace vrsph::python {
 
 namespace {
 // One stencil over every non-ghost particle: support radius h (> 0) or h_factor x spacing.
-py::dict stencil(const PointCloud& cloud, const std::string& method_name, const std::string& op, double h,
+py::dict stencil(const py::object& self, const std::string& method_name, const std::string& op, double h,
                  double h_factor, const std::string& kernel, const py::dict& options, const py::object& coefficient,
                  double infeasible_tol) {
+  const auto& cloud = as_cloud(self);
   validate(cloud);
   const OperatorKind kind = parse_operator(op);
   const auto method = builtin_methods().create(method_name, method_options_from(options));
@@ -37,21 +39,23 @@ py::dict stencil(const PointCloud& cloud, const std::string& method_name, const 
     std::vector<Index> infeasible;
     Real h = 0, spacing = 0;
   };
+  // Spacing and neighbours from the cloud's cache (computed on the first call).
+  const Real spacing = cached_spacing(self);
+  Real radius = h;
+  if (h > 0) {
+    check_support_is_local(h, cloud_extent(cloud), 0);
+  } else {
+    check<ConfigError>(std::isfinite(h_factor) && h_factor > 0, "h_factor must be positive, got ", h_factor);
+    radius = h_factor * spacing;
+    check_support_is_local(radius, cloud_extent(cloud), h_factor);
+  }
+  const std::shared_ptr<const NeighbourList> neighbours = cached_neighbours(self, radius);
   Built b = [&] {  // the C++ work without the GIL
     py::gil_scoped_release release;
     Built r;
-    r.spacing = estimate_spacing(cloud);
-    SearchParams sp;
-    if (h > 0) {
-      check_support_is_local(h, cloud_extent(cloud), 0);
-      sp.radius = h;
-    } else {
-      check<ConfigError>(std::isfinite(h_factor) && h_factor > 0, "h_factor must be positive, got ", h_factor);
-      sp.radius = h_factor * r.spacing;
-      check_support_is_local(sp.radius, cloud_extent(cloud), h_factor);
-    }
-    r.h = sp.radius;
-    const NeighbourList nl = find_neighbours(cloud, sp);
+    r.spacing = spacing;
+    r.h = radius;
+    const NeighbourList& nl = *neighbours;
     StencilRequest req;
     req.kind = kind;
     if (kind == OperatorKind::DivAGrad) req.coefficient = &a;

@@ -12,6 +12,7 @@
 #include <vrsph/io/table.hpp>
 #include <vrsph/problem/from_expressions.hpp>
 #include "bindings.hpp"
+#include "cloud_cache.hpp"
 
 namespace vrsph::python {
 
@@ -45,7 +46,8 @@ std::string python_names(const std::string& message) {
   return std::regex_replace(message, option, "the parameter $1");
 }
 
-py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, const py::dict& values, const py::dict& opt) {
+py::dict solve_problem(const py::object& self, const py::dict& expressions, const py::dict& values, const py::dict& opt) {
+  const auto& cloud = as_cloud(self);
   const Index n = cloud.size();
   ProblemExpressions e{text(expressions, "u"), text(expressions, "a"), text(expressions, "f"), text(expressions, "g"),
                        text(expressions, "q")};
@@ -77,6 +79,8 @@ py::dict solve_problem(const PointCloud& cloud, const py::dict& expressions, con
   o.infeasible_tolerance = opt["infeasible_tol"].cast<double>();
   const bool fix_constant = opt["fix_constant"].cast<bool>();
   o.keep_matrices = opt.contains("return_system") && opt["return_system"].cast<bool>();
+  validate(cloud);
+  o.spacing = cached_spacing(self);  // the cloud's, computed once
   // Robin data a du/dn + beta u = q at the Neumann particles: beta >= 0 per particle.
   Field robin;
   if (values.contains("robin") && !values["robin"].is_none()) {

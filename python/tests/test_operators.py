@@ -121,3 +121,24 @@ def test_the_gil_is_released_while_the_library_works():
         sys.setswitchinterval(old)
     assert elapsed > 0.05
     assert ticks > 0.3 * elapsed / 0.0011, (ticks, elapsed)  # most of the 1 ms ticks happened
+
+
+def test_a_cloud_caches_its_spacing_and_neighbours():
+    # Issue 30: every call re-estimated the spacing (0.12 s at 1e5 particles) and searched the
+    # neighbours again. Now computed once per Cloud; the stencils are the same.
+    rng = np.random.default_rng(4)
+    p = rng.random((4000, 2))
+    c = vrsph.cloud.from_arrays(p, np.zeros(len(p), dtype=int))
+    assert not hasattr(c, "_vrsph_cache")
+    first = vrsph.stencil(c, method="sph")
+    assert hasattr(c, "_vrsph_cache")
+    again = vrsph.stencil(c, method="sph")
+    assert (first != again).nnz == 0 and c.spacing == c.spacing
+    fresh = vrsph.cloud.from_arrays(p, np.zeros(len(p), dtype=int))
+    assert (vrsph.stencil(fresh, method="sph") != first).nnz == 0
+    assert fresh.spacing == c.spacing
+    # Positions cannot change behind the cache: the views are read-only and stay so.
+    with pytest.raises(ValueError):
+        c.points.setflags(write=True)
+    with pytest.raises(vrsph.ConfigError, match="must be a vrsph.Cloud"):
+        vrsph.stencil("not a cloud")
