@@ -62,11 +62,13 @@ bool Communicator::launched_in_parallel() {
   return false;
 }
 
+namespace {
 // A duplicate of PETSC_COMM_WORLD for the error exit's barrier only (every_rank_stops_here).
 MPI_Comm& exit_communicator() {
   static MPI_Comm c = MPI_COMM_NULL;
   return c;
 }
+}  // namespace
 
 Communicator Communicator::world() {
   detail::start_petsc();
@@ -78,22 +80,21 @@ Communicator Communicator::world() {
   return c;
 }
 
+namespace {
+// What a stage threw on this rank (kind None: nothing).
+struct Failure {
+  int kind = None;
+  std::string message;
+};
+Failure run_stage(const std::function<void()>& stage, bool pass_agreed);
+}  // namespace
+
 void collective(const Communicator& comm, const std::function<void()>& stage) {
   if (!comm.distributed()) {
     stage();
     return;
   }
-  int kind = None;
-  std::string message;
-  try {
-    stage();
-  } catch (const std::exception& e) {
-    kind = kind_of(e);
-    message = e.what();
-  } catch (...) {
-    kind = Other;
-    message = "unknown exception";
-  }
+  auto [kind, message] = run_stage(stage, false);
   // The lowest failing rank speaks for all.
   int mine = kind != None ? comm.rank() : comm.size(), first = 0;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, mpi(comm));
@@ -109,24 +110,28 @@ void collective(const Communicator& comm, const std::function<void()>& stage) {
 
 bool raised_on_every_rank(const std::exception& e) { return last_agreed_message() == e.what(); }
 
+namespace {
+// pass_agreed: an exception `collective` already raised on every rank goes on as it is.
+Failure run_stage(const std::function<void()>& stage, bool pass_agreed) {
+  try {
+    stage();
+  } catch (const std::exception& e) {
+    if (pass_agreed && raised_on_every_rank(e)) throw;
+    return {kind_of(e), e.what()};
+  } catch (...) {
+    return {Other, "unknown exception"};
+  }
+  return {};
+}
+}  // namespace
+
 void collective_or_abort(const Communicator& comm, const std::function<void()>& stage) {
   if (!comm.distributed()) {
     stage();
     return;
   }
-  int kind = None;
-  std::string message;
-  try {
-    stage();
-    return;
-  } catch (const std::exception& e) {
-    if (raised_on_every_rank(e)) throw;
-    kind = kind_of(e);
-    message = e.what();
-  } catch (...) {
-    kind = Other;
-    message = "unknown exception";
-  }
+  const auto [kind, message] = run_stage(stage, true);
+  if (kind == None) return;
   // Every rank failed alike: agree as `collective` does (all ranks are here, so the
   // communicator is free). Otherwise the others wait inside the stage: end them all.
   if (every_rank_stops_here(3.0)) {

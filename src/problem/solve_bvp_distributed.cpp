@@ -62,8 +62,10 @@ void report_infeasible(const DistributedCloud& dc, const LocalResidualSummary& l
     s.infeasible_particles.push_back(id);
     s.infeasible_residuals.push_back(residual);
   }
-  const std::string msg = infeasible_rows_warning(o.label.empty() ? o.method : o.label, count, what, rows.front().first,
-                                                  rows.front().second, o.infeasible_tolerance);
+  const Real worst = rows.empty() ? std::numeric_limits<Real>::quiet_NaN() : rows[0].first;
+  const long long worst_id = rows.empty() ? -1 : rows[0].second;
+  const std::string msg = infeasible_rows_warning(o.label.empty() ? o.method : o.label, count, what, worst, worst_id,
+                                                  o.infeasible_tolerance);
   if (o.on_infeasible == InfeasiblePolicy::Error) throw NumericalError(msg);
   s.warnings.push_back(msg);
 }
@@ -152,16 +154,16 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   // read everywhere: absent on one non-empty part while given on another is an error.
   const Index chunk_neumann = p.cloud.count(Tag::Neumann);
   collective(comm, [&] {
-    const auto needed = [&](bool given_somewhere, Index size, bool read_here, const char* what) {
-      check<InputError>(!given_somewhere || size > 0 || !read_here, "boundary value problem: ", what,
+    const auto needed = [&](bool given_somewhere, bool given_here, bool read_here, const char* what) {
+      check<InputError>(!given_somewhere || given_here || !read_here, "boundary value problem: ", what,
                         " is given on other ranks' parts but not on this rank's part (", n_chunk, " particles, ",
                         chunk_neumann, " Neumann); give it on every part that reads it");
     };
-    needed(with_a, p.a.size(), n_chunk > 0, "the coefficient a");
-    needed(with_grad_a, p.grad_a.size(), n_chunk > 0, "grad a");
-    needed(tensor, p.mobility.size(), n_chunk > 0, "the mobility");
-    needed(with_q || chunk_neumann > 0, p.q.size(), chunk_neumann > 0, "the Neumann flux q");
-    needed(with_robin, p.robin.size(), chunk_neumann > 0, "the Robin coefficient");
+    needed(with_a, p.a.size() > 0, n_chunk > 0, "the coefficient a");
+    needed(with_grad_a, p.grad_a.size() > 0, n_chunk > 0, "grad a");
+    needed(tensor, p.mobility.size() > 0, n_chunk > 0, "the mobility");
+    needed(with_q || chunk_neumann > 0, p.q.size() > 0, chunk_neumann > 0, "the Neumann flux q");
+    needed(with_robin, p.robin.size() > 0, chunk_neumann > 0, "the Robin coefficient");
   });
   const auto at_neumann = [&](const Field& v) { return v.size() ? v : Field(Field::Zero(n_chunk)); };
   const auto method = builtin_methods().create(o.method, o.method_options);

@@ -155,8 +155,13 @@ class DataOnSomeRanks(unittest.TestCase):
                     out.append(f"{x!r},{y!r},{v['tag']},0,0")
             with open(os.path.join(d, "last.csv"), "w") as f:
                 f.write("x,y,tag,nx,ny\n" + "\n".join(out + wall) + "\n")
-            for solver in (("--solver", "petsc", "--petsc-options", DIRECT), ()):
-                args = ["solve", "--cloud-file", "last.csv", "--u", "exp(x)*sin(2*y)+x^2", *solver, "--format", "json"]
+            # Also every boundary particle last: the first ranks then hold interior particles only.
+            inner = [r for r in out if ",interior," in r]
+            with open(os.path.join(d, "sorted.csv"), "w") as f:
+                f.write("x,y,tag,nx,ny\n" + "\n".join(inner + [r for r in out if r not in inner] + wall) + "\n")
+            for name, solver in (("last.csv", ("--solver", "petsc", "--petsc-options", DIRECT)), ("last.csv", ()),
+                                 ("sorted.csv", ("--solver", "petsc", "--petsc-options", DIRECT))):
+                args = ["solve", "--cloud-file", name, "--u", "exp(x)*sin(2*y)+x^2", *solver, "--format", "json"]
                 serial = run(0, *args, cwd=d)
                 self.assertEqual(serial.returncode, 0, serial.stderr)
                 a = json.loads(serial.stdout)["rows"][0]
@@ -167,7 +172,7 @@ class DataOnSomeRanks(unittest.TestCase):
                     self.assertEqual(a["unknowns"], b["unknowns"])
                     for key in ("error_inf", "error_l2"):  # iterative (AMG, rtol 1e-10) or direct: to 1e-9 in u
                         self.assertTrue(close(a[key], b[key], 0, 1e-9 if not solver else 1e-12),
-                                        f"{key} on {ranks} ranks {solver}: {b[key]} vs {a[key]}")
+                                        f"{key} of {name} on {ranks} ranks {solver}: {b[key]} vs {a[key]}")
 
 
 class FaultOnOneRank(unittest.TestCase):
