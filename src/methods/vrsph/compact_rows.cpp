@@ -1,5 +1,7 @@
 #include <Eigen/QR>
+#include <algorithm>
 #include <array>
+#include <tuple>
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
@@ -29,26 +31,6 @@ Real monomial(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int
   return pw[0][static_cast<std::size_t>(a[0])] * pw[1][static_cast<std::size_t>(a[1])] * pw[2][static_cast<std::size_t>(a[2])];
 }
 
-// (a Δq + h ∇a·∇q)(e) for q = e^alpha, in the units of the scaled row (see below).
-Real operator_on_monomial(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int, 3>& al, Real a, const Vec3& ga_h,
-                          int dim) {
-  Real lap = 0, adv = 0;
-  for (int k = 0; k < dim; ++k) {
-    const auto uk = static_cast<std::size_t>(k);
-    if (al[uk] >= 2) {
-      std::array<int, 3> b = al;
-      b[uk] -= 2;
-      lap += al[uk] * (al[uk] - 1) * monomial(pw, b);
-    }
-    if (al[uk] >= 1) {
-      std::array<int, 3> b = al;
-      b[uk] -= 1;
-      adv += ga_h[k] * al[uk] * monomial(pw, b);
-    }
-  }
-  return a * lap + adv;
-}
-
 // NNLS stops at a residual of ~1e-12 of the scaled system; the row's truncation error is
 // that residual over h (the degree-1 rows), which at fine resolution is no longer below the
 // O(h^3) it is meant to reach. The minimum-norm correction on the positive support removes
@@ -70,6 +52,53 @@ Real polish(const std::vector<Real>& A, int R, std::size_t C, const std::vector<
   if (positive && (S * d - r).norm() < r.norm())
     for (std::size_t k = 0; k < support.size(); ++k) xv[support[k]] += d[static_cast<Eigen::Index>(k)];
   return (bv - M * xv).norm();
+}
+
+// The operator rows of one degree as table look-ups: every monomial e^beta with |beta| <= degree
+// is evaluated once per column (vals), and each moment row reads its own value and the terms
+// of (a Δq + h ∇a·∇q) for q = e^alpha from it (a quarter of the compact rows' time went to
+// recomputing those products per row and column).
+struct OperatorTable {
+  std::vector<std::array<int, 3>> all;  // every exponent with |beta| <= degree: vals[k] = e^all[k]
+  struct Row {
+    int value = 0;                                  // index of alpha in `all`
+    std::vector<std::pair<Real, int>> laplacian;    // alpha_k (alpha_k - 1) e^(alpha - 2 e_k)
+    std::vector<std::tuple<int, Real, int>> drift;  // (k, alpha_k, index of alpha - e_k)
+  };
+  std::vector<Row> rows;
+};
+
+OperatorTable operator_table(int dim, int degree, const std::vector<std::array<int, 3>>& mo) {
+  OperatorTable t;
+  for (int deg = 0; deg <= degree; ++deg)
+    for (int a0 = deg; a0 >= 0; --a0)
+      for (int a1 = deg - a0; a1 >= 0; --a1) {
+        const std::array<int, 3> a{a0, a1, deg - a0 - a1};
+        if ((dim < 2 && a[1]) || (dim < 3 && a[2])) continue;
+        t.all.push_back(a);
+      }
+  const auto index = [&](const std::array<int, 3>& a) {
+    return static_cast<int>(std::find(t.all.begin(), t.all.end(), a) - t.all.begin());
+  };
+  for (const auto& al : mo) {
+    OperatorTable::Row r;
+    r.value = index(al);
+    for (int k = 0; k < dim; ++k) {
+      const auto uk = static_cast<std::size_t>(k);
+      if (al[uk] >= 2) {
+        std::array<int, 3> b = al;
+        b[uk] -= 2;
+        r.laplacian.emplace_back(al[uk] * (al[uk] - 1), index(b));
+      }
+      if (al[uk] >= 1) {
+        std::array<int, 3> b = al;
+        b[uk] -= 1;
+        r.drift.emplace_back(k, al[uk], index(b));
+      }
+    }
+    t.rows.push_back(std::move(r));
+  }
+  return t;
 }
 
 void tabulate(const Vec3& e, int degree, std::array<std::array<Real, 8>, 3>& pw) {
@@ -99,7 +128,11 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   // ŵ = w h^2 every entry is O(1)): Σ_j ŵ_j q(e_j) - Σ_k μ_k (a_k Δq + h ∇a_k·∇q)(e_k) = 0;
   // then Σ_k μ_k = 1.
   std::vector<std::vector<std::array<int, 3>>> mono(static_cast<std::size_t>(degree) + 1);
-  for (int d = min_degree; d <= degree; ++d) mono[static_cast<std::size_t>(d)] = monomials(dim, d);
+  std::vector<OperatorTable> table(static_cast<std::size_t>(degree) + 1);
+  for (int d = min_degree; d <= degree; ++d) {
+    mono[static_cast<std::size_t>(d)] = monomials(dim, d);
+    table[static_cast<std::size_t>(d)] = operator_table(dim, d, mono[static_cast<std::size_t>(d)]);
+  }
   const int R_max = static_cast<int>(mono[static_cast<std::size_t>(degree)].size()) + 1;
   CompactRows out;
   out.ok.assign(static_cast<std::size_t>(n), 0);
@@ -114,7 +147,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
 #pragma omp parallel
   {
     NnlsSolver solver(R_max, 2 * static_cast<int>(max_count) + 2);
-    std::vector<Real> A, b, x, scale;
+    std::vector<Real> A, b, x, scale, vals;
     std::array<std::array<Real, 8>, 3> pw{};
 #pragma omp for schedule(dynamic, 64)
     for (Index i = 0; i < n; ++i) {
@@ -131,26 +164,35 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
       // positive row with the O(h) part of the truncation moved into the average of f).
       for (int deg = degree; deg >= min_degree && !out.ok[si]; --deg) {
         const auto& mo = mono[static_cast<std::size_t>(deg)];
+        const OperatorTable& ops = table[static_cast<std::size_t>(deg)];
         const int R = static_cast<int>(mo.size()) + 1;
         A.assign(static_cast<std::size_t>(R) * C, 0.0);
         b.assign(static_cast<std::size_t>(R), 0.0);
         b[static_cast<std::size_t>(R - 1)] = 1;
-        const auto column = [&](std::size_t col, Index p, bool is_w, Real s) {
+        // The columns of particle p from one evaluation of its monomials: its w column at
+        // w_col (q(e_p); none for the row's own particle) and its μ column at mu_col
+        // (-(a Δq + h ∇a·∇q)(e_p), and 1 in the Σ μ = 1 row).
+        const auto columns = [&](Index p, std::size_t w_col, std::size_t mu_col, bool with_w, Real s) {
           const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[si]) / h;
           tabulate(e, deg, pw);
+          vals.resize(ops.all.size());
+          for (std::size_t k = 0; k < ops.all.size(); ++k) vals[k] = monomial(pw, ops.all[k]);
           const Real ap = a ? (*a)[p] : 1.0;
           Vec3 ga = Vec3::Zero();
           if (grad_a)
             for (int k = 0; k < dim; ++k) ga[k] = h * (*grad_a)(p, k);
-          for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r)
-            A[r * C + col] = s * (is_w ? monomial(pw, mo[r]) : -operator_on_monomial(pw, mo[r], ap, ga, dim));
-          if (!is_w) A[static_cast<std::size_t>(R - 1) * C + col] = s;
+          for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r) {
+            const OperatorTable::Row& row = ops.rows[r];
+            if (with_w) A[r * C + w_col] = s * vals[static_cast<std::size_t>(row.value)];
+            Real lap = 0, drift = 0;
+            for (const auto& [c, idx] : row.laplacian) lap += c * vals[static_cast<std::size_t>(idx)];
+            for (const auto& [k, c, idx] : row.drift) drift += ga[k] * c * vals[static_cast<std::size_t>(idx)];
+            A[r * C + mu_col] = -s * (ap * lap + drift);
+          }
+          A[static_cast<std::size_t>(R - 1) * C + mu_col] = s;
         };
-        for (std::size_t j = 0; j < cnt; ++j) {
-          column(j, nbr[j], true, scale[j]);
-          column(cnt + j, nbr[j], false, scale[j]);
-        }
-        column(2 * cnt, i, false, 1.0);
+        for (std::size_t j = 0; j < cnt; ++j) columns(nbr[j], j, cnt + j, true, scale[j]);
+        columns(i, 0, 2 * cnt, false, 1.0);
         if (wall)  // ĉ = c h times a_i n·∇q(0): only the degree-1 monomials q = e_k have ∇q(0) != 0
           for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r) {
             const auto& al = mo[r];
