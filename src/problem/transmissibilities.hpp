@@ -4,7 +4,9 @@
 // solve and each rank's rows of the distributed one.
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vrsph/core/error.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
@@ -39,9 +41,10 @@ inline std::string signed_rows_warning(const std::string& label, const BvpSoluti
 // every rank): the rows themselves are in BvpSolution::infeasible_particles, worst first.
 inline std::string infeasible_rows_warning(const std::string& label, long long count, const char* what, Real worst,
                                            long long worst_particle, Real tolerance) {
-  return concat(label, ": ", count, " ", what, " row(s) could not meet their moment conditions (infeasible or a "
-                "singular local system; worst relative residual ", worst, " at particle ", worst_particle,
-                ", tolerance ", tolerance, ")");
+  std::ostringstream r;  // three digits: a warning line, not a table
+  r << std::setprecision(3) << worst;
+  return concat(label, ": ", count, " ", what, " row(s) could not meet their moment conditions (worst relative "
+                "residual ", r.str(), " at particle ", worst_particle, "; tolerance ", tolerance, ")");
 }
 
 // Balance rows with Robin data: the assembly adds -c_i beta_i to their diagonal (strict

@@ -151,7 +151,7 @@ void study_heterogeneous(const StudyArgs& a, const HeterogeneousArgs& h, const C
   Progress progress;
   p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
   const HeterogeneousStudyResult r = run_heterogeneous_study(p);
-  print_warnings(r.warnings);
+  print_warnings(r.warnings, false);
   auto meta = nlohmann::ordered_json::parse(metadata_json(r));
   meta["peak_memory_mib"] = peak_memory_mib();
   OutputOptions out = a.out;

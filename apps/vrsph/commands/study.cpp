@@ -138,17 +138,17 @@ SolverOptions solver_options(const StudyArgs& a) {
 
 // One line per kind of condition: the runs' infeasible-row warnings become one line (how many
 // runs, the first run's count and worst row); other warnings once each.
-void print_warnings(const std::vector<std::string>& warnings) {
+void print_warnings(const std::vector<std::string>& warnings, bool listed) {
   std::vector<std::string> infeasible, other;
   for (const auto& w : warnings)
     if (w.find("could not meet their moment conditions") != std::string::npos) infeasible.push_back(w);
     else if (std::find(other.begin(), other.end(), w) == other.end()) other.push_back(w);
+  const char* hint = listed && !verbose() ? "; --verbose lists them" : "";
   if (infeasible.size() == 1)
-    std::cerr << "vrsph: warning: " << infeasible.front() << (verbose() ? "" : "; --verbose lists them") << '\n';
+    std::cerr << "vrsph: warning: " << infeasible.front() << hint << '\n';
   else if (!infeasible.empty())
-    std::cerr << "vrsph: warning: " << infeasible.size() << " runs had rows that could not meet their moment conditions "
-              << "(expected next to walls on perturbed clouds with profile=qw, docs/methods.md); first: "
-              << infeasible.front() << (verbose() ? "" : "; --verbose lists them") << '\n';
+    std::cerr << "vrsph: warning: " << infeasible.size() << " runs had rows that could not meet their moment conditions; "
+              << "first: " << infeasible.front() << hint << '\n';
   for (const auto& w : other) std::cerr << "vrsph: warning: " << w << '\n';
 }
 
@@ -239,7 +239,7 @@ void add_study_command(CLI::App& app) {
     Progress progress;
     p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
     const BvpStudyResult r = run_bvp_study(p);
-    print_warnings(r.warnings);
+    print_warnings(r.warnings, false);  // the rows of a study's runs are not kept: no list
     auto meta = nlohmann::ordered_json::parse(metadata_json(r));
     meta["peak_memory_mib"] = max_over_ranks(p.communicator, peak_memory_mib());
     meta["ranks"] = p.communicator.size();

@@ -33,7 +33,8 @@ SolverOptions solver_options(const StudyArgs& a);
 
 /// Warnings of the runs on stderr: the infeasible-particle ones summarised (they are
 /// expected on perturbed clouds), every other kind once each.
-void print_warnings(const std::vector<std::string>& warnings);
+/// One line per kind of condition on stderr; `listed`: --verbose prints the rows (say so).
+void print_warnings(const std::vector<std::string>& warnings, bool listed = true);
 /// The one-row table of `vrsph solve` in its format; JSON adds the row's warnings and
 /// infeasible particles as lists, Markdown/CSV a count of warnings.
 std::string solve_summary(Table table, const std::string& format, const std::vector<std::string>& warnings,
