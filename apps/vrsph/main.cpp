@@ -53,9 +53,7 @@ int report(const char* kind, const std::exception& e, int code) {
     const std::string line = "vrsph: " + std::string(kind) + " (rank " + std::to_string(comm.rank()) + " of " +
                              std::to_string(comm.size()) + "; every rank stopped): " + e.what() + "\n";
     std::cout.flush();
-    if (::write(2, line.data(), line.size()) < 0) {
-    }  // nothing else to tell
-    vrsph::abort_all_ranks(comm, code);
+    vrsph::abort_all_ranks(comm, code, line);
   }
   std::cerr << "vrsph: " << kind << ": " << e.what() << '\n';
   return code;

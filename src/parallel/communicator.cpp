@@ -141,11 +141,8 @@ void collective_or_abort(const Communicator& comm, const std::function<void()>& 
                    : kind == Numerical ? 5 : 70;
   const char* what = code == 2 ? "configuration error" : code == 3 ? "input error" : code == 4 ? "geometry error"
                      : code == 5 ? "numerical error" : "internal error";
-  const std::string line = detail::concat("vrsph: ", what, " (rank ", comm.rank(), " of ", comm.size(),
-                                          "; every rank stopped): ", message, "\n");
-  if (::write(2, line.data(), line.size()) < 0) {
-  }  // nothing else to tell
-  abort_all_ranks(comm, code);
+  abort_all_ranks(comm, code, detail::concat("vrsph: ", what, " (rank ", comm.rank(), " of ", comm.size(),
+                                             "; every rank stopped): ", message, "\n"));
 }
 
 bool every_rank_stops_here(double seconds) {
@@ -164,7 +161,9 @@ bool every_rank_stops_here(double seconds) {
   return done != 0;
 }
 
-void abort_all_ranks(const Communicator& comm, int code) {
+void abort_all_ranks(const Communicator& comm, int code, const std::string& line) {
+  if (::write(2, line.data(), line.size()) < 0) {
+  }  // nothing else to tell
   if (comm.distributed()) MPI_Abort(mpi(comm), code);
   std::exit(code);
 }

@@ -49,9 +49,10 @@ bool raised_on_every_rank(const std::exception& e);
 /// collective never matches it). The CLI's error exit: all ranks failed alike (the same bad
 /// option), or some rank is elsewhere and abort_all_ranks must end it. Serial: true.
 bool every_rank_stops_here(double seconds);
-/// Ends every rank of `comm` now with exit status `code` (MPI_Abort): the backstop for an error
-/// one rank met outside `collective` (docs/parallel.md, "Errors on one rank").
-[[noreturn]] void abort_all_ranks(const Communicator& comm, int code);
+/// Writes `line` to file descriptor 2 (a rank's std::cerr may go nowhere) and ends every rank of
+/// `comm` now with exit status `code` (MPI_Abort): the backstop for an error one rank met
+/// outside `collective` (docs/parallel.md, "Errors on one rank").
+[[noreturn]] void abort_all_ranks(const Communicator& comm, int code, const std::string& line);
 /// Test hook: with VRSPH_INJECT_FAULT=STAGE@RANK in the environment, throws NumericalError
 /// ("injected fault ...") on that rank when it reaches `stage`; nothing otherwise. The MPI
 /// tests use it to prove that a failure in any stage on any rank ends every rank cleanly.

@@ -269,10 +269,7 @@ class Vrsph final : public Method {
     Eigen::MatrixXd estimated;
     const Eigen::MatrixXd* grad_a = req.coefficient_gradient;
     std::vector<char> rows(static_cast<std::size_t>(cloud.size()), 0);
-    for (Index i = 0; i < cloud.size(); ++i) {
-      const auto si = static_cast<std::size_t>(i);
-      rows[si] = req.rows.empty() ? cloud.tags[si] != Tag::Ghost : req.rows[si] != 0;
-    }
+    for (Index i = 0; i < cloud.size(); ++i) rows[static_cast<std::size_t>(i)] = row_requested(cloud, req, i);
     if (divagrad && !grad_a) {
       const Field& a = *req.coefficient;
       estimated = Eigen::MatrixXd::Zero(cloud.size(), cloud.dim);
