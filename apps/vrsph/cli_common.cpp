@@ -40,21 +40,26 @@ std::string find_plot_script() {
 }  // namespace
 
 namespace {
-void run_python(const std::string& script_path, const std::string& args, const std::string& png) {
+// Runs a plot script that reads `data` and writes the PNG given as its second argument. The
+// script writes a temporary file beside `png` that replaces it only when complete.
+void run_python(const std::string& script_path, const std::string& data, const std::string& png,
+                const std::string& options) {
   const auto log_path = std::filesystem::temp_directory_path() / ("vrsph-plot-" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(script_path) + " " + args + " 2>" +
-                          shell_quote(log_path.string());
-  const int rc = std::system(cmd.c_str());
-  // Our message first; of Python's traceback only its last line (the actual reason).
-  std::string last, line;
-  {
-    std::ifstream log(log_path);
-    while (std::getline(log, line))
-      if (!line.empty()) last = line;
-  }
-  std::filesystem::remove(log_path);
-  check<IoError>(rc == 0, "plotting to '", png, "' failed", last.empty() ? "" : ": " + last,
-                 " (needs python3 with matplotlib: Debian's python3-matplotlib; VRSPH_PYTHON selects the interpreter)");
+  write_file_via(png, "plot", [&](const std::string& temporary) {
+    const std::string cmd = shell_quote(python_interpreter()) + " " + shell_quote(script_path) + " " + shell_quote(data) +
+                            " " + shell_quote(temporary) + options + " 2>" + shell_quote(log_path.string());
+    const int rc = std::system(cmd.c_str());
+    // Our message first; of Python's traceback only its last line (the actual reason).
+    std::string last, line;
+    {
+      std::ifstream log(log_path);
+      while (std::getline(log, line))
+        if (!line.empty()) last = line;
+    }
+    std::filesystem::remove(log_path);
+    check<IoError>(rc == 0, "plotting to '", png, "' failed", last.empty() ? "" : ": " + last,
+                   " (needs python3 with matplotlib: Debian's python3-matplotlib; VRSPH_PYTHON selects the interpreter)");
+  });
 }
 }  // namespace
 
@@ -108,8 +113,9 @@ void add_columns_option(CLI::App* cmd, OutputOptions& out, std::vector<std::stri
       ->capture_default_str();
 }
 
-void run_plot_script(const std::string& script, const std::string& args, const std::string& png) {
-  run_python(find_share_script(script), args, png);
+void run_plot_script(const std::string& script, const std::string& data, const std::string& png,
+                     const std::string& options) {
+  run_python(find_share_script(script), data, png, options);
 }
 
 std::string python_interpreter() {
@@ -201,9 +207,9 @@ void plot_table(const Table& table, const std::string& extra_json, const std::st
                 const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   const TemporaryFile data("vrsph-plot", ".json");
   write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra_json); });
-  const std::string args = shell_quote(data.path()) + " " + shell_quote(png) + " --x " + plot_x + " --y " + plot_y +
-                           " --group " + plot_group + " --title " + shell_quote(plot_title) + (loglog ? "" : " --linear");
-  run_python(find_plot_script(), args, png);
+  const std::string options = " --x " + plot_x + " --y " + plot_y + " --group " + plot_group + " --title " +
+                              shell_quote(plot_title) + (loglog ? "" : " --linear");
+  run_python(find_plot_script(), data.path(), png, options);
 }
 
 TemporaryFile::TemporaryFile(const std::string& stem, const std::string& extension)
@@ -295,6 +301,27 @@ void reject_empty_values(const CLI::App& command) {
       check<ConfigError>(!value.empty() || opt->get_type_size() == 0, "option ", opt->get_name(),
                          " was given an empty value");
   for (const CLI::App* sub : command.get_subcommands()) reject_empty_values(*sub);
+}
+
+void reject_output_over_input(const CLI::App& command) {
+  // Options that name files vrsph reads, and files it writes (--vtu-series is a prefix: its
+  // collection PREFIX.pvd is what could coincide with an input).
+  static const std::vector<std::string> inputs = {"--input", "--cloud-file", "--geometry", "--config", "--at",
+                                                   "--perm-file", "--anchor-script"};
+  static const std::vector<std::pair<std::string, std::string>> outputs = {
+      {"--output", ""}, {"--plot", ""}, {"--vtu", ""}, {"--history", ""}, {"--krylov-output", ""},
+      {"--profile", ""}, {"--vtu-series", ".pvd"}};
+  const auto value = [&](const std::string& name) -> std::string {
+    for (const CLI::Option* opt : command.get_options())
+      if (opt->check_lname(name.substr(2)) && !opt->results().empty()) return opt->results().back();
+    return "";
+  };
+  for (const auto& [out, suffix] : outputs) {
+    const std::string written = value(out);
+    if (written.empty()) continue;
+    for (const auto& in : inputs) check_output_is_not_input(written + suffix, value(in), out);
+  }
+  for (const CLI::App* sub : command.get_subcommands()) reject_output_over_input(*sub);
 }
 
 void check_h_knn_applies(const CLI::Option* h_knn, const std::string& h_mode) {

@@ -80,6 +80,11 @@ std::map<std::string, MethodOptions> parse_method_options(const std::vector<std:
 /// silent "use the default".
 void reject_empty_values(const CLI::App& command);
 
+/// An output option (--output, --vtu, --plot, ...) naming the same file as an input option
+/// (--input, --cloud-file, --config, ...) of the same command is a ConfigError: the write
+/// would destroy the input.
+void reject_output_over_input(const CLI::App& command);
+
 /// --h-knn only means something with --h-mode knn: given with another mode it would be
 /// silently ignored, so it is a ConfigError.
 void check_h_knn_applies(const CLI::Option* h_knn, const std::string& h_mode);
@@ -95,9 +100,11 @@ void set_thread_count(int threads);
 /// The Python interpreter for plots and peers: Debian's (it has python3-matplotlib; a
 /// python3 earlier on PATH, from pyenv or a venv, may not); VRSPH_PYTHON overrides.
 std::string python_interpreter();
-/// Runs share/<script> with the arguments (already shell-quoted) under python_interpreter();
-/// a failure is an IoError naming png and Python's last line of error output.
-void run_plot_script(const std::string& script, const std::string& args, const std::string& png);
+/// Runs share/`script` as `script DATA PNG OPTIONS` under python_interpreter() (OPTIONS is
+/// already shell-quoted and starts with a space); the PNG replaces `png` only when the script
+/// succeeded, and a failure is an IoError naming png and Python's last line of error output.
+void run_plot_script(const std::string& script, const std::string& data, const std::string& png,
+                     const std::string& options = "");
 /// A file in the temporary directory named <stem>-<pid><extension>, removed when the object
 /// goes out of scope (also when the plot that reads it fails).
 class TemporaryFile {

@@ -11,6 +11,7 @@
 //  70 internal error: a bug in vrsph (please report it with the command line)
 #include <unistd.h>
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #ifdef _OPENMP
 #include <omp.h>
@@ -20,6 +21,7 @@
 #include <new>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
+#include <vrsph/core/threads.hpp>
 #include <vrsph/io/output_file.hpp>
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -39,6 +41,19 @@ void prefer_passive_openmp_threads(char** argv) {
 #else
   (void)argv;
 #endif
+}
+
+// Ctrl-C, kill or a closed terminal end the run as before (the default action, so the exit
+// status still says which signal), but first remove the temporary file of a write in progress:
+// the target keeps its previous content and no temporary is left beside it.
+void end_on_signal(int sig) {
+  vrsph::remove_pending_temporaries();
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void clean_up_on_signals() {
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, end_on_signal);
 }
 
 // An error every rank raised together (vrsph::collective, or every rank failing alike) is
@@ -63,6 +78,13 @@ int report(const char* kind, const std::exception& e, int code) {
 
 int main(int argc, char** argv) {
   prefer_passive_openmp_threads(argv);
+  clean_up_on_signals();
+  try {
+    const std::string warning = vrsph::sanitise_openmp_environment();
+    if (!warning.empty()) std::cerr << "vrsph: warning: " << warning << '\n';
+  } catch (const vrsph::ConfigError& e) {
+    return report("configuration error", e, 2);
+  }
   // Started by mpirun with several ranks: run on MPI_COMM_WORLD; only rank 0 prints (the
   // others' standard output goes nowhere; an error is the same on every rank, see
   // vrsph::collective, and rank 0 reports it).
@@ -102,6 +124,7 @@ int main(int argc, char** argv) {
   app.parse_complete_callback([&] {
     vrsph::cli::set_verbose(verbose);
     vrsph::cli::reject_empty_values(app);
+    vrsph::cli::reject_output_over_input(app);
     // Under mpirun: the commands with a distributed pipeline; any other would only repeat
     // the same serial run on every rank.
     const auto& comm = vrsph::cli::communicator();

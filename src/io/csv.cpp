@@ -137,6 +137,7 @@ void finish_csv_rows(CsvRows& rows, const CsvHeader& h, int dim) {
   c.dim = dim;
   for (auto& n : c.normals)
     for (int k = c.dim; k < 3; ++k) n[k] = 0;
+  normalise_normals(c);
   if (!c.positions.empty()) validate(c);  // (one rank's part of a file may hold no row; a whole file was checked)
   rows.extra.resize(h.extra_col.size());
   for (std::size_t e = 0; e < rows.extra.size(); ++e)
@@ -180,27 +181,42 @@ std::vector<Vec3> read_points_csv(const std::string& path, int dim) {
 }
 
 namespace {
-void write_rows(std::ostream& out, const PointCloud& c) {
+void write_rows(std::ostream& out, const PointCloud& c, const std::vector<NamedField>& fields) {
   out.precision(17);
-  out << "x,y,z,tag" << (c.has_normals() ? ",nx,ny,nz" : "") << '\n';
+  out << "x,y,z,tag" << (c.has_normals() ? ",nx,ny,nz" : "");
+  for (const auto& f : fields) out << ',' << f.name;
+  out << '\n';
   for (Index i = 0; i < c.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     const Vec3& x = c.positions[si];
     out << x[0] << ',' << x[1] << ',' << x[2] << ',' << to_string(c.tags[si]);
     if (c.has_normals()) out << ',' << c.normals[si][0] << ',' << c.normals[si][1] << ',' << c.normals[si][2];
+    for (const auto& f : fields) out << ',' << f.values[i];
     out << '\n';
+  }
+}
+
+void check_fields(const PointCloud& c, const std::vector<NamedField>& fields) {
+  static const std::vector<std::string> reserved = {"x", "y", "z", "tag", "nx", "ny", "nz"};
+  for (const auto& f : fields) {
+    check<InputError>(f.values.size() == c.size(), "field '", f.name, "' has ", f.values.size(), " values for ", c.size(),
+                      " particles");
+    check<InputError>(!f.name.empty() && f.name.find_first_of(",\"<>&\n") == std::string::npos &&
+                          std::find(reserved.begin(), reserved.end(), f.name) == reserved.end(),
+                      "field name '", printable(f.name), "' cannot be a CSV column");
   }
 }
 }  // namespace
 
 void write_csv(std::ostream& out, const PointCloud& c) {
   validate(c);
-  write_rows(out, c);
+  write_rows(out, c, {});
 }
 
-void write_csv(const std::string& path, const PointCloud& cloud) {
-  validate(cloud);  // before the file is opened (and an existing one truncated)
-  write_file(path, "point cloud file", [&](std::ostream& out) { write_rows(out, cloud); });
+void write_csv(const std::string& path, const PointCloud& cloud, const std::vector<NamedField>& fields) {
+  validate(cloud);  // before the file is opened
+  check_fields(cloud, fields);
+  write_file(path, "point cloud file", [&](std::ostream& out) { write_rows(out, cloud, fields); });
 }
 
 }  // namespace vrsph

@@ -1,5 +1,6 @@
 #include <cstdint>
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <ostream>
 #include <string>
@@ -132,9 +133,21 @@ void write_vtu(const std::string& path, const PointCloud& c, const std::vector<P
     check<InputError>(f.values.cols() >= 1 && f.values.cols() <= 3, "VTU field '", f.name, "' has ", f.values.cols(),
                       " components (1..3 supported)");
   }
-  for (const auto& f : fields)
-    check<InputError>(f.name.find_first_of("\"<>&") == std::string::npos, "VTU field name '", f.name,
-                      "' contains a quote or <, >, &");
+  // Names as our reader (and ParaView's users) see them: case-insensitive, with "tag" and
+  // "normal(s)" taken by the cloud itself. A second array of one name would make the file
+  // ambiguous, and read_cloud_file refuses it.
+  std::vector<std::string> names = {"tag", "normal", "normals"};
+  for (const auto& f : fields) {
+    check<InputError>(!f.name.empty() && f.name.find_first_of("\"<>&") == std::string::npos, "VTU field name '", f.name,
+                      "' is empty or contains a quote or <, >, &");
+    std::string lower = f.name;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+    check<InputError>(std::find(names.begin(), names.end(), lower) == names.end(), "VTU field name '", f.name,
+                      lower == "tag" || lower.rfind("normal", 0) == 0
+                          ? "' is reserved: the cloud's tags and normals are written as 'tag' and 'normal'"
+                          : "' is given twice (names are case-insensitive)");
+    names.push_back(lower);
+  }
   write_file(path, "VTU file", [&](std::ostream& out) { write_vtu_body(out, c, fields, format); });
 }
 

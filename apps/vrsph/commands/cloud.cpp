@@ -18,6 +18,7 @@
 #include <vrsph/cloud/surface.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
+#include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>
 #include <vrsph/neighbours/brute_force.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -105,6 +106,8 @@ GeometryCloud from_geometry(const CloudArgs& a, const CLI::App& cmd) {
   r.seed = a.seed;
   r.neumann_where = a.neumann;
   r.dirichlet_where = a.dirichlet;
+  r.neumann_option = "--neumann";
+  r.dirichlet_option = "--dirichlet";
   return make_geometry_cloud(r);
 }
 
@@ -194,10 +197,14 @@ void add_cloud_command(CLI::App& app) {
   cmd->callback([a, cmd] {
     const VtuFormat vtu_format = parse_vtu_format(a->vtu_format);  // checked before any work
     PointCloud cloud;
+    std::vector<NamedField> data_columns;  // a cloud file's data columns: a conversion keeps them
     std::optional<GeometryCloud> geometry;
+    check_output_is_not_input(a->output, a->input, "--output");
     if (!a->input.empty()) {
       const int dim = cmd->count("--dim") ? a->dim : 0;
-      cloud = read_cloud_file(a->input, dim).cloud;
+      CloudFile file = read_cloud_file(a->input, dim);
+      cloud = std::move(file.cloud);
+      data_columns = std::move(file.fields);
     } else if (!a->geometry.empty()) {
       geometry = from_geometry(*a, *cmd);
       cloud = std::move(geometry->cloud);
@@ -207,6 +214,9 @@ void add_cloud_command(CLI::App& app) {
       cloud = generate(*a, *cmd);
     }
     validate(cloud);
+    // Before anything uses it (the duplicate test's distance scales with it).
+    check<ConfigError>(std::isfinite(a->h_factor) && a->h_factor > 0, "--h-factor must be positive and finite, got ",
+                       a->h_factor);
     const Real spacing = estimate_spacing(cloud);
     check<InputError>(spacing > 0 && std::isfinite(spacing), "cannot estimate a particle spacing for this cloud");
     const ClosestPair cp = closest_pair(cloud);
@@ -222,8 +232,6 @@ void add_cloud_command(CLI::App& app) {
                                       "); first: duplicate particles ", cp.i, " and ", cp.j, " at (", x[0], ", ", x[1],
                                       ", ", x[2], ")"));
     }
-    check<ConfigError>(std::isfinite(a->h_factor) && a->h_factor > 0, "--h-factor must be positive and finite, got ",
-                       a->h_factor);
     sp.radius = a->h_factor * spacing;
     check_support_is_local(sp.radius, cloud_extent(cloud), a->h_factor);
     sp.min_neighbours = 0;  // report, do not fail, on isolated particles
@@ -309,10 +317,14 @@ void add_cloud_command(CLI::App& app) {
       if (ends_with(a->output, ".vtu")) {
         Eigen::MatrixXd counts(cloud.size(), 1);
         for (Index i = 0; i < cloud.size(); ++i) counts(i, 0) = nl.count(i);
-        write_vtu(a->output, cloud, {{"neighbours", counts}}, vtu_format);
+        std::vector<PointField> fields;
+        for (const auto& f : data_columns)
+          if (f.name != "neighbours") fields.push_back({f.name, Eigen::MatrixXd(f.values)});
+        fields.push_back({"neighbours", counts});
+        write_vtu(a->output, cloud, fields, vtu_format);
       } else {
         check<ConfigError>(ends_with(a->output, ".csv"), "--output must end in .csv or .vtu, got '", a->output, "'");
-        write_csv(a->output, cloud);
+        write_csv(a->output, cloud, data_columns);
       }
     }
   });

@@ -51,8 +51,13 @@ class VtuSeries {
     }
     write_vtu(name, cloud_, fields, VtuFormat::Binary);
     files_.emplace_back(t, std::filesystem::path(name).filename().string());
+    write_collection();
   }
-  void finish() const {
+
+ private:
+  // Rewritten (atomically) after every step: at any moment, also after a kill, the PVD lists
+  // exactly this run's finished files, never a previous run's files of the same prefix.
+  void write_collection() const {
     write_file(prefix_ + ".pvd", "VTU time series", [&](std::ostream& f) {
       f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
       for (const auto& [t, file] : files_) f << "    <DataSet timestep=\"" << t << "\" file=\"" << file << "\"/>\n";
@@ -60,7 +65,6 @@ class VtuSeries {
     });
   }
 
- private:
   std::string prefix_;
   const PointCloud& cloud_;
   std::vector<std::pair<Real, std::string>> files_;
@@ -207,7 +211,6 @@ void add_diffuse_command(CLI::App& app) {
       };
       o.progress = [&](double f) { progress.update(detail::concat("nu = ", nus[run]), (static_cast<double>(run) + f) / static_cast<double>(nus.size())); };
       const DiffusionResult r = diffuse(problem, o);
-      if (series) series->finish();
       // A run that diverged is a result only for a stability study that asked for it.
       if (r.diverged && !a->allow_unstable) throw NumericalError(r.warnings.back());
       for (const auto& w : r.warnings) std::cerr << "vrsph: warning: " << w << '\n';

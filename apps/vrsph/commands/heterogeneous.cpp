@@ -62,7 +62,7 @@ void plot_krylov(const HeterogeneousStudyResult& r, const std::string& png) {
   const TemporaryFile data("vrsph-krylov", ".json");
   write_file(data.path(), "temporary plot data",
              [&](std::ostream& f) { f << to_json(krylov_history_table(r), metadata_json(r)); });
-  run_plot_script("plot_krylov.py", shell_quote(data.path()) + " " + shell_quote(png), png);
+  run_plot_script("plot_krylov.py", data.path(), png);
 }
 
 void write_fields(const HeterogeneousStudyResult& r, const std::string& path) {

@@ -33,7 +33,7 @@ void plot_growth_factors(const StabilityResult& r, const std::string& png, const
   }
   const TemporaryFile data("vrsph-stability", ".json");
   write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << j.dump(); });
-  run_plot_script("plot_stability.py", shell_quote(data.path()) + " " + shell_quote(png), png);
+  run_plot_script("plot_stability.py", data.path(), png);
 }
 }  // namespace
 

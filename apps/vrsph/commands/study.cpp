@@ -209,7 +209,10 @@ void add_study_command(CLI::App& app) {
   auto config = std::make_shared<std::string>();
   add_config_option(cmd, *config);
   cmd->callback([a, file, het, cmd, config] {
-    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file-pattern", "--geometry", "--output", "--plot"});
+    if (!config->empty()) {
+      apply_problem_file(*cmd, *config);
+      reject_output_over_input(*cmd);  // the file may have set either side
+    }
     validate_output(a->out);
     check<ConfigError>(!communicator().distributed() || !is_heterogeneous_problem(a->problem),
                        "under mpirun, vrsph study --problem spe-channel/spe-lognormal/spe10 is not distributed (it runs "
@@ -273,7 +276,10 @@ void add_solve_command(CLI::App& app) {
   auto config = std::make_shared<std::string>();
   add_config_option(cmd, *config);
   cmd->callback([a, np, file, cmd, config] {
-    if (!config->empty()) apply_problem_file(*cmd, *config, {"--cloud-file", "--geometry", "--vtu", "--csv", "--plot"});
+    if (!config->empty()) {
+      apply_problem_file(*cmd, *config);
+      reject_output_over_input(*cmd);  // the file may have set either side
+    }
     (void)parse_vtu_format(a->vtu_format);  // checked before any work
     validate_output(a->out);
     if (!file->path.empty() || !file->geometry.empty()) return solve_cloud_file(*a, *file, *cmd);

@@ -21,14 +21,15 @@ PointCloud read_csv(std::istream& in, const std::string& name, int dim = 0);
 /// value of an extra column must be a finite number.
 CloudFile read_csv_with_fields(const std::string& path, int dim = 0);
 CloudFile read_csv_with_fields(std::istream& in, const std::string& name, int dim = 0);
-/// Writes x,y,z,tag[,nx,ny,nz] with 17 significant digits (lossless round trip).
 /// As read_csv_with_fields; with tag_required = false a file without a tag column is
 /// accepted (every point Interior), e.g. evaluation points `x,y[,z]`.
 CloudFile read_csv_columns(std::istream& in, const std::string& name, int dim, bool tag_required);
 /// Evaluation points from a CSV file with columns x[,y[,z]] (a tag column is allowed and ignored).
 std::vector<Vec3> read_points_csv(const std::string& path, int dim);
 
-void write_csv(const std::string& path, const PointCloud& cloud);
+/// Writes x,y,z,tag[,nx,ny,nz] and one column per field (a cloud file's data columns, so a
+/// conversion keeps them) with 17 significant digits (lossless round trip).
+void write_csv(const std::string& path, const PointCloud& cloud, const std::vector<NamedField>& fields = {});
 void write_csv(std::ostream& out, const PointCloud& cloud);
 
 }  // namespace vrsph
