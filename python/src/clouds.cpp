@@ -65,6 +65,7 @@ CloudPtr from_arrays(const py::handle& points, const py::handle& tags, const py:
       c->normals.push_back(v);
     }
   }
+  normalise_normals(*c);
   validate(*c);
   return c;
 }

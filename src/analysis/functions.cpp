@@ -4,6 +4,7 @@
 #include <numbers>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -13,7 +14,7 @@ namespace vrsph {
 Vec3 ScalarFunction::gradient(const Vec3& x) const {
   Vec3 g = Vec3::Zero();
   for (int k = 0; k < dim; ++k) {
-    const Real d = 1e-3 * std::max<Real>(1, std::abs(x[k]));
+    const Real d = 1e-3 * std::max<Real>(length_scale, std::abs(x[k]));
     Vec3 e = Vec3::Zero();
     e[k] = d;
     g[k] = (8 * (value(x + e) - value(x - e)) - (value(x + 2 * e) - value(x - 2 * e))) / (12 * d);
@@ -25,7 +26,7 @@ Real ScalarFunction::laplacian(const Vec3& x) const {
   Real s = 0;
   const Real u0 = value(x);
   for (int k = 0; k < dim; ++k) {
-    const Real d = 1e-3 * std::max<Real>(1, std::abs(x[k]));
+    const Real d = 1e-3 * std::max<Real>(length_scale, std::abs(x[k]));
     Vec3 e = Vec3::Zero();
     e[k] = d;
     s += (-(value(x + 2 * e) + value(x - 2 * e)) + 16 * (value(x + e) + value(x - e)) - 30 * u0) / (12 * d * d);
@@ -171,7 +172,7 @@ Expression::Expression(const std::string& text, bool with_time) : impl_(std::mak
     p.SetExpr(text);
     (void)p.Eval();  // parse now, so errors surface here and not mid-run
   } catch (const mu::Parser::exception_type& e) {
-    throw InputError("cannot parse expression '" + text + "': " + e.GetMsg());
+    throw InputError("cannot parse expression '" + printable(text, 200) + "': " + e.GetMsg());
   }
 }
 Expression::~Expression() = default;
@@ -190,7 +191,7 @@ Real Expression::operator()(const Vec3& x) const {
   try {
     return impl_->parser.Eval();
   } catch (const mu::Parser::exception_type& e) {
-    throw InputError("cannot evaluate expression '" + impl_->text + "': " + e.GetMsg());
+    throw InputError("cannot evaluate expression '" + printable(impl_->text, 200) + "': " + e.GetMsg());
   }
 }
 
@@ -216,7 +217,9 @@ class ExpressionFunction final : public ScalarFunction {
   Real laplacian(const Vec3& x) const override { return lap_ ? (*lap_)(x) : ScalarFunction::laplacian(x); }
   // A parser binds its variables to its own storage: a copy is parsed afresh.
   std::unique_ptr<ScalarFunction> clone() const override {
-    return std::make_unique<ExpressionFunction>(u_.text(), dim, grad_text_, lap_text_);
+    auto copy = std::make_unique<ExpressionFunction>(u_.text(), dim, grad_text_, lap_text_);
+    copy->length_scale = length_scale;
+    return copy;
   }
 
  private:
@@ -246,11 +249,13 @@ Real DivAGradOf::value(const Vec3& x) const { return exact_operator(OperatorKind
 std::unique_ptr<ScalarFunction> DivAGradOf::clone() const {
   std::shared_ptr<const ScalarFunction> u = u_.clone(), a = a_.clone();
   if (!u || !a) return nullptr;
-  return std::unique_ptr<ScalarFunction>(new DivAGradOf(std::move(u), std::move(a)));
+  auto copy = std::unique_ptr<ScalarFunction>(new DivAGradOf(std::move(u), std::move(a)));
+  copy->length_scale = length_scale;
+  return copy;
 }
 
 Real second_derivative(const ScalarFunction& u, const Vec3& x, int k) {
-  const Real h = 1e-3 * std::max<Real>(1, std::abs(x[k]));
+  const Real h = 1e-3 * std::max<Real>(u.length_scale, std::abs(x[k]));
   Vec3 p = x;
   const auto at = [&](Real t) {
     p[k] = x[k] + t * h;
@@ -282,6 +287,7 @@ std::unique_ptr<ScalarFunction> DivMGradOf::clone() const {
   }
   auto out = std::make_unique<DivMGradOf>(*u, std::move(m));
   out->owned_ = std::move(owned);
+  out->length_scale = length_scale;
   return out;
 }
 
@@ -341,7 +347,7 @@ Field sample(const ScalarFunction& u, const PointCloud& cloud) {
   for_each_sample({&u}, cloud.size(), [&](const std::vector<const ScalarFunction*>& f, Index i) {
     const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
     out[i] = f[0]->value(x);
-    check<InputError>(std::isfinite(out[i]), "function '", u.name(), "' is not finite (", out[i], ") at particle ", i,
+    check<InputError>(std::isfinite(out[i]), "function '", printable(u.name(), 200), "' is not finite (", out[i], ") at particle ", i,
                       " (", x[0], ", ", x[1], ", ", x[2], ")");
   });
   return out;
@@ -386,7 +392,7 @@ Eigen::MatrixXd sample_exact(OperatorKind kind, const ScalarFunction& u, const S
     const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
     for (int c = 0; c < nc; ++c) {
       out(i, c) = exact_operator(kind, *f[0], f[1], x, c);
-      check<InputError>(std::isfinite(out(i, c)), "exact ", to_string(kind), " of '", u.name(), "' is not finite at particle ",
+      check<InputError>(std::isfinite(out(i, c)), "exact ", to_string(kind), " of '", printable(u.name(), 200), "' is not finite at particle ",
                         i, " (", x[0], ", ", x[1], ", ", x[2], ")");
     }
   });

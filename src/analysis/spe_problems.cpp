@@ -191,7 +191,11 @@ class SpeFunction final : public ScalarFunction {
     if (which_ == "spe-dirichlet-boundary") return spe_dirichlet_boundary(x, data_);
     return spe_mixed_solution(x, data_);
   }
-  std::unique_ptr<ScalarFunction> clone() const override { return std::make_unique<SpeFunction>(which_, data_); }
+  std::unique_ptr<ScalarFunction> clone() const override {
+    auto copy = std::make_unique<SpeFunction>(which_, data_);
+    copy->length_scale = length_scale;
+    return copy;
+  }
 
  private:
   std::string which_;

@@ -65,11 +65,41 @@ void validate(const PointCloud& cloud) {
       const Vec3& n = cloud.normals[static_cast<std::size_t>(i)];
       check<InputError>(n.allFinite(), "particle ", i, " has a non-finite normal");
     }
-    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann && cloud.dim > 1) {
-      check<InputError>(cloud.has_normals() && cloud.normals[static_cast<std::size_t>(i)].norm() > 0.5,
-                        "Neumann particle ", i, " at (", x[0], ", ", x[1], ", ", x[2],
-                        ") has no outward normal (give nx,ny[,nz] columns)");
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann) {
+      // Every dimension: a 1D Neumann end needs its direction (nx = -1 or +1) as much as a wall.
+      const bool given = cloud.has_normals() && cloud.normals[static_cast<std::size_t>(i)] != Vec3::Zero();
+      check<InputError>(given, "Neumann particle ", i, " at (", x[0], ", ", x[1], ", ", x[2], ") has no outward normal (give ",
+                        cloud.dim == 1 ? "an nx column: -1 at the left end, +1 at the right" : "nx,ny[,nz] columns", ")");
+      const Vec3& n = cloud.normals[static_cast<std::size_t>(i)];
+      check<InputError>(std::abs(n.norm() - 1) <= kUnitNormalTolerance, "Neumann particle ", i, " at (", x[0], ", ", x[1],
+                        ", ", x[2], ") has a normal (", n[0], ", ", n[1], ", ", n[2], ") of length ", n.norm(),
+                        "; normals must be unit vectors (normalise_normals scales them)");
     }
+  }
+}
+
+Real length_scale(const PointCloud& cloud) {
+  if (cloud.positions.empty()) return 1;
+  Vec3 lo = cloud.positions.front(), hi = lo;
+  for (const Vec3& x : cloud.positions) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const Real side = (hi - lo).maxCoeff();
+  return side > 0 && std::isfinite(side) ? side : 1;
+}
+
+void normalise_normals(PointCloud& cloud) {
+  for (std::size_t i = 0; i < cloud.normals.size(); ++i) {
+    Vec3& n = cloud.normals[i];
+    const Real len = n.norm();
+    if (len == 0 || !std::isfinite(len)) continue;  // none given here (interior), or validate names it
+    check<InputError>(len >= kShortestNormal || i >= cloud.tags.size() || cloud.tags[i] != Tag::Neumann,
+                      "Neumann particle ", i, " has a normal (", n[0], ", ", n[1], ", ", n[2], ") of length ", len,
+                      ", too short to give a direction (a normal is a unit vector; ", kShortestNormal, " is the shortest "
+                      "length scaled to one)");
+    // (Unit to round-off already: kept bit for bit, so a file read back equals the one written.)
+    if (len >= kShortestNormal && std::abs(len - 1) > 1e-12) n /= len;
   }
 }
 

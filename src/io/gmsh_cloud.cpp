@@ -382,6 +382,7 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       c.normals[i] /= len;
     }
   }
+  normalise_normals(c);
   validate(c);
   return out;
 }

@@ -230,11 +230,17 @@ std::vector<Real> values(const pugi::xml_node& a, const Source& src, std::size_t
       out[k] = std::strtod(token.c_str(), &end);
       check<InputError>(end && *end == '\0', where, ": '", token, "' is not a number");
     }
+    // More values than NumberOfPoints says: the file contradicts itself (reading the first
+    // ones would silently drop points or shift data).
+    std::string extra;
+    check<InputError>(!(in >> extra), where, ": holds more than the ", count,
+                      " values NumberOfPoints implies (the file contradicts itself)");
     return out;
   }
   const std::size_t size = type_size(type);
   const std::string bytes = array_bytes(a, src, where, count * size);
-  check<InputError>(bytes.size() >= count * size, where, ": ", bytes.size() / size, " values for ", count, " expected");
+  check<InputError>(bytes.size() == count * size, where, ": holds ", bytes.size() / size, " values where NumberOfPoints implies ",
+                    count, bytes.size() > count * size ? " (the file contradicts itself)" : "");
   std::vector<Real> out(count);
   for (std::size_t k = 0; k < count; ++k) out[k] = element(bytes.data() + k * size, type);
   return out;
@@ -313,6 +319,9 @@ CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
       const std::string name = to_lower(a.attribute("Name").as_string());
       const int comps = a.attribute("NumberOfComponents").as_int(1);
       const std::string where = where_piece + " array '" + name + "'";
+      check<InputError>(std::find(seen.begin(), seen.end(), name) == seen.end(), where,
+                        ": appears twice in the piece (which one holds the data is ambiguous)");
+      seen.push_back(name);
       if (name == "tag") {
         check<InputError>(comps == 1, where, ": must have one component");
         for (const Real t : values(a, src, n, where)) {
@@ -362,6 +371,7 @@ CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
   }
   for (auto& nrm : c.normals)
     for (int k = c.dim; k < 3; ++k) nrm[k] = 0;
+  normalise_normals(c);
   validate(c);
   for (auto& [name, v] : fields) {
     NamedField f{name, Field(static_cast<Eigen::Index>(v.size()))};

@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <vrsph/core/error.hpp>
 #include <vrsph/parallel/distributed_cloud.hpp>
@@ -536,6 +537,19 @@ std::vector<char> reach_over_ranks(const DistributedCloud& dc, std::span<const I
     if (!any_rank(dc.comm, changed)) break;
   }
   return seeds;
+}
+
+Real length_scale(const PointCloud& part, const Communicator& comm) {
+  Real side = 0;
+  for (int k = 0; k < 3; ++k) {
+    Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
+    for (const Vec3& x : part.positions) {
+      lo = std::min(lo, x[k]);
+      hi = std::max(hi, x[k]);
+    }
+    side = std::max(side, max_over_ranks(comm, hi) - min_over_ranks(comm, lo));
+  }
+  return side > 0 && std::isfinite(side) ? side : 1;
 }
 
 }  // namespace vrsph

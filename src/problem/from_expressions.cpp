@@ -54,6 +54,11 @@ ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpres
   std::vector<std::unique_ptr<ScalarFunction>> mob;
   for (const auto& m : e.mobility) mob.push_back(make_function_or_expression(m, dim));
   const auto a = v.a ? nullptr : make_function_or_expression(e.a.empty() ? "one" : e.a, dim);
+  // Derivatives of u, a and M by finite differences in the cloud's own unit.
+  const Real length = e.length_scale > 0 ? e.length_scale : length_scale(cloud);
+  for (ScalarFunction* fn : {u.get(), a.get()})
+    if (fn) fn->length_scale = length;
+  for (auto& m : mob) m->length_scale = length;
   ExpressionProblem out;
   BoundaryValueProblem& p = out.problem;
   if (u) out.exact = sample(*u, cloud, "the exact solution u (--u)");
@@ -70,11 +75,15 @@ ExpressionProblem problem_from_expressions(PointCloud cloud, const ProblemExpres
   } else if (!e.f.empty()) {
     p.f = sample(*make_function_or_expression(e.f, dim), cloud, "the right-hand side f (--f)");
   } else if (mob.empty()) {
-    p.f = sample(DivAGradOf(*u, *a), cloud, "the right-hand side f = div(a grad u)");
+    DivAGradOf f(*u, *a);
+    f.length_scale = length;
+    p.f = sample(f, cloud, "the right-hand side f = div(a grad u)");
   } else {
     std::vector<const ScalarFunction*> m;
     for (const auto& mk : mob) m.push_back(mk.get());
-    p.f = sample(DivMGradOf(*u, std::move(m)), cloud, "the right-hand side f = div(M grad u)");
+    DivMGradOf f(*u, std::move(m));
+    f.length_scale = length;
+    p.f = sample(f, cloud, "the right-hand side f = div(M grad u)");
   }
   if (v.g) p.g = *v.g;
   else if (!e.g.empty()) p.g = sample(*make_function_or_expression(e.g, dim), cloud, "the Dirichlet data g (--g)");

@@ -3,11 +3,13 @@
 #include <limits>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/interrupt.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
+#include "outward_normals.hpp"
 #include "solve_bvp_distributed.hpp"
 #include "transmissibilities.hpp"
 
@@ -150,8 +152,10 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
     sp.radii = std::move(sm.radii);
   }
   NeighbourList nl = find_neighbours(cloud, sp);
+  if (s.neumann_particles > 0) detail::check_outward_normals(cloud, nl, flux, [](Index i) { return static_cast<long long>(i); });
   s.seconds_neighbours = watch.seconds();
   mark(&s.stage_peak_bytes.neighbours);
+  check_interrupt();  // a stop asked for (Ctrl-C in Python) between stages
 
   // Stencils: div(a grad) on the interior rows, the method's gradient on the flux rows.
   watch.restart();
@@ -194,6 +198,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   s.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(std::max<long long>(unknown_count, 1));
   nl = NeighbourList();  // not needed any more: its memory goes back before assembly and solve
   mark(&s.stage_peak_bytes.stencil);
+  check_interrupt();
 
   // Diagnostics of the local problems (feasibility, conditioning) and of the matrix.
   // One line per kind of row; every such row, worst first, in infeasible_particles.
@@ -273,6 +278,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   s.unknowns = sys.size();
   s.seconds_assemble = watch.seconds();
   mark(&s.stage_peak_bytes.assemble);
+  check_interrupt();
   s.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(s.unknowns, 1));
 
   Eigen::VectorXd x;

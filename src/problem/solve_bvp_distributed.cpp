@@ -22,6 +22,7 @@
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
+#include "outward_normals.hpp"
 #include "solve_bvp_distributed.hpp"
 #include "transmissibilities.hpp"
 
@@ -309,6 +310,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
                                    ", ", x[2], ") has 0 neighbours within radius ", s.h,
                                    " (need at least 1); increase the smoothing radius or check the cloud"));
       }
+    detail::check_outward_normals(cloud, nl, dc.owned, [&](Index i) { return static_cast<long long>(dc.global_id[static_cast<std::size_t>(i)]); });
   });
   s.seconds_neighbours = max_over_ranks(comm, watch.seconds());
   // Peaks without the serial path's per-stage resets: what this rank held up to each stage.
@@ -326,7 +328,7 @@ BvpSolution solve_distributed(const BoundaryValueProblem& p, const BvpSolveOptio
   req.mobility = tensor ? &mobility : nullptr;
   if (grad_a.size()) req.coefficient_gradient = &grad_a;
   req.rows = operator_rows;
-  const Discretisation disc{cloud, nl, o.kernel, dx, dc.global_size};
+  const Discretisation disc{cloud, nl, o.kernel, dx, dc.global_size, length_scale(cloud, comm)};
   Stencil L, G;
   local_stage(dc, [&] {
     fault_point(comm, "stencil");

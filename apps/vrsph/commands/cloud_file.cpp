@@ -13,6 +13,7 @@
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>
+#include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/problem/from_expressions.hpp>
 #include <vrsph/solve/solver.hpp>
 #include "../geometry_args.hpp"
@@ -123,6 +124,8 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
   ProblemValues values;
   std::vector<Real> volumes;
   ProblemExpressions expressions{a.u, a.a, a.f, a.g, a.q};
+  // Every rank steps finite differences of the expressions by the whole cloud's length.
+  if (comm.distributed()) expressions.length_scale = length_scale(cf.cloud, comm);
   collective(comm, [&] {
     try {
       fault_point(comm, "problem");
@@ -224,10 +227,8 @@ void plot_solution(const PointCloud& cloud, const Field& u, const Field* exact, 
                    const std::string& title) {
   const TemporaryFile csv("vrsph-fields", ".csv");
   write_fields(csv.path(), cloud, u, nullptr, exact, true);
-  run_plot_script("plot_field.py",
-                  shell_quote(csv.path()) + " " + shell_quote(png) + " --dim " + std::to_string(cloud.dim) + " --title " +
-                      shell_quote(title),
-                  png);
+  run_plot_script("plot_field.py", csv.path(), png,
+                  " --dim " + std::to_string(cloud.dim) + " --title " + shell_quote(title));
 }
 
 VtuFormat parse_vtu_format(const std::string& s) {

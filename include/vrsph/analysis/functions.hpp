@@ -26,6 +26,10 @@ class ScalarFunction {
   /// default (nullptr) marks a function that cannot be copied: it is then sampled serially.
   virtual std::unique_ptr<ScalarFunction> clone() const { return nullptr; }
   int dim = 2;
+  /// The length over which the function varies, for finite-difference steps (1e-3 of it, or
+  /// of |x_k| where that is larger): set to the cloud's length_scale, derivatives of an
+  /// expression are the same in metres or millimetres. Copies keep it.
+  Real length_scale = 1;
 };
 
 struct FunctionEntry {

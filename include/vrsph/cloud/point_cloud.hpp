@@ -44,10 +44,25 @@ inline constexpr Real max_coordinate = 1e150;
 
 /// Checks the invariants that do not need a neighbour search: dimension in 1..3,
 /// array sizes agree, every coordinate finite, |coordinates| <= max_coordinate, unused coordinates zero, normals
-/// of Neumann particles non-zero, at least one particle. Throws InputError naming
+/// of Neumann particles (every dimension) unit vectors, at least one particle. Throws InputError naming
 /// the first offending particle. (Duplicate points are reported by the neighbour
 /// search, which sees every close pair anyway.)
 void validate(const PointCloud& cloud);
+
+/// The cloud's length unit for unit-free computations: the largest side of its bounding box
+/// (1 when that is zero). Local systems written in it (VRSPH's moments, finite-difference
+/// steps of expressions) are the same for a cloud in metres or in millimetres.
+Real length_scale(const PointCloud& cloud);
+
+/// Neumann normals must be unit vectors within this (validate); files and arrays are
+/// scaled to unit length when read (normalise_normals), since only their direction means
+/// anything and a flux row would otherwise be scaled by their length.
+inline constexpr Real kUnitNormalTolerance = 1e-6;
+/// Normals shorter than this are no direction: normalise_normals refuses them at Neumann particles.
+inline constexpr Real kShortestNormal = 1e-3;
+/// Scales every non-zero normal to unit length. Throws InputError naming a Neumann particle
+/// whose normal is shorter than kShortestNormal (zero normals are left for validate to name).
+void normalise_normals(PointCloud& cloud);
 
 /// Nominal spacing: cloud.spacing if set, else (measure(domain)/N)^(1/d) if the
 /// domain is known, else a robust local-density estimate: the median distance r_k to

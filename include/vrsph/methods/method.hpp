@@ -51,7 +51,11 @@ struct Discretisation {
   /// Particles of the whole cloud when `cloud` is one rank's part with its halo (0: cloud.size()):
   /// what |Omega|/N-type volumes divide by.
   Index total_particles = 0;
+  /// The whole cloud's length unit (length_scale) when `cloud` is one rank's part (0: that of
+  /// `cloud`), so that every rank writes its local systems in the serial run's unit.
+  Real length = 0;
   Kernel kernel_at(Index i) const { return Kernel(kernel, cloud.dim, neighbours.radius(i)); }
+  Real length_unit() const { return length > 0 ? length : length_scale(cloud); }
 };
 
 /// What the rows are for. Values: row i approximates the operator at x_i, so apply(stencil, u)

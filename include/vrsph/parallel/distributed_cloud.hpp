@@ -80,4 +80,7 @@ void update_halo(const DistributedCloud& dc, std::vector<char>& local_values);
 std::vector<char> reach_over_ranks(const DistributedCloud& dc, std::span<const Index> edge_offsets,
                                    std::span<const Index> edge_targets, std::vector<char> seeds);
 
+/// length_scale of the whole cloud from every rank's part (collective; a part may be empty).
+Real length_scale(const PointCloud& part, const Communicator& comm);
+
 }  // namespace vrsph

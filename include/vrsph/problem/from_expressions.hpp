@@ -17,6 +17,9 @@ struct ProblemExpressions {
   /// Diagonal mobility m_1..m_d instead of a (one expression per direction): f defaults to
   /// div(M grad u) and q to n·M grad u.
   std::vector<std::string> mobility = {};
+  /// The length finite differences of the expressions step by (ScalarFunction::length_scale);
+  /// 0: length_scale of the cloud. A caller holding one rank's part gives the whole cloud's.
+  Real length_scale = 0;
 };
 
 /// Per-particle values given directly (e.g. columns of the cloud file, `--f-column`); each

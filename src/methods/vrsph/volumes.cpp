@@ -1,6 +1,7 @@
 #include <cmath>
 #include <optional>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/interrupt.hpp>
 #include <vrsph/methods/vrsph/signed_volumes.hpp>
 #include <vrsph/methods/vrsph/volumes.hpp>
 
@@ -17,17 +18,20 @@ void prefer_near(std::span<const Real> dist, Real* A, std::size_t rows, MatrixOr
 }
 }  // namespace
 
-void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y) {
+void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y, Real length) {
   const auto nbr = disc.neighbours.of(i);
   const auto dist = disc.neighbours.distances_of(i);
   const int cnt = static_cast<int>(nbr.size());
   ker.dW_over_r(dist.data(), half_y, cnt);
   const Vec3& xi = disc.cloud.positions[static_cast<std::size_t>(i)];
+  // Y = -2 W'/r has the units of length^-(d+2): in units of `length` it is Y length^(d+2).
+  const Real y_scale = -std::pow(length, disc.cloud.dim + 2);
   for (int k = 0; k < cnt; ++k) {
-    xji[k] = disc.cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - xi;
-    half_y[k] = -half_y[k];
+    xji[k] = (disc.cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - xi) / length;
+    half_y[k] *= y_scale;
   }
 }
+
 
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
                                          std::span<const char> rows, const NnlsOptions& nnls, MomentRows layout,
@@ -70,6 +74,16 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
   if (walls) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
   Index max_count = 0;
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
+  // Every moment system in units of the cloud's extent (length_scale): the same systems,
+  // NNLS tolerances and least-squares fits of infeasible rows in metres or millimetres (1 for
+  // the papers' unit boxes, whose numbers are unchanged): volumes
+  // come out in length^d and are scaled back; first-moment targets (grad m) and the wall
+  // flux carry one length more or less.
+  const Real length = disc.length_unit(), volume_unit = std::pow(length, dim);
+  const auto targets_in_units = [&](MomentConditions c, Real* rhs) {
+    if (length == 1) return;
+    for (int k = 0; k < dim; ++k) rhs[first_moment_row(c, dim, layout, k)] *= length;
+  };
   const auto mc = static_cast<std::size_t>(max_count);
 #pragma omp parallel
   {
@@ -89,84 +103,99 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
       const int cnt = static_cast<int>(nl.count(i));
       const auto ucnt = static_cast<std::size_t>(cnt);
       const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
-      if (!wanted) {
+      if (!wanted || interrupt_pending(i)) {  // (a stop asked for: the rest is skipped, see below)
         std::fill(v, v + cnt, 0.0);
         continue;
       }
-      // The kernel changes only with the support radius (the same for every particle unless
-      // h varies): rebuilding it per particle (a pow and checks) was ~2% of the volumes.
-      if (!ker || nl.radius(i) != ker->support()) ker = disc.kernel_at(i);
-      neighbour_geometry(disc, i, *ker, xji.data(), half_y.data());
-      const bool wall = walls && opt.wall.rows[si];
-      const int rows_i = wall ? mw : m;
-      const auto ur = static_cast<std::size_t>(rows_i);
-      Real bnorm = 0, kappa = 0;
-      if (!wall) {
-        // Row-major: the layout the solver works on, so it copies nothing.
-        build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
-        if (!targets.empty()) moment_targets(conditions, dim, layout, targets[si], b.data());
-        if (opt.prefer_near) prefer_near(nl.distances_of(i), A.data(), static_cast<std::size_t>(m), MatrixOrder::RowMajor, near_);
-        const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, opt.nnls, MatrixOrder::RowMajor);
-        if (opt.prefer_near)
-          for (std::size_t j = 0; j < ucnt; ++j) v[j] *= near_[j];
-        out.residual[si] = r.residual;
-        out.failed[si] = r.status != NnlsStatus::Converged;
-        out.iterations[si] = r.iterations;
-        out.positive[si] = r.passive;
-      } else {
-        // Columns: the neighbours, then the wall flux along the conormal in the first-moment
-        // rows, scaled like the largest neighbour column so that NNLS's tests treat it alike.
-        build_moment_system(MomentConditions::WallLaplace, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout,
-                            MatrixOrder::ColumnMajor);
-        if (!targets.empty()) moment_targets(MomentConditions::WallLaplace, dim, layout, targets[si], b.data());
-        // Nearer neighbours first (prefer_near): on a lattice NNLS otherwise takes the diagonal
-        // neighbours only, and the wall rows, like VRSPH's interior rows there, leave the two
-        // checkerboard sublattices uncoupled: a pure Neumann problem then has two constants.
-        prefer_near(nl.distances_of(i), A.data(), ur, MatrixOrder::ColumnMajor, near_);
-        for (std::size_t j = 0; j < ucnt; ++j) {
-          Real s2 = 0;
-          for (std::size_t r = 0; r < ur; ++r) s2 += A[j * ur + r] * A[j * ur + r];
-          kappa = std::max(kappa, std::sqrt(s2));
+      // One row's volumes in units of `length` (returns early where the NNLS fit stands).
+      const auto solve_row = [&] {
+        // The kernel changes only with the support radius (the same for every particle unless
+        // h varies): rebuilding it per particle (a pow and checks) was ~2% of the volumes.
+        if (!ker || nl.radius(i) != ker->support()) ker = disc.kernel_at(i);
+        neighbour_geometry(disc, i, *ker, xji.data(), half_y.data(), length);
+        const bool wall = walls && opt.wall.rows[si];
+        const int rows_i = wall ? mw : m;
+        const auto ur = static_cast<std::size_t>(rows_i);
+        Real bnorm = 0, kappa = 0;
+        if (!wall) {
+          // Row-major: the layout the solver works on, so it copies nothing.
+          build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
+          if (!targets.empty()) {
+            moment_targets(conditions, dim, layout, targets[si], b.data());
+            targets_in_units(conditions, b.data());
+          }
+          if (opt.prefer_near) prefer_near(nl.distances_of(i), A.data(), static_cast<std::size_t>(m), MatrixOrder::RowMajor, near_);
+          const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, opt.nnls, MatrixOrder::RowMajor);
+          if (opt.prefer_near)
+            for (std::size_t j = 0; j < ucnt; ++j) v[j] *= near_[j];
+          out.residual[si] = r.residual;
+          out.failed[si] = r.status != NnlsStatus::Converged;
+          out.iterations[si] = r.iterations;
+          out.positive[si] = r.passive;
+        } else {
+          // Columns: the neighbours, then the wall flux along the conormal in the first-moment
+          // rows, scaled like the largest neighbour column so that NNLS's tests treat it alike.
+          build_moment_system(MomentConditions::WallLaplace, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout,
+                              MatrixOrder::ColumnMajor);
+          if (!targets.empty()) {
+            moment_targets(MomentConditions::WallLaplace, dim, layout, targets[si], b.data());
+            targets_in_units(MomentConditions::WallLaplace, b.data());
+          }
+          // Nearer neighbours first (prefer_near): on a lattice NNLS otherwise takes the diagonal
+          // neighbours only, and the wall rows, like VRSPH's interior rows there, leave the two
+          // checkerboard sublattices uncoupled: a pure Neumann problem then has two constants.
+          prefer_near(nl.distances_of(i), A.data(), ur, MatrixOrder::ColumnMajor, near_);
+          for (std::size_t j = 0; j < ucnt; ++j) {
+            Real s2 = 0;
+            for (std::size_t r = 0; r < ur; ++r) s2 += A[j * ur + r] * A[j * ur + r];
+            kappa = std::max(kappa, std::sqrt(s2));
+          }
+          if (kappa == 0) kappa = 1;
+          Real* flux_col = A.data() + ucnt * ur;
+          std::fill(flux_col, flux_col + ur, 0.0);
+          for (int k = 0; k < dim; ++k)
+            flux_col[first_moment_row(MomentConditions::WallLaplace, dim, layout, k)] = kappa * opt.wall.conormal[si][k];
+          xw.assign(ucnt + 1, 0.0);
+          if (!wall_solver) wall_solver.emplace(mw, static_cast<int>(max_count) + 1);
+          const NnlsResult r = wall_solver->solve(A.data(), mw, cnt + 1, b.data(), xw.data(), opt.nnls, MatrixOrder::ColumnMajor);
+          for (std::size_t j = 0; j < ucnt; ++j) v[j] = xw[j] * near_[j];
+          out.wall_flux[si] = 2 * kappa * xw[ucnt];
+          out.residual[si] = r.residual;
+          out.failed[si] = r.status != NnlsStatus::Converged;
+          out.iterations[si] = r.iterations;
+          out.positive[si] = r.passive;
         }
-        if (kappa == 0) kappa = 1;
-        Real* flux_col = A.data() + ucnt * ur;
-        std::fill(flux_col, flux_col + ur, 0.0);
-        for (int k = 0; k < dim; ++k)
-          flux_col[first_moment_row(MomentConditions::WallLaplace, dim, layout, k)] = kappa * opt.wall.conormal[si][k];
-        xw.assign(ucnt + 1, 0.0);
-        if (!wall_solver) wall_solver.emplace(mw, static_cast<int>(max_count) + 1);
-        const NnlsResult r = wall_solver->solve(A.data(), mw, cnt + 1, b.data(), xw.data(), opt.nnls, MatrixOrder::ColumnMajor);
-        for (std::size_t j = 0; j < ucnt; ++j) v[j] = xw[j] * near_[j];
-        out.wall_flux[si] = 2 * kappa * xw[ucnt];
-        out.residual[si] = r.residual;
-        out.failed[si] = r.status != NnlsStatus::Converged;
-        out.iterations[si] = r.iterations;
-        out.positive[si] = r.passive;
+        for (std::size_t r = 0; r < ur; ++r) bnorm += b[r] * b[r];
+        bnorm = std::sqrt(bnorm);
+        if (opt.infeasible != InfeasibleRowPolicy::Signed || !(out.residual[si] > opt.signed_threshold * bnorm)) return;
+        // Signed fallback on the same columns (row-major copy; for a balance row the wall flux
+        // is one more column and may turn negative as well).
+        const std::size_t cols = wall ? ucnt + 1 : ucnt;
+        Aw.resize(ur * cols);
+        if (wall)
+          for (std::size_t r = 0; r < ur; ++r)
+            for (std::size_t j = 0; j < cols; ++j) Aw[r * cols + j] = A[j * ur + r];
+        else
+          std::copy(A.begin(), A.begin() + static_cast<std::ptrdiff_t>(ur * cols), Aw.begin());
+        xw.assign(cols, 0.0);
+        if (!signed_solver) signed_solver.emplace();
+        const SignedVolumesResult sr = signed_solver->solve(Aw.data(), rows_i, static_cast<int>(cols), b.data(), xw.data());
+        if (!(sr.residual < out.residual[si])) return;  // never worse than the NNLS fit
+        for (std::size_t j = 0; j < ucnt; ++j) v[j] = wall || opt.prefer_near ? xw[j] * near_[j] : xw[j];
+        if (wall) out.wall_flux[si] = 2 * kappa * xw[ucnt];
+        out.residual[si] = sr.residual;
+        out.failed[si] = 0;
+        out.signed_row[si] = 1;
+        out.negative[si] = sr.negative;
+      };
+      solve_row();
+      if (length != 1) {
+        for (std::size_t j = 0; j < ucnt; ++j) v[j] *= volume_unit;
+        if (walls && opt.wall.rows[si]) out.wall_flux[si] /= length;
       }
-      for (std::size_t r = 0; r < ur; ++r) bnorm += b[r] * b[r];
-      bnorm = std::sqrt(bnorm);
-      if (opt.infeasible != InfeasibleRowPolicy::Signed || !(out.residual[si] > opt.signed_threshold * bnorm)) continue;
-      // Signed fallback on the same columns (row-major copy; for a balance row the wall flux
-      // is one more column and may turn negative as well).
-      const std::size_t cols = wall ? ucnt + 1 : ucnt;
-      Aw.resize(ur * cols);
-      if (wall)
-        for (std::size_t r = 0; r < ur; ++r)
-          for (std::size_t j = 0; j < cols; ++j) Aw[r * cols + j] = A[j * ur + r];
-      else
-        std::copy(A.begin(), A.begin() + static_cast<std::ptrdiff_t>(ur * cols), Aw.begin());
-      xw.assign(cols, 0.0);
-      if (!signed_solver) signed_solver.emplace();
-      const SignedVolumesResult sr = signed_solver->solve(Aw.data(), rows_i, static_cast<int>(cols), b.data(), xw.data());
-      if (!(sr.residual < out.residual[si])) continue;  // never worse than the NNLS fit
-      for (std::size_t j = 0; j < ucnt; ++j) v[j] = wall || opt.prefer_near ? xw[j] * near_[j] : xw[j];
-      if (wall) out.wall_flux[si] = 2 * kappa * xw[ucnt];
-      out.residual[si] = sr.residual;
-      out.failed[si] = 0;
-      out.signed_row[si] = 1;
-      out.negative[si] = sr.negative;
     }
   }
+  check_interrupt();  // rows skipped after a stop request: the volumes are incomplete
   return out;
 }
 

@@ -52,9 +52,11 @@ struct VolumeOptions {
 };
 
 /// The neighbour geometry of particle i that its moment system is built from:
-/// xji[k] = x_j - x_i and half_y[k] = Y_ij / 2 = -W'(r_ij)/r_ij for its k-th neighbour j
-/// (both arrays hold neighbours.count(i) entries). ker: the kernel of row i.
-void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y);
+/// xji[k] = (x_j - x_i) / length and half_y[k] = Y_ij / 2 length^(d+2) = -W'(r_ij)/r_ij
+/// length^(d+2) for its k-th neighbour j (both arrays hold neighbours.count(i) entries), in
+/// units of `length`. ker: the kernel of row i.
+void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y,
+                        Real length = 1);
 
 /// rows: which particles need volumes (empty = every non-ghost particle).
 /// The residual is reported for the literal (Full) system in either layout: merging
