@@ -32,7 +32,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   vrsph::cli::add_config_option(&app, config);
   try {
     app.parse(std::vector<std::string>{});
-    vrsph::cli::apply_problem_file(app, path, {"--cloud-file"});
+    vrsph::cli::apply_problem_file(app, path);
   } catch (const vrsph::Error&) {
   }
   std::filesystem::remove(path);

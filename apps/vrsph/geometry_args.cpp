@@ -1,5 +1,6 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include "geometry_args.hpp"
 
 namespace vrsph::cli {
@@ -21,7 +22,14 @@ GeometryCloud make_geometry_cloud(const GeometryRequest& r) {
   if (!r.neumann_where.empty() || !r.dirichlet_where.empty()) {
     const bool by_neumann = !r.neumann_where.empty();
     const Expression select(by_neumann ? r.neumann_where : r.dirichlet_where);
-    tag_boundary(g.cloud, [&](const Vec3& x) { return (select(x) != 0) == by_neumann; });
+    const std::string& option = by_neumann ? r.neumann_option : r.dirichlet_option;
+    tag_boundary(g.cloud, [&](const Vec3& x) {
+      const Real v = select(x);
+      // NaN != 0 would tag the particle silently: a condition must be a number everywhere.
+      check<InputError>(std::isfinite(v), option, " '", printable(select.text(), 200), "' is not finite (", v,
+                        ") at (", x[0], ", ", x[1], ", ", x[2], ")");
+      return (v != 0) == by_neumann;
+    });
   }
   return g;
 }

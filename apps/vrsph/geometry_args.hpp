@@ -15,6 +15,8 @@ struct GeometryRequest {
   std::optional<double> delta;          ///< perturbed: amplitude in spacings (default 0.3)
   std::uint64_t seed = 1;
   std::string neumann_where, dirichlet_where;  ///< expressions; at most one of them
+  /// The options they came from, for messages (`vrsph cloud` calls them --neumann/--dirichlet).
+  std::string neumann_option = "--neumann-where", dirichlet_option = "--dirichlet-where";
   int part = 0, parts = 1;                      ///< lattice fills: this part only (GeometryFill)
 };
 

@@ -53,7 +53,14 @@ CLI::Option* add_config_option(CLI::App* cmd, std::string& path) {
                          "group them; command-line options win; paths are relative to the file");
 }
 
-void apply_problem_file(CLI::App& cmd, const std::string& path, const std::vector<std::string>& path_options) {
+namespace {
+// Every option that names a file, read or written: relative to the problem file's directory.
+const std::vector<std::string> kPathOptions = {"--cloud-file", "--cloud-file-pattern", "--geometry", "--output",
+                                               "--plot", "--vtu", "--csv", "--perm-file", "--history",
+                                               "--krylov-output", "--profile", "--at", "--vtu-series", "--input"};
+}  // namespace
+
+void apply_problem_file(CLI::App& cmd, const std::string& path) {
   std::ifstream in = open_input(path, "problem file");
   toml::table doc;
   try {
@@ -75,10 +82,13 @@ void apply_problem_file(CLI::App& cmd, const std::string& path, const std::vecto
       opt = cmd.get_option("--" + e.key);
     } catch (const CLI::OptionNotFound&) {
     }
-    check<ConfigError>(opt != nullptr, e.where, ": unknown key '", e.key, "' (not an option of vrsph ", cmd.get_name(),
-                       "; see vrsph ", cmd.get_name(), " --help)");
+    // --help, --help-all and --version are actions, not settings: a problem file holds settings.
+    const bool action = opt != nullptr && (opt == cmd.get_help_ptr() || opt == cmd.get_help_all_ptr() ||
+                                           e.key == "version" || e.key == "help" || e.key == "help-all");
+    check<ConfigError>(opt != nullptr && !action, e.where, ": unknown key '", e.key, "' (not an option of vrsph ",
+                       cmd.get_name(), " that a problem file can set; see vrsph ", cmd.get_name(), " --help)");
     if (opt->count() > 0) continue;  // the command line wins
-    const bool is_path = std::find(path_options.begin(), path_options.end(), "--" + e.key) != path_options.end();
+    const bool is_path = std::find(kPathOptions.begin(), kPathOptions.end(), "--" + e.key) != kPathOptions.end();
     auto text = [&](const toml::node& v) {
       std::string s = scalar_text(v, e.where, e.key);
       if (is_path && !s.empty() && std::filesystem::path(s).is_relative() && !base.empty()) s = (base / s).string();

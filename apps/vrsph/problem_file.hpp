@@ -22,9 +22,11 @@ namespace vrsph::cli {
 CLI::Option* add_config_option(CLI::App* cmd, std::string& path);
 
 /// Sets every option of cmd named in the file that the command line left unset. Paths
-/// (the options in path_options) are taken relative to the file's directory. Throws
-/// IoError for an unreadable file and ConfigError naming file:line for a TOML error, an
-/// unknown key, a value of the wrong kind, or a value the option refuses.
-void apply_problem_file(CLI::App& cmd, const std::string& path, const std::vector<std::string>& path_options);
+/// (every option that names a file: cloud-file, geometry, perm-file, output, vtu, plot,
+/// history, krylov-output, ...) are taken relative to the file's directory. Throws IoError
+/// for an unreadable file and ConfigError naming file:line for a TOML error, an unknown key
+/// (help and version included: a file holds settings, not actions), a value of the wrong
+/// kind, or a value the option refuses.
+void apply_problem_file(CLI::App& cmd, const std::string& path);
 
 }  // namespace vrsph::cli

@@ -7,6 +7,7 @@
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/operator_study.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/parse.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -141,7 +142,12 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
         exact = sample_exact(p.op, *u, a.get(), cloud);
       } else {
         for (Index i = 0; i < cloud.size(); ++i)
-          for (int c = 0; c < exact.cols(); ++c) exact(i, c) = expected[static_cast<std::size_t>(c)](cloud.positions[static_cast<std::size_t>(i)]);
+          for (int c = 0; c < exact.cols(); ++c) {
+            const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+            exact(i, c) = expected[static_cast<std::size_t>(c)](x);
+            check<InputError>(std::isfinite(exact(i, c)), "--exact '", printable(expected[static_cast<std::size_t>(c)].text(), 200),
+                              "' is not finite (", exact(i, c), ") at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
+          }
       }
       if (!s.rhs.empty()) {
         // Compact rows (VRSPH rhs=compact) approximate the average Σ_k μ_ik (L u)(x_k) of the

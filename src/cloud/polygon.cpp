@@ -91,10 +91,45 @@ void check_polygon(const Polygon& p, const std::string& name) {
         }
   for (std::size_t r = 1; r < p.rings.size(); ++r)
     check<InputError>(inside_ring(p.rings[0], p.rings[r][0]), name, ": hole ", r, " lies outside the outer ring");
+  // A ring inside a hole would be an island: in GeoJSON that is a second Polygon (a
+  // MultiPolygon), which is not one domain. As a hole of this polygon it would be left empty.
+  for (std::size_t r1 = 1; r1 < p.rings.size(); ++r1)
+    for (std::size_t r2 = 1; r2 < p.rings.size(); ++r2)
+      check<InputError>(r1 == r2 || !inside_ring(p.rings[r1], p.rings[r2][0]), name, ": ring ", r2, " lies inside hole ",
+                        r1, " (an island in a hole is a second polygon, and a MultiPolygon is not one domain: "
+                        "give the island as a geometry of its own)");
 }
 }  // namespace
 
+namespace {
+// The deepest nesting of arrays and objects in a JSON text, strings skipped. A polygon needs
+// about 7 levels; a document nested thousands deep is refused before it is parsed, so that
+// no parser, destructor or walk over it can run out of stack.
+std::size_t json_depth(const std::string& text) {
+  std::size_t depth = 0, deepest = 0;
+  bool in_string = false;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const char c = text[k];
+    if (in_string) {
+      if (c == '\\') ++k;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+constexpr std::size_t kMaxJsonDepth = 64;
+}  // namespace
+
 Polygon parse_geojson_polygon(const std::string& text, const std::string& name) {
+  const std::size_t depth = json_depth(text);
+  check<InputError>(depth <= kMaxJsonDepth, name, ": JSON nested ", depth, " levels deep (a GeoJSON polygon needs fewer "
+                    "than ", kMaxJsonDepth, "; not a geometry file)");
   json doc;
   try {
     doc = json::parse(text);
@@ -216,6 +251,10 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
     return inside_polygon(p, x) && distance_to_polygon_boundary(p, x) >= 0.5 * f.spacing;
   };
   detail::add_interior_particles(c, lo, hi, f, f.seed, admissible);
+  // A sliver or needle can span many spacings and still be thinner than one: no particle is
+  // half a spacing from every edge, and the "domain" would be its boundary alone.
+  check<ConfigError>(f.parts > 1 || c.count(Tag::Interior) > 0, "the geometry leaves no room for interior particles at ",
+                     "the spacing ", f.spacing, " (it is thinner than about one spacing); choose a smaller --spacing");
   if (c.size() > 0 || f.parts == 1) validate(c);  // (a part may be empty)
   return c;
 }

@@ -112,6 +112,20 @@ std::vector<Vec3> ClosedSurface::sample(Real step) const {
   return out;
 }
 
+namespace {
+// Whether a polygonal face encloses no area (its Newell normal vanishes).
+bool zero_area(const std::vector<K::Point_3>& points, const std::vector<std::size_t>& face) {
+  Vec3 normal = Vec3::Zero();
+  for (std::size_t k = 0; k < face.size(); ++k) {
+    const Vec3 a = vec(points[face[k]]), b = vec(points[face[(k + 1) % face.size()]]);
+    normal += a.cross(b);
+  }
+  Real scale = 0;
+  for (const std::size_t v : face) scale = std::max(scale, vec(points[v]).squaredNorm());
+  return normal.norm() <= 1e-14 * scale;
+}
+}  // namespace
+
 ClosedSurface read_closed_surface(const std::string& path) {
   PolygonSoup soup = read_polygon_soup(path);
   for (std::size_t k = 0; k < soup.points.size(); ++k)
@@ -143,8 +157,25 @@ ClosedSurface read_closed_surface(const std::string& path) {
   auto& faces = soup.faces;
   PMP::repair_polygon_soup(points, faces);
   check<InputError>(!faces.empty(), path, ": every face is degenerate (no area)");
-  check<InputError>(PMP::orient_polygon_soup(points, faces), path, ": the faces do not form an orientable manifold "
-                    "surface (an edge shared by more than two faces, or faces that cannot be oriented alike)");
+  // A face of zero area (collinear vertices) lying on a closed surface shares its edges with
+  // faces that already meet in pairs, so the soup cannot be oriented. Such a face carries no
+  // surface: without it the rest may be a closed, orientable surface, and is taken as one.
+  std::vector<K::Point_3> kept_points = points;
+  std::vector<std::vector<std::size_t>> kept_faces = faces;
+  if (!PMP::orient_polygon_soup(points, faces)) {
+    const std::size_t before = kept_faces.size();
+    std::erase_if(kept_faces, [&](const std::vector<std::size_t>& face) { return zero_area(kept_points, face); });
+    const std::size_t dropped = before - kept_faces.size();
+    points = std::move(kept_points);
+    faces = std::move(kept_faces);
+    check<InputError>(dropped > 0 && !faces.empty() && PMP::orient_polygon_soup(points, faces), path,
+                      ": the faces do not form an orientable manifold surface (an edge shared by more than two faces, "
+                      "or faces that cannot be oriented alike)",
+                      dropped > 0 ? detail::concat(", also without its ", dropped, " face(s) of zero area") : "");
+  }
+  // Points no face uses any more (a dropped face's) would be isolated vertices, which the
+  // orientation of the shells below does not accept.
+  PMP::remove_isolated_points_in_polygon_soup(points, faces);
   Mesh& m = impl.mesh;
   PMP::polygon_soup_to_polygon_mesh(points, faces, m);
   check<InputError>(m.number_of_faces() > 0, path, ": no faces left after repair");
@@ -165,7 +196,9 @@ ClosedSurface read_closed_surface(const std::string& path) {
     throw InputError(detail::concat(path, ": the surface intersects itself (", pairs.size(), " face pairs, e.g. faces ",
                                     f1, " and ", f2, ")"));
   }
-  if (!PMP::is_outward_oriented(m)) PMP::reverse_face_orientations(m);
+  // Every shell oriented by its nesting: an outer shell's normals point out, a cavity's into
+  // the cavity (out of the material), whichever way the file stored each solid.
+  PMP::orient_to_bound_a_volume(m);
   impl.volume = PMP::volume(m);
   impl.area = PMP::area(m);
   check<InputError>(impl.volume > 0 && std::isfinite(impl.volume), path, ": the surface encloses no volume");
@@ -289,6 +322,9 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
   // Interior: at least half a spacing inside the surface.
   const auto admissible = [&](const Vec3& x) { return surface.contains(x) && surface.distance(x) >= 0.5 * f.spacing; };
   detail::add_interior_particles(cloud, lo, hi, f, f.seed + 3, admissible);
+  // A plate or needle thinner than about one spacing leaves no particle half a spacing inside.
+  check<ConfigError>(f.parts > 1 || cloud.count(Tag::Interior) > 0, "the geometry leaves no room for interior particles ",
+                     "at the spacing ", f.spacing, " (it is thinner than about one spacing); choose a smaller --spacing");
   if (cloud.size() > 0 || f.parts == 1) validate(cloud);  // (a part may be empty)
   return cloud;
 }

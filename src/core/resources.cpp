@@ -1,3 +1,4 @@
+#include <sys/resource.h>
 #include <unistd.h>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -20,9 +21,11 @@ namespace {
 std::once_flag default_once;
 std::atomic<std::size_t> limit{0};
 std::atomic<bool> limit_set{false};
-}  // namespace
+// Resident memory when the limit was fixed: what the process held before the run (an
+// interpreter, shared libraries) is not the run's and does not count against its budget.
+std::atomic<std::size_t> baseline{0};
 
-std::size_t available_memory_bytes() {
+std::size_t meminfo_available() {
   std::ifstream f("/proc/meminfo");
   std::string key;
   std::size_t kib = 0;
@@ -32,9 +35,64 @@ std::size_t available_memory_bytes() {
   return 0;
 }
 
+// A number of bytes from a cgroup file; 0 for "max", a missing file or anything unreadable.
+std::size_t cgroup_value(const std::string& path) {
+  std::ifstream f(path);
+  std::string text;
+  if (!(f >> text)) return 0;
+  const auto v = parse_integer(text);
+  return v && *v > 0 && *v < (1ll << 62) ? static_cast<std::size_t>(*v) : 0;
+}
+
+// The memory this process's cgroup may still take (cgroup v2 memory.max - memory.current, or
+// v1's limit_in_bytes - usage_in_bytes); 0 when no cgroup limits it.
+std::size_t cgroup_headroom() {
+  std::ifstream self("/proc/self/cgroup");
+  std::string line, v2_path;
+  while (std::getline(self, line))
+    if (line.rfind("0::", 0) == 0) v2_path = line.substr(3);
+  for (const std::string& dir : {std::string("/sys/fs/cgroup") + v2_path, std::string("/sys/fs/cgroup")}) {
+    const std::size_t max = cgroup_value(dir + "/memory.max");
+    if (max > 0) {
+      const std::size_t current = cgroup_value(dir + "/memory.current");
+      return max > current ? max - current : 1;
+    }
+  }
+  const std::size_t v1 = cgroup_value("/sys/fs/cgroup/memory/memory.limit_in_bytes");
+  if (v1 > 0 && v1 < (std::size_t{1} << 60)) {  // v1 writes a huge number for "no limit"
+    const std::size_t used = cgroup_value("/sys/fs/cgroup/memory/memory.usage_in_bytes");
+    return v1 > used ? v1 - used : 1;
+  }
+  return 0;
+}
+
+// The address space this process may still map under RLIMIT_AS (ulimit -v); 0 = unlimited.
+std::size_t address_space_headroom() {
+  rlimit rl{};
+  if (::getrlimit(RLIMIT_AS, &rl) != 0 || rl.rlim_cur == RLIM_INFINITY) return 0;
+  std::ifstream f("/proc/self/statm");
+  std::size_t pages = 0;
+  f >> pages;
+  const std::size_t mapped = pages * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  return rl.rlim_cur > mapped ? static_cast<std::size_t>(rl.rlim_cur) - mapped : 1;
+}
+
+std::size_t smallest_nonzero(std::initializer_list<std::size_t> values) {
+  std::size_t best = 0;
+  for (const std::size_t v : values)
+    if (v > 0 && (best == 0 || v < best)) best = v;
+  return best;
+}
+}  // namespace
+
+std::size_t available_memory_bytes() { return smallest_nonzero({meminfo_available(), cgroup_headroom()}); }
+
 std::size_t memory_limit_bytes() {
   std::call_once(default_once, [] {
-    if (!limit_set.load()) limit.store(available_memory_bytes());
+    if (!limit_set.load()) {
+      limit.store(available_memory_bytes());
+      baseline.store(resident_memory_bytes());
+    }
   });
   return limit.load();
 }
@@ -43,6 +101,7 @@ void set_memory_limit_bytes(std::size_t bytes) {
   std::call_once(default_once, [] {});
   limit_set.store(true);
   limit.store(bytes);
+  baseline.store(resident_memory_bytes());
 }
 
 std::size_t parse_memory_size(const std::string& text) {
@@ -107,16 +166,26 @@ std::size_t resident_memory_bytes() {
 }
 
 void check_memory_estimate(double bytes, const std::string& what, const std::string& advice) {
+  // The address space left under ulimit -v binds whatever the budget says: allocations
+  // beyond it fail however much memory the machine has.
+  const std::size_t mappable = address_space_headroom();
+  if (mappable > 0 && bytes > static_cast<double>(mappable))
+    throw ResourceError(detail::concat(what, " needs about ", format_bytes(bytes), ", more than the ",
+                                       format_bytes(static_cast<double>(mappable)),
+                                       " of address space this process may still map (its limit, ulimit -v, is set); ",
+                                       advice));
   const std::size_t lim = memory_limit_bytes();
   if (lim == 0) return;
-  // What the process already holds counts against the same limit.
-  const auto in_use = static_cast<double>(resident_memory_bytes());
+  // What the run already holds counts against its budget; what the process held before the
+  // run (the baseline) does not.
+  const std::size_t now = resident_memory_bytes(), before = baseline.load();
+  const auto in_use = static_cast<double>(now > before ? now - before : 0);
   if (bytes + in_use <= static_cast<double>(lim)) return;
   throw ResourceError(detail::concat(what, " needs about ", format_bytes(bytes), in_use > 0 ? " on top of the " : "",
-                                     in_use > 0 ? format_bytes(in_use) + " in use" : std::string(),
+                                     in_use > 0 ? format_bytes(in_use) + " this run holds" : std::string(),
                                      ", more than the memory limit of ", format_bytes(static_cast<double>(lim)),
-                                     " (default: the memory available when the run started; --max-memory to "
-                                     "change it); ", advice));
+                                     " (default: the memory available when the run started, within this process's "
+                                     "cgroup limit; --max-memory to change it); ", advice));
 }
 
 }  // namespace vrsph

@@ -63,6 +63,15 @@ DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
   check<ConfigError>(std::isfinite(o.t_end) && o.t_end > 0, "end time --t-end must be positive and finite, got ", o.t_end);
   check<ConfigError>(o.t_end / o.dt <= 1e8, "t_end / dt = ", o.t_end / o.dt, " steps is more than 1e8");
   check<ConfigError>(o.dt <= o.t_end, "time step dt = ", o.dt, " is longer than the run (t_end = ", o.t_end, ")");
+  for (const Real T : o.report_times)  // outside the run its error would be a silent NaN
+    check<ConfigError>(std::isfinite(T) && T >= 0 && T <= o.t_end * (1 + 1e-12), "report time ", T,
+                       " (--report-times) is outside the run [0, t_end = ", o.t_end, "]");
+  // The work up front: every step updates every particle (an explicit step costs ~1e-8 s per
+  // particle on one core here, an implicit one more). Beyond 1e11 updates a run takes hours.
+  const double updates = std::ceil(o.t_end / o.dt) * static_cast<double>(n);
+  check<ConfigError>(updates <= 1e11, "the run would take ", std::ceil(o.t_end / o.dt), " steps x ", n, " particles = ",
+                     updates, " particle updates (hours at ~1e8 per second); raise --dt, lower --t-end or use fewer "
+                     "particles");
   check<InputError>(static_cast<bool>(p.flux) || cloud.count(Tag::Neumann) == 0,
                     "the cloud has Neumann particles but no flux data q(x, t) was given");
   check<InputError>(p.u0.size() == n, "initial values u0: ", p.u0.size(), " values for ", n, " particles");

@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <cstdlib>
 #include <numbers>
 #include <ostream>
@@ -35,14 +37,16 @@ bool PermeabilityField::isotropic() const {
 void validate(const PermeabilityField& f) {
   check<InputError>(f.dim >= 1 && f.dim <= 3, "permeability field: dimension must be 1, 2 or 3, got ", f.dim);
   check<InputError>(f.n >= 1, "permeability field: cells per axis must be >= 1, got ", f.n);
-  const Index cells = static_cast<Index>(std::pow(static_cast<double>(f.n), f.dim) + 0.5);
+  const double cells_real = std::pow(static_cast<double>(f.n), f.dim);
+  check<InputError>(cells_real <= 1e9, "permeability field: ", f.n, "^", f.dim, " cells is more than 1e9");
+  const auto cells = static_cast<Index>(cells_real + 0.5);
   check<InputError>(f.k.rows() == cells && f.k.cols() == f.dim, "permeability field: expected ", cells, " x ", f.dim,
                     " values (", f.n, "^", f.dim, " cells, one per direction), got ", f.k.rows(), " x ", f.k.cols());
   for (Index c = 0; c < f.k.rows(); ++c)
     for (int a = 0; a < f.dim; ++a) {
       const Real v = f.k(c, a);
       if (std::isfinite(v) && v > 0) continue;
-      const Index i = c % f.n, j = (c / f.n) % f.n, l = c / (static_cast<Index>(f.n) * f.n);
+      const std::int64_t i = c % f.n, j = (c / f.n) % f.n, l = c / (std::int64_t{f.n} * f.n);
       throw InputError(concat("permeability field: k_", "xyz"[a], " of cell (I, J, K) = (", i + 1, ", ", j + 1, ", ",
                               l + 1, ") is ", v, "; permeabilities must be finite and > 0"));
     }
@@ -212,13 +216,23 @@ std::vector<Real> parse_numbers(std::string text, const std::string& path) {
 
 PermeabilityField read_permeability(const std::string& path, const PermeabilityFileLayout& L) {
   check<ConfigError>(L.dim >= 1 && L.dim <= 3, "permeability file: dimension must be 1, 2 or 3, got ", L.dim);
-  Index file_cells = 1;
+  // 64-bit counts: a grid of up to 100000^3 cells overflows 32 bits long before it fails to fit.
+  std::int64_t file_cells = 1;
   for (int a = 0; a < 3; ++a) {
     check<ConfigError>(L.grid[static_cast<std::size_t>(a)] >= 1 && L.grid[static_cast<std::size_t>(a)] <= 100000,
                        "permeability file: grid size ", "IJK"[a], " = ", L.grid[static_cast<std::size_t>(a)],
                        " must be in 1..100000");
     file_cells *= L.grid[static_cast<std::size_t>(a)];
   }
+  // Every value takes at least two characters (a digit and a separator): a file shorter than
+  // that cannot hold a large grid, and is refused before it is read or anything is allocated
+  // (a small one is read, and its count of values named).
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  check<InputError>(ec || file_cells < (1 << 20) || bytes >= 2 * static_cast<std::uintmax_t>(file_cells) - 1,
+                    "permeability file ", path, " has ",
+                    bytes, " bytes: too short for the ", file_cells, " values of the grid ", L.grid[0], " x ", L.grid[1],
+                    " x ", L.grid[2], " (check --perm-grid)");
   int n = 0;
   for (int a = 0; a < 3; ++a) {
     const auto [lo, hi] = L.subset[static_cast<std::size_t>(a)];
@@ -235,8 +249,9 @@ PermeabilityField read_permeability(const std::string& path, const PermeabilityF
     }
   }
   const std::vector<Real> v = parse_numbers(read_file(path, "permeability file"), path);
-  const auto blocks = static_cast<Index>(v.size()) / file_cells;
-  check<InputError>(!v.empty() && static_cast<Index>(v.size()) % file_cells == 0 && blocks >= 1 && blocks <= 3,
+  const auto count = static_cast<std::int64_t>(v.size());
+  const std::int64_t blocks = count / file_cells;
+  check<InputError>(!v.empty() && count % file_cells == 0 && blocks >= 1 && blocks <= 3,
                     "permeability file ", path, " has ", v.size(), " values; the grid ", L.grid[0], " x ", L.grid[1],
                     " x ", L.grid[2], " needs ", file_cells, " (isotropic), ", 2 * file_cells, " (k_x, k_y) or ",
                     3 * file_cells, " (k_x, k_y, k_z)");
@@ -244,9 +259,9 @@ PermeabilityField read_permeability(const std::string& path, const PermeabilityF
                     " direction blocks; a ", L.dim, "D field needs ", L.dim, " (or 1: isotropic)");
   PermeabilityField f = empty_field(L.dim, n);
   for (Index c = 0; c < f.cells(); ++c) {
-    const Index i = c % n + L.subset[0][0] - 1, j = (L.dim > 1 ? (c / n) % n : 0) + L.subset[1][0] - 1,
-                l = (L.dim > 2 ? c / (static_cast<Index>(n) * n) : 0) + L.subset[2][0] - 1;
-    const Index src = i + L.grid[0] * (j + static_cast<Index>(L.grid[1]) * l);
+    const std::int64_t i = c % n + L.subset[0][0] - 1, j = (L.dim > 1 ? (c / n) % n : 0) + L.subset[1][0] - 1,
+                       l = (L.dim > 2 ? c / (static_cast<std::int64_t>(n) * n) : 0) + L.subset[2][0] - 1;
+    const std::int64_t src = i + std::int64_t{L.grid[0]} * (j + std::int64_t{L.grid[1]} * l);
     for (int a = 0; a < L.dim; ++a) f.k(c, a) = v[static_cast<std::size_t>((blocks == 1 ? 0 : a) * file_cells + src)];
   }
   try {

@@ -16,6 +16,7 @@
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/search.hpp>
+#include <vrsph/analysis/smoothing.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #ifdef _OPENMP
@@ -163,7 +164,12 @@ void add_stencils_bench(CLI::App& bench) {
     auto names = parse_name_list(*methods, "--method");
     if (std::find(names.begin(), names.end(), "sph") == names.end()) names.insert(names.begin(), "sph");
     const std::vector<double> kappas = parse_real_list(*factors, "--h-factor");
-    for (double k : kappas) check<ConfigError>(k > 0, "--h-factor: '", k, "' is not a positive number");
+    for (double k : kappas) {
+      check<ConfigError>(std::isfinite(k) && k > 0, "--h-factor: '", k, "' is not a positive number");
+      // As every other command: a support wider than the domain is no local stencil (and its
+      // neighbour list would be the whole cloud per particle).
+      check_support_is_local(k / a->n, std::sqrt(static_cast<Real>(a->dim)), k);
+    }
     // [QW] Table 1 seconds (h/dx = 3, 4, 5), for the comparison column.
     const std::map<std::string, std::array<double, 3>> paper{{"vrsph", {28.2344, 42.4219, 55.9844}},
                                                              {"sph", {9.5312, 17.6094, 26.75}},

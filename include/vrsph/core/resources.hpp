@@ -9,12 +9,16 @@
 
 namespace vrsph {
 
-/// Memory the system can still give this process (MemAvailable of /proc/meminfo),
-/// in bytes; 0 if unknown.
+/// Memory the system can still give this process, in bytes: MemAvailable of /proc/meminfo,
+/// or less where the process's cgroup (v2 memory.max, v1 limit_in_bytes) leaves less; 0 if
+/// unknown. Under ulimit -v, check_memory_estimate also refuses what would not fit in the
+/// address space left.
 std::size_t available_memory_bytes();
 
-/// The process-wide limit in bytes; 0 = no limit. Default: available_memory_bytes()
-/// at the first call (so a run never plans to use more than the machine has free).
+/// The process-wide limit in bytes for what a run allocates; 0 = no limit. Default:
+/// available_memory_bytes() at the first call (so a run never plans to use more than the
+/// machine has free). What the process held when the limit was fixed (an interpreter, its
+/// libraries) does not count against it; what the run has allocated since does.
 std::size_t memory_limit_bytes();
 void set_memory_limit_bytes(std::size_t bytes);
 
@@ -35,8 +39,9 @@ bool reset_peak_resident_memory();
 /// size measures what is in use; for memory measurements between runs.
 void release_free_memory();
 
-/// Throws ResourceError if `bytes` (an estimate for `what`) plus the memory the process
-/// already holds exceeds the limit; the message gives the numbers and `advice`.
+/// Throws ResourceError if `bytes` (an estimate for `what`) plus the memory the run already
+/// holds exceeds the limit, or if `bytes` exceeds the address space left under ulimit -v;
+/// the message gives the numbers and `advice`.
 void check_memory_estimate(double bytes, const std::string& what, const std::string& advice);
 
 }  // namespace vrsph
