@@ -1,5 +1,8 @@
 // vrsph._vrsph: the compiled half of the Python package.
+#include <new>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/interrupt.hpp>
+#include <vrsph/core/threads.hpp>
 #include "bindings.hpp"
 
 namespace vrsph::python {
@@ -11,6 +14,21 @@ namespace {
 struct ErrorTypes {
   PyObject *error, *input, *io, *config, *resource, *geometry, *numerical;
 } types;
+
+// Ctrl-C during a library call: the interpreter only notes the signal while the library holds
+// the thread. The library polls this check (vrsph/core/interrupt.hpp) from the calling thread;
+// it runs Python's signal handlers and keeps the exception they raised (KeyboardInterrupt)
+// for the translator, which raises it once the call has unwound.
+struct PendingException {
+  PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;
+} pending;
+
+bool python_asks_to_stop() {
+  py::gil_scoped_acquire gil;
+  if (PyErr_CheckSignals() == 0) return false;
+  PyErr_Fetch(&pending.type, &pending.value, &pending.traceback);
+  return true;
+}
 }  // namespace
 
 void bind_errors(py::module_& m) {
@@ -43,8 +61,18 @@ void bind_errors(py::module_& m) {
       PyErr_SetString(types.geometry, e.what());
     } catch (const NumericalError& e) {
       PyErr_SetString(types.numerical, e.what());
+    } catch (const Interrupted&) {
+      if (pending.type) {
+        PyErr_Restore(pending.type, pending.value, pending.traceback);
+        pending = {};
+      } else {
+        PyErr_SetNone(PyExc_KeyboardInterrupt);
+      }
     } catch (const Error& e) {
       PyErr_SetString(types.error, e.what());
+    } catch (const std::bad_alloc&) {  // an allocation the memory guard could not foresee
+      PyErr_SetString(types.resource, "out of memory: an allocation failed (the run needs more memory than this "
+                                      "process may use; reduce the problem size)");
     }
   });
 }
@@ -81,6 +109,15 @@ PYBIND11_MODULE(_vrsph, m) {
   namespace vp = vrsph::python;
   m.doc() = "vrsph: accurate particle discretisations of elliptic operators (compiled core)";
   vp::bind_errors(m);
+  vrsph::set_interrupt_check(vp::python_asks_to_stop);
+  // Before any parallel loop: an absurd OMP_NUM_THREADS is capped (with a warning), an
+  // unusable OMP_STACKSIZE refuses the import instead of ending the interpreter later.
+  try {
+    const std::string warning = vrsph::sanitise_openmp_environment();
+    if (!warning.empty()) PyErr_WarnEx(PyExc_RuntimeWarning, ("vrsph: " + warning).c_str(), 1);
+  } catch (const vrsph::ConfigError& e) {
+    throw pybind11::import_error(std::string("vrsph: ") + e.what());
+  }
   vp::bind_clouds(m);
   vp::bind_operators(m);
   vp::bind_problems(m);

@@ -12,7 +12,8 @@ out (the CSR arrays are the library's own, not copies).
 
 Errors are ``vrsph.Error`` subclasses that are also the fitting built-in exception:
 ``InputError`` / ``ConfigError`` / ``GeometryError`` (``ValueError``), ``IoError``
-(``OSError``), ``NumericalError`` (``RuntimeError``), ``ResourceError`` (``MemoryError``).
+(``OSError``), ``NumericalError`` (``RuntimeError``), ``ResourceError`` (``MemoryError``),
+``ArgumentTypeError`` (``TypeError``: an argument of the wrong type, named).
 """
 from __future__ import annotations
 
@@ -22,8 +23,10 @@ from typing import Any, Callable, Mapping, Sequence, Union
 import numpy as np
 import scipy.sparse
 
+from . import _args
 from . import _vrsph
 from . import cloud
+from ._args import ArgumentTypeError
 from ._vrsph import (  # noqa: F401  (re-exported)
     DIRICHLET,
     GHOST,
@@ -46,7 +49,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 __all__ = [
     "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
-    "GeometryError", "NumericalError", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
+    "ArgumentTypeError", "GeometryError", "NumericalError", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
 
 Data = Union[None, str, float, Sequence[float], np.ndarray, Callable[..., Any]]
@@ -108,11 +111,14 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     The support radius is ``h`` if given, else ``h_factor`` x the cloud's spacing.
     ``coefficient`` (div-a-grad only): a in div(a grad u), as values, a callable of the
     coordinates or an expression. ``diagnostics=True`` returns the :class:`Stencil` instead."""
+    _check_cloud(cloud)
     a = None
     if coefficient is not None:
         a = _values(cloud, coefficient, "coefficient")
-    raw = _vrsph._stencil(cloud, method, operator, 0.0 if h is None else float(h), float(h_factor), kernel,
-                          dict(options or {}), a, float(infeasible_tol))
+    raw = _vrsph._stencil(cloud, _args.text(method, "method"), _args.text(operator, "operator"),
+                          _args.optional_length(h, "h"), _args.number(h_factor, "h_factor", positive=True),
+                          _args.text(kernel, "kernel"), _args.options(options, "options"), a,
+                          _args.number(infeasible_tol, "infeasible_tol", positive=True))
     s = Stencil(raw, len(cloud))
     if diagnostics:
         return s
@@ -132,6 +138,12 @@ class Solution(dict):
             return self[name]
         except KeyError as e:
             raise AttributeError(name) from e
+
+
+def _check_cloud(cloud: Any) -> None:
+    if not isinstance(cloud, Cloud):
+        raise ConfigError(f"the parameter cloud must be a vrsph.Cloud (vrsph.cloud.*, vrsph.read_cloud), got "
+                          f"{type(cloud).__name__}")
 
 
 def _coordinates(cloud: Cloud):
@@ -200,16 +212,22 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
             continue
         if isinstance(data, str):
             expressions[role] = data
+        elif isinstance(data, (int, float, np.number)) and not isinstance(data, bool):
+            expressions[role] = _args.expression(data, role)  # a constant: f, q still derive from it
         else:
             values[role] = _values(cloud, data, role)
     if mobility is not None:
-        expressions["mobility"] = [mobility] if isinstance(mobility, str) else [str(m) for m in mobility]
+        expressions["mobility"] = _args.expressions(mobility, "mobility")
     if robin is not None:
         values["robin"] = _values(cloud, robin, "robin")
-    opts = dict(method=method, method_options=dict(options or {}), kernel=kernel,
-                h=0.0 if h is None else float(h), h_factor=float(h_factor), h_mode=h_mode, solver=solver,
-                petsc_options=petsc_options, fix_constant=bool(fix_constant), on_infeasible=on_infeasible,
-                infeasible_tol=float(infeasible_tol), return_system=bool(return_system))
+    opts = dict(method=_args.text(method, "method"), method_options=_args.options(options, "options"),
+                kernel=_args.text(kernel, "kernel"), h=_args.optional_length(h, "h"),
+                h_factor=_args.number(h_factor, "h_factor", positive=True), h_mode=_args.text(h_mode, "h_mode"),
+                solver=_args.text(solver, "solver"), petsc_options=_args.text(petsc_options, "petsc_options"),
+                fix_constant=_args.flag(fix_constant, "fix_constant"),
+                on_infeasible=_args.text(on_infeasible, "on_infeasible"),
+                infeasible_tol=_args.number(infeasible_tol, "infeasible_tol", positive=True),
+                return_system=_args.flag(return_system, "return_system"))
     out = Solution(_vrsph._solve(cloud, expressions, values, opts))
     for key in ("system", "operator_rows"):
         if key in out:
@@ -248,20 +266,41 @@ def study_report(problem: str | None = None, methods: Sequence[str] = ("vrsph",)
                  on_infeasible: str = "warn", infeasible_tol: float = 1e-6, robin: Sequence[str] | None = None,
                  beta: str | None = None) -> dict:
     """:func:`study` with the metadata: ``{"rows": [...], "fitted_order_inf": {...}, "warnings": [...], ...}``."""
-    params = dict(locals())
-    if isinstance(params["methods"], str):
-        params["methods"] = [params["methods"]]
-    params["methods"] = list(params["methods"])
-    params["n"] = [int(v) for v in params["n"]]
-    params["seeds"] = [int(v) for v in params["seeds"]]
-    params["method_options"] = {m: dict(o) for m, o in (method_options or {}).items()}
-    if neumann is not None:
-        params["neumann"] = [neumann] if isinstance(neumann, str) else list(neumann)
-    if robin is not None:
-        params["robin"] = [robin] if isinstance(robin, str) else list(robin)
-    if mobility is not None:
-        params["mobility"] = [mobility] if isinstance(mobility, str) else [str(m) for m in mobility]
+    params = _checked_study_params(dict(locals()))
+    params["seeds"] = _args.integers(seeds, "seeds", minimum=0)
+    params["fix_constant"] = _args.flag(fix_constant, "fix_constant")
+    params["perturb_boundary"] = _args.flag(perturb_boundary, "perturb_boundary")
+    params["infeasible_tol"] = _args.number(infeasible_tol, "infeasible_tol", positive=True)
+    for key in ("solver", "petsc_options", "on_infeasible"):
+        params[key] = _args.text(params[key], key)
+    for key in ("neumann", "robin"):
+        params[key] = _args.expressions(params[key], key)
+    params["beta"] = _args.expression(beta, "beta")
     return _vrsph._study(params)
+
+
+def _checked_study_params(params: dict) -> dict:
+    """The parameters study() and operator_study() share, checked and converted."""
+    params["methods"] = _args.names(params["methods"], "methods")
+    params["n"] = _args.integers(params["n"], "n", minimum=1)
+    params["method_options"] = _args.per_method_options(params["method_options"], "method_options")
+    params["cloud"] = _args.text(params["cloud"], "cloud")
+    params["h_mode"] = _args.text(params["h_mode"], "h_mode")
+    for key in ("problem", "kernel", "layout"):
+        if key in params:
+            params[key] = _args.optional_text(params[key], key)
+    if params.get("dim") is not None:
+        params["dim"] = _args.integer(params["dim"], "dim", minimum=1)
+    for key in ("h_factor", "delta"):
+        if params.get(key) is not None:
+            params[key] = _args.number(params[key], key, positive=key == "h_factor", minimum=0.0)
+    params["regular_layer"] = _args.number(params["regular_layer"], "regular_layer", minimum=0.0)
+    for key in ("u", "a", "f", "g", "q", "exact"):
+        if key in params:
+            params[key] = _args.expression(params[key], key)
+    if params.get("mobility") is not None:
+        params["mobility"] = _args.expressions(params["mobility"], "mobility")
+    return params
 
 
 def operator_study(problem: str = "qw-trunc", methods: Sequence[str] = ("sph",), operator: str = "laplacian",
@@ -272,8 +311,9 @@ def operator_study(problem: str = "qw-trunc", methods: Sequence[str] = ("sph",),
                    u: str | None = None, exact: str | None = None, a: str | None = None) -> dict:
     """An operator (truncation-error) study as ``vrsph operator`` runs it: ``{"rows": [...],
     "fitted_order_inf": {...}, ...}`` with the fields of the CLI's JSON."""
-    params = dict(locals())
-    params["methods"] = [methods] if isinstance(methods, str) else list(methods)
-    params["n"] = [int(v) for v in n]
-    params["method_options"] = {m: dict(o) for m, o in (method_options or {}).items()}
+    params = _checked_study_params(dict(locals()))
+    params["operator"] = _args.text(operator, "operator")
+    params["seed"] = _args.integer(seed, "seed", minimum=0)
+    if ghosts is not None:
+        params["ghosts"] = _args.flag(ghosts, "ghosts")
     return _vrsph._operator_study(params)

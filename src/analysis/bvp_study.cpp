@@ -13,6 +13,7 @@
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/cloud/box_faces.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/interrupt.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -392,6 +393,7 @@ BvpStudyResult run_bvp_study(const BvpStudyParams& p) {
       std::vector<Real> einf, erel;
       Real el2 = 0, ein = 0, ebd = 0;
       for (std::size_t s = 0; s < seeds.size(); ++s) {
+        check_interrupt();  // between runs: a stop asked for (Ctrl-C in Python)
         BvpRun r = run_validated(p, m, n, seeds[s], false, &result.warnings, nullptr);
         einf.push_back(r.errors.all.linf);
         erel.push_back(r.error_rel);

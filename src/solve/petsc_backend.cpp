@@ -11,7 +11,9 @@
 #include <cstdlib>
 #include <mutex>
 #include <sstream>
+#include <utility>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/interrupt.hpp>
 #include <vrsph/core/parse.hpp>
 #include "../parallel/petsc_runtime.hpp"
 #include "backends.hpp"
@@ -66,6 +68,7 @@ std::vector<std::string> option_names(const std::string& s) {
 struct MonitorContext {
   SolveReport* report = nullptr;  // the report of the solve under way
   std::function<void(int, Real)> callback;
+  bool interrupted = false;       // a stop was asked for (check_interrupt): the solve ends
 };
 
 PetscErrorCode monitor(KSP, PetscInt it, PetscReal rnorm, void* ctx) {
@@ -73,6 +76,10 @@ PetscErrorCode monitor(KSP, PetscInt it, PetscReal rnorm, void* ctx) {
   try {  // no C++ exception may cross PETSc's C frames: it becomes a PETSc error code
     if (m->report) m->report->residual_history.push_back(rnorm);
     if (m->callback) m->callback(static_cast<int>(it), rnorm);
+    if (interrupt_pending(0, 1)) {
+      m->interrupted = true;
+      return PETSC_ERR_USER;
+    }
   } catch (...) {
     return PETSC_ERR_USER;
   }
@@ -235,6 +242,7 @@ class PetscBackend final : public Backend {
     monitor_.report = &rep;
     const PetscErrorCode code = KSPSolve(ksp_, bv, xv);
     monitor_.report = nullptr;
+    if (std::exchange(monitor_.interrupted, false)) check_interrupt();  // throws Interrupted
     call(code, concat("solve (", name, ")"));
     KSPConvergedReason converged;
     PetscInt its = 0;

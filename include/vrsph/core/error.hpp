@@ -47,6 +47,12 @@ class ResourceError : public ConfigError {
  public:
   using ConfigError::ConfigError;
 };
+/// The caller asked the library to stop (its interrupt check, vrsph/core/interrupt.hpp,
+/// returned true: Ctrl-C in Python). Not a failure of the input or the method.
+class Interrupted : public Error {
+ public:
+  using Error::Error;
+};
 
 namespace detail {
 template <class... Parts>

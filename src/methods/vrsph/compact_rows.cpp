@@ -4,6 +4,7 @@
 #include <tuple>
 #include <cmath>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/interrupt.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
 #include <vrsph/methods/vrsph/moments.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
@@ -153,7 +154,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
     for (Index i = 0; i < n; ++i) {
       const auto si = static_cast<std::size_t>(i);
       const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
-      if (!wanted) continue;
+      if (!wanted || interrupt_pending(i)) continue;  // (after a stop request: skipped, see below)
       const auto nbr = nl.of(i);
       const std::size_t cnt = nbr.size();
       const bool wall = any_wall && walls.rows[si];
@@ -220,6 +221,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
       }
     }
   }
+  check_interrupt();  // rows skipped after a stop request: the result is incomplete
   return out;
 }
 
