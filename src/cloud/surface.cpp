@@ -50,6 +50,14 @@ struct ClosedSurface::Impl {
   bool has_neumann_region = false;
   Triangles dirichlet_triangles;
   std::optional<TriangleTree> dirichlet_tree;
+  // Everything above is in the surface's own frame, x̂ = (x - origin) / unit with unit the
+  // largest side of the bounding box: CGAL's predicates (the inside test's ray shooting
+  // fell back to exact arithmetic for ever at 1e20) and every tolerance see O(1) numbers,
+  // whatever the file's length unit. The public methods take and give file coordinates.
+  Vec3 origin = Vec3::Zero();
+  Real unit = 1;
+  Vec3 to_frame(const Vec3& x) const { return (x - origin) / unit; }
+  Vec3 from_frame(const Vec3& x) const { return origin + unit * x; }
 };
 
 namespace {
@@ -76,26 +84,39 @@ ClosedSurface::ClosedSurface(ClosedSurface&&) noexcept = default;
 ClosedSurface& ClosedSurface::operator=(ClosedSurface&&) noexcept = default;
 ClosedSurface::~ClosedSurface() = default;
 
-std::size_t ClosedSurface::triangles() const { return impl_->mesh.number_of_faces(); }
-Real ClosedSurface::area() const { return impl_->area; }
-Real ClosedSurface::volume() const { return impl_->volume; }
-Vec3 ClosedSurface::lo() const { return impl_->lo; }
-Vec3 ClosedSurface::hi() const { return impl_->hi; }
-bool ClosedSurface::contains(const Vec3& x) const { return (*impl_->side)(point(x)) != CGAL::ON_UNBOUNDED_SIDE; }
-Real ClosedSurface::distance(const Vec3& x) const { return std::sqrt(impl_->tree->squared_distance(point(x))); }
-const std::vector<std::string>& ClosedSurface::regions() const { return impl_->regions; }
-
-bool ClosedSurface::on_neumann_region(const Vec3& x) const {
-  const auto& impl = *impl_;
+namespace {
+// The queries in the surface's own frame (fill_surface works in it throughout).
+bool contains_in_frame(const ClosedSurface::Impl& impl, const Vec3& x) {
+  return (*impl.side)(point(x)) != CGAL::ON_UNBOUNDED_SIDE;
+}
+Real distance_in_frame(const ClosedSurface::Impl& impl, const Vec3& x) {
+  return std::sqrt(impl.tree->squared_distance(point(x)));
+}
+bool on_neumann_region_in_frame(const ClosedSurface::Impl& impl, const Vec3& x) {
   if (!impl.has_neumann_region) return false;
   if (!impl.dirichlet_tree) return true;  // every region is Neumann
   // On a Dirichlet region's face (to round-off): Dirichlet, also where it meets a Neumann one.
   const Real tol = 1e-9 * (impl.hi - impl.lo).norm();
   return impl.dirichlet_tree->squared_distance(point(x)) > tol * tol;
 }
+}  // namespace
+
+std::size_t ClosedSurface::triangles() const { return impl_->mesh.number_of_faces(); }
+Real ClosedSurface::area() const { return impl_->area * impl_->unit * impl_->unit; }
+Real ClosedSurface::volume() const { return impl_->volume * impl_->unit * impl_->unit * impl_->unit; }
+Vec3 ClosedSurface::lo() const { return impl_->from_frame(impl_->lo); }
+Vec3 ClosedSurface::hi() const { return impl_->from_frame(impl_->hi); }
+bool ClosedSurface::contains(const Vec3& x) const { return contains_in_frame(*impl_, impl_->to_frame(x)); }
+Real ClosedSurface::distance(const Vec3& x) const { return impl_->unit * distance_in_frame(*impl_, impl_->to_frame(x)); }
+const std::vector<std::string>& ClosedSurface::regions() const { return impl_->regions; }
+
+bool ClosedSurface::on_neumann_region(const Vec3& x) const {
+  return on_neumann_region_in_frame(*impl_, impl_->to_frame(x));
+}
 
 std::vector<Vec3> ClosedSurface::sample(Real step) const {
   check<ConfigError>(std::isfinite(step) && step > 0, "surface sampling step must be positive, got ", step);
+  step /= impl_->unit;
   std::vector<Vec3> out;
   for (auto f : impl_->mesh.faces()) {
     const auto c = corners(impl_->mesh, f);
@@ -106,7 +127,7 @@ std::vector<Vec3> ClosedSurface::sample(Real step) const {
     for (int i = 0; i <= m; ++i)
       for (int j = 0; i + j <= m; ++j) {
         const Real a = static_cast<Real>(i) / m, b = static_cast<Real>(j) / m;
-        out.push_back(c[0] + a * (c[1] - c[0]) + b * (c[2] - c[0]));
+        out.push_back(impl_->from_frame(c[0] + a * (c[1] - c[0]) + b * (c[2] - c[0])));
       }
   }
   return out;
@@ -131,13 +152,24 @@ ClosedSurface read_closed_surface(const std::string& path) {
   for (std::size_t k = 0; k < soup.points.size(); ++k)
     check<InputError>(soup.points[k].cwiseAbs().maxCoeff() <= max_coordinate, path, ": vertex ", k, " is beyond +-",
                       max_coordinate, " (rescale the geometry)");
+  ClosedSurface s;
+  auto& impl = *s.impl_;
+  if (!soup.points.empty()) {  // the surface's own frame (see Impl)
+    Vec3 lo = soup.points.front(), hi = lo;
+    for (const Vec3& x : soup.points) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    impl.origin = lo;
+    const Real side = (hi - lo).maxCoeff();
+    impl.unit = side > 0 && std::isfinite(side) ? side : 1;
+    for (Vec3& x : soup.points) x = impl.to_frame(x);
+  }
   // The soup (indices validated by the reader) into a mesh: duplicate points merged,
   // degenerate and repeated faces dropped, faces oriented consistently.
   std::vector<K::Point_3> points;
   points.reserve(soup.points.size());
   for (const Vec3& x : soup.points) points.push_back(point(x));
-  ClosedSurface s;
-  auto& impl = *s.impl_;
   impl.regions = soup.regions;
   for (const auto& name : soup.regions) impl.has_neumann_region |= to_lower(name).find("neumann") != std::string::npos;
   if (impl.has_neumann_region) {  // the other regions' faces, fan-triangulated, for the tag of boundary particles
@@ -292,25 +324,30 @@ void add_surface_particles(const ClosedSurface& surface, const GeometryFill& f, 
     cloud.tags.push_back(t);
     cloud.normals.push_back(n);
   };
-  const auto kind = [&surface](const Vec3& x) { return surface.on_neumann_region(x) ? Tag::Neumann : Tag::Dirichlet; };
+  const auto kind = [&impl](const Vec3& x) { return on_neumann_region_in_frame(impl, x) ? Tag::Neumann : Tag::Dirichlet; };
   for (std::size_t k = 0; k < fixed.size(); ++k) put(fixed[k], kind(fixed[k]), fixed_nrm[k]);
   for (std::size_t k : thin_to_blue_noise(cand, blue_noise_radius_factor(2) * f.spacing, fixed, f.seed + 2))
     put(cand[k], kind(cand[k]), cand_nrm[k]);
 }
 }  // namespace
 
-PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
-  check<ConfigError>(std::isfinite(f.spacing) && f.spacing > 0, "the spacing must be positive and finite, got ", f.spacing);
-  check<ConfigError>(std::isfinite(f.delta) && f.delta >= 0 && f.delta < 0.5, "the perturbation must be in [0, 0.5), got ",
-                     f.delta);
+PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& fill) {
+  check<ConfigError>(std::isfinite(fill.spacing) && fill.spacing > 0, "the spacing must be positive and finite, got ",
+                     fill.spacing);
+  check<ConfigError>(std::isfinite(fill.delta) && fill.delta >= 0 && fill.delta < 0.5,
+                     "the perturbation must be in [0, 0.5), got ", fill.delta);
+  // The whole fill runs in the surface's own frame (see ClosedSurface::Impl); the particles
+  // are mapped back to the file's coordinates at the end.
   const auto& impl = surface.impl();
+  GeometryFill f = fill;
+  f.spacing = fill.spacing / impl.unit;
   const Vec3 lo = impl.lo, hi = impl.hi;
   const Real smallest = (hi - lo).minCoeff();
-  check<ConfigError>(f.spacing * 3 <= smallest, "the spacing ", f.spacing, " is too large for the geometry: its ",
-                     "bounding box is ", smallest, " thin (at least 3 particles across are needed)");
+  check<ConfigError>(f.spacing * 3 <= smallest, "the spacing ", fill.spacing, " is too large for the geometry: its ",
+                     "bounding box is ", smallest * impl.unit, " thin (at least 3 particles across are needed)");
   const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1) * ((hi[2] - lo[2]) / f.spacing + 1);
   const double on_surface = 30 * impl.area / (f.spacing * f.spacing);
-  check<ResourceError>(lattice < 2e9 && on_surface < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
+  check<ResourceError>(lattice < 2e9 && on_surface < 2e9, "a spacing of ", fill.spacing, " would put ", lattice,
                        " lattice points over the geometry: choose a larger spacing");
   check_memory_estimate(lattice / f.parts * (2 * sizeof(Vec3) + sizeof(Tag)) + (f.part == 0 ? on_surface * 2 * sizeof(Vec3) : 0),
                         detail::concat("the cloud of the geometry (up to ", lattice, " particles)"), "choose a larger --spacing");
@@ -320,11 +357,15 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& f) {
   cloud.spacing = f.spacing;
   if (f.part == 0) add_surface_particles(surface, f, cloud);  // (a part > 0: interior layers only)
   // Interior: at least half a spacing inside the surface.
-  const auto admissible = [&](const Vec3& x) { return surface.contains(x) && surface.distance(x) >= 0.5 * f.spacing; };
+  const auto admissible = [&](const Vec3& x) {
+    return contains_in_frame(impl, x) && distance_in_frame(impl, x) >= 0.5 * f.spacing;
+  };
   detail::add_interior_particles(cloud, lo, hi, f, f.seed + 3, admissible);
   // A plate or needle thinner than about one spacing leaves no particle half a spacing inside.
   check<ConfigError>(f.parts > 1 || cloud.count(Tag::Interior) > 0, "the geometry leaves no room for interior particles ",
-                     "at the spacing ", f.spacing, " (it is thinner than about one spacing); choose a smaller --spacing");
+                     "at the spacing ", fill.spacing, " (it is thinner than about one spacing); choose a smaller --spacing");
+  for (Vec3& x : cloud.positions) x = impl.from_frame(x);
+  cloud.spacing = fill.spacing;
   if (cloud.size() > 0 || f.parts == 1) validate(cloud);  // (a part may be empty)
   return cloud;
 }

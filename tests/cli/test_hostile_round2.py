@@ -225,6 +225,27 @@ class SurfaceOrientation(unittest.TestCase):
             self.assertGreater(len(normals), 20)
 
 
+class SurfaceUnits(unittest.TestCase):
+    """A solid in any length unit gives the same cloud (the inside test ran for ever at 1e20)."""
+
+    def test_the_same_solid_at_1e_minus_8_and_1e20(self):
+        with tempfile.TemporaryDirectory() as work:
+            counts = []
+            for s in (1e-8, 1.0, 1e20):
+                stl, out = os.path.join(work, f"g{s!r}.stl"), os.path.join(work, f"c{s!r}.csv")
+                tris = [tuple(tuple(c * s for c in p) for p in t) for t in cube((0, 0, 0), (1, 1, 1))]
+                write_stl(stl, [("a", tris)])
+                p = run("cloud", "--geometry", stl, "--spacing", repr(0.25 * s), "--output", out)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                with open(out) as f:
+                    rows = list(csv.DictReader(f))
+                counts.append((len(rows), sum(r["tag"] == "interior" for r in rows)))
+                xs = sorted(float(r["x"]) / s for r in rows)
+                self.assertAlmostEqual(xs[0], 0.0, places=9)
+                self.assertAlmostEqual(xs[-1], 1.0, places=9)
+            self.assertEqual(len(set(counts)), 1, counts)
+
+
 class LongExpressions(unittest.TestCase):
     def test_an_over_long_expression_is_not_echoed_whole(self):
         expr = "x+" * 10000 + "(("
@@ -234,5 +255,5 @@ class LongExpressions(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    VRSPH = sys.argv.pop(1)
+    VRSPH = os.path.abspath(sys.argv.pop(1))
     unittest.main(verbosity=2)
