@@ -163,6 +163,12 @@ std::vector<XiStatisticsRow> xi_statistics(int dim, const std::vector<int>& coun
   check<ConfigError>(dim == 2 || dim == 3, "ξ statistics: dimension 2 or 3, got ", dim);
   check<ConfigError>(configurations >= 2 && configurations <= 100000, "ξ statistics: configurations must be "
                      "2..100000, got ", configurations);
+  // Up front: every configuration draws and evaluates m neighbours (~1e-7 s each here).
+  double work = 0;
+  for (int m : counts) work += static_cast<double>(configurations) * std::max(m, 0);
+  check<ConfigError>(work <= 2e9, "ξ statistics: ", configurations, " configurations x ", work / configurations,
+                     " neighbours = ", work, " neighbour evaluations (minutes to hours); lower --configurations or "
+                     "--neighbours (at most 2e9)");
   const Real measure = dim == 2 ? std::numbers::pi : 4 * std::numbers::pi / 3;
   const Kernel ker(KernelType::CubicSplineSPE, dim, 2.0);  // h̃ = 1, support 2
   std::vector<XiStatisticsRow> out;

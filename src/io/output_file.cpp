@@ -93,6 +93,10 @@ void check_target(const std::string& path, const std::string& what) {
   check<IoError>(!path.empty(), "no file name given for the ", what);
   std::error_code ec;
   check<IoError>(!fs::is_directory(path, ec), "cannot write ", what, " '", path, "': it is a directory (give a file name)");
+  // A rename would replace a file the user made read-only: refuse as writing it in place would.
+  errno = 0;
+  check<IoError>(!fs::exists(path, ec) || ::access(path.c_str(), W_OK) == 0, "cannot open ", what, " '", path,
+                 "' for writing", reason());
 }
 
 void write_stream(const std::string& file, const std::string& shown, const std::string& what,
@@ -110,6 +114,10 @@ void write_stream(const std::string& file, const std::string& shown, const std::
 }
 
 void rename_into_place(PendingTemporary& tmp, const fs::path& target, const std::string& shown, const std::string& what) {
+  // A file replaced keeps its permissions (a temporary is created with the umask's).
+  std::error_code ec;
+  const fs::file_status old = fs::status(target, ec);
+  if (!ec && fs::exists(old)) fs::permissions(tmp.path(), old.permissions(), ec);
   errno = 0;
   check<IoError>(std::rename(tmp.path().c_str(), target.c_str()) == 0, "cannot move the finished ", what, " into place at '",
                  shown, "'", reason());

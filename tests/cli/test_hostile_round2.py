@@ -31,7 +31,8 @@ class OpenMpEnvironment(unittest.TestCase):
     def test_thread_count_beyond_the_cores_is_capped_with_a_warning(self):
         p = run("study", "--n", "8", "--format", "json", env=dict(os.environ, OMP_NUM_THREADS="100000000"))
         self.assertEqual(p.returncode, 0, p.stderr)
-        self.assertIn("asks for more threads than the", p.stderr)
+        if os.environ.get("VRSPH_TEST_OPENMP", "1") == "1":  # (the sanitizer build has no OpenMP)
+            self.assertIn("asks for more threads than the", p.stderr)
 
     def test_unusable_stack_sizes_are_configuration_errors(self):
         for value in ("1000000G", "abc", "-5M", "0"):
