@@ -83,8 +83,7 @@ void apply_problem_file(CLI::App& cmd, const std::string& path) {
     } catch (const CLI::OptionNotFound&) {
     }
     // --help, --help-all and --version are actions, not settings: a problem file holds settings.
-    const bool action = opt != nullptr && (opt == cmd.get_help_ptr() || opt == cmd.get_help_all_ptr() ||
-                                           e.key == "version" || e.key == "help" || e.key == "help-all");
+    const bool action = e.key == "help" || e.key == "help-all" || e.key == "version";
     check<ConfigError>(opt != nullptr && !action, e.where, ": unknown key '", e.key, "' (not an option of vrsph ",
                        cmd.get_name(), " that a problem file can set; see vrsph ", cmd.get_name(), " --help)");
     if (opt->count() > 0) continue;  // the command line wins

@@ -27,8 +27,6 @@ void poll() {
 
 void set_interrupt_check(InterruptCheck check) { the_check.store(check); }
 
-void clear_interrupt() { requested.store(false); }
-
 void check_interrupt() {
   poll();
   if (requested.exchange(false)) throw Interrupted("interrupted");

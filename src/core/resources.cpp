@@ -66,14 +66,23 @@ std::size_t cgroup_headroom() {
   return 0;
 }
 
+// This process's mapped (VmSize) and resident (VmRSS) bytes from /proc/self/statm; 0 if unknown.
+struct Statm {
+  std::size_t mapped = 0, resident = 0;
+};
+Statm statm() {
+  std::ifstream f("/proc/self/statm");
+  std::size_t size = 0, resident = 0;
+  if (!(f >> size >> resident)) return {};
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  return {size * page, resident * page};
+}
+
 // The address space this process may still map under RLIMIT_AS (ulimit -v); 0 = unlimited.
 std::size_t address_space_headroom() {
   rlimit rl{};
   if (::getrlimit(RLIMIT_AS, &rl) != 0 || rl.rlim_cur == RLIM_INFINITY) return 0;
-  std::ifstream f("/proc/self/statm");
-  std::size_t pages = 0;
-  f >> pages;
-  const std::size_t mapped = pages * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const std::size_t mapped = statm().mapped;
   return rl.rlim_cur > mapped ? static_cast<std::size_t>(rl.rlim_cur) - mapped : 1;
 }
 
@@ -158,12 +167,7 @@ bool reset_peak_resident_memory() {
   return static_cast<bool>(f);
 }
 
-std::size_t resident_memory_bytes() {
-  std::ifstream f("/proc/self/statm");
-  std::size_t size = 0, resident = 0;
-  if (!(f >> size >> resident)) return 0;
-  return resident * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
-}
+std::size_t resident_memory_bytes() { return statm().resident; }
 
 void check_memory_estimate(double bytes, const std::string& what, const std::string& advice) {
   // The address space left under ulimit -v binds whatever the budget says: allocations
@@ -171,10 +175,9 @@ void check_memory_estimate(double bytes, const std::string& what, const std::str
   // The address space a run maps exceeds what it holds resident (allocator arenas, thread
   // stacks, fragmentation): measured under ulimit -v 2G, a study whose estimate was 0.89 of the
   // room left ran out in std::bad_alloc and one at 0.80 completed; 0.85 separates them.
-  const std::size_t mappable = address_space_headroom();
-  if (mappable > 0 && bytes > 0.85 * static_cast<double>(mappable))
-    throw ResourceError(detail::concat(what, " needs about ", format_bytes(bytes), ", more than the ",
-                                       format_bytes(0.85 * static_cast<double>(mappable)),
+  const double usable = 0.85 * static_cast<double>(address_space_headroom());
+  if (usable > 0 && bytes > usable)
+    throw ResourceError(detail::concat(what, " needs about ", format_bytes(bytes), ", more than the ", format_bytes(usable),
                                        " of address space this process may still use (85 % of what its limit, ulimit "
                                        "-v, leaves); ",
                                        advice));

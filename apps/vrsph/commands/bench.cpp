@@ -39,9 +39,8 @@ StudyCloud bench_cloud(const BenchArgs& a) {
   check<ConfigError>(a.dim >= 1 && a.dim <= 3, "--dim must be 1, 2 or 3");
   // Repetitions times particles: each repetition rebuilds every particle's row (~1e-6 s each
   // for VRSPH on one core); beyond 1e10 row builds a benchmark runs for hours.
-  const double rows = std::pow(static_cast<double>(a.n) + 1, a.dim) * a.repeat;
-  check<ConfigError>(a.repeat <= 10000 && rows <= 1e10, "--repeat ", a.repeat, " x ", std::pow(a.n + 1.0, a.dim),
-                     " particles = ", rows, " row builds per method (hours); lower --repeat or --n (at most 10000 "
+  const double particles = std::pow(a.n + 1.0, a.dim), rows = particles * a.repeat;
+  check<ConfigError>(a.repeat <= 10000 && rows <= 1e10, "--repeat ", a.repeat, " x ", particles, " particles = ", rows, " row builds per method (hours); lower --repeat or --n (at most 10000 "
                      "repetitions and 1e10 row builds)");
   set_thread_count(a.threads);
   CloudSpec spec;

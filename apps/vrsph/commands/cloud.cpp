@@ -18,7 +18,6 @@
 #include <vrsph/cloud/surface.hpp>
 #include <vrsph/io/cloud_file.hpp>
 #include <vrsph/io/csv.hpp>
-#include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>
 #include <vrsph/neighbours/brute_force.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -199,7 +198,6 @@ void add_cloud_command(CLI::App& app) {
     PointCloud cloud;
     std::vector<NamedField> data_columns;  // a cloud file's data columns: a conversion keeps them
     std::optional<GeometryCloud> geometry;
-    check_output_is_not_input(a->output, a->input, "--output");
     if (!a->input.empty()) {
       const int dim = cmd->count("--dim") ? a->dim : 0;
       CloudFile file = read_cloud_file(a->input, dim);

@@ -21,7 +21,4 @@ void check_interrupt();
 /// the loop, check_interrupt() throws on the calling thread.
 bool interrupt_pending(long long iteration, long long every = 256);
 
-/// Clears a stop request (at the start of a library call that checks).
-void clear_interrupt();
-
 }  // namespace vrsph
