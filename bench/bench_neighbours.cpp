@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Google Benchmark: neighbour search backends and the SPH stencil build on perturbed
 // unit lattices. Compare rows of one run with each other (the machine is shared);
 // `vrsph bench neighbours` reports the same comparison as ratios.

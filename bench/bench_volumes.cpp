@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Google Benchmark: the two stages of VRSPH's volume reconstruction on perturbed lattices,
 // one particle's system at a time — building the moment system, and the NNLS solve on
 // systems built beforehand. Compare rows of one run with each

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Solver iterations of the default PETSc solver (GMRES + BoomerAMG) across sizes and problems.
 
 Usage: iteration_table.py VRSPH_BINARY [--sizes 100,316,1000] [--threads 2] [--json out.json]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Overhead of the Python face: the same VRSPH Laplacian (neighbour search + stencil) built
 from Python (vrsph.stencil, SciPy matrix included) and by the CLI (`vrsph operator`, its
 seconds_neighbours + seconds_stencil), in one run, on the same perturbed cloud.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Strict warnings for everything vrsph compiles itself (library, CLI, tests).
 add_library(vrsph_warnings INTERFACE)
 target_compile_options(vrsph_warnings INTERFACE

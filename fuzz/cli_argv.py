@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Grammar-based fuzzing of the whole vrsph argument vector.
 
 Draws random command lines from every subcommand's options, mixing valid values with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: the CSV point-cloud reader, and what a user does next with a
 // cloud it accepted (spacing estimate, neighbour search). Only vrsph::Error may
 // escape the library; anything else (a crash, a sanitizer report, another exception,

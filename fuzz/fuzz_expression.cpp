@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: user expressions (--u, --a, --f, --g, --q). The text is parsed
 // as a muParser expression and as a catalogue-or-expression function, then evaluated
 // with its finite-difference gradient and Laplacian at a few points. Only

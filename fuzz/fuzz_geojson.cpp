@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: the GeoJSON polygon reader and the polygon fill (the geometry checks,
 // point-in-polygon, boundary normals) at a spacing of 1/8 of the polygon's extent. Only
 // vrsph::Error may escape; anything else (a crash, a sanitizer report, another exception, a

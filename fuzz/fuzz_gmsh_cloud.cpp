@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: the Gmsh mesh reader (MSH 4.1 and 2.2 sections, element tables, boundary
 // detection and normals). Only vrsph::Error may escape; anything else (a crash, a sanitizer
 // report, another exception, a hang) is a finding.

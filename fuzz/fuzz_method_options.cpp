@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: --method-opt items (one key=value per line) given to every
 // registered method, which parses and validates them in its constructor. Only
 // vrsph::Error may escape.

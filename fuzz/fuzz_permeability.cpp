@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: the SPE10-style permeability reader (read_permeability) with the grid,
 // subset and dimension taken from the input's first line ("I J K i0:i1 j0:j1 k0:k1 dim"), the
 // rest being the file. Grid sizes near the 32-bit limit and files far too short for their

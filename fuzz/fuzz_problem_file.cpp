@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: problem files (TOML) applied to a command with options of every kind
 // the real commands have (text, integer, real, list, flag, path). toml++ parses, then every
 // key is matched, converted and checked. Only vrsph::Error may escape; anything else (a

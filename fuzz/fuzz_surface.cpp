@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: closed surfaces (our STL ASCII/binary, OFF and OBJ readers, then CGAL's
 // soup repair, orientation and mesh building; the first byte picks the format), the closedness / self-intersection / orientation checks,
 // and, for small surfaces, the fill and the boundary sample. Only vrsph::Error may escape;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer harness: the VTK XML (.vtu/.vtp) cloud reader — XML, base64, zlib blocks and
 // appended data offsets all come from the input — and the neighbour search on a cloud it
 // accepted. Only vrsph::Error may escape; anything else (a crash, a sanitizer report,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Replays a libFuzzer corpus without libFuzzer: calls the harness once per file of
 // the directories (or files) named on the command line. Built with the regular
 // compiler, it runs the kept corpora under ASan/UBSan in CTest (label fuzz-replay).

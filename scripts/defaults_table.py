@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Issue 30's before/after table: the max-norm error and observed orders of `vrsph` with its
 default rows (rhs=compact, flux=balance) against [QW]'s rows (profile=qw, the defaults before
 issue 30) on the problems a new user meets: a perforated plate with Neumann holes, [QW]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds the libFuzzer harnesses (clang, ASan + UBSan; preset `fuzz`) and fuzzes each for
 # SECONDS (default 600), one after the other. New inputs that add coverage are merged
 # (minimised) into fuzz/corpus/<harness>, which CTest replays (label fuzz-replay).

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Accuracy per unknown against P1 finite elements on exactly the same points (issue 17 item 3).
 
 For each cloud family and n: `vrsph cloud --family F --n N --output cloud.csv` writes the points,

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Plot of a vrsph JSON table (rows[] grouped by a column).
 
 Usage: plot_convergence.py TABLE.json OUT.png --x dx --y error_inf --group method [--title T] [--linear]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Picture of a solution on a point cloud: the field CSV of `vrsph solve` (x,y,z,tag,u[,...,error]).
 
 Usage: plot_field.py FIELDS.csv OUT.png --dim D [--title T]

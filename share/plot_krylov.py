@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Residual histories of the Krylov study ([SPE] Figs. 11-12): one panel per discretisation,
 one line per preconditioner, relative residual on a log scale against the GMRES iteration.
 

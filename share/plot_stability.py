@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Complex-plane cloud of von Neumann growth factors with the unit circle ([SPE] Fig. 5).
 
 Usage: plot_stability.py DATA.json OUT.png

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "cli_common.hpp"
 #ifdef _OPENMP
 #include <omp.h>

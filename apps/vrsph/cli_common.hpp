@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Helpers shared by the vrsph subcommands: output, plotting, progress, list parsing.
 #include <chrono>

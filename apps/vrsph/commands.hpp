@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Each subcommand registers itself on the CLI11 app; the callbacks may throw
 // vrsph::Error, which main() turns into a message and an exit code.

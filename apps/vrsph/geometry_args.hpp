@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Geometries in the CLI: `vrsph cloud --geometry` and `vrsph solve|study --geometry` fill a
 // polygon or closed surface the same way, with boundary tags from expressions.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Problem files: `vrsph solve --config problem.toml` (and `study`). A TOML file whose keys
 // are the command's long option names without the dashes; tables only group keys

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """L-shaped domain [-1,1]^2 minus (0,1]x[-1,0): perturbed lattice clouds l_{n}.csv for the
 sizes given (spacing 2/n), boundary particles tagged dirichlet. Standard library only.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Runs example 02 in a scratch directory and checks what its README states. Usage: check.py VRSPH"""
 import json
 import math

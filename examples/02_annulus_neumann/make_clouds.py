@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Annulus 0.5 <= r <= 1: particles on rings (spacing ~ 0.5/n radially and along each ring,
 every ring rotated by a random angle), the outer ring Dirichlet, the inner ring Neumann with
 the domain's outward normal -x/r. Writes a_{n}.csv for the sizes given. Standard library only.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Adds data columns to a cloud CSV (x,y,...): a layered coefficient k (1 below y = 0.5, 100
 above, a smooth step of width 0.05), a unit source src = -1 and wall values g = 0.
 Usage: add_columns.py IN.csv OUT.csv"""

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Writes torus.stl, a closed ASCII STL surface: the torus of radii R = 1 (centre line) and
 r = 0.4 (tube) about the z axis, as 96 x 32 quads split into triangles, outward facing.
 Usage: make_stl.py DIRECTORY"""

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The Laplacian of u = sin(pi x) sin(pi y) on a cloud made with numpy (a lattice jittered by
 up to half a spacing, boundary particles on the square's edges): VRSPH against classic SPH.
 

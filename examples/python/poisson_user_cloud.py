@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """A Poisson problem on a cloud of one's own: the annulus 0.4 <= r <= 1 built with numpy,
 Dirichlet on the outer circle, the flux du/dn on the inner one (outward normals point into
 the hole), u = x^2 - y^2 + x y (harmonic: f = 0). One call solves it; matplotlib draws it.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """[QW] Table 2 (Example 5 on perturbed particles, mean over five seeds) in ten lines."""
 import vrsph
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Umbrella header: the whole public surface of vrsph.
 #include <vrsph/analysis/bvp_study.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The pybind11 module vrsph._vrsph, split by topic to keep each translation unit small (the
 // pybind11 headers are heavy on a 2-core build). The Python package vrsph (python/vrsph/)

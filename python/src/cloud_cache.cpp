@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "cloud_cache.hpp"
 #include <algorithm>
 #include <cstring>

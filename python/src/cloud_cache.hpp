@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The spacing and neighbour lists of a Python Cloud, computed once and reused by stencil()
 // and solve() (issue 30: every call re-estimated the spacing, 0.12 s at 1e5 particles, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Clouds: the built-in families, clouds from numpy arrays and files, geometries, VTU output.
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/cloud/geometry.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Boundary value problems: one solve on a cloud (data as expressions or arrays; the Python
 // layer turns callables into arrays), and the convergence study with the CLI's fields.
 #include <cmath>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Issue 31, class 9: the Python API checks its arguments itself. A wrong value or type is a
 vrsph.Error subclass that names the parameter (ConfigError: a ValueError; ArgumentTypeError: a
 TypeError), never a silent default (h=nan used the default h), a truncation (n=[8.7] ran n=8)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The tutorial scripts of examples/python run and say what they promise."""
 import os
 import subprocess

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """solve() and study(): equal to the CLI, data as strings/arrays/callables, every exception type."""
 import numpy as np
 import pytest

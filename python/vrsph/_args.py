@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Checks of the Python API's arguments before they reach the compiled core: a wrong type or
 value is a ``vrsph.Error`` subclass naming the parameter (never pybind11's "Unable to cast
 Python instance to C++ type", never a silently truncated or defaulted value)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Point clouds: the built-in families of the papers' studies, clouds from arrays and
 geometries (the same generators as ``vrsph cloud``)."""
 from __future__ import annotations

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 from ._vrsph import Cloud as Cloud
 
 def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vertex") -> Cloud: ...

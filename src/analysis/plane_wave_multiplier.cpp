@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/analysis/plane_wave_multiplier.hpp>
 #include <vrsph/core/error.hpp>

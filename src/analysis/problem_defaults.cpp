@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <vrsph/analysis/problem_defaults.hpp>
 
 namespace vrsph {

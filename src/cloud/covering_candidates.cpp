@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Candidate maximisers of the nearest-particle distance from the Delaunay structure.
 // CGAL stays in this file (compiled in the vrsph_cgal object library).
 #include <CGAL/Delaunay_triangulation_2.h>

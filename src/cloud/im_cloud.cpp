@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/cloud/im_cloud.hpp>
 #include <vrsph/core/error.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The interior particles of a geometry fill, shared by the polygon (polygon.cpp) and the closed
 // surface (surface.cpp): the same lattice or blue-noise rule in 2D and 3D.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Centroids of a CGAL Delaunay triangulation / tetrahedralisation of a jittered node
 // lattice, whole or one part of it. CGAL is included only here (heavy headers stay out of
 // the library).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Counter-based uniform random numbers: reproducible regardless of thread count
 // and identical on every platform (std:: distributions are not).

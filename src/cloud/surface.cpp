@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Closed triangle surfaces (CGAL Surface_mesh, AABB tree, Side_of_triangle_mesh) built from
 // the polygon soups of polygon_soup.cpp, and their particle fill. CGAL stays in this file
 // (compiled in the vrsph_cgal object library).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Measures of Voronoi cells clipped to the domain (see cloud/voronoi.hpp).
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal: Gauss–Legendre quadrature, for kernel normalisations and the Neumann
 // compatibility integrals.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal: which nodes can reach a seed node along directed edges i -> j. The edges are
 // stored reversed in CSR form (for each j, every i with an edge i -> j), built in two

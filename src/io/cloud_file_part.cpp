@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A cloud file read by several ranks together: CSV by byte ranges (each rank parses only
 // its own rows), other formats on rank 0 and handed out in slices. See cloud_file.hpp.
 #include <array>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The CSV cloud reader in pieces (csv.cpp), so that a file can also be read by several
 // ranks, each its own byte range of the rows (cloud_file_part.cpp): the header, one row,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Point clouds from VTK XML files (.vtu UnstructuredGrid, .vtp PolyData), as ParaView and
 // meshers write them: the points of every Piece, the point-data array "tag" (0..3, see
 // PointCloud), "normal" or "normals" (3 components) and every other one-component point

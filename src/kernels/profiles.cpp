@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Radial profiles of every kernel on the unit support R = r/h in [0,1).
 // Derivatives are with respect to R. One small function per kernel.
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <vrsph/cloud/voronoi.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/particle_volumes.hpp>

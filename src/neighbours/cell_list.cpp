@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cell-list backend: counting sort of particles into cells no smaller than the
 // largest radius, then a 3^d-cell scan per particle.
 #include <algorithm>

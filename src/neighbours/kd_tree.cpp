@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nanoflann k-d tree backend, plus the k-nearest-neighbour queries (spacing,
 // closest pair, k-th neighbour distance) that only a tree answers well.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/neighbours/brute_force.hpp>
 #include "two_pass.hpp"

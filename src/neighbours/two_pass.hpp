@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal: the count-then-fill driver shared by every search backend. A backend
 // supplies `visit(i, emit)`, which calls emit(j, r2) for every candidate j that may

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // estimate_spacing (point_cloud.cpp) of a cloud spread over ranks, for clouds without a
 // known domain (users' files): the same statistics of the same per-particle distances,
 // each computed by the particle's owner from its owned + halo particles.

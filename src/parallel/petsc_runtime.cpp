@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PETSc started once per process: no signal handler, no .petscrc, errors as return codes.
 #include <petscsys.h>
 

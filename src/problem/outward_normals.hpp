@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A Neumann normal that points into the domain turns every flux row's sign: the solve would
 // run and return a wrong field. The neighbours tell the side: an outward normal has them

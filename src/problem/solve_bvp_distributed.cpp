@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The boundary value problem over MPI ranks: the serial pipeline of solve_bvp.cpp on each
 // rank's owned particles plus a halo, with every diagnostic reduced over the ranks.
 //

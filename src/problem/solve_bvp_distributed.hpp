@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal: vrsph::solve for BvpSolveOptions::communicator with more than one rank.
 #include <vrsph/problem/boundary_value_problem.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal: the negative-transmissibility, signed-row and [SPE] ξ summary of the operator
 // rows, and the M-matrix test's view of balance rows with Robin data, shared by the serial

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal: the solver back-ends behind vrsph::solve and vrsph::PreparedSolver. A back-end
 // is set up once for a matrix (factorisation, preconditioner) and then solves any number

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PETSc KSP + PC on the assembled compressed rows (no copy: PETSc's AIJ matrix uses our
 // arrays), set up once per matrix and reused for every right-hand side. PETSc is started on first use; its errors come back as return codes (no
 // traceback on stderr) and become typed exceptions that keep PETSc's own text: bad

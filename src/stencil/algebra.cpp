@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <vrsph/core/error.hpp>
 #include <vrsph/stencil/algebra.hpp>
 

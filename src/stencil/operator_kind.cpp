@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <string>
 #include <vrsph/core/error.hpp>
 #include <vrsph/stencil/operator_kind.hpp>

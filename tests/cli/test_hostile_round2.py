@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Issue 31 (hostile input, second round): the classes that need more than one command line
 to show (environment, signals, write failures, files read back, geometry orientation).
 The single-command classes are rows of docs/errors.md (the errors_catalogue test).

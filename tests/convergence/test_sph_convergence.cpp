@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Refinement studies of traditional SPH through the same driver as `vrsph operator`.
 // Claims (seed 000_906375e5ed7c9bb7.txt, [QW] §3.1 and Examples 1–2; METHODS §3.1):
 //  * uniform lattice, no truncation: error = O(h^2) smoothing error + a discretisation

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Issue 31: results do not depend on the length unit, and the memory guard sees ulimit -v.
 
 The same cloud in units 10^-8 ... 10^8 with the same data (u(x) = U(x / s)) must give the

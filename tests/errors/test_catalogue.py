@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Runs every row of docs/errors.md against the built vrsph: the exit code must be the
 documented one (never a signal), and stderr must contain the documented message.
 

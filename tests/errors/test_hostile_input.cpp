@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One test per class of hostile input found by the reliability probe (issue 9):
 // extreme extents for the neighbour search, NUL bytes and byte-order marks, write
 // errors, memory estimates, strict numbers, and the pure-Neumann solvability check.

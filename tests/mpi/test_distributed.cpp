@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The distributed pipeline against the serial one, run under mpirun (2 and 4 ranks, see
 // tests/CMakeLists.txt). Every rank computes the serial reference itself (on
 // PETSC_COMM_SELF-free serial paths) and compares its own part of the distributed result.

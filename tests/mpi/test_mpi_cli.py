@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """vrsph under mpirun: the same tables as serial, one document from rank 0, .pvtu pieces,
 and bad input that ends every rank with the same non-zero exit (no hang: each run has a
 timeout). Usage: test_mpi_cli.py MPIRUN VRSPH"""

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reproduction of [AAR] (seed 001_40aebf64e7a981b6.txt) §5 with the recommended choices of
 // METHODS §2.3/§5.2 (Gaussian l = dx truncated at 6 l, x_j = (j-1)/n, dOmega = dx): the
 // derivative test, the elastic static test (Dirichlet + Neumann end) and the vibration

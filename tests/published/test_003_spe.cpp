@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [SPE] (seed 003_b74f9306775dfa57.txt) steady problems, METHODS §5.3: the exact series, and
 // what is reproducible of Tables 2–9 (§6 R15, R19): CB-SPH clearly worse than S and M, S ≡ M
 // on uniform sets, S and M converging with an order between 1 and 2, a monotone matrix; and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph bench`: throughput measurements reported as ratios against a baseline
 // measured in the same run (the machine is shared and noisy; absolute seconds are
 // for orientation only).

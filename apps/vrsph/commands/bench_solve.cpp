@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph bench solve`: Example 5 from nothing to the solution, stage by stage, for a
 // list of sizes and solvers in one run; optionally the FEniCSx P1 + BoomerAMG peer
 // (../shared/anchors/fenicsx_ex5.py) on the same sizes in the same run, with ratios.

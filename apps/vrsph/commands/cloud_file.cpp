@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph solve --cloud-file` and `vrsph study --cloud-file-pattern`: boundary value
 // problems on the user's own clouds (CSV with tags and normals), data from expressions
 // evaluated at the file's points, each solve one library call (problem/).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph study --problem spe-channel|spe-lognormal|spe10`: flow through a heterogeneous
 // permeability field, every method against the TPFA reference, and the Krylov study of
 // [SPE] Figs. 11-12 (--krylov).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Options of the heterogeneous-media problems of `vrsph study` (spe-channel, spe-lognormal,
 // spe10): the permeability field and the Krylov study.

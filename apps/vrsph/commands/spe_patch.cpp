@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph operator --problem spe-patch`: the [SPE] §4 operator tests (Figs. 1–4) as a summary
 // table, the cross-section profile (--profile FILE.csv) and a PNG of the profile (--plot).
 #include <vrsph/analysis/spe_patch.hpp>

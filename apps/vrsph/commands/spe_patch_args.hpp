@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Options of `vrsph operator --problem spe-patch` ([SPE] §4 operator tests).
 #include <CLI/CLI.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph stability`: von Neumann growth factors of a method's Laplacian ([SPE] Fig. 5) and the
 // statistics of the monotonicity diagnostic ξ ([SPE] Fig. 6).
 #include <nlohmann/json.hpp>

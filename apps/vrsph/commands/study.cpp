@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph study` (convergence of a boundary value problem over a refinement list) and
 // `vrsph solve` (one problem, fields to VTU).
 #include <iostream>

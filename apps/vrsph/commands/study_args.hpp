@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Options shared by `vrsph study` and `vrsph solve` (built-in clouds and --cloud-file).
 #include <CLI/CLI.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Solvability of a pure-Neumann problem div(a grad u) = f in Ω, a ∂u/∂n = q on ∂Ω:
 // by the divergence theorem a solution exists only if ∮ q dS = ∫ f dV. Both sides are

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Observed orders of convergence: pairwise log(e_k/e_{k+1}) / log(s_k/s_{k+1}) with s a
 // mesh size (dx or h), and the least-squares slope of log e against log s.

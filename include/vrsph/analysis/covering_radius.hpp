@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Covering radius r_N = max over x in the domain of min_i |x - x_i| ([IM](5), [QW] §4;
 // METHODS §3.8.4), computed exactly for box and ball domains in 1D, 2D and 3D.

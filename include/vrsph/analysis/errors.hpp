@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Error norms over a set of particles, split into interior and near-boundary ones.
 //   L∞  = max_i |e_i|

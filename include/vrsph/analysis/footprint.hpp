@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Memory of one study run (cloud, neighbour list, stencil, assembled system), estimated
 // from the lattice size and the support radius *before* the cloud is generated, so an

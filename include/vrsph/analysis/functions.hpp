@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Exact scalar functions u(x) with gradient and Laplacian, from a built-in catalogue
 // or from muParser expressions in x, y, z (constants pi and e). Used as manufactured

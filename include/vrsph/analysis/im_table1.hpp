@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // [IM] Table 1 / Fig. 5 (METHODS §5.4): truncation errors of the generalized particle
 // method's interpolant, gradient and Laplacian with the reference weights pi/grad/delta

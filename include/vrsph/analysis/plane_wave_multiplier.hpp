@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The continuous operators the generalized particle method's sums approximate ([IM] (2)–(4)
 // with the sums replaced by integrals over R^d) act on a plane wave v = sin(k·x) as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Defaults that belong to a built-in problem rather than to the command line: the [AAR]
 // problems are one-dimensional, use the Gaussian kernel with smoothing length dx

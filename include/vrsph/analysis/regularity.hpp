@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Regularity report of a particle set ([IM] §2, (5)–(7), Theorem 3; METHODS §3.8.4–3.8.5):
 // the covering radius r_N, the Voronoi deviation d_N of the particle volumes, the order m

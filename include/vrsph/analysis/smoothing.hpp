@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // How a study picks the kernel support radius ([QW] §4, METHODS §3.2, P15):
 //   fixed     h = kappa dx                       (all published runs)

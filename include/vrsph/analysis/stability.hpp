@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Von Neumann analysis of a method's Laplacian ([SPE] §4.3, (81)–(83); METHODS §3.7.9) and
 // the statistics of the monotonicity diagnostic ξ ([SPE] Fig. 6).

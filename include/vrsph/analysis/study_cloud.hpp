@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The cloud families that studies refine: one description, one factory, so the
 // operator study, the BVP study and the tests build identical clouds.

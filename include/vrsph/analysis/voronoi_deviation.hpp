@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Voronoi deviation d_N of a particle set with volumes V_i ([IM](6), LP (63) with the
 // erratum S5; METHODS §3.8.4): how far the volumes are from the clipped Voronoi cell

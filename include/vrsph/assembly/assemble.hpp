@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Assembly of the boundary value problem  L u = f  (L a div(a grad) or Laplacian
 // stencil) into a linear system over the unknown particles.

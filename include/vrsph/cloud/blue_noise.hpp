@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Blue-noise (Poisson-disk) point sets: no two points closer than a radius r, and no gap
 // much wider than 2r. Used to fill geometries when a lattice's alignment is unwanted

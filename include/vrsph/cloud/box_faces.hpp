@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Boundary conditions by face of a box cloud: the faces x0, x1, y0, y1, z0, z1 (index
 // 2 axis + side) of the cloud's Domain::Shape::Box.

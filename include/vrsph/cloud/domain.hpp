@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The geometric domain a cloud discretises: an axis-aligned box or a ball.
 // Used to tell near-boundary particles from interior ones, to clip Voronoi

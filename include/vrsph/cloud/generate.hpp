@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Seeded, reproducible point-cloud generators (METHODS.md §5 layouts).
 // Every generator sets cloud.spacing (nominal dx) and cloud.domain, and stores an

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A geometry file (2D polygon or 3D closed surface, chosen by the extension) filled with
 // particles in one call, with what the covering radius of the result needs: the domain's

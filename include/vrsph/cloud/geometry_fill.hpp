@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // How a geometry (2D polygon, 3D closed surface) is filled with particles.
 #include <cstdint>

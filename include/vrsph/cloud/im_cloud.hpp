@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The particle sets of [IM] §5.4 (METHODS §5.4): the lattice points i dx with i dx in
 // Omega_H = (-H, 1+H)^d, each coordinate moved by eta dx with eta ~ U(-delta, delta)

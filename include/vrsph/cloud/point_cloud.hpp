@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // PointCloud: particle positions in 1D/2D/3D with a role tag per particle and
 // optional outward normals. A plain value type; every stage takes it by const&.

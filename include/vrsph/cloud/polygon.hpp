@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // 2D domains as polygons with holes, read from GeoJSON (RFC 7946: a Polygon geometry, or a
 // Feature / FeatureCollection holding exactly one; the first ring is the outer boundary, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Triangle/polygon surfaces as files hold them: STL (ASCII or binary), OFF and OBJ, read into
 // a polygon soup (points and faces as index lists). Written here rather than taken from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // 3D domains bounded by a closed triangle surface, read from STL (ASCII or binary), OFF or
 // OBJ (polygon_soup.hpp) and built with CGAL, and filled with particles: boundary particles on the surface (on its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Voronoi cells clipped to the cloud's domain ([IM] sigma_i, METHODS §3.8.4): their
 // measures |sigma_i| (length, area, volume) for the Voronoi deviation d_N and for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Typed exceptions. The library never prints and never exits: it throws one of
 // these, with a message that names the offending values; only the CLI maps them

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Stopping a long library call on request (Ctrl-C in Python, where the interpreter cannot run
 // its signal handler while the library holds the thread). The embedding installs a check; the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Strict text-to-number conversion shared by every reader and option parser: the
 // whole text must be the number (no trailing characters, no embedded NUL byte, no

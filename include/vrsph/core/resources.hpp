@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Memory budget. Large allocations (neighbour lists, stencils, dense matrices) are
 // estimated from the problem size *before* they are made and checked against one

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Wall-clock seconds for per-stage timings in studies and benchmarks.
 #include <chrono>

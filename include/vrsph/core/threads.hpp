@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The OpenMP settings a process inherits from its environment, made safe before the first
 // parallel region: libgomp reads OMP_NUM_THREADS and OMP_STACKSIZE when it is loaded and

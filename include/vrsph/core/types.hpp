@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Basic scalar, index and vector types shared by every vrsph module.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A std::vector whose resize() leaves trivially-constructible elements uninitialised.
 // Large CSR arrays (neighbour indices, distances, volumes) are sized once and then

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A point cloud read from a file together with the per-particle fields the file carries
 // beyond positions, tags and normals (extra CSV columns), for problems whose coefficient

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Point clouds as CSV. Header line required; columns (any order, case-insensitive):
 //   x[,y[,z]], tag[, nx[,ny[,nz]]], and any further numeric columns (per-particle fields,

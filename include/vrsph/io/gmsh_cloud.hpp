@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Point clouds from Gmsh meshes (.msh, MSH 4.1 or 2.2, ASCII), for users who mesh their
 // domain anyway: the nodes of the elements of the mesh's own dimension are the particles.

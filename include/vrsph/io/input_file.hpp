@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Every file vrsph reads is opened here: a directory, a missing or an unreadable file is
 // an IoError naming the path and `what` it was to be ("point cloud file"), the twin of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Every file vrsph writes goes through write_file: the content goes to a temporary file
 // beside the target, is flushed and closed, and only then renamed over the target. So a

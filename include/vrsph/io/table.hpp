@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A small result table shared by the CLI and the tests, written as Markdown,
 // CSV or JSON ({"rows":[{column: value, ...}], ...extra keys}).

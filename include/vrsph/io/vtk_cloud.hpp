@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Point clouds from VTK XML files (.vtu, .vtp) as ParaView and meshers write them: points,
 // the point-data array "tag" (0 interior, 1 dirichlet, 2 neumann, 3 ghost), optional

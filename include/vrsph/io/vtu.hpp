@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // VTK unstructured-grid (.vtu, XML) output for ParaView: one vertex cell per particle, the
 // tag and normals, plus any number of named point fields (scalar or vector; vectors are

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Radial smoothing kernels W(r) with compact support radius h: W(r) = 0 for r >= h.
 //

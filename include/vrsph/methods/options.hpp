@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // MethodOptions: the per-method knobs (key=value strings from the CLI or a config
 // file). Each method reads its keys with typed getters and defaults next to the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The coefficient of a particle pair in flux-form (two-point) operators, sum_j w_ij
 // c(a_i, a_j) (u_j - u_i): the printed schemes ([QW] Morris form, [SPE] (52)/(69)) use

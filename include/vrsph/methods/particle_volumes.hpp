@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One volume V_j per particle, for methods that weight neighbours by a volume ([IM] gpm)
 // and for the Voronoi deviation d_N (analysis/regularity.hpp):

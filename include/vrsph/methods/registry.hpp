@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The method registry: name -> factory, filled by one explicit list
 // (register_builtin_methods, PETSc itregis.c style) and looked up at run time.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // O(N^2) reference neighbour search. Used by tests and `vrsph cloud --check` to
 // verify the fast backends; same semantics as find_neighbours (strict r < radius_i).

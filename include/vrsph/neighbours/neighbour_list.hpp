@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // NeighbourList: for every particle i, the particles j with r_ij < radius_i, in
 // compressed-sparse-row form. Row i is indices[offsets[i] .. offsets[i+1]),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Radius neighbour search, built in two passes (count, then fill) so the CSR
 // arrays are sized once and never reallocated.

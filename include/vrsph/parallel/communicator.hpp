@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Communicator: the set of MPI ranks one computation runs on, as a value without <mpi.h>
 // (it keeps the Fortran handle of the MPI communicator). The default is serial: one

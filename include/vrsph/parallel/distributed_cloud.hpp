@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // DistributedCloud: a point cloud spread over MPI ranks.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One call from a point cloud to the solution of div(a grad u) = f:
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Time-dependent diffusion on a point cloud (issue 11; [SPE] §4.4, METHODS §3.7.9):
 //   ∂u/∂t = div(a grad u) + s(x, t)   (or div(M grad u) with a diagonal mobility)

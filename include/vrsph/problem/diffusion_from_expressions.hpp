@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A time-dependent diffusion problem on any cloud from expressions (muParser syntax; u, s,
 // g, q may use t): the manufactured-solution convention of from_expressions.hpp in time.

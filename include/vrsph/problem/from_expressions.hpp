@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A boundary value problem on any cloud from expressions in x, y, z (muParser syntax or
 // catalogue names, see analysis/functions.hpp), as the CLI's `solve --cloud-file` takes

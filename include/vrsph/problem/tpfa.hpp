@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Two-point flux approximation (TPFA): the cell-centred finite-volume reference of [SPE]
 // §3 (66)-(67) and §5.3, on the Cartesian grid of a PermeabilityField.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Stencil algebra: building a stencil from a sparse matrix, and the nested second
 // derivative sum_a D_a (c D_a) of methods that obtain second derivatives by applying a

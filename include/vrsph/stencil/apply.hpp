@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Applying a stencil, and viewing it as an Eigen sparse matrix without copying.
 #include <Eigen/SparseCore>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The operators a stencil can approximate, with a traits table (Compadre's
 // TargetOperation idea): output components, derivative order, CLI name.

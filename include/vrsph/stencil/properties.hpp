@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Structural properties of a stencil: row sums, sign structure, the M-matrix
 // test behind the discrete maximum principle, and exactness on monomials.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Stencil: the one output shape of every method. A sparse linear operator over
 // the particles in CSR form, (L u)_i = sum_k values[c][k] * u[col[k]] for k in row i.

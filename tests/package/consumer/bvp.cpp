@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The whole library workflow of a user with their own particles: a disk cloud built from
 // arrays, div(grad u) = f with Dirichlet data, one solve() call, the field written for
 // ParaView. u = exp(x) sin(y) is harmonic, so f = 0; the error must be small.

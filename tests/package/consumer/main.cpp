@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A downstream program: SPH Laplacian of x^2 + y^2 on a lattice must be close to 4.
 #include <cmath>
 #include <iostream>

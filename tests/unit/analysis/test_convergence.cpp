@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/analysis/convergence.hpp>
 #include "test_util.hpp"

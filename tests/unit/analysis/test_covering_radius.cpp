@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/smoothing.hpp>

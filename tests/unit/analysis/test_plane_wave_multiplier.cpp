@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The plane-wave multipliers of [IM]'s integral operators (analysis/plane_wave_multiplier.hpp):
 // against a brute-force Cartesian quadrature of the integrals themselves, and against the
 // moment expansion mu = 1 - s^2 M2 / (2d) + O(s^4) that Hypothesis 1 controls.

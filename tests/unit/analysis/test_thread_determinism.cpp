@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Results do not depend on the number of OpenMP threads: every parallel stage (cloud
 // generation, neighbour search, every method's stencil, assembly, sampling of the data and
 // the exact solution, error norms, a whole BVP solve) gives bitwise the same output with one

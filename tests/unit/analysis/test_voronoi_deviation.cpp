@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <numeric>
 #include <vrsph/analysis/voronoi_deviation.hpp>
 #include <vrsph/cloud/generate.hpp>

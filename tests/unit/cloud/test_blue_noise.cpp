@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Blue-noise point sets: the exclusion radius holds, the sets are maximal (no hole wider than
 // the growth shell allows), the density matches the lattice's, and a seed fixes the result.
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Polygon domains from GeoJSON: parsing, validation of the geometry, and the fill (boundary
 // particles with the domain's outward normals, interior particles off the boundary).
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Surface files as polygon soups: STL (ASCII and binary), OFF and OBJ, with the line of
 // every problem named; the cases fuzzing found in CGAL's readers (OBJ index 0) are errors.
 #include <vrsph/cloud/polygon_soup.hpp>

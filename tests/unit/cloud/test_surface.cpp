@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Closed surfaces (STL/OFF) as 3D domains: reading and validation, the fill (boundary
 // particles on the surface with outward normals, interior particles inside and off it), and
 // the covering radius of a general domain against the exact one of a box.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Gmsh meshes as clouds: MSH 4.1 and 2.2 (fixtures written by Gmsh 4.8.4 from
 // gmsh/plate_with_hole.geo) give the same particles; boundary found from the elements, with
 // outward normals and the kind named by the physical groups; malformed files are named.

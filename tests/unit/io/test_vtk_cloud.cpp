@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // VTK XML clouds (.vtu/.vtp) in every encoding the format has (fixtures written by
 // vtk/make_fixtures.py, and vtk_written_* by VTK 9.1's own writers from ascii.vtu): all must
 // give the same cloud and field as the ascii file.

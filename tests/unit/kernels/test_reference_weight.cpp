@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [IM] reference weights (seed 004, METHODS §2.6–2.7): the tabulated 2D constants, the
 // normalisation in every dimension, the vanishing moments Hypothesis 1 promises (checked by
 // an independent quadrature of values), and the App. C construction reproducing the table.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // NNLS: KKT conditions, agreement with brute-force enumeration of active sets and with
 // the textbook reference, degenerate inputs (zero/duplicate columns, infeasible targets).
 #include <Eigen/QR>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [SPE] schemes (seed 003_b74f9306775dfa57.txt, METHODS §3.7): exactness the paper claims on
 // lattices, the identities of its construction (Σ T̄ Δ = 0, S ≡ M up to a row factor on
 // lattices, Brookshaw g1 = Morris), monotonicity, the consistent anisotropic form (R22)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Taylor-corrected and [AAR] methods: polynomial exactness they must have, the
 // singular-system policy, condition numbers, and the nested D·D construction.
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // VRSPH: moment rows, exactness where the moment conditions hold, sign structure.
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/methods/registry.hpp>

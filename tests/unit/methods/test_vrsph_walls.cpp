@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // VRSPH at walls beyond [QW] (issue 17): the WallLaplace moment set and balance rows
 // (flux=balance), and exact moments for rows no non-negative volumes satisfy
 // (boundary=signed). Exactness and sign structure here; orders in convergence/.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Permeability fields: the synthetic substitutes for SPE10 (statistics, reproducibility,
 // contrast) and the spe_perm.dat reader (layout, subset, every malformed input).
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The PETSc back-end: same solution as a direct solver, the report (what ran, why it
 // stopped, history), option precedence and isolation, failures as statuses or typed
 // errors with PETSc's own text; and the compressed rows it borrows from the assembly.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The generalized particle method's operators (2)–(4) of [IM] at arbitrary evaluation
 // points x (particles or not): Pi_h v(x), nabla_h v(x), Delta_h v(x) from the particle

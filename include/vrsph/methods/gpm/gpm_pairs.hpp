@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The pair weights of the generalized particle method ([IM](2)–(4), METHODS §3.8.1),
 // shared by the particle stencils (methods/gpm/gpm.cpp) and the evaluation at arbitrary

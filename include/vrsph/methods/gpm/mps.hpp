@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The MPS operators as [IM] Appendix A writes them ((61)–(62), index typos fixed per
 // METHODS §6 S4), at the particles:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared machinery of the Taylor-corrected methods (FPM, KGF, CSPM, Chen–Beraun, RKPM and
 // the [AAR] FPM variants): every one of them solves a small dense square system per

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Compact high-order rows (VRSPH option rhs=compact, beyond [QW]; docs/methods.md): a
 // generalisation of Collatz's Mehrstellen scheme to particles. Row i is

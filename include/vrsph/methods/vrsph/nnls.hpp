@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Non-negative least squares, min ||A x - b||_2 subject to x >= 0, for the many small
 // dense problems VRSPH poses (rows 3/12/30, columns = neighbours, 10–200).

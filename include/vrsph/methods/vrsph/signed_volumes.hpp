@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Exact moment weights for a row whose moment conditions no non-negative volumes meet
 // (VRSPH option boundary=signed, beyond [QW]; docs/methods.md "Feasibility everywhere").

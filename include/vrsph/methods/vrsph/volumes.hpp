@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Volume reconstruction (VRSPH, [QW] §4): for every centre i separately, non-negative
 // quadrature weights v^(i)_j on its neighbours that satisfy the moment conditions,
