@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The main job: install dependencies, build Release, and run vrsph on its built-in
 # default problem. Extra arguments replace the default job: scripts/run.sh methods
 set -euo pipefail
@@ -10,7 +11,7 @@ vrsph=build/release/apps/vrsph/vrsph
 if (($#)); then
   exec "$vrsph" "$@"
 fi
-# Default: [QW] Example 5 / Table 2 (seed 000): div((1+x^2+y^2) grad u) = f on [0,1]^2,
+# Default: [QW] Example 5 / Table 2: div((1+x^2+y^2) grad u) = f on [0,1]^2,
 # u = sin(pi x) sin(pi y), randomly perturbed particles, h = 3 dx, n = 20..160: traditional
 # SPH, [QW]'s VRSPH as published (profile=qw) and vrsph's default rows (compact rows with
 # the M-matrix kept) side by side. (Mean over five seeds, as in the tests: add --seeds 1,2,3,4,5.)

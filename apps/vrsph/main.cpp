@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vrsph command-line tool. The only place in vrsph that prints errors and decides
 // exit codes (docs/errors.md lists every bad-input class with its code and message):
 //   0 success (the result was delivered)
@@ -20,6 +21,7 @@
 #include <iostream>
 #include <new>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/features.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/core/threads.hpp>
 #include <vrsph/io/output_file.hpp>
@@ -76,6 +78,17 @@ int report(const char* kind, const std::exception& e, int code) {
 
 }  // namespace
 
+namespace {
+// "vrsph 0.2.0 (BSD-3-Clause) with PETSC MPI ...; without CGAL": the version and the optional
+// parts of this build, so that a bug report says both.
+std::string version_line() {
+  std::string with, without;
+  for (const vrsph::Part& p : vrsph::parts()) (p.built ? with : without) += " " + std::string(p.name);
+  return "vrsph " + std::string(vrsph::version()) + " (BSD-3-Clause)\nbuilt with:" + (with.empty() ? " none" : with) +
+         "\nbuilt without:" + (without.empty() ? " none" : without);
+}
+}  // namespace
+
 int main(int argc, char** argv) {
   prefer_passive_openmp_threads(argv);
   clean_up_on_signals();
@@ -91,6 +104,8 @@ int main(int argc, char** argv) {
   if (vrsph::Communicator::launched_in_parallel()) {
     try {
       vrsph::cli::set_communicator(vrsph::Communicator::world());
+    } catch (const vrsph::FeatureUnavailable& e) {
+      return report("not in this build", e, 2);
     } catch (const vrsph::ConfigError& e) {
       return report("configuration error", e, 2);
     }
@@ -110,7 +125,7 @@ int main(int argc, char** argv) {
     }
   }
   CLI::App app{"vrsph — particle discretisations of elliptic operators on irregular point clouds"};
-  app.set_version_flag("--version", std::string("vrsph ") + VRSPH_VERSION);
+  app.set_version_flag("--version", version_line());
   app.require_subcommand(1);
   app.fallthrough();  // global options may also follow the subcommand
   std::string max_memory;
@@ -170,6 +185,8 @@ int main(int argc, char** argv) {
     return bad_value ? 2 : 1;
   } catch (const vrsph::ResourceError& e) {
     return report("resource limit", e, 2);
+  } catch (const vrsph::FeatureUnavailable& e) {
+    return report("not in this build", e, 2);
   } catch (const vrsph::ConfigError& e) {
     return report("configuration error", e, 2);
   } catch (const vrsph::IoError& e) {

@@ -1,6 +1,8 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vrsph._vrsph: the compiled half of the Python package.
 #include <new>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/features.hpp>
 #include <vrsph/core/interrupt.hpp>
 #include <vrsph/core/threads.hpp>
 #include "bindings.hpp"
@@ -12,7 +14,7 @@ namespace vrsph::python {
 namespace {
 // The exception types (owned by the module; a translator must be a plain function).
 struct ErrorTypes {
-  PyObject *error, *input, *io, *config, *resource, *geometry, *numerical;
+  PyObject *error, *input, *io, *config, *resource, *feature, *geometry, *numerical;
 } types;
 
 // Ctrl-C during a library call: the interpreter only notes the signal while the library holds
@@ -44,6 +46,7 @@ void bind_errors(py::module_& m) {
   types.io = make("IoError", types.input, PyExc_OSError);
   types.config = make("ConfigError", types.error, PyExc_ValueError);
   types.resource = make("ResourceError", types.config, PyExc_MemoryError);
+  types.feature = make("FeatureUnavailable", types.config, nullptr);  // a part this build lacks
   types.geometry = make("GeometryError", types.error, PyExc_ValueError);
   types.numerical = make("NumericalError", types.error, PyExc_RuntimeError);
   py::register_exception_translator([](std::exception_ptr p) {
@@ -53,6 +56,8 @@ void bind_errors(py::module_& m) {
       PyErr_SetString(types.io, e.what());
     } catch (const ResourceError& e) {
       PyErr_SetString(types.resource, e.what());
+    } catch (const FeatureUnavailable& e) {
+      PyErr_SetString(types.feature, e.what());
     } catch (const InputError& e) {
       PyErr_SetString(types.input, e.what());
     } catch (const ConfigError& e) {
@@ -109,6 +114,20 @@ PYBIND11_MODULE(_vrsph, m) {
   namespace vp = vrsph::python;
   m.doc() = "vrsph: accurate particle discretisations of elliptic operators (compiled core)";
   vp::bind_errors(m);
+  m.attr("__version__") = std::string(vrsph::version());
+  m.def("parts", [] {
+    pybind11::list out;
+    for (const vrsph::Part& part : vrsph::parts()) {
+      pybind11::dict d;
+      d["name"] = std::string(part.name);
+      d["what"] = std::string(part.what);
+      d["licence"] = std::string(part.licence);
+      d["packages"] = std::string(part.packages);
+      d["built"] = part.built;
+      out.append(d);
+    }
+    return out;
+  }, "The optional parts of this build (PETSC, MPI, CGAL, ...): name, what it brings, licence, Debian packages, built.");
   vrsph::set_interrupt_check(vp::python_asks_to_stop);
   // Before any parallel loop: an absurd OMP_NUM_THREADS is capped (with a warning), an
   // unusable OMP_STACKSIZE refuses the import instead of ending the interpreter later.

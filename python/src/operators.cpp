@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Operators: the method registry, kernels, stencils as CSR arrays (handed to SciPy without a
 // copy by the Python layer), and the covering radius.
 #include <algorithm>
@@ -5,6 +6,7 @@
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/references.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -117,7 +119,21 @@ void bind_operators(py::module_& m) {
     for (const MethodInfo& info : builtin_methods().list()) {
       py::dict d;
       d["name"] = info.name;
-      d["paper"] = info.paper;
+      d["source"] = info.source;
+      py::list refs;
+      for (const Reference& r : references_cited_in(info.source)) {
+        py::dict ref;
+        ref["key"] = std::string(r.key);
+        ref["authors"] = std::string(r.authors);
+        ref["title"] = std::string(r.title);
+        ref["venue"] = std::string(r.venue);
+        ref["year"] = r.year;
+        ref["identifier"] = std::string(r.identifier);
+        ref["citation"] = r.citation();
+        refs.append(ref);
+      }
+      d["reference"] = refs.empty() ? py::object(py::none()) : py::object(refs[0]);
+      d["references"] = refs;
       d["description"] = info.description;
       d["claimed_order"] = info.claimed_order;
       py::list ops;
@@ -129,7 +145,7 @@ void bind_operators(py::module_& m) {
       out.append(d);
     }
     return out;
-  }, "The method registry: name, paper (seed file), description, claimed order, operators, options.");
+  }, "The method registry: name, source (\"[QW] §4-5\"), reference and references (authors, title, venue, year, identifier), description, claimed order, operators, options.");
   m.def("kernels", [] {
     py::list out;
     for (const KernelInfo& k : kernel_catalogue()) {

@@ -1,9 +1,20 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Shared fixtures: the CLI binary (VRSPH_CLI, set by CTest) for equality checks."""
 import json
 import os
 import subprocess
 
 import pytest
+
+import vrsph
+
+BUILT = {part["name"] for part in vrsph.parts() if part["built"]}
+
+
+def needs(*parts):
+    """Skips a test of a feature of optional parts this build lacks (vrsph.parts())."""
+    missing = [p for p in parts if p not in BUILT]
+    return pytest.mark.skipif(bool(missing), reason=f"vrsph built without {', '.join(missing)}")
 
 
 @pytest.fixture(scope="session")

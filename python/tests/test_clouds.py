@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Clouds from the families, arrays, files and geometries; numpy views; bad arrays refused."""
 import os
 
@@ -5,8 +6,10 @@ import numpy as np
 import pytest
 
 import vrsph
+from conftest import needs
 
 
+@needs("CGAL")  # the centroid family
 def test_families_match_the_cli(cli, tmp_path):
     for family, make in (("uniform", lambda: vrsph.cloud.lattice(dim=2, n=12)),
                          ("perturbed", lambda: vrsph.cloud.perturbed(dim=2, n=12, seed=4)),
@@ -57,6 +60,7 @@ def test_from_arrays_and_its_bad_input():
         vrsph.cloud.from_arrays(pts, [2, 1, 1, 0], normals=np.zeros((4, 2)))
 
 
+@needs("CGAL")  # the covering radius in 2D
 def test_read_cloud_fields_and_geometries(tmp_path):
     path = tmp_path / "c.csv"
     path.write_text("x,y,tag,k\n0,0,1,2\n1,0,1,3\n0,1,1,4\n0.4,0.4,0,5\n")

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Stencils as SciPy matrices (no copy), exactness, diagnostics, the registry, the operator study."""
 import numpy as np
 import pytest
@@ -82,7 +83,9 @@ def test_div_a_grad_takes_a_callable_coefficient_and_bad_arguments_raise():
 def test_registry_and_kernels():
     names = {m["name"]: m for m in vrsph.methods()}
     assert "vrsph" in names and "laplacian" in names["vrsph"]["operators"]
-    assert names["vrsph"]["paper"].startswith("000_")
+    assert names["vrsph"]["source"].startswith("[QW]")
+    assert names["vrsph"]["reference"]["identifier"] == "arXiv:2503.15188"
+    assert names["gpm"]["reference"]["authors"] == "Y. Imoto"
     assert {"cubic", "gaussian"} <= {k["name"] for k in vrsph.kernels()}
 
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """vrsph: accurate particle (SPH-family) discretisations of elliptic operators on irregular
 point clouds, and Poisson-type boundary value problems on them.
 
@@ -23,8 +24,26 @@ from typing import Any, Callable, Mapping, Sequence, Union
 import numpy as np
 import scipy.sparse
 
+from ._version import __version__, built_for_python
+
+try:
+    from . import _vrsph
+except ImportError as _error:  # a compiled core for another interpreter, or none at all
+    import sys as _sys
+
+    raise ImportError(
+        f"vrsph {__version__}: cannot load its compiled core vrsph._vrsph ({_error}); this package was built for "
+        f"Python {built_for_python}, this is Python {_sys.version_info.major}.{_sys.version_info.minor}: rebuild it "
+        "here (pip install --no-build-isolation . in the source tree)"
+    ) from _error
+if _vrsph.__version__ != __version__:
+    raise ImportError(
+        f"vrsph: the Python package is version {__version__} but its compiled core ({_vrsph.__file__}) is "
+        f"{_vrsph.__version__}: two installations are mixed; reinstall one (pip install --force-reinstall "
+        "--no-build-isolation .) or remove the other"
+    )
+
 from . import _args
-from . import _vrsph
 from . import cloud
 from ._args import ArgumentTypeError
 from ._vrsph import (  # noqa: F401  (re-exported)
@@ -35,6 +54,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
     Cloud,
     ConfigError,
     Error,
+    FeatureUnavailable,
     GeometryError,
     InputError,
     IoError,
@@ -43,13 +63,14 @@ from ._vrsph import (  # noqa: F401  (re-exported)
     covering_radius,
     kernels,
     methods,
+    parts,
     write_vtu,
 )
 
 __all__ = [
     "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
-    "ArgumentTypeError", "GeometryError", "NumericalError", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
+    "ArgumentTypeError", "GeometryError", "NumericalError", "FeatureUnavailable", "parts", "__version__", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
 
 Data = Union[None, str, float, Sequence[float], np.ndarray, Callable[..., Any]]

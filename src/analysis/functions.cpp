@@ -1,6 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <exception>
-#include <muParser.h>
 #include <numbers>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/core/error.hpp>
@@ -149,50 +149,6 @@ std::unique_ptr<ScalarFunction> make_function(const std::string& name, int dim) 
   std::string known;
   for (const auto& e : function_catalogue()) known += (known.empty() ? "" : ", ") + e.name;
   throw ConfigError("unknown function '" + name + "' (known: " + known + ")");
-}
-
-// ---- muParser expressions ----
-struct Expression::Impl {
-  std::string text;
-  mutable double x = 0, y = 0, z = 0, t = 0;
-  mu::Parser parser;
-};
-
-Expression::Expression(const std::string& text, bool with_time) : impl_(std::make_unique<Impl>()) {
-  impl_->text = text;
-  check<InputError>(!text.empty(), "empty expression");
-  try {
-    auto& p = impl_->parser;
-    p.DefineVar("x", &impl_->x);
-    p.DefineVar("y", &impl_->y);
-    p.DefineVar("z", &impl_->z);
-    if (with_time) p.DefineVar("t", &impl_->t);
-    p.DefineConst("pi", std::numbers::pi);
-    p.DefineConst("e", std::numbers::e);
-    p.SetExpr(text);
-    (void)p.Eval();  // parse now, so errors surface here and not mid-run
-  } catch (const mu::Parser::exception_type& e) {
-    throw InputError("cannot parse expression '" + printable(text, 200) + "': " + e.GetMsg());
-  }
-}
-Expression::~Expression() = default;
-Expression::Expression(Expression&&) noexcept = default;
-const std::string& Expression::text() const { return impl_->text; }
-
-Real Expression::operator()(const Vec3& x, Real t) const {
-  impl_->t = t;
-  return (*this)(x);
-}
-
-Real Expression::operator()(const Vec3& x) const {
-  impl_->x = x[0];
-  impl_->y = x[1];
-  impl_->z = x[2];
-  try {
-    return impl_->parser.Eval();
-  } catch (const mu::Parser::exception_type& e) {
-    throw InputError("cannot evaluate expression '" + printable(impl_->text, 200) + "': " + e.GetMsg());
-  }
 }
 
 namespace {

@@ -1,5 +1,12 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Voronoi deviation d_N by LP (63) (see analysis/voronoi_deviation.hpp).
+#include <vrsph/config.hpp>
+#if VRSPH_HAVE_CLP
 #include <coin/Clp_C_Interface.h>
+#else
+#include <vrsph/core/features.hpp>
+using CoinBigIndex = int;  // the LP is assembled as usual and refused where Clp would solve it
+#endif
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <exception>
@@ -119,6 +126,7 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
     row_lo[static_cast<std::size_t>(2 * n) + sk] = -kInfinity;
     row_hi[static_cast<std::size_t>(2 * n) + sk] = -fixed[sk];
   }
+#if VRSPH_HAVE_CLP
   std::unique_ptr<Clp_Simplex, void (*)(Clp_Simplex*)> lp(Clp_newModel(), Clp_deleteModel);
   Clp_setLogLevel(lp.get(), 0);
   Clp_setMaximumSeconds(lp.get(), max_seconds);
@@ -136,6 +144,13 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
                                         " variables, ", 3 * n, " constraints)"));
   }
   const double* a = Clp_getColSolution(lp.get());
+#else
+  (void)max_seconds;
+  require_part("CLP", "the Voronoi deviation's linear program (--dn-method lp; --dn-method flow needs no LP)");
+  const std::vector<double> none(cost.size(), 0.0);  // not reached: the part is not built
+  const double* a = none.data();
+  const int cols = static_cast<int>(cost.size());
+#endif
   // Each member's a_ii column comes first in its run of columns.
   for (int c = 0, k = -1; c + 1 < cols; ++c) {
     const Index slot = slot_of_column[static_cast<std::size_t>(c)];
@@ -325,7 +340,9 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
   // (merging blocks step by step was measured slower: every step failed again at 2.4e4
   // particles); one LP that is infeasible gets a 1.5 times larger pair radius (a few
   // times, then the error stands).
-  bool flow = o.method == DeviationMethod::Flow || (o.method == DeviationMethod::Auto && cloud.size() > o.flow_above);
+  // Without Clp (VRSPH_WITH_CLP=OFF) auto takes the potential flow at every size.
+  bool flow = o.method == DeviationMethod::Flow ||
+              (o.method == DeviationMethod::Auto && (cloud.size() > o.flow_above || VRSPH_HAVE_CLP == 0));
   for (int widen = 0;;) {
     const bool blocks = !flow && cloud.size() > o.direct_limit && block_target < cloud.size();
     block_of = blocks ? spatial_blocks(cloud, block_target, nblocks) : std::vector<Index>(n, 0);

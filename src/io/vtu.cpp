@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cstdint>
 #include <algorithm>
 #include <cctype>
@@ -5,7 +6,10 @@
 #include <ostream>
 #include <string>
 #include <vector>
+#include <vrsph/config.hpp>
+#if VRSPH_HAVE_VTK_XML
 #include <zlib.h>
+#endif
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/core/error.hpp>
 #include <filesystem>
@@ -15,7 +19,8 @@ namespace vrsph {
 
 namespace {
 // One DataArray's values. Binary: zlib-compressed little-endian values, base64 inline (exact,
-// and smaller than ascii); ascii: 17 significant digits.
+// and smaller than ascii), or uncompressed ones in a build without zlib (VRSPH_WITH_VTK_XML=OFF;
+// ParaView reads both); ascii: 17 significant digits.
 class ArrayWriter {
  public:
   ArrayWriter(std::ostream& out, VtuFormat f) : out_(out), binary_(f == VtuFormat::Binary) {}
@@ -28,11 +33,12 @@ class ArrayWriter {
         out_ << +values[i] << ((i + 1) % static_cast<std::size_t>(components) ? ' ' : '\n');
       return;
     }
+    const auto* raw = reinterpret_cast<const unsigned char*>(values.data());
+    const std::size_t total = values.size() * sizeof(T);
+#if VRSPH_HAVE_VTK_XML
     // zlib blocks (vtkZLibDataCompressor): [nblocks, block size, last block size, compressed
     // sizes...] as one base64 stream, then the compressed blocks as another. Fastest level:
     // lattice coordinates, ids and tags compress 3-10x even so.
-    const auto* raw = reinterpret_cast<const unsigned char*>(values.data());
-    const std::size_t total = values.size() * sizeof(T);
     const std::size_t nblocks = total == 0 ? 0 : (total + block - 1) / block;
     std::vector<std::uint64_t> header{nblocks, block, total % block};
     std::string packed;
@@ -47,7 +53,15 @@ class ArrayWriter {
     }
     out_ << base64(std::string(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t)))
          << base64(packed) << '\n';
+#else
+    // Uncompressed: the byte count (UInt64) and the bytes, one base64 stream.
+    const std::uint64_t bytes = total;
+    std::string packed(reinterpret_cast<const char*>(&bytes), sizeof bytes);
+    packed.append(reinterpret_cast<const char*>(raw), total);
+    out_ << base64(packed) << '\n';
+#endif
   }
+  static constexpr bool compressed = VRSPH_HAVE_VTK_XML != 0;
 
  private:
   static std::string base64(const std::string& in) {
@@ -81,7 +95,7 @@ void write_vtu_body(std::ostream& out, const PointCloud& c, const std::vector<Po
   const Index n = c.size();
   const auto N = static_cast<std::size_t>(n);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      << "header_type=\"UInt64\"" << (format == VtuFormat::Binary ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n
+      << "header_type=\"UInt64\"" << (format == VtuFormat::Binary && ArrayWriter::compressed ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n
       << "\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"" << w.format() << "\">\n";
   std::vector<double> xyz(3 * N);
   for (std::size_t i = 0; i < N; ++i)

@@ -1,4 +1,6 @@
-// MPI behind Communicator: reductions, gathers and the collective error agreement.
+// SPDX-License-Identifier: BSD-3-Clause
+// MPI behind Communicator: reductions, gathers and the collective error agreement
+// (communicator_serial.cpp: the same without MPI).
 #include <petscsys.h>
 
 #include <unistd.h>
@@ -11,6 +13,7 @@
 #include <typeinfo>
 #include <vrsph/core/error.hpp>
 #include <vrsph/parallel/communicator.hpp>
+#include "collective_errors.hpp"
 #include "petsc_runtime.hpp"
 
 namespace vrsph {
@@ -18,51 +21,6 @@ namespace vrsph {
 namespace {
 MPI_Comm mpi(const Communicator& c) { return MPI_Comm_f2c(c.fortran_handle()); }
 
-// The typed exceptions by a number that can cross ranks (0: none).
-enum Kind : int { None = 0, Input, Io, Geometry, Numerical, Config, Resource, Other };
-
-Kind kind_of(const std::exception& e) {
-  // Most derived first: IoError is an InputError, ResourceError a ConfigError.
-  if (dynamic_cast<const IoError*>(&e)) return Io;
-  if (dynamic_cast<const InputError*>(&e)) return Input;
-  if (dynamic_cast<const GeometryError*>(&e)) return Geometry;
-  if (dynamic_cast<const NumericalError*>(&e)) return Numerical;
-  if (dynamic_cast<const ResourceError*>(&e)) return Resource;
-  if (dynamic_cast<const ConfigError*>(&e)) return Config;
-  return Other;
-}
-
-// What `collective` last threw on every rank (one thread runs the collectives of a rank).
-std::string& last_agreed_message() {
-  static std::string m;
-  return m;
-}
-
-[[noreturn]] void rethrow(int kind, const std::string& msg) {
-  switch (kind) {
-    case Input: throw InputError(msg);
-    case Io: throw IoError(msg);
-    case Geometry: throw GeometryError(msg);
-    case Numerical: throw NumericalError(msg);
-    case Config: throw ConfigError(msg);
-    case Resource: throw ResourceError(msg);
-    default: throw std::runtime_error(msg);
-  }
-}
-}  // namespace
-
-void rethrow_with_message(const std::exception& e, const std::string& message) { rethrow(kind_of(e), message); }
-
-bool Communicator::launched_in_parallel() {
-  // OpenMPI (mpirun), MPICH/Hydra and PMIx launchers set the world size in the environment.
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"}) {
-    const char* v = std::getenv(name);
-    if (v && std::atoi(v) > 1) return true;
-  }
-  return false;
-}
-
-namespace {
 // A duplicate of PETSC_COMM_WORLD for the error exit's barrier only (every_rank_stops_here).
 MPI_Comm& exit_communicator() {
   static MPI_Comm c = MPI_COMM_NULL;
@@ -80,23 +38,14 @@ Communicator Communicator::world() {
   return c;
 }
 
-namespace {
-// What a stage threw on this rank (kind None: nothing).
-struct Failure {
-  int kind = None;
-  std::string message;
-};
-Failure run_stage(const std::function<void()>& stage, bool pass_agreed);
-}  // namespace
-
 void collective(const Communicator& comm, const std::function<void()>& stage) {
   if (!comm.distributed()) {
     stage();
     return;
   }
-  auto [kind, message] = run_stage(stage, false);
+  auto [kind, message] = detail::run_stage(stage, false);
   // The lowest failing rank speaks for all.
-  int mine = kind != None ? comm.rank() : comm.size(), first = 0;
+  int mine = kind != detail::None ? comm.rank() : comm.size(), first = 0;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, mpi(comm));
   if (first == comm.size()) return;
   int sizes[2] = {kind, static_cast<int>(message.size())};
@@ -104,45 +53,8 @@ void collective(const Communicator& comm, const std::function<void()>& stage) {
   message.resize(static_cast<std::size_t>(sizes[1]));
   MPI_Bcast(message.data(), sizes[1], MPI_CHAR, first, mpi(comm));
   const std::string agreed = first == 0 ? message : detail::concat("rank ", first, ": ", message);
-  last_agreed_message() = agreed;
-  rethrow(sizes[0], agreed);
-}
-
-bool raised_on_every_rank(const std::exception& e) { return last_agreed_message() == e.what(); }
-
-namespace {
-// pass_agreed: an exception `collective` already raised on every rank goes on as it is.
-Failure run_stage(const std::function<void()>& stage, bool pass_agreed) {
-  try {
-    stage();
-  } catch (const std::exception& e) {
-    if (pass_agreed && raised_on_every_rank(e)) throw;
-    return {kind_of(e), e.what()};
-  } catch (...) {
-    return {Other, "unknown exception"};
-  }
-  return {};
-}
-}  // namespace
-
-void collective_or_abort(const Communicator& comm, const std::function<void()>& stage) {
-  if (!comm.distributed()) {
-    stage();
-    return;
-  }
-  const auto [kind, message] = run_stage(stage, true);
-  if (kind == None) return;
-  // Every rank failed alike: agree as `collective` does (all ranks are here, so the
-  // communicator is free). Otherwise the others wait inside the stage: end them all.
-  if (every_rank_stops_here(3.0)) {
-    collective(comm, [&] { rethrow(kind, message); });
-  }
-  const int code = kind == Config || kind == Resource ? 2 : kind == Input || kind == Io ? 3 : kind == Geometry ? 4
-                   : kind == Numerical ? 5 : 70;
-  const char* what = code == 2 ? "configuration error" : code == 3 ? "input error" : code == 4 ? "geometry error"
-                     : code == 5 ? "numerical error" : "internal error";
-  abort_all_ranks(comm, code, detail::concat("vrsph: ", what, " (rank ", comm.rank(), " of ", comm.size(),
-                                             "; every rank stopped): ", message, "\n"));
+  detail::last_agreed_message() = agreed;
+  detail::rethrow(sizes[0], agreed);
 }
 
 bool every_rank_stops_here(double seconds) {
@@ -166,19 +78,6 @@ void abort_all_ranks(const Communicator& comm, int code, const std::string& line
   }  // nothing else to tell
   if (comm.distributed()) MPI_Abort(mpi(comm), code);
   std::exit(code);
-}
-
-void fault_point(const Communicator& comm, const char* stage) {
-  static const std::string spec = [] {
-    const char* v = std::getenv("VRSPH_INJECT_FAULT");
-    return std::string(v ? v : "");
-  }();
-  if (spec.empty()) return;
-  const auto at = spec.find('@');
-  const std::string where = spec.substr(0, at);
-  const int rank = at == std::string::npos ? 0 : std::atoi(spec.c_str() + at + 1);
-  if (where == stage && rank == comm.rank())
-    throw NumericalError(detail::concat("injected fault at stage '", stage, "' on rank ", rank, " (VRSPH_INJECT_FAULT)"));
 }
 
 double sum_over_ranks(const Communicator& c, double v) {

@@ -1,4 +1,6 @@
-// Morton partition, halos and their PetscSF exchanges (see distributed_cloud.hpp).
+// SPDX-License-Identifier: BSD-3-Clause
+// Morton partition, halos and their PetscSF exchanges (see distributed_cloud.hpp); built with
+// VRSPH_WITH_MPI only (distributed_spacing.cpp holds what a serial build needs too).
 //
 // Three star forests:
 //  - migration: leaves = the input chunk's particles, roots = the owner's arrival slots.
@@ -537,19 +539,6 @@ std::vector<char> reach_over_ranks(const DistributedCloud& dc, std::span<const I
     if (!any_rank(dc.comm, changed)) break;
   }
   return seeds;
-}
-
-Real length_scale(const PointCloud& part, const Communicator& comm) {
-  Real side = 0;
-  for (int k = 0; k < 3; ++k) {
-    Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
-    for (const Vec3& x : part.positions) {
-      lo = std::min(lo, x[k]);
-      hi = std::max(hi, x[k]);
-    }
-    side = std::max(side, max_over_ranks(comm, hi) - min_over_ranks(comm, lo));
-  }
-  return side > 0 && std::isfinite(side) ? side : 1;
 }
 
 }  // namespace vrsph

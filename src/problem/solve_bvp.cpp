@@ -1,6 +1,8 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vrsph/config.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/interrupt.hpp>
@@ -107,7 +109,9 @@ void check_neumann_balance(const PointCloud& cloud, const Field& f, const Field&
 }  // namespace
 
 BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
+#if VRSPH_HAVE_MPI  // (a build without MPI has no distributed communicator)
   if (o.communicator.distributed()) return detail::solve_distributed(p, o);
+#endif
   const PointCloud& cloud = p.cloud;
   validate(cloud);
   const Index n = cloud.size();

@@ -1,9 +1,14 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Eigen's direct and iterative solvers and UMFPACK; the heavy solver headers live only here.
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseLU>
-#include <Eigen/UmfPackSupport>
 #include <chrono>
+#include <vrsph/config.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/features.hpp>
+#if VRSPH_HAVE_SUITESPARSE
+#include <Eigen/UmfPackSupport>
+#endif
 #include "backends.hpp"
 
 // GCC 12 reports a null dereference inside Eigen's nonZeros() when BiCGSTAB's compute is
@@ -89,7 +94,13 @@ std::unique_ptr<Backend> prepare_eigen(const CsrMatrix& A, const SolverOptions& 
     case SolverType::SparseLU:
       return std::make_unique<DirectBackend<Eigen::SparseLU<Eigen::SparseMatrix<Real>, Eigen::COLAMDOrdering<int>>>>(
           A, "sparselu");
-    case SolverType::UmfPack: return std::make_unique<DirectBackend<Eigen::UmfPackLU<Eigen::SparseMatrix<Real>>>>(A, "umfpack");
+    case SolverType::UmfPack:
+#if VRSPH_HAVE_SUITESPARSE
+      return std::make_unique<DirectBackend<Eigen::UmfPackLU<Eigen::SparseMatrix<Real>>>>(A, "umfpack");
+#else
+      require_part("SUITESPARSE", "--solver umfpack");
+      return nullptr;  // not reached: the part is not built
+#endif
     case SolverType::BiCGSTAB: return std::make_unique<BicgstabBackend>(A, o);
     default: throw ConfigError(detail::concat("solver ", to_string(o.type), " is not an Eigen solver"));
   }

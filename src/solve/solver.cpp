@@ -1,7 +1,9 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Solver choice, memory check and the true-residual check common to every back-end.
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <vrsph/config.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
 #include "backends.hpp"
@@ -37,9 +39,14 @@ Index auto_direct_limit(int dimension) {
   return dimension == 2 ? 20000 : 4000;
 }
 
+SolverType auto_direct_solver() { return VRSPH_HAVE_SUITESPARSE ? SolverType::UmfPack : SolverType::SparseLU; }
+
 SolverType resolve_auto(Index unknowns, int dimension, Index direct_max) {
   const Index limit = direct_max > 0 ? direct_max : auto_direct_limit(dimension);
-  return unknowns <= limit ? SolverType::UmfPack : SolverType::Petsc;
+  // Without PETSc, BiCGSTAB + ILUT above the limit: slower than AMG, but it needs no memory
+  // for a factorisation (docs/solvers.md).
+  const SolverType iterative = VRSPH_HAVE_PETSC ? SolverType::Petsc : SolverType::BiCGSTAB;
+  return unknowns <= limit ? auto_direct_solver() : iterative;
 }
 
 double direct_solver_bytes(const CsrMatrix& A, int dimension) {
@@ -129,12 +136,13 @@ SolveReport solve(const LinearSystem& sys, Eigen::VectorXd& x, const SolverOptio
     if (fits) {
       const std::string why = rep.reason.empty() ? rep.message : rep.reason;
       SolverOptions direct = o;
-      direct.type = SolverType::UmfPack;
+      direct.type = auto_direct_solver();
       std::vector<std::string> warnings = std::move(rep.warnings);
       rep = solve_with(sys, x, direct);
-      rep.solver = "umfpack after petsc (" + why + ")";
+      rep.solver = to_string(direct.type) + " after petsc (" + why + ")";
       warnings.push_back(detail::concat("auto: PETSc GMRES + BoomerAMG did not converge (", why,
-                                        "); solved with UMFPACK instead. The AMG defaults suit M-matrices "
+                                        "); solved with ", direct.type == SolverType::UmfPack ? "UMFPACK" : "Eigen's SparseLU",
+                                        " instead. The AMG defaults suit M-matrices "
                                         "(vrsph, sph); give --solver and --petsc-options to choose otherwise"));
       rep.warnings.insert(rep.warnings.begin(), warnings.begin(), warnings.end());
     }

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """CLI tests: exit codes, and JSON output parsed with json (never regex on text).
 
 Usage: test_cli.py PATH_TO_VRSPH
@@ -60,8 +61,13 @@ class Methods(unittest.TestCase):
         names = {m["name"]: m for m in methods}
         self.assertIn("sph", names)
         for m in methods:
-            for key in ("name", "paper", "operators", "claimed_order"):
+            for key in ("name", "source", "reference", "references", "operators", "claimed_order"):
                 self.assertIn(key, m)
+            # A citation a user can use (issue 36): authors, title, identifier; no seed-file name.
+            self.assertTrue(m["reference"]["authors"] and m["reference"]["title"], m["name"])
+            self.assertNotIn(".txt", json.dumps(m), m["name"])
+        self.assertEqual(names["vrsph"]["reference"]["identifier"], "arXiv:2503.15188")
+        self.assertEqual(names["brookshaw"]["reference"]["identifier"], "arXiv:1711.11351")
         self.assertIn("laplacian", names["sph"]["operators"])
         # Defaults and profiles (issue 30): VRSPH's defaults choose by the use; profile=qw is [QW].
         self.assertIn("rhs=auto", names["vrsph"]["defaults"])

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // VRSPH boundary value problems beyond [QW]'s published cases (seed 000): the 3D
 // analogue of Example 5, inhomogeneous Dirichlet data, the disk domain, and the
 // near-boundary behaviour of the operator on perturbed particles. Bands: order >= 1.8.
@@ -26,7 +27,7 @@ TEST(VrsphBvp, Example5In3DOnPerturbedParticles) {
   p.dim = 3;
   p.cloud = CloudFamily::Perturbed;
   p.n = {8, 16, 24};
-  p.solver.type = SolverType::UmfPack;
+  p.solver.type = auto_direct_solver();  // UMFPACK, or SparseLU without SuiteSparse
   expect_orders(run_bvp_study(p), 1.8, "3D qw-ex5");
 }
 

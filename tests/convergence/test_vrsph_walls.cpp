@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Second order up to the wall with VRSPH (issue 17 items 1-2): the Laplacian on perturbed
 // particles without a regular layer (boundary=signed), mixed Neumann and Robin problems
 // with balance flux rows (flux=balance), in 1D, 2D and 3D. Band: fitted order >= 1.8 in the
@@ -33,7 +34,7 @@ BvpStudyParams mixed(int dim, std::vector<int> n, const std::string& flux) {
   p.neumann = dim == 3 ? std::vector<std::string>{"x1", "y1", "z1"} : std::vector<std::string>{"x1", "y1"};
   p.n = std::move(n);
   p.method_options["vrsph"].set("flux", flux);
-  p.solver.type = SolverType::UmfPack;
+  p.solver.type = auto_direct_solver();  // UMFPACK, or SparseLU without SuiteSparse
   return p;
 }
 }  // namespace

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [IM] (seed 004_9e9d00b5a1203d0f.txt): Table 1 / Fig. 5 claims on the levels CI affords,
 // the Table 1 particle sets, and the regularity indicators of those sets.
 #include <cmath>
@@ -99,6 +100,8 @@ TEST(ImTable1, VolumeBiasAndSmoothingExplainTheErrors) {
 // not constant: |Omega_H| / N differs from dx^2 by a level-dependent O(dx) (METHODS S8),
 // and that surplus has to be carried across the set.
 TEST(ImRegularity, IndicatorsScaleWithDx) {
+  VRSPH_REQUIRE_PART("CGAL");  // covering radius and Voronoi cells
+  VRSPH_REQUIRE_PART("CLP");   // the Voronoi deviation LP
   for (int n : {16, 32}) {
     const PointCloud c = im_cloud({.dim = 2, .dx = 1.0 / n});
     const RegularityReport r = regularity(c);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph cloud`: generate a cloud, or read one (--input) and inspect/convert it.
 #include <algorithm>
 #include <filesystem>
@@ -7,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/core/features.hpp>
 #include <vrsph/analysis/regularity.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
@@ -278,7 +280,12 @@ void add_cloud_command(CLI::App& app) {
       add(std::string("min_") + "xyz"[k], lo[k]);
       add(std::string("max_") + "xyz"[k], hi[k]);
     }
-    if (cloud.domain.shape != Domain::Shape::None || geometry) {
+    // The covering radius needs CGAL's Voronoi vertices in 2D/3D: a build without CGAL leaves it
+    // out of the report (and says so) rather than failing the whole report.
+    const bool covering_available = built_with("CGAL") || (cloud.dim == 1 && !geometry);
+    if ((cloud.domain.shape != Domain::Shape::None || geometry) && !covering_available)
+      add("covering_radius", std::string("not computed: vrsph was built without CGAL"));
+    if ((cloud.domain.shape != Domain::Shape::None || geometry) && covering_available) {
       // A geometry's covering radius is exact inside and sampled on the boundary: the true
       // value lies within covering_radius_uncertainty above the one reported.
       const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample(), geometry->sample_step)

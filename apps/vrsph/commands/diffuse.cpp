@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph diffuse`: time-dependent diffusion ([SPE] §4.4 plate flow, Table 1) with explicit
 // Euler, backward Euler or Crank–Nicolson, an error history (CSV), a VTU time series (.pvd)
 // and Table 1 beside the published values.
@@ -131,8 +132,8 @@ void add_diffuse_command(CLI::App& app) {
                                  "0.1,0.2,0.25,0.26); default 0.2");
   cmd->add_option("--dt", a->dt, "Time step instead of --nu");
   cmd->add_option("--t-end", a->t_end, "End time (the run stops at the first step at or after it)")->capture_default_str();
-  cmd->add_option("--dx", a->dx, "Particle spacing (METHODS R17 recommends 0.1)")->capture_default_str();
-  cmd->add_option("--h-factor", a->f, "[SPE]'s f = l/dx: support radius 2 f dx (METHODS R17: 1.001)")->capture_default_str();
+  cmd->add_option("--dx", a->dx, "Particle spacing (0.1 reproduces [SPE] Table 1, docs/spe_tables.md)")->capture_default_str();
+  cmd->add_option("--h-factor", a->f, "[SPE]'s f = l/dx: support radius 2 f dx (1.001 reproduces [SPE] Table 1)")->capture_default_str();
   cmd->add_option("--kernel", a->kernel, "Kernel")->capture_default_str();
   cmd->add_option("--nu-limit", a->nu_limit, "Largest nu the explicit scheme accepts")->capture_default_str();
   cmd->add_flag("--allow-unstable", a->allow_unstable, "Run the explicit scheme above --nu-limit anyway (stability study)");

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph operator`: truncation-error study of operator stencils over a refinement list.
 #include <iostream>
 #include <cmath>
@@ -165,7 +166,7 @@ void operator_at_points(const OperatorArgs& a, const CLI::App& cmd) {
     for (int k = 0; k < cloud.dim; ++k) row.emplace_back(std::string("gradient_") + "xyz"[k], r.gradient(e, k));
     t.add_row(row);
   }
-  emit(t, a.out, R"j({"evaluation": "gpm at points", "reference": "004_9e9d00b5a1203d0f.txt (2)-(4)"})j", "", "", "",
+  emit(t, a.out, R"j({"evaluation": "gpm at points", "reference": "[IM] (2)-(4)"})j", "", "", "",
        "");
 }
 
@@ -202,7 +203,7 @@ void operator_im_table1(const OperatorArgs& a, const CLI::App& cmd) {
                {"theoretical_order", nan_to_empty(im_theoretical_order(r.weight, r.m))}, {"volume_bias", r.volume_bias},
                {"error_integral", r.error_integral}, {"seconds", r.seconds}});
   }
-  emit(t, a.out, R"({"problem": "im-table1", "reference": "004_9e9d00b5a1203d0f.txt Table 1, METHODS 5.4"})", "h", "error_rel",
+  emit(t, a.out, R"j({"problem": "im-table1", "reference": "[IM] Table 1 (Imoto, JJIAM 37 (2020), doi:10.1007/s13160-020-00407-1)"})j", "h", "error_rel",
        "series", "[IM] Table 1: relative max-norm error against h");
 }
 }  // namespace

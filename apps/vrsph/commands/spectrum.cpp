@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `vrsph spectrum`: [AAR]'s vibration test, normalised spectra of methods beside lumped FEM.
 #include <cmath>
 #include <iostream>
@@ -34,7 +35,7 @@ void add_spectrum_command(CLI::App& app) {
   cmd->add_option("--method", a->methods, "Comma-separated method names with a second-derivative stencil")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value (repeatable)");
   cmd->add_option("--n", a->n, "Intervals: n + 1 equispaced particles, n - 1 unknowns ([AAR]: 101 -> 100)")->capture_default_str();
-  cmd->add_option("--kernel", a->kernel, "Kernel (default: Gaussian with l = dx, METHODS §2.3)")->capture_default_str();
+  cmd->add_option("--kernel", a->kernel, "Kernel (default: Gaussian with l = dx, as in [AAR])")->capture_default_str();
   cmd->add_option("--h-factor", a->h_factor, "Support radius / dx (Gaussian: 6 = truncation at 6 l)")->capture_default_str();
   cmd->add_option("--cloud", a->cloud, "uniform or perturbed (interior particles U(-delta dx, delta dx))")->capture_default_str();
   cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx")->capture_default_str();
@@ -96,7 +97,7 @@ void add_spectrum_command(CLI::App& app) {
                                              "omega_ratio null)"));
       if (s.max_imag_relative > 1e-8)
         warnings.push_back(detail::concat(m, ": complex eigenvalues, max |Im|/|lambda| = ", s.max_imag_relative,
-                                          " (sorted by real part, METHODS Q5)"));
+                                          " (sorted by real part)"));
       add_rows(m, s.omega_ratio);
     }
     Spectrum fem;

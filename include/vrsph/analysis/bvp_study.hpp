@@ -1,13 +1,14 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Boundary value problem studies: div(a grad u) = f in the box, u = g on the Dirichlet
 // particles, for any registered method, over a refinement list and a set of seeds.
 // Shared by `vrsph study`, `vrsph solve` and the reproduction tests.
 //
 // Problems:
-//   qw-ex5   [QW] Example 5 (seed 000_906375e5ed7c9bb7.txt): [0,1]^d, u = prod sin(pi x_k),
+//   qw-ex5   [QW] Example 5: [0,1]^d, u = prod sin(pi x_k),
 //            a = 1 + |x|^2, f = a Δu + ∇a·∇u, g = 0; layout A with n intervals (dx = 1/n),
 //            unknowns = interior particles. --dim 3 gives the 3D analogue.
-//   aar-static  [AAR] §5 elastic static test (seed 001_40aebf64e7a981b6.txt): -u'' = e^x on
+//   aar-static  [AAR] §5 elastic static test: -u'' = e^x on
 //            [0,1], u(0) = 0, u'(1) = 0 (traction-free end: Neumann particle), exact
 //            u = -e^x + e x + 1; defaults: Gaussian kernel with l = dx (support 6 dx),
 //            perturbation U(-dx/4, dx/4).

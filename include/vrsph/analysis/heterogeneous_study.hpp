@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Flow through heterogeneous media against a finite-volume reference: [SPE] §5.3 "SPE10"
-// (seed 003_b74f9306775dfa57.txt, METHODS §5.3, R18).
+// (METHODS §5.3, R18).
 //
 // -div(K grad u) = 0 on [0,1]^d with a diagonal permeability K on an n^d cell grid, u = 1
 // on the inlet face (flow axis = 0), u = 0 on the outlet face, no flow elsewhere. The

@@ -1,17 +1,18 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Truncation-error study of operator stencils: method x operator x cloud family x
 // refinement list -> errors and observed orders. Shared by `vrsph operator` and the
 // convergence tests, so both run exactly the same code.
 //
 // Problems:
-//   qw-trunc  [QW] Examples 1, 2, 4 (seed 000): f = cos(pi x) cos(pi y) [cos(pi x) in 1D,
+//   qw-trunc  [QW] Examples 1, 2, 4: f = cos(pi x) cos(pi y) [cos(pi x) in 1D,
 //             product over 3 coordinates in 3D] on [-1,1]^d, dx = 2/n. With ghosts
 //             (default): cell-centred lattice continued over a layer of width h + dx so
 //             no kernel is truncated; errors over the particles inside the domain.
 //             Without ghosts ([QW] Example 4): layout A (vertex lattice with boundary
 //             particles), errors over the particles of the open domain (METHODS P14).
 //   unit-box  the same constructions on [0,1]^d (for user expressions).
-//   aar-derivative  [AAR] §5 derivative test (seed 001_40aebf64e7a981b6.txt): f = e^x on
+//   aar-derivative  [AAR] §5 derivative test: f = e^x on
 //             [0,1], layout x_j = (j-1)/n, no ghosts, error at every particle (ends
 //             included); defaults Gaussian l = dx, U(-dx/4, dx/4) (problem_defaults.hpp).
 #include <functional>

@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The operator tests of [SPE] §4 (seed 003_b74f9306775dfa57.txt, METHODS §5.3 "Operator
+// The operator tests of [SPE] §4 (METHODS §5.3 "Operator
 // tests"): a scheme's div(m grad u) evaluated at every particle of a patch and reported
 // along a cross-section, as in the paper's figures.
 //   r2             Figs. 1–2: ∇²(x² + y²) = 4 on [-1/2, 1/2]², dx = 0.1 (11 × 11), f = 1.0,

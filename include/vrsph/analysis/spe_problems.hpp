@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The steady boundary value problems of [SPE] §5 (seed 003_b74f9306775dfa57.txt, METHODS
+// The steady boundary value problems of [SPE] §5 (METHODS
 // §5.3) on the unit square: the Laplace equation with
 //   spe-dirichlet  u = ψ1 on y = 0, ψ2 on x = 1, ψ3 on y = 1, ψ4 on x = 0 (series (96) as
 //                  corrected in METHODS §5.3: the printed ψ3 term duplicates ψ2's, R10);

@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// [AAR] §5 vibration test (seed 001_40aebf64e7a981b6.txt, METHODS §5.2): x'' + ω² x = 0 on
+// [AAR] §5 vibration test (METHODS §5.2): x'' + ω² x = 0 on
 // [0,1], x(0) = x(1) = 0, exact ω_n = nπ. K is a method's second-derivative stencil on
 // the n - 1 interior particles of n + 1 equispaced particles (ends fixed and eliminated,
 // unit density: identity mass); the eigenvalues λ of -K approximate ω². Reported: the

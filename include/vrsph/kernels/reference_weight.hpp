@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The reference weight functions of [IM] (seed 004_9e9d00b5a1203d0f.txt, METHODS §2.6–2.7):
+// The reference weight functions of [IM] (METHODS §2.6–2.7):
 // radial weights w on [0, 1) (zero beyond), normalised so that ∫_{R^d} w(|x|) dx = 1 in the
 // dimension they are made for, with w_h(r) = h^-d w(r/h).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Method: something that turns (cloud, neighbours, kernel) into stencils.
 //
@@ -17,7 +18,7 @@ namespace vrsph {
 
 struct MethodInfo {
   std::string name;           ///< registry key, e.g. "sph"
-  std::string paper;          ///< seed file the method comes from
+  std::string source;         ///< where in the publications, by reference key: "[QW] §4-5" (references())
   std::string description;
   std::string claimed_order;  ///< what the paper claims, in words
   std::vector<OperatorKind> operators;

@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Diagonal permeability fields K = diag(k_x, k_y[, k_z]) on a Cartesian cell grid over the
-// unit square/cube: the heterogeneous media of [SPE] §5.3 (seed 003_…, METHODS §5.3, R18).
+// unit square/cube: the heterogeneous media of [SPE] §5.3 (METHODS §5.3, R18).
 //
 // SPE10 itself is not available offline (R18), so two reproducible synthetic fields stand
 // in for it, labelled as substitutes wherever they are reported:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Sparse linear solvers for assembled systems. Non-convergence is a returned status
 // (SolveReport::success), never an exception; callers decide (the studies turn a
@@ -62,6 +63,8 @@ Index auto_direct_limit(int dimension);
 
 /// The solver `auto` picks for a system of this size.
 SolverType resolve_auto(Index unknowns, int dimension, Index direct_max = 0);
+/// The direct solver `auto` takes: UMFPACK, or Eigen's SparseLU in a build without SuiteSparse.
+SolverType auto_direct_solver();
 
 /// The PETSc options vrsph starts from (before PETSC_OPTIONS and the user's): GMRES with
 /// BoomerAMG settings tuned for non-symmetric M-matrices of particle Laplacians in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/aar/modified_fpm.hpp>
@@ -116,7 +117,7 @@ class ModifiedFpm final : public Method {
 
 MethodInfo mfpm_info() {
   return taylor::with_coefficient_gradient({"mfpm",
-          "001_40aebf64e7a981b6.txt ([AAR](33)-(37))",
+          "[AAR] (33)-(37)",
           "modified FPM (1D): 2x2 Taylor projection on W and DW giving first and second derivative together",
           "second derivative O(h^2) inside, O(h) at the boundary (derivative test order 1; rod order 2)",
           operators,
@@ -124,7 +125,7 @@ MethodInfo mfpm_info() {
 }
 MethodInfo fpm2o_info() {
   return taylor::with_coefficient_gradient({"fpm2o",
-          "001_40aebf64e7a981b6.txt ([AAR](39)-(44))",
+          "[AAR] (39)-(44)",
           "second-order FPM (1D): modified FPM with the kernel corrected by (a s^3 + b s + c) near the boundary",
           "O(h^2) everywhere, boundary included (derivative and rod tests order 2, also on perturbed particles)",
           operators,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/aar/nested.hpp>
@@ -136,7 +137,7 @@ MethodInfo with_rings(MethodInfo info) {
 
 MethodInfo aar_sph_info() {
   return with_rings({"aar-sph",
-                     "001_40aebf64e7a981b6.txt ([AAR](11)-(12))",
+                     "[AAR] (11)-(12)",
                      "original SPH as in [AAR]: kernel first derivative, second derivative by applying it twice",
                      "O(h^2) inside; not convergent at the boundary (derivative test order -1; rod: apparent order "
                      "1 decaying; spectrum strongly underestimated)",
@@ -145,7 +146,7 @@ MethodInfo aar_sph_info() {
 }
 MethodInfo rkpm1_info() {
   return with_rings({"rkpm1",
-                     "001_40aebf64e7a981b6.txt ([AAR](21)-(26))",
+                     "[AAR] (21)-(26)",
                      "first-order RKPM: kernel corrected by a linear polynomial per particle, D2 = D D",
                      "as original SPH: O(h^2) inside, not convergent at the boundary",
                      taylor::every_operator(),
@@ -153,7 +154,7 @@ MethodInfo rkpm1_info() {
 }
 MethodInfo rkpm2_info() {
   return with_rings({"rkpm2",
-                     "001_40aebf64e7a981b6.txt ([AAR](21)-(26))",
+                     "[AAR] (21)-(26)",
                      "second-order RKPM: kernel corrected by a quadratic polynomial per particle, D2 = D D",
                      "O(h^2) inside, not convergent at the boundary",
                      taylor::every_operator(),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/reference_weight.hpp>
@@ -11,7 +12,7 @@ namespace vrsph {
 
 MethodInfo gpm_info() {
   MethodInfo info{"gpm",
-                  "004_9e9d00b5a1203d0f.txt ([IM] (2)-(4), METHODS §3.8.1)",
+                  "[IM] (2)-(4)",
                   "generalized particle method: interpolant, gradient and Laplacian from the [IM] reference weights",
                   "O(h^min(m-1, n+1)) interpolant and gradient, O(h^min(m-2, n+1)) Laplacian for a particle set regular "
                   "of order m and a weight with Hypothesis 1 of order n ([IM] Thm 3)",

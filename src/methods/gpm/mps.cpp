@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <numbers>
 #include <vrsph/core/error.hpp>
@@ -10,7 +11,7 @@ namespace vrsph {
 
 MethodInfo mps_info() {
   return {"mps",
-          "004_9e9d00b5a1203d0f.txt ([IM] (61)-(62), Appendix A; METHODS §3.8.3)",
+          "[IM] (61)-(62), Appendix A",
           "moving particle semi-implicit: gradient and Laplacian with the MPS weight, number density n and lambda",
           "O(h^min(2, m-2)) Laplacian for a particle set regular of order m; O(h^min(2, m-1)) gradient if the weight "
           "satisfies Hypothesis 2 with k = 0 ([IM] Corollary 2; the classic weight is outside the class W)",

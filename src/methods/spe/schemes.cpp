@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -303,7 +304,7 @@ class SpeScheme final : public Method {
 
 MethodInfo spe_info(std::string name, std::string description, std::string claimed, bool monotone) {
   MethodInfo info{std::move(name),
-                  "003_b74f9306775dfa57.txt ([SPE] §3, METHODS §3.7)",
+                  "[SPE] §3",
                   std::move(description),
                   std::move(claimed),
                   {OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient, OperatorKind::Laplacian,
@@ -311,7 +312,7 @@ MethodInfo spe_info(std::string name, std::string description, std::string claim
                   {}};
   info.options = {{"gradient", "kernel gradient g1 (15, default) | g2 (16) | g3 (17) | g4 (18)"},
                   {"anisotropy", "consistent (default: exact on quadratics for constant diagonal M) | paper (the "
-                                 "printed pair weight, inconsistent when m_1 != m_2, METHODS R22); tensor mobility only"},
+                                 "printed pair weight, inconsistent when m_1 != m_2, docs/methods.md); tensor mobility only"},
                   {"pair_gradient", "plain (default: Δ·g/r²) | corrected (Δ·g*/r², the \"corrected kernel\" of [SPE] "
                                     "Figs. 1-2)"},
                   pair_mean_option()};
@@ -338,7 +339,7 @@ MethodInfo s_sph_info() {
 }
 MethodInfo m_sph_info() {
   return spe_info("m-sph", "the monotone M-SPH scheme [SPE](69)-(73), transmissibility form (90)-(91), Γ* with "
-                  "the admissibility fallback of METHODS §3.7.5",
+                  "the admissibility fallback of [SPE] §3 (docs/methods.md)",
                   "C Δx^ω/h̃, 1 <= ω < 2 far from the boundary ([SPE] Thm 3); equals S-SPH on lattices; "
                   "monotone where (92)/(93) hold", true);
 }

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/pair_mean.hpp>
@@ -7,7 +8,7 @@ namespace vrsph {
 
 MethodInfo sph_info() {
   MethodInfo info{"sph",
-          "000_906375e5ed7c9bb7.txt ([QW] §2.1)",
+          "[QW] §2.1",
           "traditional SPH: kernel-gradient gradient, Brookshaw Laplacian, Morris div(a grad)",
           "O(h^2) smoothing + O((dx/h)^{p+2}) discretisation error on lattices; gradient non-convergent and "
           "Laplacian divergent on perturbed particles; 1st order Poisson with boundary truncation",

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <limits>
 #include <vrsph/core/error.hpp>
@@ -149,7 +150,7 @@ class Corrective final : public Method {
 
 MethodInfo cspm_info() {
   return taylor::with_coefficient_gradient({"cspm",
-          "000_906375e5ed7c9bb7.txt ([QW] §2.2, \"CSPH\"); Chen, Beraun & Carney, IJNME 46 (1999)",
+          "[QW] §2.2 (\"CSPH\"); [CBC]",
           "corrective SPH: full-matrix corrected kernel gradient, Laplacian from second kernel derivatives "
           "(diagonal Hessian approximation)",
           "gradient exact for linear fields, O(h) on perturbed particles; Laplacian below first order on perturbed "
@@ -160,7 +161,7 @@ MethodInfo cspm_info() {
 
 MethodInfo chen_beraun_info() {
   return taylor::with_coefficient_gradient({"chen-beraun",
-          "001_40aebf64e7a981b6.txt ([AAR](16), (20)); Chen & Beraun, CMAME 190 (2000)",
+          "[AAR] (16), (20); [CB]",
           "Chen–Beraun corrective SPH: corrected first derivative (16), kernel-only second derivative (20) "
           "(isotropic extension in 2D/3D)",
           "O(h^2) inside; first derivative O(h), second derivative O(1) at the boundary (no max-norm convergence in "

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/taylor/fpm.hpp>
@@ -156,7 +157,7 @@ class TaylorProjection final : public Method {
 
 MethodInfo fpm_info() {
   return taylor::with_coefficient_gradient({"fpm",
-          "000_906375e5ed7c9bb7.txt ([QW](2.13)-(2.19)); 001_40aebf64e7a981b6.txt ([AAR](27)-(30)); Liu & Liu 2006",
+          "[QW] (2.13)-(2.19); [AAR] (27)-(30); [LL]",
           "finite particle method: Taylor expansion projected on W and its derivatives (per-particle 1+d or "
           "(d+1)(d+2)/2 system)",
           "exact for linear (gradient) / quadratic (Laplacian) fields; O(h) gradient and Laplacian on irregular "
@@ -167,7 +168,7 @@ MethodInfo fpm_info() {
 
 MethodInfo kgf_info() {
   return taylor::with_coefficient_gradient({"kgf",
-          "000_906375e5ed7c9bb7.txt ([QW] §2.2); Huang, Lei, Liu & Peng, IJNMF 78 (2015)",
+          "[QW] §2.2; [HLLP]",
           "kernel-gradient-free SPH: FPM with test functions W_ij (x_j - x_i)^alpha (weighted least squares)",
           "exact for linear/quadratic fields; gradient and Laplacian O(h) on perturbed particles ([QW] Figs. 3, 4)",
           taylor::every_operator(),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -19,7 +20,7 @@ SingularPolicy read_singular_policy(const MethodOptions& o) {
 std::vector<std::pair<std::string, std::string>> corrected_method_options(bool with_policy) {
   std::vector<std::pair<std::string, std::string>> o{{"volume", "dx (v_j = dx^d, default) | shepard (v_j = 1/sum_k W_jk)"}};
   if (with_policy) {
-    o.emplace_back("max_condition", "largest accepted condition number of a local system (default 1e12, METHODS §3.0)");
+    o.emplace_back("max_condition", "largest accepted condition number of a local system (default 1e12)");
     o.emplace_back("on_singular", "error (default: name the particle and stop) | warn (leave the row zero and flag it)");
   }
   return o;

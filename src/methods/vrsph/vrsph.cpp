@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
 #include <vrsph/methods/vrsph/volumes.hpp>
@@ -14,12 +15,12 @@ namespace vrsph {
 
 MethodInfo vrsph_info() {
   MethodInfo info{"vrsph",
-          "000_906375e5ed7c9bb7.txt ([QW] §4-5)",
+          "[QW] §4-5",
           "volume-reconstruction SPH: per-particle NNLS volumes satisfying the moment conditions (4.1)/(4.2)",
           "O(h^2) gradient and Laplacian on uniform, perturbed and centroid particles; O(h^2) Poisson; -L an M-matrix",
           {OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient, OperatorKind::Laplacian,
            OperatorKind::DivAGrad},
-          {{"nnls_tolerance", "NNLS tolerance; default 10 eps ||A||_1 max(m,n) (METHODS §3.0)"},
+          {{"nnls_tolerance", "NNLS tolerance; default 10 eps ||A||_1 max(m,n)"},
            {"nnls_max_iterations", "NNLS iteration cap; default 3 x neighbours"},
            {"rows", "merged (identical moment rows merged with sqrt(multiplicity) weights: same objective, "
                     "smaller system; default) | full (the literal 3/12/30 rows)"},
@@ -47,7 +48,7 @@ MethodInfo vrsph_info() {
   info.profiles = {{"default", "rhs=auto flux=auto boundary=nnls prefer=none: boundary value problems get compact "
                                 "rows and balance Neumann rows (third/second order, -L an M-matrix), operator values "
                                 "the point rows"},
-                    {"qw", "rhs=point flux=gradient boundary=nnls prefer=none: [QW] (000_906375e5ed7c9bb7.txt) as "
+                    {"qw", "rhs=point flux=gradient boundary=nnls prefer=none: [QW] as "
                            "published"}};
   info.monotone = true;
   info.tensor_mobility = true;  // div(M grad u) by anisotropic moment targets (beyond [QW], docs/methods.md)

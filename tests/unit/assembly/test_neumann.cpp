@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Neumann and mixed boundary conditions through the flux rows of the method's own
 // gradient: exactness on fields every method's gradient reproduces, the corner rule, and
 // the singular pure-Neumann problem.
@@ -28,6 +29,7 @@ BvpRun solve_custom(const std::string& method, int dim, const std::string& u, st
 }  // namespace
 
 TEST(Neumann, MixedProblemExactForLinearSolutions) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   // a = 1 + x^2, u linear: f = a' u_x; every corrected gradient is exact for linear u, and
   // the Taylor methods' div(a grad) (a Δ_h u + ∇a·∇_h u) is exact too.
   for (const auto* m : {"fpm", "kgf", "cspm"}) {
@@ -43,6 +45,7 @@ TEST(Neumann, MixedProblemExactForLinearSolutions) {
 }
 
 TEST(Neumann, CornersBetweenNeumannFacesGetTheAveragedNormal) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   const BvpRun r = solve_custom("fpm", 2, "1 + x + y", {"x1", "y1"}, false, CloudFamily::Uniform);
   // Neumann particles: the faces x = 1 and y = 1 without their Dirichlet ends, plus the shared corner.
   EXPECT_EQ(r.neumann_particles, 2 * 15 + 1);
@@ -50,6 +53,7 @@ TEST(Neumann, CornersBetweenNeumannFacesGetTheAveragedNormal) {
 }
 
 TEST(Neumann, PureNeumannIsSingularUnlessTheConstantIsFixed) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   EXPECT_THROW_MSG((void)solve_custom("fpm", 2, "1 + x - y", {"all"}), InputError, "up to a constant");
   const BvpRun r = solve_custom("fpm", 2, "1 + x - y", {"all"}, true);
   EXPECT_LT(r.errors.all.linf, 1e-9);
@@ -78,6 +82,7 @@ TEST(Neumann, ParticleWithoutNormalIsAnError) {
 }
 
 TEST(Neumann, QuadraticFitFluxRowsGiveSecondOrderMixedProblems) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   // fpm gradient_order=2: flux rows from the quadratic fit are second-order one-sided
   // gradients, so the mixed problem converges at order 2 (order 1 with the linear fit).
   BvpStudyParams p;
@@ -99,6 +104,7 @@ TEST(Neumann, QuadraticFitFluxRowsGiveSecondOrderMixedProblems) {
 // linear solutions, well-posed without any Dirichlet particle, second order with FPM's
 // second-order gradient, and a negative beta refused.
 TEST(Robin, ExactOnLinearsAndWellPosedWithoutDirichletData) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   for (const char* method : {"m-sph", "fpm", "sph"}) {
     BvpStudyParams p;
     p.problem = "custom";
@@ -119,6 +125,7 @@ TEST(Robin, ExactOnLinearsAndWellPosedWithoutDirichletData) {
 }
 
 TEST(Robin, SecondOrderWithFpmAndBetaRefusedBelowZero) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   BvpStudyParams p;
   p.problem = "custom";
   p.u = "exp(x)*sin(2*y) + x*x";

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
 #include <cmath>
 #include <vrsph/cloud/generate.hpp>
@@ -125,6 +126,7 @@ TEST(Generate, BallCloudRowsAndParts) {
 }
 
 TEST(Generate, MeshCentroidsHaveShortEdgesAndLieInTheMesh) {
+  VRSPH_REQUIRE_PART("CGAL");
   for (int dim = 2; dim <= 3; ++dim) {
     double max_edge = 0;
     const double dx = dim == 2 ? 0.1 : 0.25;

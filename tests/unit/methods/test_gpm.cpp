@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The generalized particle method of [IM]: with weight 2 (cubic spline) and lattice volumes it
 // is SPH to round-off ([IM] (57)-(60), issue 12 item 2), in 1D-3D and on perturbed particles;
 // weight 1 is monotone, weight 3 changes sign; constants are exact for every derivative.
@@ -15,10 +16,10 @@
 using namespace vrsph;
 
 namespace {
-struct Cloud {
+struct GpmCloud {
   PointCloud cloud;
   NeighbourList nl;
-  explicit Cloud(int dim) {
+  explicit GpmCloud(int dim) {
     cloud = cell_centred_lattice(Domain::symmetric_box(dim, 1), dim == 3 ? 8 : 14, false, 4);
     perturb(cloud, {0.4, 5, false});
     SearchParams sp;
@@ -33,7 +34,7 @@ struct Cloud {
 
 TEST(Gpm, WeightTwoWithLatticeVolumesIsSph) {
   for (int dim = 1; dim <= 3; ++dim) {
-    const Cloud c(dim);
+    const GpmCloud c(dim);
     const Field a = Field::LinSpaced(c.cloud.size(), 1, 3);
     for (auto k : {OperatorKind::Value, OperatorKind::Gradient, OperatorKind::Laplacian, OperatorKind::DivAGrad, OperatorKind::Dy}) {
       if (k == OperatorKind::Dy && dim < 2) continue;
@@ -52,7 +53,7 @@ TEST(Gpm, WeightTwoWithLatticeVolumesIsSph) {
 }
 
 TEST(Gpm, SignsAndConstantsForEveryWeight) {
-  const Cloud c(2);
+  const GpmCloud c(2);
   const Field one = Field::Ones(c.cloud.size());
   for (const char* weight : {"1", "2", "3"})
     for (const char* volume : {"lattice", "shepard"}) {

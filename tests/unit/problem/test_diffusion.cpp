@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Time-dependent diffusion on user problems: data that depend on time (Dirichlet and
 // Neumann), the manufactured source, exactness on linear solutions for every scheme, the
 // order in space, and divergence detected rather than reported as a result.
@@ -35,6 +36,7 @@ DiffusionOptions options(TimeScheme scheme, Real dt, Real t_end, const std::stri
 }  // namespace
 
 TEST(Diffusion, LinearSolutionsAreExactWithTimeDependentDirichletAndNeumannData) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   DiffusionExpressions e;
   e.u = "1 + x + 2*y + 0.5*t - 0.25*t*x";  // data change in time on both kinds of boundary
   // M-SPH with Neumann faces on perturbed particles; VRSPH with Dirichlet data on the lattice
@@ -57,6 +59,7 @@ TEST(Diffusion, LinearSolutionsAreExactWithTimeDependentDirichletAndNeumannData)
 }
 
 TEST(Diffusion, CrankNicolsonIsSecondOrderInSpaceWithTimeDependentDirichletData) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   DiffusionExpressions e;
   e.u = "exp(-t)*sin(x + y*y) + t*x";
   e.a = "1 + x*y";
@@ -67,6 +70,7 @@ TEST(Diffusion, CrankNicolsonIsSecondOrderInSpaceWithTimeDependentDirichletData)
 }
 
 TEST(Diffusion, NeumannRowsConvergeAtTheOrderOfTheSteadyFluxRows) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   DiffusionExpressions e;
   e.u = "exp(-t)*sin(x + y*y) + t*x";
   e.a = "1 + x*y";
@@ -79,6 +83,7 @@ TEST(Diffusion, NeumannRowsConvergeAtTheOrderOfTheSteadyFluxRows) {
 }
 
 TEST(Diffusion, GrowingModesAreDetectedNotReported) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   // FPM's flux rows leave the reduced operator with a growing mode (x20 per implicit step at
   // dt = 0.005, n = 20): even the exact linear solution is lost to round-off.
   DiffusionExpressions e;
@@ -94,6 +99,7 @@ TEST(Diffusion, GrowingModesAreDetectedNotReported) {
 }
 
 TEST(Diffusion, ExpressionProblemsDeriveTheSourceAndNameMissingData) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   DiffusionExpressions e;
   e.u = "exp(-2*t)*x*x*y";
   e.a = "1 + x";

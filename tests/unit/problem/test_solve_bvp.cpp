@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The one-call BVP API on a user's own cloud (no box, no generator): an L-shaped
 // lattice built from arrays, Dirichlet, mixed and pure-Neumann data.
 #include <cmath>
@@ -102,6 +103,7 @@ TEST(SolveBvp, BadProblemsAreTypedErrors) {
 }
 
 TEST(SolveBvp, ValuesInsteadOfExpressions) {
+  VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   // The same problem from expressions and from per-particle values (as --a-column etc.
   // give them) is the same problem.
   const PointCloud c = l_shape(16);

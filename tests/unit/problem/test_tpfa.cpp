@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The TPFA reference solver: exact for layered media (series and parallel), conservative,
 // an M-matrix; and the heterogeneous study built on it.
 #include <cmath>
@@ -124,6 +125,7 @@ TEST(HeterogeneousStudy, ChannelisedFieldIsMonotoneAndTheHarmonicMeanIsCloserToT
 }
 
 TEST(HeterogeneousStudy, KrylovHistoriesStartAtOneAndNeverIncrease) {
+  VRSPH_REQUIRE_PART("PETSC");  // the Krylov study runs PETSc's GMRES
   HeterogeneousStudyParams p;
   p.problem = "spe-channel";
   p.n = 20;

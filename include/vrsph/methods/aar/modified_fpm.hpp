@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The FPM variants of [AAR] (seed 001_40aebf64e7a981b6.txt, METHODS §3.6), 1D only:
+// The FPM variants of [AAR] (METHODS §3.6), 1D only:
 //   mfpm   modified FPM (33)–(37): per particle the 2x2 system in (DB_i, D2B_i) obtained by
 //          projecting the second-order Taylor expansion of B_j - B_i on W_i and DW_i.
 //          Claimed: D2 O(h^2) inside, O(h) at the boundary (38).

@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Second derivatives by applying a first-derivative stencil twice ([AAR] (11)–(12),
-// (25)–(26); seed 001_40aebf64e7a981b6.txt, METHODS §3.6):
+// (25)–(26); METHODS §3.6):
 //   aar-sph  original SPH: DB_i = sum_j (B_i - B_j) DW_i(x_j) dOmega_j, D2 = D D.
 //   rkpm1    RKPM, corrected kernel K_i = C_i(x) W_i(x) with C_i linear: per-particle
 //   rkpm2    constants from sum_j K_i(x_j) v_j p(x_j - x_i) = e_1, p = (1, x) or (1, x, x^2)

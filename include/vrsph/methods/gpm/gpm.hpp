@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The generalized particle method of [IM] (seed 004_9e9d00b5a1203d0f.txt, METHODS §3.8.1),
+// The generalized particle method of [IM] (METHODS §3.8.1),
 // operators (2)–(4) at the particles with the reference weights of kernels/reference_weight.hpp:
 //   value      Π_h v(x_i) = Σ_{j, self included} V_j v_j w_h(r_ij)             (weight pi<k>)
 //   gradient   g_ij = d V_j w_h(r_ij) (x_j - x_i) / r_ij²,  difference form    (weight grad<k>)

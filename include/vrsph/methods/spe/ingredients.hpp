@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// Per-particle ingredients of the [SPE] schemes (seed 003_…, METHODS §3.7): the four
+// Per-particle ingredients of the [SPE] schemes (METHODS §3.7): the four
 // kernel-gradient options G1–G4 (15)–(18), the Shepard sum ν (13), the correction matrix
 // A and corrected gradient g* = A^-T g (23)–(25), the vectors N (53) and Ñ (65), the
 // tensors Γ (55) and Γ* (70)–(71), and the monotonicity diagnostic ξ = Cᵀ Ñ (94).

@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The schemes of [SPE] (seed 003_b74f9306775dfa57.txt, METHODS §3.7) for div(M grad u)
+// The schemes of [SPE] (METHODS §3.7) for div(M grad u)
 // with a scalar or diagonal tensor mobility M:
 //   brookshaw  (27)       w_IJ = V_J Δᵀ(M_I+M_J) g_IJ / r²                 (two-point flux, monotone)
 //   cb-sph     (51)       tr(A_I^-1)/d · w^B_IJ                           (corrected Brookshaw)

@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// Traditional SPH ([QW] §2.1, eqs. (2.9)–(2.12); seed 000_906375e5ed7c9bb7.txt).
+// Traditional SPH ([QW] §2.1, eqs. (2.9)–(2.12)).
 //   value      <u>_i = sum_j v_j u_j W_ij (self included)
 //   gradient   g_ij  = v_j grad_i W_ij                      [QW](2.10), difference form
 //   laplacian  w_ij  = v_j Y_ij = -2 v_j W'(r_ij)/r_ij >= 0   [QW](2.11) (Brookshaw)

@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// Chen–Beraun corrective SPH (METHODS §3.4; "CSPH" in [QW], seed 000_906375e5ed7c9bb7.txt;
-// [AAR](16), (20), seed 001_40aebf64e7a981b6.txt):
+// Chen–Beraun corrective SPH (METHODS §3.4; "CSPH" in [QW];
+// [AAR](16), (20)):
 //   gradient   g_ij = v_j A_i^{-T} grad_i W_ij,  A_i = sum_j v_j x_ji ⊗ grad_i W_ij (full
 //              matrix; equals [AAR](16) in 1D); exact for linear fields.
 //   cspm         Laplacian of Chen, Beraun & Carney (1999), diagonal Hessian approximation

@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Taylor-projection methods with a per-particle moment matrix M phi = sum_j v_j psi(j) f_j,
-// phi = (f_i, grad f_i [, Hessian f_i]) (METHODS §3.3, §3.5; seed 000_906375e5ed7c9bb7.txt
+// phi = (f_i, grad f_i [, Hessian f_i]) (METHODS §3.3, §3.5
 // [QW](2.13)–(2.19)):
 //   fpm  finite particle method: test functions psi = (W, dW/dx_a [, d2W/dx_a dx_b]) of x_i
 //        (Liu & Liu 2006 in 2D/3D; option variant=qw uses [QW]'s 1D (2.18) with Y_ij in the

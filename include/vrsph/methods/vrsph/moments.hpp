@@ -1,6 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The discrete moment (regularity) conditions of [QW] (seed 000_906375e5ed7c9bb7.txt,
-// eqs. (3.7), (3.16), (4.1)–(4.3); METHODS §3.2) as the rows of VRSPH's NNLS system.
+// The discrete moment (regularity) conditions of [QW] (eqs. (3.7), (3.16), (4.1)–(4.3); METHODS §3.2) as the rows of VRSPH's NNLS system.
 //
 // For centre i and neighbour j: A_{(beta,alpha), j} = x_ji^alpha d_beta W_ij, where
 // d_beta W_ij = (grad_i W_ij)_beta = 1/2 Y_ij (x_ji)_beta, and b_{(beta,alpha)} = 1 if

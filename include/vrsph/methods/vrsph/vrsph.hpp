@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// VRSPH — volume-reconstruction SPH ([QW] §4–5; seed 000_906375e5ed7c9bb7.txt; METHODS §3.2).
+// VRSPH — volume-reconstruction SPH ([QW] §4–5; METHODS §3.2).
 //   gradient   g_ij = v_j grad_i W_ij with volumes from the gradient conditions (4.1)
 //   laplacian  w_ij = v_j Y_ij with volumes from the Laplace conditions (4.2)
 //   div-a-grad w_ij = 1/2 v_j (a_i + a_j) Y_ij >= 0 (Morris form with (4.2) volumes, (4.4))

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The optional parts of this build, from the generated vrsph/config.hpp.
+#include <vrsph/config.hpp>
+#include <vrsph/core/features.hpp>
+
+#include <algorithm>
+
+namespace vrsph {
+
+const std::vector<Part>& parts() {
+  static const std::vector<Part> all = {
+      {"PETSC", "PETSc solvers (GMRES/CG + BoomerAMG) and the distributed halo exchanges",
+       "PETSc BSD-2-Clause, hypre MIT/Apache-2.0", "petsc-dev", VRSPH_HAVE_PETSC != 0},
+      {"MPI", "distributed runs under mpirun", "Open MPI (BSD-3-Clause style)", "openmpi-bin petsc-dev",
+       VRSPH_HAVE_MPI != 0},
+      {"CGAL", "closed surfaces (STL/OFF/OBJ), mesh-centroid clouds, Delaunay and Voronoi cells, covering radius",
+       "GPL-3.0-or-later (CGAL's mesh and triangulation packages)", "libcgal-dev", VRSPH_HAVE_CGAL != 0},
+      {"CLP", "the Voronoi deviation's linear program", "EPL-1.0 (COIN-OR Clp)", "coinor-libclp-dev",
+       VRSPH_HAVE_CLP != 0},
+      {"SUITESPARSE", "the UMFPACK direct solver", "GPL-2.0-or-later (UMFPACK)", "libsuitesparse-dev",
+       VRSPH_HAVE_SUITESPARSE != 0},
+      {"MUPARSER", "expressions for problem data", "BSD-2-Clause (muParser)", "libmuparser-dev",
+       VRSPH_HAVE_MUPARSER != 0},
+      {"VTK_XML", "reading VTU/VTP cloud files", "MIT (pugixml), Zlib", "libpugixml-dev zlib1g-dev",
+       VRSPH_HAVE_VTK_XML != 0},
+      {"OPENMP", "threads in the per-particle loops", "GCC runtime library exception", "g++", VRSPH_HAVE_OPENMP != 0},
+  };
+  return all;
+}
+
+bool built_with(std::string_view name) {
+  const auto& all = parts();
+  const auto it = std::find_if(all.begin(), all.end(), [&](const Part& p) { return p.name == name; });
+  return it != all.end() && it->built;
+}
+
+std::string_view version() { return VRSPH_VERSION_STRING; }
+
+void require_part(std::string_view name, std::string_view feature) {
+  const auto& all = parts();
+  const auto it = std::find_if(all.begin(), all.end(), [&](const Part& p) { return p.name == name; });
+  check<ConfigError>(it != all.end(), "internal: unknown optional part ", name);
+  if (it->built) return;
+  throw FeatureUnavailable(detail::concat(feature, " needs ", it->what, ": vrsph was built without ", it->name,
+                                          "; rebuild with -DVRSPH_WITH_", it->name, "=ON (Debian: apt-get install ",
+                                          it->packages, ")"));
+}
+
+}  // namespace vrsph
