@@ -8,24 +8,15 @@ its Python module imports, and a consumer project builds against it with find_pa
 usage: test_deb.py BUILD_DIR CONSUMER_SOURCE WORK_DIR"""
 import glob
 import os
-import shutil
-import subprocess
 import sys
+
+from package_util import build_version, fresh, run
 
 BUILD, CONSUMER, WORK = (os.path.abspath(a) for a in sys.argv[1:4])
 
 
-def run(cmd, **kw):
-    print("+", " ".join(cmd), flush=True)
-    p = subprocess.run(cmd, capture_output=True, text=True, **kw)
-    if p.returncode != 0:
-        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout[-4000:]}\n{p.stderr[-4000:]}")
-    return p.stdout
-
-
-shutil.rmtree(WORK, ignore_errors=True)
-os.makedirs(WORK)
-version = open(os.path.join(BUILD, "python", "vrsph", "_version.py"), encoding="utf-8").read().split('"')[1]
+fresh(WORK)
+version = build_version(BUILD)
 run(["cpack", "-G", "DEB", "-B", WORK], cwd=BUILD)
 debs = glob.glob(os.path.join(WORK, "vrsph_*.deb"))
 assert [os.path.basename(d) for d in debs] == [f"vrsph_{version}_amd64.deb"], debs

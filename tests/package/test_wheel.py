@@ -10,22 +10,14 @@ usage: test_wheel.py SOURCE_DIR BUILD_DIR WORK_DIR"""
 import glob
 import os
 import shutil
-import subprocess
 import sys
+
+from package_util import build_version, fresh, run
 
 SOURCE, BUILD, WORK = (os.path.abspath(a) for a in sys.argv[1:4])
 
 
-def run(cmd, **kw):
-    print("+", " ".join(cmd), flush=True)
-    p = subprocess.run(cmd, capture_output=True, text=True, **kw)
-    if p.returncode != 0:
-        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout[-4000:]}\n{p.stderr[-4000:]}")
-    return p.stdout
-
-
-shutil.rmtree(WORK, ignore_errors=True)
-os.makedirs(WORK)
+fresh(WORK)
 env = dict(os.environ, VRSPH_CMAKE_BUILD_DIR=BUILD)
 env.pop("PYTHONPATH", None)
 python = "/usr/bin/python3"  # Debian's, with pip, venv, numpy and scipy
@@ -33,7 +25,7 @@ run([python, "-m", "pip", "wheel", "--no-build-isolation", "--no-deps", "--wheel
      SOURCE], env=env, cwd=WORK)
 wheels = glob.glob(os.path.join(WORK, "dist", "vrsph-*.whl"))
 assert len(wheels) == 1, wheels
-version = open(os.path.join(BUILD, "python", "vrsph", "_version.py"), encoding="utf-8").read().split('"')[1]
+version = build_version(BUILD)
 assert os.path.basename(wheels[0]).startswith(f"vrsph-{version}-"), (wheels[0], version)
 venv = os.path.join(WORK, "venv")
 run([python, "-m", "venv", "--system-site-packages", venv])
