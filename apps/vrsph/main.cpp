@@ -76,10 +76,7 @@ int report(const char* kind, const std::exception& e, int code) {
   return code;
 }
 
-}  // namespace
-
-namespace {
-// "vrsph 0.2.0 (BSD-3-Clause) with PETSC MPI ...; without CGAL": the version and the optional
+// "vrsph 0.2.0 (BSD-3-Clause)", then the parts built with and without: the version and the optional
 // parts of this build, so that a bug report says both.
 std::string version_line() {
   std::string with, without;

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Voronoi deviation d_N by LP (63) (see analysis/voronoi_deviation.hpp).
 #include <vrsph/config.hpp>
+#include <vrsph/core/features.hpp>
 #if VRSPH_HAVE_CLP
 #include <coin/Clp_C_Interface.h>
 #else
-#include <vrsph/core/features.hpp>
-using CoinBigIndex = int;  // the LP is assembled as usual and refused where Clp would solve it
+using CoinBigIndex = int;  // (the LP's assembly compiles in every build; solve_block refuses first)
 #endif
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -50,6 +50,8 @@ struct LpSize {
 // Writes the block's a_ij (both ends inside) into `t`.
 LpSize solve_block(const Problem& p, const std::vector<Index>& members, const std::vector<Index>& block_of, Index block,
                    Transport& t, Real max_seconds) {
+  // A build without Clp refuses before assembling anything (--dn-method flow needs no LP).
+  require_part("CLP", "the Voronoi deviation's linear program (--dn-method lp; --dn-method flow needs no LP)");
   const auto n = static_cast<int>(members.size());
   std::vector<int> local(p.cells.size(), -1);
   for (int k = 0; k < n; ++k) local[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])] = k;
@@ -144,13 +146,6 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
                                         " variables, ", 3 * n, " constraints)"));
   }
   const double* a = Clp_getColSolution(lp.get());
-#else
-  (void)max_seconds;
-  require_part("CLP", "the Voronoi deviation's linear program (--dn-method lp; --dn-method flow needs no LP)");
-  const std::vector<double> none(cost.size(), 0.0);  // not reached: the part is not built
-  const double* a = none.data();
-  const int cols = static_cast<int>(cost.size());
-#endif
   // Each member's a_ii column comes first in its run of columns.
   for (int c = 0, k = -1; c + 1 < cols; ++c) {
     const Index slot = slot_of_column[static_cast<std::size_t>(c)];
@@ -160,6 +155,10 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
       t.pair[static_cast<std::size_t>(slot)] = std::max(0.0, a[c]);
   }
   return {cols, 3 * n};
+#else
+  (void)max_seconds, (void)t;
+  return {};  // not reached: refused at the start
+#endif
 }
 
 // phi with L phi = E for the weighted graph Laplacian L given by `trip` (diagonal and

@@ -28,22 +28,28 @@ const std::vector<Part>& parts() {
   return all;
 }
 
-bool built_with(std::string_view name) {
+namespace {
+const Part* find_part(std::string_view name) {
   const auto& all = parts();
   const auto it = std::find_if(all.begin(), all.end(), [&](const Part& p) { return p.name == name; });
-  return it != all.end() && it->built;
+  return it == all.end() ? nullptr : &*it;
+}
+}  // namespace
+
+bool built_with(std::string_view name) {
+  const Part* part = find_part(name);
+  return part && part->built;
 }
 
 std::string_view version() { return VRSPH_VERSION_STRING; }
 
 void require_part(std::string_view name, std::string_view feature) {
-  const auto& all = parts();
-  const auto it = std::find_if(all.begin(), all.end(), [&](const Part& p) { return p.name == name; });
-  check<ConfigError>(it != all.end(), "internal: unknown optional part ", name);
-  if (it->built) return;
-  throw FeatureUnavailable(detail::concat(feature, " needs ", it->what, ": vrsph was built without ", it->name,
-                                          "; rebuild with -DVRSPH_WITH_", it->name, "=ON (Debian: apt-get install ",
-                                          it->packages, ")"));
+  const Part* part = find_part(name);
+  check<ConfigError>(part != nullptr, "internal: unknown optional part ", name);
+  if (part->built) return;
+  throw FeatureUnavailable(detail::concat(feature, " needs ", part->what, ": vrsph was built without ", part->name,
+                                          "; rebuild with -DVRSPH_WITH_", part->name, "=ON (Debian: apt-get install ",
+                                          part->packages, ")"));
 }
 
 }  // namespace vrsph

@@ -280,19 +280,20 @@ void add_cloud_command(CLI::App& app) {
       add(std::string("min_") + "xyz"[k], lo[k]);
       add(std::string("max_") + "xyz"[k], hi[k]);
     }
-    // The covering radius needs CGAL's Voronoi vertices in 2D/3D: a build without CGAL leaves it
-    // out of the report (and says so) rather than failing the whole report.
-    const bool covering_available = built_with("CGAL") || (cloud.dim == 1 && !geometry);
-    if ((cloud.domain.shape != Domain::Shape::None || geometry) && !covering_available)
-      add("covering_radius", std::string("not computed: vrsph was built without CGAL"));
-    if ((cloud.domain.shape != Domain::Shape::None || geometry) && covering_available) {
-      // A geometry's covering radius is exact inside and sampled on the boundary: the true
-      // value lies within covering_radius_uncertainty above the one reported.
-      const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample(), geometry->sample_step)
-                                         : covering_radius(cloud);
-      add("covering_radius", cr.radius);
-      add("covering_radius_over_spacing", cr.radius / spacing);
-      if (geometry) add("covering_radius_uncertainty", cr.uncertainty);
+    if (cloud.domain.shape != Domain::Shape::None || geometry) {
+      if (!built_with("CGAL") && (cloud.dim > 1 || geometry)) {
+        // CGAL's Voronoi vertices give it in 2D/3D: a build without CGAL leaves it out of the
+        // report (and says so) rather than failing the whole report.
+        add("covering_radius", std::string("not computed: vrsph was built without CGAL"));
+      } else {
+        // A geometry's covering radius is exact inside and sampled on the boundary: the true
+        // value lies within covering_radius_uncertainty above the one reported.
+        const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample(), geometry->sample_step)
+                                           : covering_radius(cloud);
+        add("covering_radius", cr.radius);
+        add("covering_radius_over_spacing", cr.radius / spacing);
+        if (geometry) add("covering_radius_uncertainty", cr.uncertainty);
+      }
     }
     if (a->regularity) {
       check<ConfigError>(!geometry && cloud.domain.shape != Domain::Shape::None,
