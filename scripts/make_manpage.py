@@ -6,6 +6,7 @@ subcommand), so that the page and the program cannot disagree. Used by the insta
 
 usage: make_manpage.py VRSPH OUTPUT"""
 import datetime
+import os
 import re
 import subprocess
 import sys
@@ -30,7 +31,11 @@ def roff(text):
 
 
 def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: make_manpage.py VRSPH OUTPUT")
     binary, output = sys.argv[1], sys.argv[2]
+    if not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        sys.exit(f"make_manpage: {binary} is not an executable vrsph program")
     version = subprocess.run([binary, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
     top = help_text(binary)
     # CLI11 lists subcommands under "Subcommands:" as "  name   description".

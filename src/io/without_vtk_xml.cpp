@@ -7,7 +7,7 @@
 namespace vrsph {
 
 CloudFile parse_vtk_cloud(std::string, const std::string& name, int) {
-  require_part("VTK_XML", "reading the VTK XML cloud file '" + name + "'");
+  require_part("VTK_XML", "the cloud file '" + name + "' (VTK XML)");
   throw FeatureUnavailable(name);  // not reached: the part is not built
 }
 
