@@ -59,13 +59,20 @@ Real polish(const std::vector<Real>& A, int R, std::size_t C, const std::vector<
 // The operator rows of one degree as table look-ups: every monomial e^beta with |beta| <= degree
 // is evaluated once per column (vals), and each moment row reads its own value and the terms
 // of (a Δq + h ∇a·∇q) for q = e^alpha from it (a quarter of the compact rows' time went to
-// recomputing those products per row and column).
+// recomputing those products per row and column). The terms sit in fixed arrays inside the
+// row (at most one per axis): a vector per row cost a pointer chase per row and column.
 struct OperatorTable {
   std::vector<std::array<int, 3>> all;  // every exponent with |beta| <= degree: vals[k] = e^all[k]
+  struct Term {
+    int axis = 0;
+    Real coefficient = 0;
+    int index = 0;  // into `all`
+  };
   struct Row {
-    int value = 0;                                  // index of alpha in `all`
-    std::vector<std::pair<Real, int>> laplacian;    // alpha_k (alpha_k - 1) e^(alpha - 2 e_k)
-    std::vector<std::tuple<int, Real, int>> drift;  // (k, alpha_k, index of alpha - e_k)
+    int value = 0;                     // index of alpha in `all`
+    int n_laplacian = 0, n_drift = 0;  // terms used below
+    std::array<Term, 3> laplacian{};   // alpha_k (alpha_k - 1) e^(alpha - 2 e_k)
+    std::array<Term, 3> drift{};       // alpha_k e^(alpha - e_k), times h (∂a/∂x_k)
   };
   std::vector<Row> rows;
 };
@@ -90,15 +97,15 @@ OperatorTable operator_table(int dim, int degree, const std::vector<std::array<i
       if (al[uk] >= 2) {
         std::array<int, 3> b = al;
         b[uk] -= 2;
-        r.laplacian.emplace_back(al[uk] * (al[uk] - 1), index(b));
+        r.laplacian[static_cast<std::size_t>(r.n_laplacian++)] = {k, static_cast<Real>(al[uk] * (al[uk] - 1)), index(b)};
       }
       if (al[uk] >= 1) {
         std::array<int, 3> b = al;
         b[uk] -= 1;
-        r.drift.emplace_back(k, al[uk], index(b));
+        r.drift[static_cast<std::size_t>(r.n_drift++)] = {k, static_cast<Real>(al[uk]), index(b)};
       }
     }
-    t.rows.push_back(std::move(r));
+    t.rows.push_back(r);
   }
   return t;
 }
@@ -139,8 +146,8 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   CompactRows out;
   out.ok.assign(static_cast<std::size_t>(n), 0);
   out.degree.assign(static_cast<std::size_t>(n), 0);
-  out.w.assign(static_cast<std::size_t>(nl.total()), 0.0);
-  out.mu.assign(static_cast<std::size_t>(nl.total()), 0.0);
+  out.w.resize(static_cast<std::size_t>(nl.total()));  // zeroed row by row below (first touch in parallel)
+  out.mu.resize(static_cast<std::size_t>(nl.total()));
   out.mu_self.assign(static_cast<std::size_t>(n), 0.0);
   out.residual.assign(static_cast<std::size_t>(n), 0.0);
   if (any_wall) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
@@ -155,6 +162,9 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
     for (Index i = 0; i < n; ++i) {
       const auto si = static_cast<std::size_t>(i);
       const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
+      const auto slots = static_cast<std::ptrdiff_t>(nl.offsets[si]);
+      std::fill_n(out.w.begin() + slots, nl.count(i), 0.0);
+      std::fill_n(out.mu.begin() + slots, nl.count(i), 0.0);
       if (!wanted || interrupt_pending(i)) continue;  // (after a stop request: skipped, see below)
       const auto nbr = nl.of(i);
       const std::size_t cnt = nbr.size();
@@ -168,7 +178,9 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
         const auto& mo = mono[static_cast<std::size_t>(deg)];
         const OperatorTable& ops = table[static_cast<std::size_t>(deg)];
         const int R = static_cast<int>(mo.size()) + 1;
-        A.assign(static_cast<std::size_t>(R) * C, 0.0);
+        // Every entry is written below except the Σ μ = 1 row's w columns and the wall column.
+        A.resize(static_cast<std::size_t>(R) * C);
+        std::fill_n(A.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(R - 1) * C), cnt, 0.0);
         b.assign(static_cast<std::size_t>(R), 0.0);
         b[static_cast<std::size_t>(R - 1)] = 1;
         // The columns of particle p from one evaluation of its monomials: its w column at
@@ -187,8 +199,15 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
             const OperatorTable::Row& row = ops.rows[r];
             if (with_w) A[r * C + w_col] = s * vals[static_cast<std::size_t>(row.value)];
             Real lap = 0, drift = 0;
-            for (const auto& [c, idx] : row.laplacian) lap += c * vals[static_cast<std::size_t>(idx)];
-            for (const auto& [k, c, idx] : row.drift) drift += ga[k] * c * vals[static_cast<std::size_t>(idx)];
+            for (int t = 0; t < row.n_laplacian; ++t) {
+              const auto& term = row.laplacian[static_cast<std::size_t>(t)];
+              lap += term.coefficient * vals[static_cast<std::size_t>(term.index)];
+            }
+            if (grad_a)
+              for (int t = 0; t < row.n_drift; ++t) {
+                const auto& term = row.drift[static_cast<std::size_t>(t)];
+                drift += ga[term.axis] * term.coefficient * vals[static_cast<std::size_t>(term.index)];
+              }
             A[r * C + mu_col] = -s * (ap * lap + drift);
           }
           A[static_cast<std::size_t>(R - 1) * C + mu_col] = s;
@@ -196,11 +215,13 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
         for (std::size_t j = 0; j < cnt; ++j) columns(nbr[j], j, cnt + j, true, scale[j]);
         columns(i, 0, 2 * cnt, false, 1.0);
         if (wall)  // ĉ = c h times a_i n·∇q(0): only the degree-1 monomials q = e_k have ∇q(0) != 0
-          for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r) {
-            const auto& al = mo[r];
-            if (al[0] + al[1] + al[2] != 1) continue;
-            for (int k = 0; k < dim; ++k)
-              if (al[static_cast<std::size_t>(k)] == 1) A[r * C + 2 * cnt + 1] = walls.conormal[si][k];
+          for (std::size_t r = 0; r < static_cast<std::size_t>(R); ++r) {
+            const auto& al = mo[std::min(r, mo.size() - 1)];
+            Real entry = 0;
+            if (r + 1 < static_cast<std::size_t>(R) && al[0] + al[1] + al[2] == 1)
+              for (int k = 0; k < dim; ++k)
+                if (al[static_cast<std::size_t>(k)] == 1) entry = walls.conormal[si][k];
+            A[r * C + 2 * cnt + 1] = entry;
           }
         x.assign(C, 0.0);
         const NnlsResult r = solver.solve(A.data(), R, static_cast<int>(C), b.data(), x.data(), {}, MatrixOrder::RowMajor);

@@ -306,6 +306,8 @@ class Vrsph final : public Method {
   void store_compact_rows(const CompactRows& c, const Discretisation& disc, const std::vector<char>& wall, Stencil& s) const {
     const PointCloud& cloud = disc.cloud;
     s.rhs.assign(s.col.size(), 0.0);
+    // Rows are independent (each writes its own slots): 1.1 s of a 10^6-particle solve when serial.
+#pragma omp parallel for schedule(static)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
       const auto d = static_cast<std::size_t>(s.diag[si]);

@@ -12,6 +12,7 @@
 // is tried (O(h^2), still positive); rows with neither are left to the caller (VRSPH falls
 // back on its own row with μ = δ_ik).
 #include <span>
+#include <vrsph/core/uninitialized.hpp>
 #include <vrsph/methods/method.hpp>
 
 namespace vrsph {
@@ -19,8 +20,8 @@ namespace vrsph {
 struct CompactRows {
   std::vector<char> ok;         ///< per particle: 1 = a compact row was found
   std::vector<char> degree;     ///< per particle: the polynomial degree its row is exact for (0: none)
-  std::vector<Real> w;          ///< aligned with the neighbour slots (row i: w_ij >= 0)
-  std::vector<Real> mu;         ///< aligned with the neighbour slots (μ_ij of the neighbours)
+  UninitVector<Real> w;         ///< aligned with the neighbour slots (row i: w_ij >= 0; 0 where no compact row)
+  UninitVector<Real> mu;        ///< aligned with the neighbour slots (μ_ij of the neighbours)
   std::vector<Real> mu_self;    ///< per particle: μ_ii
   std::vector<Real> residual;   ///< per particle: ||A x - b|| / ||b|| of the local system
   std::vector<Real> wall_flux;  ///< wall rows: c_i >= 0 of Σ w (u_j - u_i) = Σ μ f - c_i q_i; else empty
