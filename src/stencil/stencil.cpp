@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
+#include <limits>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/uninitialized.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/stencil/apply.hpp>
 #include <vrsph/stencil/stencil.hpp>
@@ -18,13 +20,20 @@ Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim
   s.row_ptr.resize(static_cast<std::size_t>(n) + 1);
   s.diag.resize(static_cast<std::size_t>(n));
   s.row_ptr[0] = 0;
-  // Neighbour lists with self are refused below; the count assumes none (one slot for i).
+  // One slot per pair plus the diagonal (lists with self are refused below). Index is 32-bit:
+  // a pattern whose size it cannot count is refused by its true size, not wrapped around.
+  const long long slots = static_cast<long long>(nl.total()) + n;
+  check<ResourceError>(slots <= std::numeric_limits<Index>::max(), "the ", to_string(kind), " stencil would have ", slots,
+                       " entries (", nl.total(), " neighbour pairs and ", n, " diagonals), more than the ",
+                       std::numeric_limits<Index>::max(), " a 32-bit index can number: reduce the number of particles or "
+                       "the smoothing radius (--n, --h-factor)");
   for (Index i = 0; i < n; ++i) s.row_ptr[static_cast<std::size_t>(i) + 1] = s.row_ptr[static_cast<std::size_t>(i)] + nl.count(i) + 1;
   // Column indices plus one value array per component: refused up front if too large.
   const auto ncomp = static_cast<std::size_t>(components(kind, dim));
   check_memory_estimate(static_cast<double>(s.nnz()) * static_cast<double>(sizeof(Index) + ncomp * sizeof(Real)),
                         detail::concat("the ", to_string(kind), " stencil (", s.nnz(), " nonzeros)"),
                         "reduce the number of particles or the smoothing radius (--n, --h-factor)");
+  reserve_huge(s.col, static_cast<std::size_t>(s.nnz()));
   s.col.resize(static_cast<std::size_t>(s.nnz()));
   // Rows in parallel (each writes its own slots; 1.8 s of a 10^6-particle build when serial).
   bool self_listed = false;
@@ -43,7 +52,11 @@ Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim
     std::copy(split, row.end(), out);
   }
   check<ConfigError>(!self_listed, "stencil patterns need neighbour lists without self (search with include_self = false)");
-  s.values.assign(static_cast<std::size_t>(components(kind, dim)), std::vector<Real>(s.col.size(), 0.0));
+  s.values.resize(static_cast<std::size_t>(components(kind, dim)));
+  for (auto& v : s.values) {
+    reserve_huge(v, s.col.size());
+    v.assign(s.col.size(), 0.0);
+  }
   return s;
 }
 

@@ -5,6 +5,7 @@
 // filled in parallel; zero-filling them first cost a third of the neighbour-search time.
 // Arrays of 4 MiB or more are also 2 MiB-aligned and advised as transparent huge pages
 // (Linux): the first touch then costs one page fault per 2 MiB instead of per 4 KiB.
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <new>
@@ -62,5 +63,24 @@ class DefaultInitAllocator {
 
 template <class T>
 using UninitVector = std::vector<T, DefaultInitAllocator<T>>;
+
+/// Reserves room for n elements in a plain std::vector (types whose vectors are part of an
+/// interface, e.g. Stencil's) and, for 4 MiB or more, advises the 2 MiB-aligned part of the
+/// buffer as transparent huge pages before anything touches it: the zero-fill of a
+/// following assign() or resize() then faults once per 2 MiB instead of per 4 KiB (on the
+/// virtual machines we measure on a 4 KiB fault costs microseconds: a 10^6-particle stencil
+/// pattern took 1.9 s, nearly all of it page faults).
+template <class T>
+void reserve_huge(std::vector<T>& v, std::size_t n) {
+  v.reserve(n);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t huge_page = std::uintptr_t{2} << 20;
+  const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::uintptr_t end = begin + v.capacity() * sizeof(T);
+  const std::uintptr_t first = (begin + huge_page - 1) / huge_page * huge_page, last = end / huge_page * huge_page;
+  if (n * sizeof(T) >= (std::size_t{4} << 20) && last > first)
+    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);  // advisory
+#endif
+}
 
 }  // namespace vrsph

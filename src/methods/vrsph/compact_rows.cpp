@@ -120,7 +120,7 @@ void tabulate(const Vec3& e, int degree, std::array<std::array<Real, 8>, 3>& pw)
 }  // namespace
 
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a, const Eigen::MatrixXd* grad_a,
-                         int degree, int min_degree, Real tolerance, const CompactWalls& walls) {
+                         int degree, int min_degree, Real tolerance, Stencil& target, const CompactWalls& walls) {
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const Index n = cloud.size();
@@ -130,6 +130,9 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   check<InputError>(!a || a->size() == n, "compact rows: coefficient has ", a ? a->size() : 0, " values for ", n, " particles");
   check<InputError>(!grad_a || (grad_a->rows() == n && grad_a->cols() == dim), "compact rows: grad a must be ", n, " x ", dim);
   check<InputError>(nl.distances.size() == nl.indices.size(), "compact rows need neighbour lists with cached distances");
+  check<InputError>(target.rows() == n && !target.values.empty() && target.values[0].size() == static_cast<std::size_t>(target.nnz()) &&
+                        target.rhs.size() == target.values[0].size() && target.nnz() == nl.total() + n,
+                    "compact rows: the target must be the zero pattern of the neighbour list with a right-hand-side array");
   const bool any_wall = !walls.rows.empty();
   check<InputError>(!any_wall || (static_cast<Index>(walls.rows.size()) == n && static_cast<Index>(walls.conormal.size()) == n),
                     "compact rows: wall mask and conormals need one entry per particle");
@@ -146,8 +149,6 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   CompactRows out;
   out.ok.assign(static_cast<std::size_t>(n), 0);
   out.degree.assign(static_cast<std::size_t>(n), 0);
-  out.w.resize(static_cast<std::size_t>(nl.total()));  // zeroed row by row below (first touch in parallel)
-  out.mu.resize(static_cast<std::size_t>(nl.total()));
   out.mu_self.assign(static_cast<std::size_t>(n), 0.0);
   out.residual.assign(static_cast<std::size_t>(n), 0.0);
   if (any_wall) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
@@ -162,9 +163,6 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
     for (Index i = 0; i < n; ++i) {
       const auto si = static_cast<std::size_t>(i);
       const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
-      const auto slots = static_cast<std::ptrdiff_t>(nl.offsets[si]);
-      std::fill_n(out.w.begin() + slots, nl.count(i), 0.0);
-      std::fill_n(out.mu.begin() + slots, nl.count(i), 0.0);
       if (!wanted || interrupt_pending(i)) continue;  // (after a stop request: skipped, see below)
       const auto nbr = nl.of(i);
       const std::size_t cnt = nbr.size();
@@ -233,10 +231,10 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
         out.ok[si] = 1;
         out.degree[si] = static_cast<char>(deg);
         out.residual[si] = res;
-        const std::size_t off = static_cast<std::size_t>(nl.offsets[si]);
         for (std::size_t j = 0; j < cnt; ++j) {
-          out.w[off + j] = x[j] * scale[j] / (h * h);
-          out.mu[off + j] = x[cnt + j] * scale[j];
+          const auto slot = static_cast<std::size_t>(neighbour_slot(target, i, static_cast<Index>(j)));
+          target.values[0][slot] = x[j] * scale[j] / (h * h);
+          target.rhs[slot] = x[cnt + j] * scale[j];
         }
         out.mu_self[si] = x[2 * cnt];
         if (wall) out.wall_flux[si] = x[2 * cnt + 1] / h;

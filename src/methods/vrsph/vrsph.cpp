@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/uninitialized.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <Eigen/LU>
@@ -175,12 +176,16 @@ class Vrsph final : public Method {
         vo.wall = {wall, conormal};
       }
     }
-    // Compact rows first; the point rows (their NNLS volumes) only where no compact row exists:
-    // the point NNLS of a row that then takes the compact form would be thrown away.
+    // Compact rows first, written into the pattern; the point rows (their NNLS volumes) only
+    // where no compact row exists: the point NNLS of a row that then takes the compact form
+    // would be thrown away.
+    Stencil s = make_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name);
     std::optional<CompactRows> compact_form;
     std::vector<char> point_rows;  // empty: every requested row
     if (compact && laplace && !tensor) {
-      compact_form = compact_system(disc, req, wall, conormal);
+      reserve_huge(s.rhs, s.col.size());
+      s.rhs.assign(s.col.size(), 0.0);
+      compact_form = compact_system(disc, req, wall, conormal, s);
       point_rows.assign(static_cast<std::size_t>(cloud.size()), 0);
       for (Index i = 0; i < cloud.size(); ++i)
         point_rows[static_cast<std::size_t>(i)] = row_requested(cloud, req, i) && !compact_form->ok[static_cast<std::size_t>(i)];
@@ -194,7 +199,6 @@ class Vrsph final : public Method {
         const Real bnorm = std::sqrt((0.5 * t.first).squaredNorm() + t.second.squaredNorm());
         if (bnorm > 0) vol.residual[i] *= std::sqrt(static_cast<Real>(disc.cloud.dim)) / bnorm;
       }
-    Stencil s = make_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name);
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
@@ -262,7 +266,7 @@ class Vrsph final : public Method {
   // Balance (wall) rows take the compact form too where it exists, with the wall flux c_i
   // of the compact system (conormal: the unit n_i of the balance rows).
   CompactRows compact_system(const Discretisation& disc, const StencilRequest& req, const std::vector<char>& wall,
-                             const std::vector<Vec3>& conormal) const {
+                             const std::vector<Vec3>& conormal, Stencil& s) const {
     const PointCloud& cloud = disc.cloud;
     const bool divagrad = req.kind == OperatorKind::DivAGrad;
     // ∇a: given (the studies sample it from the expression of a), zero for a constant a, else
@@ -298,29 +302,20 @@ class Vrsph final : public Method {
       walls = {wall, flux_direction};
     }
     return compact_rows(disc, rows, divagrad ? req.coefficient : nullptr, divagrad ? grad_a : nullptr, 4, 3,
-                        kCompactTolerance, walls);
+                        kCompactTolerance, s, walls);
   }
 
-  // Writes the compact rows over the stencil and records every row's right-hand-side weights
-  // (δ_ik for the rows that keep the point form).
+  // Completes the compact rows (their weights are in place): the right-hand-side weight of
+  // the diagonal, μ_ii (δ_ii = 1 for the rows that keep the point form), and each compact
+  // row's residual, wall flux and diagnostics.
   void store_compact_rows(const CompactRows& c, const Discretisation& disc, const std::vector<char>& wall, Stencil& s) const {
     const PointCloud& cloud = disc.cloud;
-    s.rhs.assign(s.col.size(), 0.0);
-    // Rows are independent (each writes its own slots): 1.1 s of a 10^6-particle solve when serial.
-#pragma omp parallel for schedule(static)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
       const auto d = static_cast<std::size_t>(s.diag[si]);
       if (!c.ok[si]) {
         s.rhs[d] = 1;
         continue;
-      }
-      const Index cnt = disc.neighbours.count(i);
-      const auto off = static_cast<std::size_t>(disc.neighbours.offsets[si]);
-      for (Index k = 0; k < cnt; ++k) {
-        const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, k));
-        s.values[0][slot] = c.w[off + static_cast<std::size_t>(k)];
-        s.rhs[slot] = c.mu[off + static_cast<std::size_t>(k)];
       }
       s.rhs[d] = c.mu_self[si];
       if (!c.wall_flux.empty() && wall[si]) s.wall_flux[si] = c.wall_flux[si];

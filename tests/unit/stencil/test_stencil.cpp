@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <limits>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -57,6 +58,17 @@ TEST(Stencil, SizeMismatchesAreReported) {
   EXPECT_THROW_MSG(apply(s, Field::Zero(3)), InputError, "field has 3 values but the stencil has");
   EXPECT_THROW_MSG(as_eigen(s, 1), InputError, "component 1 out of range");
   EXPECT_THROW_MSG(make_stencil_pattern(f.nl, OperatorKind::Dz, 2, "t"), ConfigError, "dz needs dimension 3");
+}
+
+// Pairs plus diagonals beyond a 32-bit index: refused with the true count (issue 31: the
+// size used to wrap around to a negative number in the memory message). Only the offsets
+// are needed; the check comes before any row is read.
+TEST(Stencil, PatternsBeyondA32BitIndexAreRefusedByTheirSize) {
+  NeighbourList nl;
+  const Index big = std::numeric_limits<Index>::max() - 1;
+  nl.offsets = {0, big, big, big};
+  EXPECT_THROW_MSG(make_stencil_pattern(nl, OperatorKind::Laplacian, 2, "t"), ResourceError,
+                   "would have 2147483649 entries (2147483646 neighbour pairs and 3 diagonals), more than the 2147483647");
 }
 
 TEST(Stencil, OperatorNamesRoundTrip) {

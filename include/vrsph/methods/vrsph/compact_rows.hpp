@@ -12,16 +12,14 @@
 // is tried (O(h^2), still positive); rows with neither are left to the caller (VRSPH falls
 // back on its own row with μ = δ_ik).
 #include <span>
-#include <vrsph/core/uninitialized.hpp>
 #include <vrsph/methods/method.hpp>
+#include <vrsph/stencil/stencil.hpp>
 
 namespace vrsph {
 
 struct CompactRows {
   std::vector<char> ok;         ///< per particle: 1 = a compact row was found
   std::vector<char> degree;     ///< per particle: the polynomial degree its row is exact for (0: none)
-  UninitVector<Real> w;         ///< aligned with the neighbour slots (row i: w_ij >= 0; 0 where no compact row)
-  UninitVector<Real> mu;        ///< aligned with the neighbour slots (μ_ij of the neighbours)
   std::vector<Real> mu_self;    ///< per particle: μ_ii
   std::vector<Real> residual;   ///< per particle: ||A x - b|| / ||b|| of the local system
   std::vector<Real> wall_flux;  ///< wall rows: c_i >= 0 of Σ w (u_j - u_i) = Σ μ f - c_i q_i; else empty
@@ -39,8 +37,13 @@ struct CompactWalls {
 /// coefficient and its gradient at every particle (nullptr: a = 1, ∇a = 0). Each row takes
 /// the highest degree from `degree` down to `min_degree` (>= 3) that admits w, μ >= 0;
 /// tolerance: relative residual above which a degree is not met.
+/// The weights go straight into `out`, a zero pattern of disc.neighbours
+/// (make_stencil_pattern) whose rhs has nnz entries: w_ij into values[0] and μ_ij into rhs
+/// at the neighbour slots of each row that takes the compact form; the diagonal slots and the
+/// other rows are left untouched (μ_ii is CompactRows::mu_self). Writing in place spares a
+/// copy of two arrays of one value per neighbour pair.
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a,
-                         const Eigen::MatrixXd* grad_a, int degree, int min_degree, Real tolerance,
+                         const Eigen::MatrixXd* grad_a, int degree, int min_degree, Real tolerance, Stencil& out,
                          const CompactWalls& walls = {});
 
 }  // namespace vrsph
