@@ -14,23 +14,25 @@ namespace vrsph {
 namespace {
 using json = nlohmann::json;
 
-// The Polygon geometry inside a GeoJSON document (geometry, Feature or a collection of one).
+// The Polygon or MultiPolygon geometry inside a GeoJSON document (geometry, Feature or a
+// collection of one).
 const json& polygon_geometry(const json& doc, const std::string& name) {
   check<InputError>(doc.is_object() && doc.contains("type") && doc["type"].is_string(), name,
                     ": not a GeoJSON object (no \"type\")");
   const std::string type = doc["type"];
-  if (type == "Polygon") return doc;
+  if (type == "Polygon" || type == "MultiPolygon") return doc;
   if (type == "Feature") {
     check<InputError>(doc.contains("geometry") && doc["geometry"].is_object(), name, ": Feature without a geometry");
     return polygon_geometry(doc["geometry"], name);
   }
   if (type == "FeatureCollection") {
     check<InputError>(doc.contains("features") && doc["features"].is_array() && doc["features"].size() == 1, name,
-                      ": a FeatureCollection must hold exactly one Feature (the domain)");
+                      ": a FeatureCollection must hold exactly one Feature (the domain; several parts: one "
+                      "MultiPolygon)");
     return polygon_geometry(doc["features"][0], name);
   }
-  throw InputError(detail::concat(name, ": GeoJSON type '", type, "' is not a Polygon (a MultiPolygon or other "
-                                        "geometry is not a single domain)"));
+  throw InputError(detail::concat(name, ": GeoJSON type '", type, "' is not a Polygon or MultiPolygon (the domain "
+                                        "must be an area)"));
 }
 
 Real cross(const Vec3& a, const Vec3& b) { return a[0] * b[1] - a[1] * b[0]; }
@@ -71,7 +73,9 @@ Real distance_to_segment(const Vec3& x, const Vec3& a, const Vec3& b) {
   return (x - (a + t * ab)).norm();
 }
 
-void check_polygon(const Polygon& p, const std::string& name) {
+// part_of[r]: the MultiPolygon part ring r belongs to; first_ring[r]: that part's outer ring.
+void check_polygon(const Polygon& p, const std::vector<std::size_t>& part_of, const std::vector<std::size_t>& first_ring,
+                   const std::string& name) {
   for (std::size_t r = 0; r < p.rings.size(); ++r) {
     const auto& ring = p.rings[r];
     check<InputError>(ring.size() >= 3, name, ": ring ", r, " has ", ring.size(), " distinct vertices (at least 3 needed)");
@@ -90,15 +94,19 @@ void check_polygon(const Polygon& p, const std::string& name) {
                             ": edges cross or touch: ring ", r1, " edge ", e1, " and ring ", r2, " edge ", e2,
                             " (the polygon must be simple, its holes inside it and apart)");
         }
-  for (std::size_t r = 1; r < p.rings.size(); ++r)
-    check<InputError>(inside_ring(p.rings[0], p.rings[r][0]), name, ": hole ", r, " lies outside the outer ring");
-  // A ring inside a hole would be an island: in GeoJSON that is a second Polygon (a
-  // MultiPolygon), which is not one domain. As a hole of this polygon it would be left empty.
-  for (std::size_t r1 = 1; r1 < p.rings.size(); ++r1)
-    for (std::size_t r2 = 1; r2 < p.rings.size(); ++r2)
-      check<InputError>(r1 == r2 || !inside_ring(p.rings[r1], p.rings[r2][0]), name, ": ring ", r2, " lies inside hole ",
-                        r1, " (an island in a hole is a second polygon, and a MultiPolygon is not one domain: "
-                        "give the island as a geometry of its own)");
+  // Each hole inside its own polygon's outer ring; each part's outer ring in no other part's
+  // solid region (it may sit in a hole of another part: an island). Rings do not meet, so one
+  // vertex decides whether a ring lies inside another.
+  const std::vector<int> depth = ring_depths(p);
+  for (std::size_t r = 0; r < p.rings.size(); ++r) {
+    const std::size_t outer = first_ring[r];
+    if (r != outer)
+      check<InputError>(inside_ring(p.rings[outer], p.rings[r][0]), name, ": hole ", r - outer, " of polygon ",
+                        part_of[r], " lies outside its outer ring");
+    else
+      check<InputError>(depth[r] % 2 == 0, name, ": polygon ", part_of[r], " of the MultiPolygon lies inside another ",
+                        "polygon's area (its parts must lie apart, or inside one another's holes)");
+  }
 }
 }  // namespace
 
@@ -138,28 +146,39 @@ Polygon parse_geojson_polygon(const std::string& text, const std::string& name) 
     throw InputError(detail::concat(name, ": not valid JSON (", e.what(), ")"));
   }
   const json& g = polygon_geometry(doc, name);
-  check<InputError>(g.contains("coordinates") && g["coordinates"].is_array() && !g["coordinates"].empty(), name,
-                    ": Polygon without coordinates");
+  const bool multi = g["type"] == "MultiPolygon";
+  check<InputError>(g.contains("coordinates") && g["coordinates"].is_array() && !g["coordinates"].empty(), name, ": ",
+                    multi ? "MultiPolygon" : "Polygon", " without coordinates");
   Polygon p;
-  for (std::size_t r = 0; r < g["coordinates"].size(); ++r) {
-    const json& ring = g["coordinates"][r];
-    check<InputError>(ring.is_array(), name, ": ring ", r, " is not an array of positions");
-    std::vector<Vec3> pts;
-    for (std::size_t k = 0; k < ring.size(); ++k) {
-      const json& pos = ring[k];
-      check<InputError>(pos.is_array() && pos.size() >= 2 && pos[0].is_number() && pos[1].is_number(), name, ": ring ", r,
-                        " position ", k, " is not [x, y]");
-      check<InputError>(pos.size() == 2 || (pos[2].is_number() && pos[2].get<double>() == 0), name, ": ring ", r,
-                        " position ", k, " has a non-zero z (a 2D domain is expected)");
-      const Vec3 x(pos[0].get<double>(), pos[1].get<double>(), 0);
-      check<InputError>(x.allFinite() && x.cwiseAbs().maxCoeff() <= max_coordinate, name, ": ring ", r, " position ", k,
-                        " is not finite or beyond +-", max_coordinate, " (rescale the geometry)");
-      if (pts.empty() || x != pts.back()) pts.push_back(x);  // repeated vertices collapse
+  std::vector<std::size_t> part_of, first_ring;
+  const json& parts = g["coordinates"];
+  for (std::size_t part = 0; part < (multi ? parts.size() : 1); ++part) {
+    const json& rings = multi ? parts[part] : parts;
+    check<InputError>(rings.is_array() && !rings.empty(), name, ": polygon ", part, " is not an array of rings");
+    const std::size_t outer = p.rings.size();
+    for (std::size_t r = 0; r < rings.size(); ++r) {
+      const json& ring = rings[r];
+      const std::size_t index = p.rings.size();  // ring number across all parts (messages and checks)
+      check<InputError>(ring.is_array(), name, ": ring ", index, " is not an array of positions");
+      std::vector<Vec3> pts;
+      for (std::size_t k = 0; k < ring.size(); ++k) {
+        const json& pos = ring[k];
+        check<InputError>(pos.is_array() && pos.size() >= 2 && pos[0].is_number() && pos[1].is_number(), name, ": ring ",
+                          index, " position ", k, " is not [x, y]");
+        check<InputError>(pos.size() == 2 || (pos[2].is_number() && pos[2].get<double>() == 0), name, ": ring ", index,
+                          " position ", k, " has a non-zero z (a 2D domain is expected)");
+        const Vec3 x(pos[0].get<double>(), pos[1].get<double>(), 0);
+        check<InputError>(x.allFinite() && x.cwiseAbs().maxCoeff() <= max_coordinate, name, ": ring ", index, " position ",
+                          k, " is not finite or beyond +-", max_coordinate, " (rescale the geometry)");
+        if (pts.empty() || x != pts.back()) pts.push_back(x);  // repeated vertices collapse
+      }
+      if (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();  // GeoJSON rings are closed
+      p.rings.push_back(std::move(pts));
+      part_of.push_back(part);
+      first_ring.push_back(outer);
     }
-    if (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();  // GeoJSON rings are closed
-    p.rings.push_back(std::move(pts));
   }
-  check_polygon(p, name);
+  check_polygon(p, part_of, first_ring, name);
   return p;
 }
 
@@ -168,10 +187,17 @@ Polygon read_geojson_polygon(const std::string& path) {
 }
 
 bool inside_polygon(const Polygon& polygon, const Vec3& x) {
-  if (!inside_ring(polygon.rings[0], x)) return false;
-  for (std::size_t r = 1; r < polygon.rings.size(); ++r)
-    if (inside_ring(polygon.rings[r], x)) return false;
-  return true;
+  bool in = false;
+  for (const auto& ring : polygon.rings) in = in != inside_ring(ring, x);
+  return in;
+}
+
+std::vector<int> ring_depths(const Polygon& polygon) {
+  std::vector<int> depth(polygon.rings.size(), 0);
+  for (std::size_t r = 0; r < polygon.rings.size(); ++r)
+    for (std::size_t q = 0; q < polygon.rings.size(); ++q)
+      depth[r] += q != r && inside_ring(polygon.rings[q], polygon.rings[r][0]);
+  return depth;
 }
 
 Real distance_to_polygon_boundary(const Polygon& polygon, const Vec3& x) {
@@ -228,11 +254,13 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
     c.normals.push_back(n);
   };
   // Boundary: each edge split into ceil(length / spacing) pieces; the outward normal of the
-  // domain is the ring's outward normal for the outer ring and its inward one for holes.
+  // domain is the ring's outward normal for rings at even depth (outer rings, islands) and its
+  // inward one for holes.
+  const std::vector<int> depth = ring_depths(p);
   for (std::size_t r = 0; r < p.rings.size() && f.part == 0; ++r) {  // (a part > 0: interior layers only)
     const auto& ring = p.rings[r];
     const Real orientation = signed_area(ring) > 0 ? 1 : -1;  // +1: counter-clockwise
-    const Real side = (r == 0 ? 1 : -1) * orientation;
+    const Real side = (depth[r] % 2 == 0 ? 1 : -1) * orientation;
     const std::size_t n = ring.size();
     auto edge_normal = [&](std::size_t e) {
       const Vec3 d = ring[(e + 1) % n] - ring[e];
