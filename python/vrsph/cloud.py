@@ -45,6 +45,6 @@ def from_arrays(points, tags, normals=None) -> Cloud:
 
 
 def from_geometry(path: str, spacing: float, fill: str = "uniform", delta: float = 0.3, seed: int = 1) -> Cloud:
-    """A geometry filled with particles as ``vrsph cloud --geometry`` does: a 2D GeoJSON polygon
-    or a 3D closed surface (STL, OFF, OBJ); fill "uniform", "perturbed" (delta) or "blue-noise"."""
+    """A geometry filled with particles as ``vrsph cloud --geometry`` does: a 2D GeoJSON Polygon
+    or MultiPolygon (holes; a ring inside a hole bounds a filled island) or a 3D closed surface (STL, OFF, OBJ); fill "uniform", "perturbed" (delta) or "blue-noise"."""
     return _vrsph._geometry(str(path), float(spacing), fill, float(delta), int(seed))

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Expressions in x, y, z (and t) through muParser, the optional part MUPARSER: a build
 // without it refuses an expression when it is made (FeatureUnavailable).
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/config.hpp>
@@ -13,6 +15,34 @@
 #endif
 
 namespace vrsph {
+
+namespace {
+// The first number written in the text that a double cannot hold (1e400): muParser reports it
+// as an "unexpected token", which does not name the cause. Empty if none.
+[[maybe_unused]] std::string overflowing_literal(const std::string& text) {
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const auto c = static_cast<unsigned char>(text[k]);
+    const bool in_name = k > 0 && (std::isalnum(static_cast<unsigned char>(text[k - 1])) || text[k - 1] == '_');
+    if (!(std::isdigit(c) || (c == '.' && k + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[k + 1])))) ||
+        in_name)
+      continue;
+    std::size_t end = k;
+    while (end < text.size() && (std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '.')) ++end;
+    if (end < text.size() && (text[end] == 'e' || text[end] == 'E')) {
+      std::size_t e = end + 1;
+      if (e < text.size() && (text[e] == '+' || text[e] == '-')) ++e;
+      if (e < text.size() && std::isdigit(static_cast<unsigned char>(text[e]))) {
+        while (e < text.size() && std::isdigit(static_cast<unsigned char>(text[e]))) ++e;
+        end = e;
+      }
+    }
+    const std::string literal = text.substr(k, end - k);
+    if (!std::isfinite(std::strtod(literal.c_str(), nullptr))) return literal;
+    k = end;
+  }
+  return {};
+}
+}  // namespace
 
 struct Expression::Impl {
   std::string text;
@@ -40,6 +70,10 @@ Expression::Expression(const std::string& text, bool with_time) : impl_(std::mak
     p.SetExpr(text);
     (void)p.Eval();  // parse now, so errors surface here and not mid-run
   } catch (const mu::Parser::exception_type& e) {
+    const std::string huge = overflowing_literal(text);
+    if (!huge.empty())
+      throw InputError("cannot parse expression '" + printable(text, 200) + "': the number " + printable(huge, 40) +
+                       " is beyond the range of double precision (about 1.8e308)");
     throw InputError("cannot parse expression '" + printable(text, 200) + "': " + e.GetMsg());
   }
 #endif

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <chrono>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -91,6 +92,17 @@ double dense_spectrum_seconds(int n) {
   // (measured here: m = 999 in 1.1 s on one core).
   const double m = n - 1.0;
   return 10.0 * m * m * m / dense_spectrum_flops_per_second;
+}
+
+double calibrated_spectrum_seconds(const SpectrumParams& params) {
+  check_spectrum_size(params.n);
+  SpectrumParams small = params;
+  small.n = std::max(3, params.n / 4);
+  const auto start = std::chrono::steady_clock::now();
+  (void)vibration_spectrum(small);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double ratio = (params.n - 1.0) / (small.n - 1.0);
+  return seconds * ratio * ratio * ratio;
 }
 
 void check_spectrum_size(int n) {

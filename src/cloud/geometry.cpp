@@ -27,7 +27,7 @@ GeometryCloud fill_geometry(const std::string& path, const GeometryFill& fill) {
     g.inside = [surface](const Vec3& x) { return surface->contains(x); };
   } else {
     throw ConfigError(detail::concat("geometry ", path, ": unknown geometry format '", ext, "' (2D: .geojson or .json, a "
-                                     "GeoJSON Polygon; 3D: .stl, .off or .obj, a closed surface)"));
+                                     "GeoJSON Polygon or MultiPolygon; 3D: .stl, .off or .obj, a closed surface)"));
   }
   return g;
 }

@@ -2,7 +2,9 @@
 #pragma once
 // The interior particles of a geometry fill, shared by the polygon (polygon.cpp) and the closed
 // surface (surface.cpp): the same lattice or blue-noise rule in 2D and 3D.
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <vrsph/core/error.hpp>
 #include <vrsph/cloud/blue_noise.hpp>
 #include <vrsph/cloud/geometry_fill.hpp>
@@ -10,6 +12,14 @@
 #include "random.hpp"
 
 namespace vrsph::detail {
+
+/// Refuses a fill whose lattice (or surface sample) would exceed 2e9 points, with the count
+/// it would have ("more than 1e308" when the spacing is so small that the count overflows).
+inline void check_lattice_size(double points, Real spacing) {
+  check<ResourceError>(points < 2e9, "a spacing of ", spacing, " would put ",
+                       std::isfinite(points) ? concat(points) : std::string("more than 1e308"),
+                       " lattice points over the geometry (at most 2e9): choose a larger spacing");
+}
 
 /// Appends Interior particles (zero normals) to `cloud`, which holds the boundary particles
 /// with their normals: blue noise grown from those boundary particles (random stream

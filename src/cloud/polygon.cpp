@@ -238,8 +238,7 @@ PointCloud fill_polygon(const Polygon& p, const PolygonFill& f) {
   check<ConfigError>(f.spacing * 3 <= smallest, "the spacing ", f.spacing, " is too large for the geometry: its smallest ",
                      "ring spans ", smallest, " (at least 3 particles across are needed)");
   const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1);
-  check<ResourceError>(lattice < 2e9, "a spacing of ", f.spacing, " would put ", lattice,
-                       " lattice points over the geometry: choose a larger spacing");
+  detail::check_lattice_size(lattice, f.spacing);
   check_memory_estimate(lattice / f.parts * (2 * sizeof(Vec3) + sizeof(Tag)),
                         detail::concat("the cloud of the geometry (up to ", lattice, " particles)"),
                         "choose a larger --spacing");

@@ -348,8 +348,7 @@ PointCloud fill_surface(const ClosedSurface& surface, const GeometryFill& fill) 
                      "bounding box is ", smallest * impl.unit, " thin (at least 3 particles across are needed)");
   const double lattice = ((hi[0] - lo[0]) / f.spacing + 1) * ((hi[1] - lo[1]) / f.spacing + 1) * ((hi[2] - lo[2]) / f.spacing + 1);
   const double on_surface = 30 * impl.area / (f.spacing * f.spacing);
-  check<ResourceError>(lattice < 2e9 && on_surface < 2e9, "a spacing of ", fill.spacing, " would put ", lattice,
-                       " lattice points over the geometry: choose a larger spacing");
+  detail::check_lattice_size(std::max(lattice, on_surface), fill.spacing);
   check_memory_estimate(lattice / f.parts * (2 * sizeof(Vec3) + sizeof(Tag)) + (f.part == 0 ? on_surface * 2 * sizeof(Vec3) : 0),
                         detail::concat("the cloud of the geometry (up to ", lattice, " particles)"), "choose a larger --spacing");
 

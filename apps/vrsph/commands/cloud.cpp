@@ -186,7 +186,7 @@ void add_cloud_command(CLI::App& app) {
   cmd->add_option("--c0", a->c0, "With --regularity: the constant c0 of h^m >= c0 (r_N + d_N)")->capture_default_str();
   cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
   cmd->add_option("--geometry", a->geometry,
-                  "Fill this domain with particles: a 2D GeoJSON Polygon (holes allowed) or a 3D closed surface "
+                  "Fill this domain with particles: a 2D GeoJSON Polygon or MultiPolygon (holes, and islands in holes) or a 3D closed surface "
                   "(STL, OFF, OBJ); boundary particles on the boundary with outward normals, interior ones on a "
                   "lattice or as blue noise (--family uniform|perturbed|blue-noise); Neumann on surface regions (OBJ groups, "
                   "STL solids) whose name contains \"neumann\"");

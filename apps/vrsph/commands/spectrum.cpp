@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // `vrsph spectrum`: [AAR]'s vibration test, normalised spectra of methods beside lumped FEM.
+#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -64,16 +65,12 @@ void add_spectrum_command(CLI::App& app) {
                    {"omega_ratio", ratio[k]}});
     };
     std::vector<std::string> warnings;
-    // Dense O(n^3) eigenproblems: refuse what does not fit, say how long the rest takes.
+    // Dense O(n^3) eigenproblems: refuse what does not fit, say how long the rest takes. A
+    // long run is timed first on a quarter of the intervals (a 64th of one problem's work),
+    // and each finished problem re-times the ones left: the progress bar and the estimate
+    // follow this machine's speed now, not a fixed rate.
     check_spectrum_size(a->n);
-    const double each = dense_spectrum_seconds(a->n), total = each * static_cast<double>(methods.size() + 1);
-    if (total > 10)
-      std::cerr << "vrsph: spectrum: " << methods.size() + 1 << " dense eigenvalue problems of " << a->n - 1
-                << " unknowns, about " << static_cast<long long>(std::ceil(total)) << " s in all (O(n^3))\n";
-    Progress progress;
-    double done = 0;
-    const double steps = static_cast<double>(methods.size() + 1);
-    for (const auto& m : methods) {
+    const auto params_of = [&](const std::string& m) {
       SpectrumParams p;
       p.method = m;
       p.options = options_for(options, m);
@@ -83,10 +80,26 @@ void add_spectrum_command(CLI::App& app) {
       p.cloud = family;
       p.delta = a->delta;
       p.seed = a->seed;
+      return p;
+    };
+    double each = dense_spectrum_seconds(a->n);
+    if (each * static_cast<double>(methods.size() + 1) > 2) each = calibrated_spectrum_seconds(params_of(methods.front()));
+    const double total = each * static_cast<double>(methods.size() + 1);
+    if (total > 10)
+      std::cerr << "vrsph: spectrum: " << methods.size() + 1 << " dense eigenvalue problems of " << a->n - 1
+                << " unknowns, about " << static_cast<long long>(std::ceil(total)) << " s in all (O(n^3), timed on "
+                << std::max(3, a->n / 4) << " intervals)\n";
+    Progress progress;
+    double done = 0;
+    const double steps = static_cast<double>(methods.size() + 1);
+    for (const auto& m : methods) {
+      const SpectrumParams p = params_of(m);
       Spectrum s;
       {
+        const auto start = std::chrono::steady_clock::now();
         const EstimatedProgress ticker(progress, m, done / steps, (done + 1) / steps, each);
         s = vibration_spectrum(p);
+        each = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
       ++done;
       if (meta.find("omega_ratio") == meta.end()) meta["omega_ratio"] = finite_or_null(s.omega_ratio);
