@@ -4,6 +4,8 @@
 #include <array>
 #include <tuple>
 #include <cmath>
+#include <limits>
+#include <span>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/interrupt.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
@@ -110,6 +112,27 @@ OperatorTable operator_table(int dim, int degree, const std::vector<std::array<i
   return t;
 }
 
+// Column scales (r_min / r_j)^2.5: NNLS's multiplier test then prefers near neighbours. Not the
+// square of the point rows: with it, every w column's multiplier at the second step is
+// s_j |e_j|^2 c = (r_min / h)^2 c, the same for all neighbours, so round-off chose the second
+// column and with it the whole path — the weights of 1403 of 1521 rows changed when the
+// coordinates were scaled by 1 + 1e-13, and the error by a factor 2. The power 2.5 breaks that
+// tie gently (r_j^-0.5); 3 and 4 favoured the nearest so strongly that the wall rows of mixed
+// problems fell to first order (tests/convergence/test_vrsph_walls.cpp).
+void column_scales(std::span<const Real> distances, std::vector<Real>& scale) {
+  Real r_min = std::numeric_limits<Real>::infinity();
+  for (const Real d : distances) r_min = std::min(r_min, d);
+  scale.resize(distances.size());
+  for (std::size_t j = 0; j < distances.size(); ++j) {
+    const Real q = r_min / distances[j];
+    scale[j] = q * q * std::sqrt(q);
+  }
+}
+// Multipliers within this relative width of the largest tie (the first such column enters):
+// far above the round-off of a change of unit, far below the gaps between genuinely different
+// columns; on a lattice symmetric neighbours tie exactly and their order decides.
+constexpr Real kTieTolerance = 1e-10;
+
 void tabulate(const Vec3& e, int degree, std::array<std::array<Real, 8>, 3>& pw) {
   for (int k = 0; k < 3; ++k) {
     pw[static_cast<std::size_t>(k)][0] = 1;
@@ -169,7 +192,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
       const bool wall = any_wall && walls.rows[si];
       const std::size_t C = 2 * cnt + 1 + (wall ? 1 : 0);  // w, μ of the neighbours, μ_ii, the wall flux
       const Real h = nl.radius(i);
-      nearest_first_scales(nl.distances_of(i), scale);  // the w and μ columns of neighbour j, scaled back below
+      column_scales(nl.distances_of(i), scale);  // the w and μ columns of neighbour j, scaled back below
       // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
       // positive row with the O(h) part of the truncation moved into the average of f).
       for (int deg = degree; deg >= min_degree && !out.ok[si]; --deg) {
@@ -222,7 +245,9 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
             A[r * C + 2 * cnt + 1] = entry;
           }
         x.assign(C, 0.0);
-        const NnlsResult r = solver.solve(A.data(), R, static_cast<int>(C), b.data(), x.data(), {}, MatrixOrder::RowMajor);
+        NnlsOptions options;
+        options.tie_tolerance = kTieTolerance;
+        const NnlsResult r = solver.solve(A.data(), R, static_cast<int>(C), b.data(), x.data(), options, MatrixOrder::RowMajor);
         // NNLS may stop at a residual somewhat above the tolerance (its multiplier test is
         // relative to ||A||): the polish below finishes such near-exact rows.
         const Real res = r.residual > kPolishAbove && r.residual <= kPolishBelow ? polish(A, R, C, b, x) : r.residual;

@@ -112,10 +112,11 @@ VRSPH_ALWAYS_INLINE inline void combine_columns(Real* __restrict out, const Real
   }
 }
 
-// First index of the largest w_j if that exceeds tol, else -1. Two passes: the maximum with
+// First index of the largest w_j (with a tie width: the first within tie |best| of it) if
+// that exceeds tol, else -1. Two passes: the maximum with
 // four independent partial maxima (vectorisable; the running arg-max was one dependent
 // compare per column, ~400 cycles per 3D iteration), then the first index holding it.
-inline int entering_column(const Real* w, int n, Real tol) {
+inline int entering_column(const Real* w, int n, Real tol, Real tie) {
   Real part[4] = {tol, tol, tol, tol};
   int j = 0;
   for (; j + 4 <= n; j += 4)
@@ -123,8 +124,9 @@ inline int entering_column(const Real* w, int n, Real tol) {
   for (; j < n; ++j) part[0] = w[j] > part[0] ? w[j] : part[0];
   const Real best = std::max(std::max(part[0], part[1]), std::max(part[2], part[3]));
   if (!(best > tol)) return -1;
+  const Real threshold = tie > 0 ? std::max(best - tie * best, tol) : best;
   for (j = 0; j < n; ++j)
-    if (w[j] == best) return j;
+    if (w[j] >= threshold && w[j] > tol) return j;
   return -1;
 }
 
@@ -394,7 +396,7 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   while (k < m && res.status == NnlsStatus::Converged) {
     // Entering column: largest multiplier among the zero set (first index on ties; passive
     // and rejected columns hold w = -inf).
-    const int t = entering_column(w_.data(), n, tol);
+    const int t = entering_column(w_.data(), n, tol, options.tie_tolerance);
     if (t < 0) break;
     if (++res.iterations > max_it) {
       res.status = NnlsStatus::IterationLimit;

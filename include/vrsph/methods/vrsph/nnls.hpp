@@ -25,6 +25,12 @@ namespace vrsph {
 struct NnlsOptions {
   Real tolerance = -1;      ///< multiplier tolerance; < 0: 10 eps ||A||_1 max(m, n)
   int max_iterations = -1;  ///< < 0: 3 n (counts inner and outer iterations)
+  /// Relative tie width of the entering column: the first column whose multiplier is within
+  /// tie_tolerance |max| of the largest enters (0: the first holding the largest exactly).
+  /// Symmetric configurations (a lattice) give multipliers equal up to round-off, and which
+  /// of them round-off makes the largest changes with the last bits of the coordinates (the
+  /// length unit); a width far above round-off makes the path, so the result, reproducible.
+  Real tie_tolerance = 0;
 };
 
 enum class NnlsStatus { Converged, IterationLimit };
