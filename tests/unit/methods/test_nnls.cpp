@@ -131,3 +131,26 @@ TEST(Nnls, IterationCapIsReported) {
   EXPECT_GT(r.residual, 0.0);
   for (Eigen::Index j = 0; j < 60; ++j) EXPECT_GE(x[j], 0.0);
 }
+
+// A tie width makes the entering column independent of round-off: two columns whose
+// multipliers differ only in the last bits (a symmetric pair, after a change of unit) give the
+// first one every time, whichever round-off made larger; without it the larger enters.
+TEST(Nnls, TieToleranceMakesTheEnteringColumnReproducible) {
+  // b = (1, 1): columns 0 and 1 reach it alone (each exactly), their multipliers
+  // A_j^T b differ by one ulp-scale step in either order.
+  for (const Real bump : {1e-15, -1e-15}) {
+    Eigen::MatrixXd A(2, 2);
+    A << 1, 1 + bump,  //
+        1, 1;
+    const Eigen::VectorXd b = Eigen::Vector2d(1, 1);
+    NnlsSolver s;
+    Eigen::VectorXd x(2);
+    NnlsOptions o;
+    o.tie_tolerance = 1e-10;
+    (void)s.solve(A.data(), 2, 2, b.data(), x.data(), o);
+    EXPECT_GT(x[0], 0.5) << "bump " << bump;  // column 0 entered and carries the solution
+    o.tie_tolerance = 0;
+    (void)s.solve(A.data(), 2, 2, b.data(), x.data(), o);
+    EXPECT_EQ(x[0] > 0.5, bump < 0) << "bump " << bump;  // the larger multiplier (round-off) decides
+  }
+}
