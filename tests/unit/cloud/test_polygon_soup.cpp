@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Surface files as polygon soups: STL (ASCII and binary), OFF and OBJ, with the line of
 // every problem named; the cases fuzzing found in CGAL's readers (OBJ index 0) are errors.
+#include <cstdint>
+#include <string>
 #include <vrsph/cloud/polygon_soup.hpp>
 #include <vrsph/core/error.hpp>
 #include "test_util.hpp"
@@ -67,4 +69,26 @@ TEST(PolygonSoup, RegionsFromObjGroupsAndStlSolids) {
   const PolygonSoup two = parse_stl("solid a\n" + facet + facet + "endsolid a\nsolid b neumann\n" + facet + "endsolid\n", "two.stl");
   EXPECT_EQ(two.regions, (std::vector<std::string>{"a", "b neumann"}));
   EXPECT_EQ(two.face_region, (std::vector<std::size_t>{0, 0, 1}));
+}
+
+// A binary STL whose 80-byte header starts with "solid" (exporters write that) is binary: the
+// size 84 + 50 per triangle decides, not the first word (issue 31, class 10).
+TEST(PolygonSoup, BinaryStlWithASolidHeaderIsReadAsBinary) {
+  std::string bytes = "solid tetrahedron, binary despite the first word";
+  bytes.resize(80, ' ');
+  const auto put32 = [&bytes](std::uint32_t v) { bytes.append(reinterpret_cast<const char*>(&v), 4); };
+  const auto putf = [&bytes](float v) { bytes.append(reinterpret_cast<const char*>(&v), 4); };
+  const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  put32(4);
+  for (const auto& f : faces) {
+    for (int k = 0; k < 3; ++k) putf(0);  // normal (ignored)
+    for (const int v : f)
+      for (int k = 0; k < 3; ++k) putf(p[v][k]);
+    bytes.append(2, '\0');  // attribute byte count
+  }
+  ASSERT_EQ(bytes.size(), 84u + 4 * 50);
+  const PolygonSoup soup = parse_stl(bytes, "solid_header.stl");
+  EXPECT_EQ(soup.faces.size(), 4u);
+  EXPECT_EQ(soup.points.size(), 4u);  // shared corners merged
 }
