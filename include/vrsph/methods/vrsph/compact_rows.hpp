@@ -7,8 +7,8 @@
 // polynomial p of degree <= `degree` with f = L p = a Δp + ∇a·∇p at the stencil's particles.
 // The left-hand side keeps VRSPH's M-matrix sign structure; the right-hand side becomes a
 // positive average of f. Exact for degree 4: truncation O(h^3), against O(h^2) for the
-// point right-hand side f_i (also on a lattice: the NNLS vertex is not symmetric, so the
-// fifth moments do not vanish; measured order 3.0 there). Where degree 4 admits no w, μ >= 0 (next to a wall) degree 3
+// point right-hand side f_i (on a lattice the tie rule of the NNLS keeps the rows symmetric and
+// the fifth moments cancel too: measured order 4.0 there). Where degree 4 admits no w, μ >= 0 (next to a wall) degree 3
 // is tried (O(h^2), still positive); rows with neither are left to the caller (VRSPH falls
 // back on its own row with μ = δ_ik).
 #include <span>
