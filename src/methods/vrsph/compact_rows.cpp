@@ -2,7 +2,6 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <array>
-#include <tuple>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -237,11 +236,10 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
         columns(i, 0, 2 * cnt, false, 1.0);
         if (wall)  // ĉ = c h times a_i n·∇q(0): only the degree-1 monomials q = e_k have ∇q(0) != 0
           for (std::size_t r = 0; r < static_cast<std::size_t>(R); ++r) {
-            const auto& al = mo[std::min(r, mo.size() - 1)];
-            Real entry = 0;
-            if (r + 1 < static_cast<std::size_t>(R) && al[0] + al[1] + al[2] == 1)
+            Real entry = 0;  // (every row is written: A is not zero-filled)
+            if (r < mo.size() && mo[r][0] + mo[r][1] + mo[r][2] == 1)
               for (int k = 0; k < dim; ++k)
-                if (al[static_cast<std::size_t>(k)] == 1) entry = walls.conormal[si][k];
+                if (mo[r][static_cast<std::size_t>(k)] == 1) entry = walls.conormal[si][k];
             A[r * C + 2 * cnt + 1] = entry;
           }
         x.assign(C, 0.0);
