@@ -10,6 +10,7 @@
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
+#include <vrsph/neighbours/user_list.hpp>
 #include <vrsph/stencil/operator_kind.hpp>
 #include <vrsph/stencil/properties.hpp>
 #include "bindings.hpp"
@@ -19,9 +20,24 @@ namespace vrsph::python {
 
 namespace {
 // One stencil over every non-ghost particle: support radius h (> 0) or h_factor x spacing.
+// The caller's neighbour list (indptr, indices, distances or None), checked and completed.
+std::shared_ptr<const NeighbourList> user_neighbours(const PointCloud& cloud, const py::tuple& list, Real radius) {
+  const auto indptr = list[0].cast<py::array_t<Index, py::array::c_style | py::array::forcecast>>();
+  const auto indices = list[1].cast<py::array_t<Index, py::array::c_style | py::array::forcecast>>();
+  py::array_t<Real, py::array::c_style | py::array::forcecast> distances;
+  if (!list[2].is_none()) distances = list[2].cast<py::array_t<Real, py::array::c_style | py::array::forcecast>>();
+  const std::vector<Real> radii{radius};
+  UserNeighbours u;
+  u.offsets = {indptr.data(), static_cast<std::size_t>(indptr.size())};
+  u.indices = {indices.data(), static_cast<std::size_t>(indices.size())};
+  if (!list[2].is_none()) u.distances = {distances.data(), static_cast<std::size_t>(distances.size())};
+  u.radii = radii;
+  return std::make_shared<const NeighbourList>(neighbour_list_from(cloud, u));
+}
+
 py::dict stencil(const py::object& self, const std::string& method_name, const std::string& op, double h,
                  double h_factor, const std::string& kernel, const py::dict& options, const py::object& coefficient,
-                 double infeasible_tol) {
+                 double infeasible_tol, const py::object& user_list) {
   const auto& cloud = as_cloud(self);
   validate(cloud);
   const OperatorKind kind = parse_operator(op);
@@ -51,7 +67,8 @@ py::dict stencil(const py::object& self, const std::string& method_name, const s
     radius = h_factor * spacing;
     check_support_is_local(radius, cloud_extent(cloud), h_factor);
   }
-  const std::shared_ptr<const NeighbourList> neighbours = cached_neighbours(self, radius);
+  const std::shared_ptr<const NeighbourList> neighbours =
+      user_list.is_none() ? cached_neighbours(self, radius) : user_neighbours(cloud, user_list.cast<py::tuple>(), radius);
   Built b = [&] {  // the C++ work without the GIL
     py::gil_scoped_release release;
     Built r;
@@ -158,7 +175,8 @@ void bind_operators(py::module_& m) {
     return out;
   }, "The kernel catalogue: name, description, support radius per smoothing length.");
   m.def("_stencil", &stencil, py::arg("cloud"), py::arg("method"), py::arg("operator"), py::arg("h"), py::arg("h_factor"),
-        py::arg("kernel"), py::arg("options"), py::arg("coefficient"), py::arg("infeasible_tol"));
+        py::arg("kernel"), py::arg("options"), py::arg("coefficient"), py::arg("infeasible_tol"),
+        py::arg("neighbours") = py::none());
   m.def("covering_radius", [](const PointCloud& cloud) {
     const CoveringRadius r = [&] {
       py::gil_scoped_release release;

@@ -145,3 +145,30 @@ def test_a_cloud_caches_its_spacing_and_neighbours():
         c.points.setflags(write=True)
     with pytest.raises(vrsph.ConfigError, match="must be a vrsph.Cloud"):
         vrsph.stencil("not a cloud")
+
+
+def test_a_neighbour_list_of_the_callers_own():
+    # Issue 33: a list kept by the caller (here SciPy's k-d tree) is accepted, distances computed
+    # where missing; the stencil equals the one on the library's own search.
+    scipy_spatial = pytest.importorskip("scipy.spatial")
+    c = vrsph.cloud.perturbed(dim=2, n=24, seed=5)
+    h = 3 * c.spacing
+    pairs = scipy_spatial.cKDTree(c.points).sparse_distance_matrix(scipy_spatial.cKDTree(c.points), h * (1 - 1e-12),
+                                                                    output_type="coo_matrix").tocsr()
+    pairs.setdiag(0)
+    pairs.eliminate_zeros()
+    own = vrsph.stencil(c, method="vrsph", h=h)
+    theirs = vrsph.stencil(c, method="vrsph", h=h, neighbours=pairs)
+    assert abs(own - theirs).max() == 0
+    with_distances = vrsph.stencil(c, method="vrsph", h=h, neighbours=(pairs.indptr, pairs.indices, pairs.data))
+    assert abs(own - with_distances).max() == 0
+    broken = pairs.tolil()
+    broken[0, broken.rows[0][0]] = 0
+    broken = broken.tocsr()
+    broken.eliminate_zeros()
+    with pytest.raises(vrsph.InputError, match="does not list"):
+        vrsph.stencil(c, method="vrsph", h=h, neighbours=broken)
+    with pytest.raises(vrsph.ArgumentTypeError, match="neighbours must be"):
+        vrsph.stencil(c, method="vrsph", h=h, neighbours="all of them")
+    with pytest.raises(vrsph.ArgumentTypeError, match="indices must be a 1D array of integers"):
+        vrsph.stencil(c, method="vrsph", h=h, neighbours=(pairs.indptr, pairs.indices.astype(float)))

@@ -124,22 +124,29 @@ class Stencil:
 
 def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
             h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
-            coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False) -> "scipy.sparse.csr_matrix | tuple[scipy.sparse.csr_matrix, ...] | Stencil":
+            coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False,
+            neighbours: Any = None) -> "scipy.sparse.csr_matrix | tuple[scipy.sparse.csr_matrix, ...] | Stencil":
     """The stencil of ``method`` for ``operator`` (value, dx, dy, dz, gradient, laplacian,
     div-a-grad) on every non-ghost particle, as ``scipy.sparse.csr_matrix`` (N x N); the
     gradient as a tuple of ``dim`` matrices sharing one pattern.
 
     The support radius is ``h`` if given, else ``h_factor`` x the cloud's spacing.
     ``coefficient`` (div-a-grad only): a in div(a grad u), as values, a callable of the
-    coordinates or an expression. ``diagnostics=True`` returns the :class:`Stencil` instead."""
+    coordinates or an expression. ``diagnostics=True`` returns the :class:`Stencil` instead.
+    ``neighbours``: a list the caller already has instead of the library's search — ``(indptr,
+    indices)``, ``(indptr, indices, distances)`` or a SciPy sparse matrix whose pattern is the
+    list (rows in any order, no self); it is checked against the cloud and the support radius
+    (every listed pair closer than it, pairs within both particles' radii in both rows, given
+    distances equal to the positions'), distances are computed where missing."""
     _check_cloud(cloud)
+    user_list = _args.neighbour_list(neighbours, "neighbours", len(cloud))
     a = None
     if coefficient is not None:
         a = _values(cloud, coefficient, "coefficient")
     raw = _vrsph._stencil(cloud, _args.text(method, "method"), _args.text(operator, "operator"),
                           _args.optional_length(h, "h"), _args.number(h_factor, "h_factor", positive=True),
                           _args.text(kernel, "kernel"), _args.options(options, "options"), a,
-                          _args.number(infeasible_tol, "infeasible_tol", positive=True))
+                          _args.number(infeasible_tol, "infeasible_tol", positive=True), user_list)
     s = Stencil(raw, len(cloud))
     if diagnostics:
         return s

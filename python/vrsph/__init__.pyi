@@ -24,6 +24,10 @@ class GeometryError(Error, ValueError): ...
 class NumericalError(Error, RuntimeError): ...
 class ArgumentTypeError(Error, TypeError): ...
 
+# A caller's neighbour list: (indptr, indices), (indptr, indices, distances) or a sparse matrix's pattern.
+NeighbourData = Union[tuple[npt.ArrayLike, npt.ArrayLike], tuple[npt.ArrayLike, npt.ArrayLike, npt.ArrayLike | None],
+                      scipy.sparse.spmatrix, None]
+
 class Cloud:
     dim: int
     fields: dict[str, npt.NDArray[np.float64]]
@@ -63,12 +67,13 @@ class Stencil:
 def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
             h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
             coefficient: Data = None, infeasible_tol: float = 1e-6, *,
-            diagnostics: Literal[True]) -> Stencil: ...
+            diagnostics: Literal[True], neighbours: NeighbourData = None) -> Stencil: ...
 @overload
 def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
             h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
             coefficient: Data = None, infeasible_tol: float = 1e-6,
-            diagnostics: Literal[False] = False) -> scipy.sparse.csr_matrix | tuple[scipy.sparse.csr_matrix, ...]: ...
+            diagnostics: Literal[False] = False,
+            neighbours: NeighbourData = None) -> scipy.sparse.csr_matrix | tuple[scipy.sparse.csr_matrix, ...]: ...
 
 class Solution(dict[str, Any]):
     u: npt.NDArray[np.float64]

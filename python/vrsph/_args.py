@@ -129,3 +129,35 @@ def options(value: Any, name: str) -> dict:
 def per_method_options(value: Any, name: str) -> dict:
     """{method: {key: value}}."""
     return {m: options(o, f"{name}[{m!r}]") for m, o in options(value, name).items()}
+
+
+def neighbour_list(value: Any, name: str, particles: int):
+    """``(indptr, indices)`` or ``(indptr, indices, distances)``, or a SciPy sparse matrix whose
+    pattern is the list: int32 row pointers and indices, float64 distances or None."""
+    import numpy as np
+
+    if value is None:
+        return None
+    if hasattr(value, "tocsr") and hasattr(value, "shape"):  # a SciPy sparse matrix: its pattern
+        m = value.tocsr()
+        if m.shape != (particles, particles):
+            raise ConfigError(f"{name}: a sparse matrix of shape {m.shape} for {particles} particles")
+        value = (m.indptr, m.indices)
+    if not isinstance(value, (tuple, list)) or len(value) not in (2, 3):
+        raise ArgumentTypeError(f"{name} must be (indptr, indices), (indptr, indices, distances) or a SciPy sparse "
+                                f"matrix, got {_kind(value)}")
+    out = []
+    for part, label in zip(value[:2], ("indptr", "indices")):
+        a = np.asarray(part)
+        if a.ndim != 1 or not np.issubdtype(a.dtype, np.integer):
+            raise ArgumentTypeError(f"{name}: {label} must be a 1D array of integers, got {a.dtype} of shape {a.shape}")
+        if a.size and (a.min() < -2**31 or a.max() >= 2**31):
+            raise ConfigError(f"{name}: {label} holds values beyond a 32-bit index")
+        out.append(np.ascontiguousarray(a, dtype=np.int32))
+    distances = None
+    if len(value) == 3 and value[2] is not None:
+        d = np.asarray(value[2])
+        if d.ndim != 1 or not np.issubdtype(d.dtype, np.number):
+            raise ArgumentTypeError(f"{name}: distances must be a 1D array of numbers, got {d.dtype} of shape {d.shape}")
+        distances = np.ascontiguousarray(d, dtype=np.float64)
+    return out[0], out[1], distances

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+#include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/user_list.hpp>
+
+namespace vrsph {
+
+namespace {
+void check_offsets(std::span<const Index> offsets, std::size_t entries, Index n) {
+  check<InputError>(offsets.size() == static_cast<std::size_t>(n) + 1, "neighbour list: ", offsets.size(),
+                    " row offsets for ", n, " particles (", n + 1, " expected)");
+  check<InputError>(offsets[0] == 0, "neighbour list: the first row offset is ", offsets[0], ", not 0");
+  for (Index i = 0; i < n; ++i)
+    check<InputError>(offsets[static_cast<std::size_t>(i) + 1] >= offsets[static_cast<std::size_t>(i)],
+                      "neighbour list: the row offsets decrease at particle ", i);
+  check<InputError>(static_cast<std::size_t>(offsets.back()) == entries, "neighbour list: the offsets end at ",
+                    offsets.back(), " but ", entries, " indices are given");
+}
+}  // namespace
+
+NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours& user) {
+  const Index n = cloud.size();
+  check_offsets(user.offsets, user.indices.size(), n);
+  check<InputError>(user.distances.empty() || user.distances.size() == user.indices.size(), "neighbour list: ",
+                    user.distances.size(), " distances for ", user.indices.size(), " neighbour entries");
+  check<InputError>(user.radii.size() == 1 || user.radii.size() == static_cast<std::size_t>(n), "neighbour list: ",
+                    user.radii.size(), " support radii for ", n, " particles (give one, or one per particle)");
+  NeighbourList nl;
+  nl.radii.resize(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i) {
+    const Real h = user.radii[user.radii.size() == 1 ? 0 : static_cast<std::size_t>(i)];
+    check<InputError>(std::isfinite(h) && h > 0, "neighbour list: the support radius of particle ", i, " is ", h,
+                      " (it must be positive and finite)");
+    nl.radii[static_cast<std::size_t>(i)] = h;
+  }
+  nl.offsets.assign(user.offsets.begin(), user.offsets.end());
+  nl.indices.resize(user.indices.size());
+  nl.distances.resize(user.indices.size());
+  std::vector<std::pair<Index, Real>> row;
+  for (Index i = 0; i < n; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const auto begin = static_cast<std::size_t>(nl.offsets[si]), end = static_cast<std::size_t>(nl.offsets[si + 1]);
+    const Vec3& xi = cloud.positions[si];
+    const Real h = nl.radii[si];
+    row.clear();
+    for (std::size_t k = begin; k < end; ++k) {
+      const Index j = user.indices[k];
+      check<InputError>(j >= 0 && j < n, "neighbour list: row ", i, " lists particle ", j, ", outside 0..", n - 1);
+      check<InputError>(j != i, "neighbour list: row ", i, " lists the particle itself");
+      // As the search computes it (the square root of the squared distance), so that a list
+      // found by find_neighbours comes back bitwise equal.
+      const Real r2 = (cloud.positions[static_cast<std::size_t>(j)] - xi).squaredNorm(), r = std::sqrt(r2);
+      check<InputError>(r2 < h * h, "neighbour list: particle ", j, " in row ", i, " is at distance ", r,
+                        ", not within the row's support radius ", h);
+      if (!user.distances.empty())
+        check<InputError>(std::abs(user.distances[k] - r) <= 1e-9 * h, "neighbour list: the distance of particle ", j,
+                          " in row ", i, " is given as ", user.distances[k], " but the positions give ", r);
+      row.emplace_back(j, r);
+    }
+    std::sort(row.begin(), row.end());
+    for (std::size_t k = 0; k < row.size(); ++k) {
+      check<InputError>(k == 0 || row[k].first != row[k - 1].first, "neighbour list: row ", i, " lists particle ",
+                        row[k].first, " twice");
+      nl.indices[begin + k] = row[k].first;
+      nl.distances[begin + k] = row[k].second;
+    }
+  }
+  // A pair within both radii belongs to both rows (gather lists: j in N(i) iff r_ij < h_i).
+  for (Index i = 0; i < n; ++i)
+    for (std::size_t k = static_cast<std::size_t>(nl.offsets[static_cast<std::size_t>(i)]);
+         k < static_cast<std::size_t>(nl.offsets[static_cast<std::size_t>(i) + 1]); ++k) {
+      const Index j = nl.indices[k];
+      const Real hj = nl.radius(j);
+      if (!((cloud.positions[static_cast<std::size_t>(j)] - cloud.positions[static_cast<std::size_t>(i)]).squaredNorm() < hj * hj))
+        continue;
+      const auto other = nl.of(j);
+      check<InputError>(std::binary_search(other.begin(), other.end(), i), "neighbour list: row ", i, " lists particle ",
+                        j, " but row ", j, " does not list ", i, " although they are ", nl.distances[k],
+                        " apart, within both support radii (a broken or one-sided list)");
+    }
+  return nl;
+}
+
+}  // namespace vrsph

@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// A neighbour list from the caller (issue 33: "a neighbour list given by the user accepted, with
+// distances computed when missing"): completed into the library's form, and refused by name
+// when it contradicts the cloud.
+#include <algorithm>
+#include <vector>
+#include <vrsph/cloud/generate.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/neighbours/user_list.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+struct Searched {
+  PointCloud cloud = [] {
+    PointCloud c = vertex_lattice(Domain::unit_box(2), 10);
+    perturb(c, {0.3, 4, false});
+    return c;
+  }();
+  Real h = 3 * cloud.spacing;
+  NeighbourList nl = [this] {
+    SearchParams p;
+    p.radius = h;
+    return find_neighbours(cloud, p);
+  }();
+  std::vector<Index> offsets() const { return {nl.offsets.begin(), nl.offsets.end()}; }
+  std::vector<Index> indices() const { return {nl.indices.begin(), nl.indices.end()}; }
+};
+}  // namespace
+
+TEST(UserNeighbours, ASearchedListComesBackEqualWithDistancesComputed) {
+  const Searched s;
+  const std::vector<Index> off = s.offsets();
+  std::vector<Index> idx = s.indices();
+  // Rows in reverse order: the caller's order does not matter.
+  for (Index i = 0; i < s.cloud.size(); ++i)
+    std::reverse(idx.begin() + off[static_cast<std::size_t>(i)], idx.begin() + off[static_cast<std::size_t>(i) + 1]);
+  const std::vector<Real> radius{s.h};
+  const NeighbourList nl = neighbour_list_from(s.cloud, {off, idx, {}, radius});
+  ASSERT_EQ(nl.offsets, s.nl.offsets);
+  EXPECT_TRUE(std::equal(nl.indices.begin(), nl.indices.end(), s.nl.indices.begin()));
+  EXPECT_TRUE(std::equal(nl.distances.begin(), nl.distances.end(), s.nl.distances.begin()));  // bitwise
+  EXPECT_EQ(nl.radii, s.nl.radii);
+  // A method reads it as its own search's list: the same VRSPH Laplacian, bitwise.
+  const auto m = builtin_methods().create("vrsph");
+  const Stencil a = m->build({s.cloud, s.nl, KernelType::CubicSpline, s.h}, {OperatorKind::Laplacian});
+  const Stencil b = m->build({s.cloud, nl, KernelType::CubicSpline, s.h}, {OperatorKind::Laplacian});
+  EXPECT_EQ(a.col, b.col);
+  EXPECT_EQ(a.values, b.values);
+}
+
+TEST(UserNeighbours, ListsThatContradictTheCloudAreNamed) {
+  const Searched s;
+  const std::vector<Index> off = s.offsets(), idx = s.indices();
+  const std::vector<Real> radius{s.h};
+  const auto with = [&](std::vector<Index> o, std::vector<Index> i, std::vector<Real> d = {}, std::vector<Real> r = {}) {
+    const std::vector<Real> rr = r.empty() ? radius : r;
+    return neighbour_list_from(s.cloud, {o, i, d, rr});
+  };
+  EXPECT_THROW_MSG(with({0, 1}, idx), InputError, "2 row offsets for 121 particles (122 expected)");
+  std::vector<Index> bad = idx;
+  bad[0] = 500;
+  EXPECT_THROW_MSG(with(off, bad), InputError, "row 0 lists particle 500, outside 0..120");
+  bad[0] = 0;
+  EXPECT_THROW_MSG(with(off, bad), InputError, "row 0 lists the particle itself");
+  bad = idx;
+  bad[1] = bad[0];
+  EXPECT_THROW_MSG(with(off, bad), InputError, "row 0 lists particle " + std::to_string(idx[0]) + " twice");
+  bad = idx;
+  bad[0] = 120;  // the far corner of the unit square
+  EXPECT_THROW_MSG(with(off, bad), InputError, "not within the row's support radius");
+  std::vector<Real> d(s.nl.distances.begin(), s.nl.distances.end());
+  d[3] *= 1.01;
+  EXPECT_THROW_MSG(with(off, idx, d), InputError, "is given as");
+  EXPECT_THROW_MSG(with(off, idx, {}, {-1.0}), InputError, "support radius of particle 0 is -1");
+  EXPECT_THROW_MSG(with(off, idx, {}, {1.0, 2.0}), InputError, "2 support radii for 121 particles");
+  // Row 0 without its first neighbour j (the offsets shift): j still lists 0.
+  std::vector<Index> o2 = off, i2 = idx;
+  i2.erase(i2.begin());
+  for (std::size_t k = 1; k < o2.size(); ++k) --o2[k];
+  EXPECT_THROW_MSG(with(o2, i2), InputError, "lists particle 0 but row 0 does not list " + std::to_string(idx[0]));
+  std::vector<Index> o3 = off;
+  o3[5] = o3[4] - 1;
+  EXPECT_THROW_MSG(with(o3, idx), InputError, "the row offsets decrease at particle 4");
+}
