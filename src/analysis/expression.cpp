@@ -20,25 +20,22 @@ namespace {
 // The first number written in the text that a double cannot hold (1e400): muParser reports it
 // as an "unexpected token", which does not name the cause. Empty if none.
 [[maybe_unused]] std::string overflowing_literal(const std::string& text) {
-  for (std::size_t k = 0; k < text.size(); ++k) {
-    const auto c = static_cast<unsigned char>(text[k]);
-    const bool in_name = k > 0 && (std::isalnum(static_cast<unsigned char>(text[k - 1])) || text[k - 1] == '_');
-    if (!(std::isdigit(c) || (c == '.' && k + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[k + 1])))) ||
-        in_name)
+  const auto at = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  for (std::size_t k = 0; k < text.size();) {
+    const bool in_name = k > 0 && (std::isalnum(at(k - 1)) || text[k - 1] == '_');  // x2, a_1e5
+    if (in_name || !(std::isdigit(at(k)) || text[k] == '.')) {
+      ++k;
       continue;
-    std::size_t end = k;
-    while (end < text.size() && (std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '.')) ++end;
-    if (end < text.size() && (text[end] == 'e' || text[end] == 'E')) {
-      std::size_t e = end + 1;
-      if (e < text.size() && (text[e] == '+' || text[e] == '-')) ++e;
-      if (e < text.size() && std::isdigit(static_cast<unsigned char>(text[e]))) {
-        while (e < text.size() && std::isdigit(static_cast<unsigned char>(text[e]))) ++e;
-        end = e;
-      }
     }
-    const std::string literal = text.substr(k, end - k);
-    if (!std::isfinite(std::strtod(literal.c_str(), nullptr))) return literal;
-    k = end;
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str() + k, &end);  // the longest number from k
+    const auto length = static_cast<std::size_t>(end - (text.c_str() + k));
+    if (length == 0) {
+      ++k;
+      continue;
+    }
+    if (!std::isfinite(value)) return text.substr(k, length);
+    k += length;
   }
   return {};
 }

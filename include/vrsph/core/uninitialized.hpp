@@ -16,6 +16,20 @@
 
 namespace vrsph {
 
+namespace detail {
+inline constexpr std::size_t huge_page = std::size_t{2} << 20;       // a transparent huge page
+inline constexpr std::size_t huge_threshold = std::size_t{4} << 20;  // arrays worth advising
+// Advises the whole 2 MiB pages inside [p, p + bytes) as transparent huge pages (advisory:
+// failure only means small pages).
+inline void advise_huge_pages([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  const auto begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + huge_page - 1) / huge_page * huge_page, last = (begin + bytes) / huge_page * huge_page;
+  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#endif
+}
+}  // namespace detail
+
 template <class T>
 class DefaultInitAllocator {
  public:
@@ -26,19 +40,17 @@ class DefaultInitAllocator {
 
   T* allocate(std::size_t n) {
     const std::size_t bytes = n * sizeof(T);
-    if (bytes >= huge_threshold) {
-      const std::size_t rounded = (bytes + huge_page - 1) / huge_page * huge_page;
-      void* p = std::aligned_alloc(huge_page, rounded);
+    if (bytes >= detail::huge_threshold) {
+      const std::size_t rounded = (bytes + detail::huge_page - 1) / detail::huge_page * detail::huge_page;
+      void* p = std::aligned_alloc(detail::huge_page, rounded);
       if (!p) throw std::bad_alloc();
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-      ::madvise(p, rounded, MADV_HUGEPAGE);  // advisory: failure only means small pages
-#endif
+      detail::advise_huge_pages(p, rounded);
       return static_cast<T*>(p);
     }
     return std::allocator<T>{}.allocate(n);
   }
   void deallocate(T* p, std::size_t n) noexcept {
-    if (n * sizeof(T) >= huge_threshold)
+    if (n * sizeof(T) >= detail::huge_threshold)
       std::free(p);
     else
       std::allocator<T>{}.deallocate(p, n);
@@ -55,10 +67,6 @@ class DefaultInitAllocator {
   bool operator==(const DefaultInitAllocator<U>&) const noexcept {
     return true;
   }
-
- private:
-  static constexpr std::size_t huge_page = std::size_t{2} << 20;
-  static constexpr std::size_t huge_threshold = std::size_t{4} << 20;
 };
 
 template <class T>
@@ -73,14 +81,7 @@ using UninitVector = std::vector<T, DefaultInitAllocator<T>>;
 template <class T>
 void reserve_huge(std::vector<T>& v, std::size_t n) {
   v.reserve(n);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t huge_page = std::uintptr_t{2} << 20;
-  const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
-  const std::uintptr_t end = begin + v.capacity() * sizeof(T);
-  const std::uintptr_t first = (begin + huge_page - 1) / huge_page * huge_page, last = end / huge_page * huge_page;
-  if (n * sizeof(T) >= (std::size_t{4} << 20) && last > first)
-    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);  // advisory
-#endif
+  if (n * sizeof(T) >= detail::huge_threshold) detail::advise_huge_pages(v.data(), v.capacity() * sizeof(T));
 }
 
 }  // namespace vrsph

@@ -124,7 +124,7 @@ inline int entering_column(const Real* w, int n, Real tol, Real tie) {
   for (; j < n; ++j) part[0] = w[j] > part[0] ? w[j] : part[0];
   const Real best = std::max(std::max(part[0], part[1]), std::max(part[2], part[3]));
   if (!(best > tol)) return -1;
-  const Real threshold = tie > 0 ? std::max(best - tie * best, tol) : best;
+  const Real threshold = tie > 0 ? best - tie * best : best;
   for (j = 0; j < n; ++j)
     if (w[j] >= threshold && w[j] > tol) return j;
   return -1;

@@ -76,7 +76,7 @@ TEST(UserNeighbours, ListsThatContradictTheCloudAreNamed) {
   bad[0] = 120;  // the far corner of the unit square
   EXPECT_THROW_MSG(with(off, bad), InputError, "not within the row's support radius");
   std::vector<Real> d(s.nl.distances.begin(), s.nl.distances.end());
-  d[3] *= 1.01;
+  d.at(3) *= 1.01;  // (at: GCC cannot see that the list is not empty)
   EXPECT_THROW_MSG(with(off, idx, d), InputError, "is given as");
   EXPECT_THROW_MSG(with(off, idx, {}, {-1.0}), InputError, "support radius of particle 0 is -1");
   EXPECT_THROW_MSG(with(off, idx, {}, {1.0, 2.0}), InputError, "2 support radii for 121 particles");
