@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <utility>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
@@ -15,6 +16,22 @@
 namespace vrsph::detail {
 
 std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& params);
+
+/// GeometryError naming the first non-ghost particle whose row (offsets filled) has fewer
+/// than `minimum` neighbours (its own entry not counted when `include_self`).
+inline void check_min_neighbours(const PointCloud& cloud, const NeighbourList& list, std::span<const Real> radii,
+                                 Index minimum, bool include_self) {
+  for (Index i = 0; i < cloud.size(); ++i) {
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+    const Index c = list.count(i) - (include_self ? 1 : 0);
+    if (c < minimum) {
+      const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+      throw GeometryError(concat("particle ", i, " at (", x[0], ", ", x[1], ", ", x[2], ") has ", c,
+                                 " neighbours within radius ", radii[static_cast<std::size_t>(i)], " (need at least ",
+                                 minimum, "); increase the smoothing radius or check the cloud"));
+    }
+  }
+}
 
 /// Bytes per stored pair: the neighbour index and, if cached, the distance.
 inline double neighbour_pair_bytes(const SearchParams& params) {
@@ -71,16 +88,7 @@ NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, 
                         concat("the neighbour list (", total, " pairs, ", total / std::max(n, 1), " per particle)"),
                         "reduce the smoothing radius (--h-factor) or the number of particles");
   // Too few neighbours: reported before filling, naming the first offender.
-  for (Index i = 0; i < n; ++i) {
-    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
-    const Index c = list.count(i) - (params.include_self ? 1 : 0);
-    if (c < params.min_neighbours) {
-      const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-      throw GeometryError(concat("particle ", i, " at (", x[0], ", ", x[1], ", ", x[2], ") has ", c,
-                                 " neighbours within radius ", radii[static_cast<std::size_t>(i)], " (need at least ",
-                                 params.min_neighbours, "); increase the smoothing radius or check the cloud"));
-    }
-  }
+  check_min_neighbours(cloud, list, radii, params.min_neighbours, params.include_self);
 
   // Pass 2: fill, then sort each row by index so the output does not depend on the backend.
   list.indices.resize(static_cast<std::size_t>(total));

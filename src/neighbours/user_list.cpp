@@ -5,6 +5,7 @@
 #include <vector>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/user_list.hpp>
+#include "two_pass.hpp"
 
 namespace vrsph {
 
@@ -37,6 +38,8 @@ NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours&
     nl.radii[static_cast<std::size_t>(i)] = h;
   }
   nl.offsets.assign(user.offsets.begin(), user.offsets.end());
+  // As the search refuses it: a particle without neighbours has no row (SearchParams's default).
+  detail::check_min_neighbours(cloud, nl, nl.radii, SearchParams{}.min_neighbours, false);
   nl.indices.resize(user.indices.size());
   nl.distances.resize(user.indices.size());
   std::vector<std::pair<Index, Real>> row;

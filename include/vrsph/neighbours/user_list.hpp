@@ -22,7 +22,8 @@ struct UserNeighbours {
 /// listed twice in a row; a neighbour at or beyond the row's support radius; a given distance
 /// that the positions contradict (beyond 1e-9 of the radius); a pair within both particles'
 /// radii listed in one row only (a broken symmetric list); a radius that is not positive and
-/// finite. Not checked: pairs missing from both rows (that needs a search of its own).
+/// finite. GeometryError, as the search raises it, for a non-ghost particle without neighbours.
+/// Not checked: pairs missing from both rows (that needs a search of its own).
 NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours& user);
 
 }  // namespace vrsph

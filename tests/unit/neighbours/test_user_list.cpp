@@ -85,6 +85,8 @@ TEST(UserNeighbours, ListsThatContradictTheCloudAreNamed) {
   i2.erase(i2.begin());
   for (std::size_t k = 1; k < o2.size(); ++k) --o2[k];
   EXPECT_THROW_MSG(with(o2, i2), InputError, "lists particle 0 but row 0 does not list " + std::to_string(idx[0]));
+  // No neighbours at all: refused as the search refuses it.
+  EXPECT_THROW_MSG(with(std::vector<Index>(off.size(), 0), {}), GeometryError, "particle 0 at (0, 0, 0) has 0 neighbours");
   std::vector<Index> o3 = off;
   o3[5] = o3[4] - 1;
   EXPECT_THROW_MSG(with(o3, idx), InputError, "the row offsets decrease at particle 4");
