@@ -6,6 +6,7 @@
 // nodes, where a vector per node cost ~10^6 small allocations for a large system.
 // Shared by the M-matrix test (reach a strictly dominant row) and the assembly's
 // singularity check (reach a row coupled to a Dirichlet particle).
+#include <span>
 #include <vector>
 #include <vrsph/core/types.hpp>
 
@@ -46,6 +47,19 @@ inline std::vector<char> reaching(const ReverseGraph& g, std::vector<char> seeds
     }
   }
   return seeds;
+}
+
+/// The nodes that reach a seed along the edges i -> j given in CSR form (j in
+/// targets[offsets[i] .. offsets[i+1])): the closure of one process's graph.
+inline std::vector<char> reaching(std::span<const Index> offsets, std::span<const Index> targets,
+                                  std::vector<char> seeds) {
+  const auto n = static_cast<Index>(offsets.size()) - 1;
+  const auto reverse = reverse_graph(n, [&](auto&& emit) {
+    for (Index i = 0; i < n; ++i)
+      for (Index k = offsets[static_cast<std::size_t>(i)]; k < offsets[static_cast<std::size_t>(i) + 1]; ++k)
+        emit(i, targets[static_cast<std::size_t>(k)]);
+  });
+  return reaching(reverse, std::move(seeds));
 }
 
 }  // namespace vrsph::detail

@@ -18,11 +18,13 @@ namespace vrsph::detail {
 std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& params);
 
 /// GeometryError naming the first non-ghost particle whose row (offsets filled) has fewer
-/// than `minimum` neighbours (its own entry not counted when `include_self`).
+/// than `minimum` neighbours (its own entry not counted when `include_self`); with `rows`,
+/// only the particles marked there (a rank's owned particles: a halo row may be cut).
 inline void check_min_neighbours(const PointCloud& cloud, const NeighbourList& list, std::span<const Real> radii,
-                                 Index minimum, bool include_self) {
+                                 Index minimum, bool include_self, std::span<const char> rows = {}) {
   for (Index i = 0; i < cloud.size(); ++i) {
-    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost || (!rows.empty() && !rows[static_cast<std::size_t>(i)]))
+      continue;
     const Index c = list.count(i) - (include_self ? 1 : 0);
     if (c < minimum) {
       const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];

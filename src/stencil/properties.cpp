@@ -29,16 +29,10 @@ std::string MMatrixReport::summary() const {
 }
 
 MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol) {
-  return check_m_matrix(s, unknown, tol, unknown, [](std::span<const Index> offsets, std::span<const Index> targets,
-                                                     std::vector<char> seeds) {
-    const auto n = static_cast<Index>(offsets.size()) - 1;
-    const auto reverse = detail::reverse_graph(n, [&](auto&& emit) {
-      for (Index i = 0; i < n; ++i)
-        for (Index k = offsets[static_cast<std::size_t>(i)]; k < offsets[static_cast<std::size_t>(i) + 1]; ++k)
-          emit(i, targets[static_cast<std::size_t>(k)]);
-    });
-    return detail::reaching(reverse, std::move(seeds));
-  });
+  return check_m_matrix(s, unknown, tol, unknown,
+                        [](std::span<const Index> offsets, std::span<const Index> targets, std::vector<char> seeds) {
+                          return detail::reaching(offsets, targets, std::move(seeds));
+                        });
 }
 
 MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol, std::span<const char> rows,

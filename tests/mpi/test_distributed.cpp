@@ -288,14 +288,15 @@ TEST(DistributedSolve, EveryRegisteredMethodAsSerialIn1DAnd2D) {
       } catch (const Error& err) {
         serial_error = typeid(err).name();
       }
-      std::string dist_error;
+      std::string dist_error, dist_message;
       BvpSolution s;
       try {
         s = solve(part_of(whole, b, e), dist);
       } catch (const Error& err) {
         dist_error = typeid(err).name();
+        dist_message = err.what();
       }
-      ASSERT_EQ(dist_error, serial_error) << info.name << " " << dim << "D";
+      ASSERT_EQ(dist_error, serial_error) << info.name << " " << dim << "D: " << dist_message;
       if (!serial_error.empty()) continue;
       const Real scale = ref.u.cwiseAbs().maxCoeff();
       for (Index k = 0; k < s.u.size(); ++k)

@@ -116,6 +116,7 @@ struct BvpSolution {
   /// and a warning says so). The studies, which know the domain, check it exactly.
   Real neumann_imbalance = 0;
   std::vector<std::string> warnings;
+  /// seconds_neighbours: the support radius, the partition, the data's exchange and the search.
   double seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;
   /// With BvpSolveOptions::measure_memory: peak resident bytes of the process during each
   /// stage (what the stage held plus what earlier stages still held).
@@ -136,7 +137,7 @@ struct BvpSolution {
     Index owned = 0, halo = 0;
     long long halo_bytes = 0, halo_bytes_max = 0, halo_bytes_total = 0, migration_bytes = 0;
     int halo_messages = 0;
-    double seconds_distribute = 0;
+    double seconds_distribute = 0;  ///< the partition's last build (a share of seconds_neighbours)
   } distribution;
 };
 

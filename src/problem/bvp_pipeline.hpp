@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// Internal: the stages of vrsph::solve (solve_bvp.cpp), one data path for 1..P ranks. Each
+// stage works on a Partition (parallel/partition.hpp): in serial the whole cloud, every
+// exchange the identity; under MPI one rank's owned particles and halo.
+//
+//   check_problem -> choose_support (+ the partition) -> local_data -> find_local_neighbours
+//   -> build_operator_rows -> diagnose_rows -> assemble_owned_rows -> solve_system
+//   -> report_solution
+//
+// A stage that can fail on one rank runs through Partition::stage (collective: the same
+// typed exception on every rank, naming global particle numbers).
+#include <memory>
+#include <vrsph/assembly/assemble.hpp>
+#include <vrsph/methods/method.hpp>
+#include <vrsph/neighbours/neighbour_list.hpp>
+#include <vrsph/problem/boundary_value_problem.hpp>
+#include "../parallel/partition.hpp"
+
+namespace vrsph::detail {
+
+/// Which optional fields the problem gives (agreed over the ranks: a chunk may be empty).
+struct ProblemFields {
+  bool a = false, grad_a = false, tensor = false, q = false, robin = false;
+};
+
+/// The support radius: h, per-particle radii (knn), the spacing it came from.
+struct Support {
+  Real spacing = 0, h = 0, covering_radius = 0;
+  std::vector<Real> radii;  ///< per local particle (knn), else empty
+};
+
+/// The problem's data at the local particles (owned and halo).
+struct LocalData {
+  Field a, f, g, q, robin;
+  Eigen::MatrixXd mobility, grad_a;
+};
+
+/// Row masks over the local particles: the owned interior, Neumann and unknown particles,
+/// and every local unknown (the columns, halo copies included).
+struct RowMasks {
+  std::vector<char> interior, flux, unknown, unknown_columns;
+};
+
+/// The operator rows: div(a grad) on the interior (and, with balance rows, Neumann)
+/// particles; the method's gradient on Neumann rows otherwise.
+struct OperatorRows {
+  Stencil L, G;
+  bool balance = false;
+  const std::vector<char>& rows(const RowMasks& m) const { return balance ? m.unknown : m.interior; }
+};
+
+std::string label_of(const BvpSolveOptions& o);
+
+ProblemFields check_problem(const BoundaryValueProblem& p, const BvpSolveOptions& o);
+/// The spacing, the support radius and the partition whose halo holds every row's reach.
+std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolveOptions& o, int reach, Support& support);
+LocalData local_data(const Partition& part, const BoundaryValueProblem& p, const ProblemFields& given);
+RowMasks row_masks(const Partition& part);
+NeighbourList find_local_neighbours(const Partition& part, const Support& support, const RowMasks& masks);
+/// Neighbours per unknown row, over every rank.
+Real mean_neighbours(const Partition& part, const NeighbourList& nl, const RowMasks& masks);
+OperatorRows build_operator_rows(const Partition& part, const Method& method, const Discretisation& disc,
+                                 const LocalData& data, const RowMasks& masks, const BvpSolveOptions& o);
+void diagnose_rows(const Partition& part, const Method& method, const OperatorRows& rows, const RowMasks& masks,
+                   const LocalData& data, const BvpSolveOptions& o, BvpSolution& s);
+/// This rank's rows of the system, columns numbered over every rank (serial: the system).
+LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& rows, const RowMasks& masks,
+                                 const LocalData& data, const BoundaryValueProblem& p, const ProblemFields& given,
+                                 BvpSolution& s);
+Eigen::VectorXd solve_system(const Partition& part, const LinearSystem& sys, const BvpSolveOptions& o, BvpSolution& s);
+/// u and the local residuals back in the chunk's order; the Neumann solvability warning.
+void report_solution(const Partition& part, const LinearSystem& sys, const Eigen::VectorXd& x, const LocalData& data,
+                     Real spacing, BvpSolution& s);
+
+}  // namespace vrsph::detail
