@@ -143,11 +143,11 @@ int main(int argc, char** argv) {
     if (comm.distributed()) {
       const auto subs = app.get_subcommands();
       const std::string name = subs.empty() ? "" : subs.front()->get_name();
-      const bool parallel = name == "study" || name == "solve" ||
+      const bool parallel = name == "study" || name == "solve" || name == "diffuse" ||
                             (name == "bench" && !subs.front()->get_subcommands().empty() &&
                              subs.front()->get_subcommands().front()->get_name() == "solve");
       vrsph::check<vrsph::ConfigError>(parallel, "vrsph ", name, " runs on one rank; under mpirun (", comm.size(),
-                                       " ranks) only study, solve and bench solve are distributed");
+                                       " ranks) only study, solve, diffuse and bench solve are distributed");
     }
     if (app.count("--max-memory")) vrsph::set_memory_limit_bytes(vrsph::parse_memory_size(max_memory));
   });

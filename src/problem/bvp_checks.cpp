@@ -64,6 +64,10 @@ ProblemFields check_problem(const BoundaryValueProblem& p, const BvpSolveOptions
   given.grad_a = any_rank(comm, p.grad_a.size() > 0);
   given.q = any_rank(comm, p.q.size() > 0);
   given.robin = any_rank(comm, p.robin.size() > 0);
+  const bool neumann_anywhere = any_rank(comm, p.cloud.count(Tag::Neumann) > 0);
+  collective(comm, [&] {
+    check<InputError>(!neumann_anywhere || given.q, "boundary value problem: Neumann particles need the flux q");
+  });
   // A field given on some ranks' parts must be on every part that reads it. The flux data q
   // and β are read only at Neumann particles: a part without any may leave them empty and
   // gets zeros. a, ∇a and the mobility are read everywhere. (Serial: always true.)

@@ -60,10 +60,18 @@ RowMasks row_masks(const Partition& part);
 NeighbourList find_local_neighbours(const Partition& part, const Support& support, const RowMasks& masks);
 /// Neighbours per unknown row, over every rank.
 Real mean_neighbours(const Partition& part, const NeighbourList& nl, const RowMasks& masks);
+/// `name`: the method's name in messages; `use`: System for a boundary value problem.
 OperatorRows build_operator_rows(const Partition& part, const Method& method, const Discretisation& disc,
-                                 const LocalData& data, const RowMasks& masks, const BvpSolveOptions& o);
+                                 const LocalData& data, const RowMasks& masks, const std::string& name, StencilUse use);
 void diagnose_rows(const Partition& part, const Method& method, const OperatorRows& rows, const RowMasks& masks,
                    const LocalData& data, const BvpSolveOptions& o, BvpSolution& s);
+/// assemble() over the partition: the whole system with assemble()'s own checks in serial;
+/// under MPI this rank's rows (local columns, AssemblyScope), the data anchoring every
+/// unknown checked over the ranks.
+LinearSystem assemble_over_ranks(const Partition& part, const Stencil& L, const RowMasks& masks, const Field& f,
+                                const Field& g, const BoundaryRows& bc);
+/// This rank's rows with their columns renumbered from local dofs to global ones.
+LinearSystem globalise(const Partition& part, LinearSystem local);
 /// This rank's rows of the system, columns numbered over every rank (serial: the system).
 LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& rows, const RowMasks& masks,
                                  const LocalData& data, const BoundaryValueProblem& p, const ProblemFields& given,

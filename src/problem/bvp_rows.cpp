@@ -74,19 +74,18 @@ Real mean_neighbours(const Partition& part, const NeighbourList& nl, const RowMa
 // div(a grad) on the interior rows; on the Neumann rows either the same operator (balance
 // rows, VRSPH flux=balance) or the method's gradient for the flux rows.
 OperatorRows build_operator_rows(const Partition& part, const Method& method, const Discretisation& disc,
-                                 const LocalData& data, const RowMasks& masks, const BvpSolveOptions& o) {
+                                 const LocalData& data, const RowMasks& masks, const std::string& name, StencilUse use) {
   const long long neumann = sum_over_ranks(part.comm(), static_cast<long long>(std::count(masks.flux.begin(), masks.flux.end(), 1)));
   OperatorRows r;
-  r.balance = neumann > 0 && method.balances_flux_rows(StencilUse::System);
+  r.balance = neumann > 0 && method.balances_flux_rows(use);
   collective(part.comm(), [&] {
-    check<ConfigError>(method.info().supports(OperatorKind::DivAGrad), "method ", o.method, " does not provide div-a-grad");
-    check<ConfigError>(neumann == 0 || r.balance || method.info().supports(OperatorKind::Gradient), "method ", o.method,
+    check<ConfigError>(method.info().supports(OperatorKind::DivAGrad), "method ", name, " does not provide div-a-grad");
+    check<ConfigError>(neumann == 0 || r.balance || method.info().supports(OperatorKind::Gradient), "method ", name,
                        " has no gradient stencil for Neumann rows");
-    check<InputError>(neumann == 0 || data.q.size() > 0, "boundary value problem: Neumann particles need the flux q");
   });
   StencilRequest req;
   req.kind = OperatorKind::DivAGrad;
-  req.use = StencilUse::System;
+  req.use = use;
   const bool tensor = data.mobility.size() > 0;
   req.coefficient = tensor ? nullptr : &data.a;
   req.mobility = tensor ? &data.mobility : nullptr;
@@ -98,7 +97,7 @@ OperatorRows build_operator_rows(const Partition& part, const Method& method, co
     if (neumann > 0 && !r.balance) {
       StencilRequest greq;
       greq.kind = OperatorKind::Gradient;
-      greq.use = StencilUse::System;
+      greq.use = use;
       greq.rows = masks.flux;
       r.G = method.build(disc, greq);
     }

@@ -95,6 +95,8 @@ void check_anchored_over_ranks(const Partition& part, const LinearSystem& sys, b
   });
 }
 
+}  // namespace
+
 // This rank's rows with their columns renumbered from local dofs to global ones (sorted
 // again: the halo dofs' global numbers need not follow the local order).
 LinearSystem globalise(const Partition& part, LinearSystem sys) {
@@ -128,7 +130,21 @@ LinearSystem globalise(const Partition& part, LinearSystem sys) {
   out.rows_owned = m;
   return out;
 }
-}  // namespace
+
+LinearSystem assemble_over_ranks(const Partition& part, const Stencil& L, const RowMasks& masks, const Field& f,
+                                const Field& g, const BoundaryRows& bc) {
+  if (!part.distributed()) return assemble(L, part.local(), masks.unknown, f, g, &bc);
+  const AssemblyScope scope{masks.unknown};
+  LinearSystem sys;
+  part.stage([&] {
+    fault_point(part.comm(), "assemble");
+    sys = assemble(L, part.local(), masks.unknown_columns, f, g, &bc, &scope);
+  });
+  const bool robin = bc.robin.size() > 0 && bc.robin.maxCoeff() > 0;
+  const bool neumann = any_rank(part.comm(), bc.gradient != nullptr || !L.wall_flux.empty());
+  check_anchored_over_ranks(part, sys, neumann, robin, bc.pinned >= 0);
+  return sys;
+}
 
 LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& r, const RowMasks& masks,
                                  const LocalData& data, const BoundaryValueProblem& p, const ProblemFields& given,
@@ -143,25 +159,12 @@ LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& r, c
     bc.robin = data.robin;
   }
   bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(part, masks.interior) : -1;
-  if (!part.distributed()) {
-    LinearSystem sys = assemble(r.L, part.local(), masks.unknown, data.f, data.g, &bc);
-    s.unknowns = sys.size();
-    s.nnz_per_row = static_cast<Real>(sys.A.nonZeros()) / static_cast<Real>(std::max<Index>(s.unknowns, 1));
-    return sys;
-  }
-  const AssemblyScope scope{masks.unknown};
-  LinearSystem sys;
-  part.stage([&] {
-    fault_point(part.comm(), "assemble");
-    sys = assemble(r.L, part.local(), masks.unknown_columns, data.f, data.g, &bc, &scope);
-  });
-  const bool robin = data.robin.size() > 0 && data.robin.maxCoeff() > 0;
-  check_anchored_over_ranks(part, sys, s.neumann_particles > 0, robin, bc.pinned >= 0);
-  LinearSystem global = globalise(part, std::move(sys));
-  s.unknowns = static_cast<Index>(global.A.cols());
-  s.nnz_per_row = static_cast<Real>(sum_over_ranks(part.comm(), static_cast<long long>(global.A.nonZeros()))) /
+  LinearSystem sys = assemble_over_ranks(part, r.L, masks, data.f, data.g, bc);
+  if (part.distributed()) sys = globalise(part, std::move(sys));
+  s.unknowns = static_cast<Index>(part.distributed() ? sys.A.cols() : sys.size());
+  s.nnz_per_row = static_cast<Real>(sum_over_ranks(part.comm(), static_cast<long long>(sys.A.nonZeros()))) /
                   static_cast<Real>(std::max<Index>(s.unknowns, 1));
-  return global;
+  return sys;
 }
 
 Eigen::VectorXd solve_system(const Partition& part, const LinearSystem& sys, const BvpSolveOptions& o, BvpSolution& s) {

@@ -101,7 +101,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   watch.restart();
   const Discretisation disc{part->local(), nl, o.kernel, support.spacing, part->global_size(),
                             part->distributed() ? length_scale(part->local(), o.communicator) : 0};
-  detail::OperatorRows rows = detail::build_operator_rows(*part, *method, disc, data, masks, o);
+  detail::OperatorRows rows = detail::build_operator_rows(*part, *method, disc, data, masks, o.method, StencilUse::System);
   s.seconds_stencil = max_over_ranks(o.communicator, watch.seconds());
   s.neighbours_mean = detail::mean_neighbours(*part, nl, masks);
   nl = NeighbourList();  // not needed any more: its memory goes back before assembly and solve

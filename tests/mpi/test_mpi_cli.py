@@ -79,6 +79,37 @@ class SameTables(unittest.TestCase):
                       "--solver", "petsc"], 1e-6, ranks=(2,), atol=1e-10)
 
 
+class Diffusion(unittest.TestCase):
+    """vrsph diffuse on the ranks' slices: the serial error table (explicit steps with the Neumann
+    block, the [SPE] plate; Crank-Nicolson with a direct parallel solve)."""
+
+    def compare(self, args, rtol, ranks=(2, 3)):
+        serial = run_json(0, "diffuse", *args)
+        for r in ranks:
+            par = run_json(r, "diffuse", *args)
+            self.assertEqual(len(par["rows"]), len(serial["rows"]))
+            for a, b in zip(serial["rows"], par["rows"]):
+                self.assertEqual(a["steps"], b["steps"])
+                self.assertEqual(a["particles"], b["particles"])
+                self.assertTrue(close(a["error_inf"], b["error_inf"], rtol, 1e-14),
+                                f"error_inf with {r} ranks: {b['error_inf']} vs {a['error_inf']}")
+
+    def test_explicit_with_neumann_rows(self):
+        self.compare(["--u", "exp(-t)*sin(x)*cos(y)", "--dim", "2", "--n", "20", "--cloud", "perturbed",
+                      "--t-end", "0.01", "--dt", "0.0002", "--neumann", "x0,x1", "--method", "fpm", "--h-factor", "1.5"],
+                     1e-10)
+
+    def test_plate_explicit_and_crank_nicolson(self):
+        self.compare(["--t-end", "1"], 1e-12)
+        self.compare(["--t-end", "1", "--scheme", "cn", "--nu", "1", "--solver", "petsc", "--petsc-options", DIRECT],
+                     1e-9)
+
+    def test_vtu_series_refused(self):
+        out = run(2, "diffuse", "--t-end", "1", "--vtu-series", "s")
+        self.assertEqual(out.returncode, 2)
+        self.assertIn("--vtu-series writes the whole field on one rank", out.stderr)
+
+
 class Output(unittest.TestCase):
     def test_solve_writes_pieces_and_pvtu(self):
         with tempfile.TemporaryDirectory() as d:

@@ -155,9 +155,18 @@ void add_diffuse_command(CLI::App& app) {
     if (!is_custom) reject_group_options(*cmd, custom, "--problem custom");
     check<ConfigError>(!is_custom || cmd->count("--dx") == 0, "--dx does not apply to --problem custom (dx = 1/--n)");
     DiffusionProblem problem = is_custom ? custom_problem(*a) : spe_plate_problem(a->dx);
+    const Communicator& comm = communicator();
+    check<ConfigError>(!comm.distributed() || a->vtu_series.empty(), "--vtu-series writes the whole field on one "
+                       "rank: not available under mpirun");
+    const Index total = problem.cloud.size();
+    // Under mpirun each rank passes its consecutive slice of the particles (diffuse repartitions them).
+    const DiffusionProblem mine = comm.distributed() ? part_of(problem, total * comm.rank() / comm.size(),
+                                                               total * (comm.rank() + 1) / comm.size())
+                                                     : DiffusionProblem();
     const Real dx = is_custom ? 1.0 / a->n : a->dx;
     const Real a_max = problem.mobility.size() ? problem.mobility.maxCoeff() : problem.a.size() ? problem.a.maxCoeff() : 1.0;
     DiffusionOptions o;
+    o.communicator = comm;
     o.method = a->methods;
     const auto per_method = parse_method_options(a->method_opts, {a->methods});
     note_row_forms({a->methods}, per_method, StencilUse::Values);
@@ -211,7 +220,7 @@ void add_diffuse_command(CLI::App& app) {
         }
       };
       o.progress = [&](double f) { progress.update(detail::concat("nu = ", nus[run]), (static_cast<double>(run) + f) / static_cast<double>(nus.size())); };
-      const DiffusionResult r = diffuse(problem, o);
+      const DiffusionResult r = diffuse(comm.distributed() ? mine : problem, o);
       // A run that diverged is a result only for a stability study that asked for it.
       if (r.diverged && !a->allow_unstable) throw NumericalError(r.warnings.back());
       for (const auto& w : r.warnings) std::cerr << "vrsph: warning: " << w << '\n';

@@ -25,6 +25,7 @@
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/parallel/communicator.hpp>
 #include <vrsph/solve/solver.hpp>
 
 namespace vrsph {
@@ -63,10 +64,15 @@ struct DiffusionOptions {
   /// Called at the start and after every step with (t, u at every particle).
   std::function<void(Real, const Field&)> on_step;
   std::function<void(double)> progress;  ///< fraction of t_end done
+  /// The ranks to run on (default: serial). Distributed: each rank passes its part of the
+  /// cloud and of a, the mobility and u0 in the problem (the functions are the same on every
+  /// rank) and gets u (and on_step's field) for exactly those particles; on_step and
+  /// progress are called on every rank; errors and timings are over every rank.
+  Communicator communicator;
 };
 
 struct DiffusionResult {
-  Field u;                      ///< at t_end
+  Field u;                      ///< at t_end (under MPI: at this rank's particles)
   Index steps = 0;
   Real dt = 0, nu = 0, smoothing_length_min = 0;
   std::vector<Real> times;      ///< t_0 = 0, t_1, ... (with an exact solution)
@@ -74,7 +80,7 @@ struct DiffusionResult {
   std::vector<Real> report_error;  ///< at DiffusionOptions::report_times
   bool diverged = false;        ///< the solution stopped being finite (an unstable explicit run)
   std::vector<std::string> warnings;
-  Index particles = 0;
+  Index particles = 0;              ///< over every rank
   double seconds = 0;               ///< the whole run (with the error evaluations)
   double seconds_setup = 0;         ///< neighbours, stencil, assembly and the factorisation
   std::string solver;               ///< implicit schemes: what solves I - θ Δt L
@@ -82,6 +88,10 @@ struct DiffusionResult {
   double seconds_factorisation = 0; ///< implicit schemes: the set-up of I - θ Δt L (LU or AMG), done once
   double seconds_per_step = 0;      ///< one time step (right-hand side, solve, boundary values)
 };
+
+/// Particles begin..end-1 of a problem with their a, mobility and u0 (the functions shared):
+/// one rank's part for a distributed run.
+DiffusionProblem part_of(const DiffusionProblem& problem, Index begin, Index end);
 
 /// Throws ConfigError (dt <= 0, t_end <= 0, an unstable explicit step without allow_unstable,
 /// a method without a gradient for Neumann rows), InputError (sizes, data that are not finite), NumericalError (a failed
