@@ -6,7 +6,7 @@
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
-#include <vrsph/analysis/im_table1.hpp>
+#include <vrsph/reproduce/im_table1.hpp>
 #include <vrsph/analysis/regularity.hpp>
 #include <vrsph/analysis/voronoi_deviation.hpp>
 #include <vrsph/cloud/im_cloud.hpp>

@@ -3,11 +3,12 @@
 // layer turns callables into arrays), and the convergence study with the CLI's fields.
 #include <cmath>
 #include <regex>
+#include <vrsph/reproduce/published_problems.hpp>
 #include <vrsph/parallel/communicator.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/analysis/operator_study.hpp>
-#include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/reproduce/problem_defaults.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/table.hpp>
@@ -194,6 +195,7 @@ py::dict report(const Result& r, const Table& t) {
 // The study as `vrsph study` runs it: the problem's defaults for what is not given.
 py::dict study(const py::dict& k) {
   BvpStudyParams p;
+  p.catalogue = published_problems();  // aar-static, spe-dirichlet, spe-mixed
   const std::string u = text(k, "u"), a = text(k, "a"), f = text(k, "f");
   const bool has_mobility = k.contains("mobility") && !k["mobility"].is_none();
   const bool custom = !u.empty() || !a.empty() || !f.empty() || has_mobility;

@@ -3,14 +3,13 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/compatibility.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/functions.hpp>
-#include <vrsph/analysis/problem_defaults.hpp>
-#include <vrsph/analysis/spe_problems.hpp>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/cloud/box_faces.hpp>
 #include <vrsph/core/error.hpp>
@@ -26,50 +25,39 @@ namespace vrsph {
 namespace {
 
 
+// The problem's functions, resolved once: built in (qw-ex5, custom) or from the catalogue.
 struct ProblemFunctions {
-  std::unique_ptr<ScalarFunction> u, a, f_owned, g_owned;
-  std::vector<std::unique_ptr<ScalarFunction>> m;  ///< diagonal mobility (empty: scalar a)
-  const ScalarFunction* f = nullptr;
-  const ScalarFunction* g = nullptr;
+  std::shared_ptr<const ScalarFunction> u, a, f, g;
+  std::vector<std::shared_ptr<const ScalarFunction>> m;  ///< diagonal mobility (empty: scalar a)
   /// Neumann data of a problem that defines them itself (x, outward normal); else from u.
   std::function<Real(const Vec3&, const Vec3&)> flux;
 };
 
-bool is_spe_problem(const std::string& problem) { return problem == "spe-dirichlet" || problem == "spe-mixed"; }
+std::string known_problems(const BvpStudyParams& p) {
+  std::string names = "qw-ex5";
+  for (const auto& name : p.catalogue.names) names += ", " + name;
+  return names + ", custom";
+}
+
+// The catalogue's problem for p.problem, if it has one.
+std::optional<StudyProblem> named_problem(const BvpStudyParams& p) {
+  if (!p.catalogue.has(p.problem)) return std::nullopt;
+  check<ConfigError>(p.mobility.empty(), "--mobility defines a custom problem: use it without --problem ", p.problem);
+  return p.catalogue.make(p);
+}
 
 ProblemFunctions problem_functions(const BvpStudyParams& p) {
   ProblemFunctions pf;
-  if (p.problem == "aar-static") {
-    check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty() && p.g.empty(),
-                       "--u/--a/--f/--g define a custom problem: use them without --problem aar-static");
-    check<ConfigError>(p.dim == 1, "problem aar-static is one-dimensional (--dim 1)");
-    // u = -e^x + e x + 1 with exact derivatives; -u'' = e^x, i.e. div(grad u) = f = -e^x.
-    pf.u = make_expression_function("-exp(x) + e*x + 1", 1, {"-exp(x) + e"}, "-exp(x)");
-    pf.a = make_function("one", 1);
-    pf.f_owned = make_expression_function("-exp(x)", 1);
-    pf.f = pf.f_owned.get();
-    pf.g = pf.u.get();
+  if (const auto named = named_problem(p)) {
+    pf.u = named->u;
+    pf.a = named->a;
+    pf.f = named->f;
+    pf.g = named->g;
+    pf.flux = named->flux;
     return pf;
   }
   check<ConfigError>(p.mobility.empty() || p.problem == "custom", "--mobility defines a custom problem: use it without "
                      "--problem ", p.problem);
-  if (is_spe_problem(p.problem)) {
-    check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty() && p.g.empty(),
-                       "--u/--a/--f/--g define a custom problem: use them without --problem ", p.problem);
-    check<ConfigError>(p.dim == 2, "problem ", p.problem, " is two-dimensional (--dim 2)");
-    pf.u = make_spe_function(p.problem);
-    pf.a = make_function("one", 2);
-    pf.f_owned = make_expression_function("0", 2);
-    pf.f = pf.f_owned.get();
-    if (p.problem == "spe-dirichlet") {
-      pf.g_owned = make_spe_function("spe-dirichlet-boundary");
-      pf.g = pf.g_owned.get();
-    } else {
-      pf.g = pf.u.get();  // u(x, 0) = ψ1 exactly
-      pf.flux = [](const Vec3& x, const Vec3&) { return spe_mixed_flux(x, SpeBoundaryData{}); };
-    }
-    return pf;
-  }
   if (p.problem == "qw-ex5") {
     check<ConfigError>(p.u.empty() && p.a.empty() && p.f.empty(),
                        "--u/--a/--f define a custom problem: use them without --problem qw-ex5");
@@ -86,33 +74,25 @@ ProblemFunctions problem_functions(const BvpStudyParams& p) {
       for (const auto& m : p.mobility) pf.m.push_back(make_function_or_expression(m, p.dim));
     }
   } else {
-    throw ConfigError("unknown boundary value problem '" + p.problem +
-                      "' (known: qw-ex5, aar-static, spe-dirichlet, spe-mixed, custom)");
+    throw ConfigError("unknown boundary value problem '" + p.problem + "' (known: " + known_problems(p) + ")");
   }
   if (!p.f.empty()) {
-    pf.f_owned = make_function_or_expression(p.f, p.dim);
+    pf.f = make_function_or_expression(p.f, p.dim);
   } else if (!pf.m.empty()) {
     std::vector<const ScalarFunction*> m;
     for (const auto& mk : pf.m) m.push_back(mk.get());
-    pf.f_owned = std::make_unique<DivMGradOf>(*pf.u, std::move(m));
+    pf.f = std::make_shared<DivMGradOf>(*pf.u, std::move(m));  // refers to u and m, kept alive by pf
   } else {
-    pf.f_owned = std::make_unique<DivAGradOf>(*pf.u, *pf.a);
+    pf.f = std::make_shared<DivAGradOf>(*pf.u, *pf.a);
   }
-  pf.f = pf.f_owned.get();
-  if (!p.g.empty()) {
-    pf.g_owned = make_function_or_expression(p.g, p.dim);
-    pf.g = pf.g_owned.get();
-  } else {
-    pf.g = pf.u.get();
-  }
+  pf.g = p.g.empty() ? pf.u : std::shared_ptr<const ScalarFunction>(make_function_or_expression(p.g, p.dim));
   return pf;
 }
 
 std::vector<std::string> neumann_faces(const BvpStudyParams& p) {
   if (!p.neumann.empty()) return p.neumann;
-  if (p.problem == "aar-static") return {"x1"};
-  if (p.problem == "spe-mixed") return {"x0", "x1", "y1"};
-  return {};
+  const auto named = named_problem(p);
+  return named ? named->neumann : std::vector<std::string>{};
 }
 
 // Every face with a flux row: the Neumann and the Robin faces.
@@ -148,7 +128,14 @@ Field robin_coefficients(const BvpStudyParams& p, const PointCloud& cloud, Real 
 
 }  // namespace
 
-Real support_factor(const BvpStudyParams& p) { return p.h_factor * problem_defaults(p.problem).support_per_h_factor; }
+bool StudyProblemCatalogue::has(const std::string& name) const {
+  return make && std::find(names.begin(), names.end(), name) != names.end();
+}
+
+Real support_factor(const BvpStudyParams& p) {
+  const auto named = named_problem(p);
+  return p.h_factor * (named ? named->support_per_h_factor : 1);
+}
 
 namespace {
 void validate_params(const BvpStudyParams& p) {

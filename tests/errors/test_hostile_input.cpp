@@ -6,7 +6,7 @@
 #include <sstream>
 #include <vrsph/analysis/compatibility.hpp>
 #include <vrsph/analysis/footprint.hpp>
-#include <vrsph/analysis/spectrum.hpp>
+#include <vrsph/reproduce/spectrum.hpp>
 #include <vrsph/solve/solver.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>

@@ -9,11 +9,12 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <vrsph/reproduce/published_problems.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/operator_study.hpp>
-#include <vrsph/analysis/problem_defaults.hpp>
-#include <vrsph/analysis/spectrum.hpp>
+#include <vrsph/reproduce/problem_defaults.hpp>
+#include <vrsph/reproduce/spectrum.hpp>
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -43,6 +44,7 @@ OperatorStudyResult derivative_test(CloudFamily cloud, std::uint64_t seed, std::
 BvpStudyResult static_test(CloudFamily cloud, std::vector<std::uint64_t> seeds, std::vector<std::string> methods = family) {
   const ProblemDefaults d = problem_defaults("aar-static");
   BvpStudyParams p;
+  p.catalogue = published_problems();
   p.problem = "aar-static";
   p.dim = d.dim;
   p.kernel = d.kernel;

@@ -5,9 +5,10 @@
 // the manufactured anisotropic problems of METHODS R22 in 2D and 3D.
 #include <cmath>
 #include <numbers>
+#include <vrsph/reproduce/published_problems.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
-#include <vrsph/analysis/spe_patch.hpp>
-#include <vrsph/analysis/spe_problems.hpp>
+#include <vrsph/reproduce/spe_patch.hpp>
+#include <vrsph/reproduce/spe_problems.hpp>
 #include <vrsph/analysis/stability.hpp>
 #include <vrsph/core/error.hpp>
 #include "test_util.hpp"
@@ -24,6 +25,7 @@ Real mixed(const Vec3& x) { return spe_mixed_solution(x, {}); }
 
 BvpStudyParams spe_params(const std::string& problem, Real f, CloudFamily cloud, std::vector<int> n) {
   BvpStudyParams p;
+  p.catalogue = published_problems();
   p.problem = problem;
   p.methods = {"cb-sph", "s-sph", "m-sph"};
   p.cloud = cloud;

@@ -2,7 +2,7 @@
 // [IM] (seed 004_9e9d00b5a1203d0f.txt): Table 1 / Fig. 5 claims on the levels CI affords,
 // the Table 1 particle sets, and the regularity indicators of those sets.
 #include <cmath>
-#include <vrsph/analysis/im_table1.hpp>
+#include <vrsph/reproduce/im_table1.hpp>
 #include <vrsph/analysis/regularity.hpp>
 #include <vrsph/cloud/im_cloud.hpp>
 #include "test_util.hpp"

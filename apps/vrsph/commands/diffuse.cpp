@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <vrsph/analysis/spe_problems.hpp>
+#include <vrsph/reproduce/spe_problems.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>

@@ -4,8 +4,8 @@
 // [SPE] Figs. 11-12 (--krylov).
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <vrsph/analysis/heterogeneous_study.hpp>
-#include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/reproduce/heterogeneous_study.hpp>
+#include <vrsph/reproduce/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/output_file.hpp>
 #include <vrsph/io/vtu.hpp>

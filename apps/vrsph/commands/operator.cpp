@@ -2,9 +2,9 @@
 // `vrsph operator`: truncation-error study of operator stencils over a refinement list.
 #include <iostream>
 #include <cmath>
-#include <vrsph/analysis/im_table1.hpp>
+#include <vrsph/reproduce/im_table1.hpp>
 #include <vrsph/analysis/operator_study.hpp>
-#include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/reproduce/problem_defaults.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
@@ -170,7 +170,7 @@ void operator_at_points(const OperatorArgs& a, const CLI::App& cmd) {
        "");
 }
 
-// `vrsph operator --problem im-table1`: [IM] Table 1 / Fig. 5 (analysis/im_table1.hpp).
+// `vrsph operator --problem im-table1`: [IM] Table 1 / Fig. 5 (reproduce/im_table1.hpp).
 void operator_im_table1(const OperatorArgs& a, const CLI::App& cmd) {
   for (const char* opt : {"--cloud", "--n", "--h-factor", "--h-mode", "--h-knn", "--delta", "--kernel", "--regular-layer",
                           "--no-ghosts", "--u", "--exact", "--a", "--operator", "--method-opt", "--cloud-file"})

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // `vrsph operator --problem spe-patch`: the [SPE] §4 operator tests (Figs. 1–4) as a summary
 // table, the cross-section profile (--profile FILE.csv) and a PNG of the profile (--plot).
-#include <vrsph/analysis/spe_patch.hpp>
+#include <vrsph/reproduce/spe_patch.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/output_file.hpp>
 #include "../cli_common.hpp"

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <vrsph/analysis/problem_defaults.hpp>
-#include <vrsph/analysis/spectrum.hpp>
+#include <vrsph/reproduce/problem_defaults.hpp>
+#include <vrsph/reproduce/spectrum.hpp>
 #include <vrsph/core/error.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"

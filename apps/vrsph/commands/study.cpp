@@ -3,9 +3,10 @@
 // `vrsph solve` (one problem, fields to VTU).
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <vrsph/reproduce/published_problems.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
-#include <vrsph/analysis/heterogeneous_study.hpp>
-#include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/reproduce/heterogeneous_study.hpp>
+#include <vrsph/reproduce/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/vtu.hpp>
 #include "../cli_common.hpp"
@@ -83,6 +84,7 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
 
 BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& methods) {
   BvpStudyParams p;
+  p.catalogue = published_problems();  // aar-static, spe-dirichlet, spe-mixed
   // Any of --u/--a/--f implies a custom problem unless --problem says otherwise (then the
   // problem's own check names the conflict); a custom problem without --u says it needs u.
   const bool custom_data = !a.u.empty() || !a.a.empty() || !a.f.empty() || !a.mobility.empty();

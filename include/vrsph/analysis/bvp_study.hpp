@@ -12,9 +12,11 @@
 //            [0,1], u(0) = 0, u'(1) = 0 (traction-free end: Neumann particle), exact
 //            u = -e^x + e x + 1; defaults: Gaussian kernel with l = dx (support 6 dx),
 //            perturbation U(-dx/4, dx/4).
-//   spe-dirichlet, spe-mixed  [SPE] §5 Laplace problems on the unit square (analysis/spe_problems.hpp):
+//   spe-dirichlet, spe-mixed  [SPE] §5 Laplace problems on the unit square (reproduce/spe_problems.hpp):
 //            layout B, the [SPE] cubic spline with --h-factor = f (support 2 f dx), random
 //            sets U(-0.1001 dx, 0.1001 dx); relative error (95) in error_rel.
+//   qw-ex5 and custom are built in; the papers' problems (aar-static, spe-*) come from a
+//   StudyProblemCatalogue, vrsph::published_problems() (reproduce/published_problems.hpp).
 //   custom   [0,1]^d with user expressions u, a, f (and optionally g; default g = u), or a
 //            diagonal mobility M = diag(m_1..m_d) (`mobility`, one expression per direction)
 //            instead of a: f = div(M grad u), q = n·M grad u.
@@ -28,6 +30,7 @@
 // (ball inscribed in the box).
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/analysis/smoothing.hpp>
@@ -40,9 +43,30 @@
 
 namespace vrsph {
 
+class ScalarFunction;
+struct BvpStudyParams;
+
+/// A named problem of a catalogue: its functions, the faces with flux rows unless the study
+/// names others, and the support radius per h-factor (2 where the h-factor is a smoothing
+/// length over dx, as [SPE]'s f).
+struct StudyProblem {
+  std::shared_ptr<const ScalarFunction> u, a, f, g;
+  std::function<Real(const Vec3&, const Vec3&)> flux;  ///< q(x, outward normal); empty: a grad u . n
+  std::vector<std::string> neumann;
+  Real support_per_h_factor = 1;
+};
+
+/// Named problems beyond the built-in qw-ex5 and custom (a study stays free of any paper's
+/// problem: the reproductions hand theirs in).
+struct StudyProblemCatalogue {
+  std::vector<std::string> names;
+  std::function<StudyProblem(const BvpStudyParams&)> make;  ///< for a name of `names`; checks the params
+  bool has(const std::string& name) const;
+};
 
 struct BvpStudyParams {
-  std::string problem = "qw-ex5";  ///< qw-ex5 | custom
+  std::string problem = "qw-ex5";  ///< qw-ex5 | custom | a name of `catalogue`
+  StudyProblemCatalogue catalogue;  ///< e.g. published_problems() (reproduce/published_problems.hpp)
   int dim = 2;
   std::vector<std::string> methods{"vrsph"};
   std::map<std::string, MethodOptions> method_options;

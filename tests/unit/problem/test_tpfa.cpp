@@ -2,7 +2,7 @@
 // The TPFA reference solver: exact for layered media (series and parallel), conservative,
 // an M-matrix; and the heterogeneous study built on it.
 #include <cmath>
-#include <vrsph/analysis/heterogeneous_study.hpp>
+#include <vrsph/reproduce/heterogeneous_study.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/problem/tpfa.hpp>
 #include "test_util.hpp"

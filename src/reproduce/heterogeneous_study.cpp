@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <vrsph/analysis/heterogeneous_study.hpp>
+#include <vrsph/reproduce/heterogeneous_study.hpp>
 #include <vrsph/cloud/box_faces.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <vrsph/analysis/problem_defaults.hpp>
+#include <vrsph/reproduce/problem_defaults.hpp>
 
 namespace vrsph {
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <vrsph/analysis/spectrum.hpp>
+#include <vrsph/reproduce/spectrum.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/analysis/smoothing.hpp>

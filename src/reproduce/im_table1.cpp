@@ -5,7 +5,7 @@
 #include <numbers>
 #include <numeric>
 #include <random>
-#include <vrsph/analysis/im_table1.hpp>
+#include <vrsph/reproduce/im_table1.hpp>
 #include <vrsph/analysis/plane_wave_multiplier.hpp>
 #include <vrsph/cloud/im_cloud.hpp>
 #include <vrsph/core/error.hpp>

@@ -4,7 +4,7 @@
 #include <mutex>
 #include <numbers>
 #include <unordered_map>
-#include <vrsph/analysis/spe_problems.hpp>
+#include <vrsph/reproduce/spe_problems.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
-#include <vrsph/analysis/spe_patch.hpp>
+#include <vrsph/reproduce/spe_patch.hpp>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>
