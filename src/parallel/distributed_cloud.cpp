@@ -199,17 +199,16 @@ std::vector<int> partition(const Communicator& comm, const std::vector<std::uint
     dest[k] = rank_of[static_cast<std::size_t>(std::min<std::uint64_t>(keys[k] >> shift, hist.size() - 1))];
   return dest;
 }
-}  // namespace
-
-DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Communicator& comm) {
-  const auto t0 = std::chrono::steady_clock::now();
-  detail::start_petsc();  // the star forests are PETSc's (a serial Communicator has not started it)
-  DistributedCloud dc;
-  dc.comm = comm;
-  dc.halo_width = halo_width;
-  const int P = comm.size(), me = comm.rank();
-  // Agreement of the chunks, then the sizes.
+// The chunks' agreement: dimension, normals (on every part or on none), sizes.
+struct ChunkShape {
+  int dim = 0;
+  bool normals = false;
   long long total = 0;
+  int first_nonempty = 0;  ///< lowest rank with particles: its spacing and domain count
+};
+
+ChunkShape agree_on_chunks(const PointCloud& chunk, Real halo_width, const Communicator& comm) {
+  const int P = comm.size();
   collective(comm, [&] {
     check<ConfigError>(std::isfinite(halo_width) && halo_width > 0, "the halo width must be positive and finite, got ",
                        halo_width);
@@ -217,7 +216,8 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
   });
   const auto dims = gather_over_ranks(comm, chunk.size() > 0 ? chunk.dim : 0);
   const auto normals = gather_over_ranks(comm, chunk.size() > 0 ? (chunk.has_normals() ? 1 : 0) : -1);
-  total = sum_over_ranks(comm, static_cast<long long>(chunk.size()));
+  ChunkShape shape;
+  shape.total = sum_over_ranks(comm, static_cast<long long>(chunk.size()));
   collective(comm, [&] {
     int dim = 0, with_normals = -1;
     for (int r = 0; r < P; ++r) {
@@ -230,102 +230,94 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
       dim = static_cast<int>(dims[sr]);
       with_normals = static_cast<int>(normals[sr]);
     }
-    check<InputError>(total > 0, "the distributed cloud has no particle");
-    check<ConfigError>(total >= P, "more ranks (", P, ") than particles (", total, "): run with at most ", total,
-                       " ranks");
-    check<ConfigError>(total < std::numeric_limits<Index>::max(), "the cloud has ", total, " particles, more than the ",
-                       std::numeric_limits<Index>::max(), " a 32-bit index can number");
+    check<InputError>(shape.total > 0, "the distributed cloud has no particle");
+    check<ConfigError>(shape.total >= P, "more ranks (", P, ") than particles (", shape.total, "): run with at most ",
+                       shape.total, " ranks");
+    check<ConfigError>(shape.total < std::numeric_limits<Index>::max(), "the cloud has ", shape.total,
+                       " particles, more than the ", std::numeric_limits<Index>::max(), " a 32-bit index can number");
   });
-  int dim = 0;
-  bool with_normals = false;
-  for (int r = 0; r < P; ++r)
+  for (int r = P - 1; r >= 0; --r)
     if (dims[static_cast<std::size_t>(r)] > 0) {
-      dim = static_cast<int>(dims[static_cast<std::size_t>(r)]);
-      with_normals = normals[static_cast<std::size_t>(r)] == 1;
+      shape.dim = static_cast<int>(dims[static_cast<std::size_t>(r)]);
+      shape.normals = normals[static_cast<std::size_t>(r)] == 1;
+      shape.first_nonempty = r;
     }
-  dc.global_size = static_cast<Index>(total);
-  const Index first_id = static_cast<Index>(offset_over_ranks(comm, chunk.size()));
-  dc.local.dim = dim;
-  {
-    // Spacing and domain from the lowest rank with particles: an empty part (a default
-    // PointCloud) carries neither.
-    int source = 0;
-    while (dims[static_cast<std::size_t>(source)] == 0) ++source;
-    const Domain& d = chunk.domain;
-    std::array<double, 14> packed{static_cast<double>(static_cast<int>(d.shape)), static_cast<double>(d.dim),
-                                  d.lo[0], d.lo[1], d.lo[2], d.hi[0], d.hi[1], d.hi[2], d.centre[0], d.centre[1],
-                                  d.centre[2], d.radius, chunk.spacing, 0};
-    MPI_Bcast(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, source, mpi_or_self(comm));
-    Domain& out = dc.local.domain;
-    out.shape = static_cast<Domain::Shape>(static_cast<int>(packed[0]));
-    out.dim = static_cast<int>(packed[1]);
-    out.lo = Vec3(packed[2], packed[3], packed[4]);
-    out.hi = Vec3(packed[5], packed[6], packed[7]);
-    out.centre = Vec3(packed[8], packed[9], packed[10]);
-    out.radius = packed[11];
-    dc.local.spacing = packed[12];
-  }
+  return shape;
+}
 
-  // The curve: keys in the global bounding box.
-  Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
-  for (const Vec3& x : chunk.positions) {
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  for (int k = 0; k < 3; ++k) {
-    lo[k] = min_over_ranks(comm, lo[k]);
-    hi[k] = max_over_ranks(comm, hi[k]);
-  }
-  std::vector<std::uint64_t> keys(chunk.positions.size());
-  for (std::size_t k = 0; k < keys.size(); ++k) keys[k] = morton(chunk.positions[k], lo, hi - lo, dim);
+// Spacing and domain from the lowest rank with particles: an empty part (a default
+// PointCloud) carries neither.
+void broadcast_domain(const PointCloud& chunk, int source, const Communicator& comm, PointCloud& local) {
+  const Domain& d = chunk.domain;
+  std::array<double, 14> packed{static_cast<double>(static_cast<int>(d.shape)), static_cast<double>(d.dim),
+                                d.lo[0], d.lo[1], d.lo[2], d.hi[0], d.hi[1], d.hi[2], d.centre[0], d.centre[1],
+                                d.centre[2], d.radius, chunk.spacing, 0};
+  MPI_Bcast(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, source, mpi_or_self(comm));
+  Domain& out = local.domain;
+  out.shape = static_cast<Domain::Shape>(static_cast<int>(packed[0]));
+  out.dim = static_cast<int>(packed[1]);
+  out.lo = Vec3(packed[2], packed[3], packed[4]);
+  out.hi = Vec3(packed[5], packed[6], packed[7]);
+  out.centre = Vec3(packed[8], packed[9], packed[10]);
+  out.radius = packed[11];
+  local.spacing = packed[12];
+}
 
-  // Migration to the owners.
-  auto ex = std::make_shared<CloudExchange>();
-  ex->comm = mpi_or_self(comm);
-  ex->chunk_size = chunk.size();
-  const std::vector<int> dest = partition(comm, keys, first_id, dc.global_size);
-  std::vector<PetscSFNode> remote;
-  std::vector<int> recv_begin;
-  const Index arrived = slots_for(ex->comm, P, dest, remote, recv_begin);
-  ex->migration = make_sf(ex->comm, arrived, remote, nullptr);
-  const auto n_chunk = static_cast<std::size_t>(chunk.size());
-  std::vector<Index> ids(n_chunk);
-  std::iota(ids.begin(), ids.end(), first_id);
-  std::vector<double> xyz(3 * n_chunk), nrm(with_normals ? 3 * n_chunk : 0);
-  std::vector<std::uint8_t> tag(n_chunk);
-  for (std::size_t k = 0; k < n_chunk; ++k) {
-    for (int c = 0; c < 3; ++c) xyz[3 * k + static_cast<std::size_t>(c)] = chunk.positions[k][c];
-    if (with_normals)
-      for (int c = 0; c < 3; ++c) nrm[3 * k + static_cast<std::size_t>(c)] = chunk.normals[k][c];
-    tag[k] = static_cast<std::uint8_t>(chunk.tags[k]);
+// What travels with a particle: its global number, position, tag and normal.
+struct Payload {
+  std::vector<Index> id;
+  std::vector<double> xyz, nrm;
+  std::vector<std::uint8_t> tag;
+  bool normals;  ///< (nrm is empty on an empty part even when the cloud has normals)
+  Payload(std::size_t n, bool with_normals) : id(n), xyz(3 * n), nrm(with_normals ? 3 * n : 0), tag(n), normals(with_normals) {}
+  std::size_t size() const { return id.size(); }
+  Vec3 position(std::size_t k) const { return {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]}; }
+  Vec3 normal(std::size_t k) const { return {nrm[3 * k], nrm[3 * k + 1], nrm[3 * k + 2]}; }
+  void copy(std::size_t to, const Payload& from, std::size_t k) {
+    id[to] = from.id[k];
+    tag[to] = from.tag[k];
+    for (std::size_t c = 0; c < 3; ++c) {
+      xyz[3 * to + c] = from.xyz[3 * k + c];
+      if (normals) nrm[3 * to + c] = from.nrm[3 * k + c];
+    }
   }
-  const auto n_own = static_cast<std::size_t>(arrived);
-  std::vector<Index> own_id(n_own);
-  std::vector<double> own_xyz(3 * n_own), own_nrm(with_normals ? 3 * n_own : 0);
-  std::vector<std::uint8_t> own_tag(n_own);
-  reduce(ex->migration, ids.data(), own_id.data());
-  reduce(ex->migration, xyz.data(), own_xyz.data(), 3);
-  reduce(ex->migration, tag.data(), own_tag.data());
-  if (with_normals) reduce(ex->migration, nrm.data(), own_nrm.data(), 3);
-  // Payload per particle: its number, tag, position and normal.
-  const long long particle_bytes = static_cast<long long>(sizeof(Index)) + 1 + (with_normals ? 48 : 24);
-  for (std::size_t k = 0; k < n_chunk; ++k)
-    if (dest[k] != me) dc.stats.migration_bytes += particle_bytes;
-  collective(comm, [&] {
-    check<ConfigError>(arrived > 0, "rank ", me, " of ", P, " owns no particle after the partition along the "
-                       "space-filling curve (too many ranks for ", total, " particles, or coincident particles): use "
-                       "fewer ranks");
-  });
+  // Leaves' payload to the roots of `sf` (REPLACE).
+  Payload sent(PetscSF sf, std::size_t roots) const {
+    Payload out(roots, normals);
+    reduce(sf, id.data(), out.id.data());
+    reduce(sf, xyz.data(), out.xyz.data(), 3);
+    reduce(sf, tag.data(), out.tag.data());
+    if (normals) reduce(sf, nrm.data(), out.nrm.data(), 3);
+    return out;
+  }
+};
 
-  // Halo: owned particles within halo_width of another rank's pieces of the curve.
-  const auto position = [&](std::size_t k) { return Vec3(own_xyz[3 * k], own_xyz[3 * k + 1], own_xyz[3 * k + 2]); };
+Payload chunk_payload(const PointCloud& chunk, Index first_id, bool normals) {
+  Payload p(static_cast<std::size_t>(chunk.size()), normals);
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    p.id[k] = first_id + static_cast<Index>(k);
+    for (std::size_t c = 0; c < 3; ++c) {
+      p.xyz[3 * k + c] = chunk.positions[k][static_cast<int>(c)];
+      if (normals) p.nrm[3 * k + c] = chunk.normals[k][static_cast<int>(c)];
+    }
+    p.tag[k] = static_cast<std::uint8_t>(chunk.tags[k]);
+  }
+  return p;
+}
+
+// The (owned particle, receiving rank) pairs of the halo: owned particles within halo_width
+// of one of another rank's boxes, each box a stretch of that rank's part of the curve.
+void halo_pairs(const Payload& own, const Vec3& lo, const Vec3& hi, int dim, Real halo_width, MPI_Comm comm, int me,
+                int P, std::vector<std::size_t>& pair_particle, std::vector<int>& pair_rank) {
+  const std::size_t n_own = own.size();
   std::vector<Index> by_key(n_own);
   std::iota(by_key.begin(), by_key.end(), 0);
   {
     std::vector<std::uint64_t> own_key(n_own);
-    for (std::size_t k = 0; k < n_own; ++k) own_key[k] = morton(position(k), lo, hi - lo, dim);
+    for (std::size_t k = 0; k < n_own; ++k) own_key[k] = morton(own.position(k), lo, hi - lo, dim);
     std::sort(by_key.begin(), by_key.end(), [&](Index a, Index b) {
-      return own_key[static_cast<std::size_t>(a)] != own_key[static_cast<std::size_t>(b)] ? own_key[static_cast<std::size_t>(a)] < own_key[static_cast<std::size_t>(b)] : a < b;
+      const auto sa = static_cast<std::size_t>(a), sb = static_cast<std::size_t>(b);
+      return own_key[sa] != own_key[sb] ? own_key[sa] < own_key[sb] : a < b;
     });
   }
   std::vector<double> boxes(6 * boxes_per_rank), all_boxes(6 * boxes_per_rank * static_cast<std::size_t>(P));
@@ -338,18 +330,16 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
     const std::size_t from = n_own * static_cast<std::size_t>(b) / boxes_per_rank,
                       to = n_own * static_cast<std::size_t>(b + 1) / boxes_per_rank;
     for (std::size_t k = from; k < to; ++k) {
-      const Vec3 x = position(static_cast<std::size_t>(by_key[k]));
+      const Vec3 x = own.position(static_cast<std::size_t>(by_key[k]));
       for (int c = 0; c < 3; ++c) {
         box[c] = std::min(box[c], x[c]);
         box[3 + c] = std::max(box[3 + c], x[c]);
       }
     }
   }
-  MPI_Allgather(boxes.data(), 6 * boxes_per_rank, MPI_DOUBLE, all_boxes.data(), 6 * boxes_per_rank, MPI_DOUBLE, ex->comm);
-  std::vector<std::size_t> pair_particle;
-  std::vector<int> pair_rank;
+  MPI_Allgather(boxes.data(), 6 * boxes_per_rank, MPI_DOUBLE, all_boxes.data(), 6 * boxes_per_rank, MPI_DOUBLE, comm);
   for (std::size_t k = 0; k < n_own; ++k) {
-    const Vec3 x = position(k);
+    const Vec3 x = own.position(k);
     for (int q = 0; q < P; ++q) {
       if (q == me) continue;
       bool near = false;
@@ -361,6 +351,96 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
       }
     }
   }
+}
+
+// Local arrays: owned and halo particles by global id. Returns each halo slot's local index.
+std::vector<Index> local_arrays(const Payload& own, const Payload& halo, DistributedCloud& dc, CloudExchange& ex) {
+  struct Entry {
+    Index id;
+    std::size_t slot;  // arrival slot (owned) or halo slot
+    bool owned;
+  };
+  std::vector<Entry> entries;
+  entries.reserve(own.size() + halo.size());
+  for (std::size_t k = 0; k < own.size(); ++k) entries.push_back({own.id[k], k, true});
+  for (std::size_t k = 0; k < halo.size(); ++k) entries.push_back({halo.id[k], k, false});
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
+  const std::size_t n_local = entries.size();
+  const bool normals = own.normals;
+  dc.global_id.resize(n_local);
+  dc.owned.resize(n_local);
+  dc.local.positions.resize(n_local);
+  dc.local.tags.resize(n_local);
+  if (normals) dc.local.normals.resize(n_local);
+  ex.arrival_to_local.resize(own.size());
+  std::vector<Index> halo_slot_to_local(halo.size());
+  for (std::size_t i = 0; i < n_local; ++i) {
+    const Entry& e = entries[i];
+    const Payload& src = e.owned ? own : halo;
+    dc.global_id[i] = e.id;
+    dc.owned[i] = e.owned;
+    dc.local.positions[i] = src.position(e.slot);
+    dc.local.tags[i] = static_cast<Tag>(src.tag[e.slot]);
+    if (normals) dc.local.normals[i] = src.normal(e.slot);
+    (e.owned ? ex.arrival_to_local[e.slot] : halo_slot_to_local[e.slot]) = static_cast<Index>(i);
+  }
+  dc.owned_count = static_cast<Index>(own.size());
+  dc.stats.owned = dc.owned_count;
+  dc.stats.halo = static_cast<Index>(halo.size());
+  return halo_slot_to_local;
+}
+}  // namespace
+
+DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Communicator& comm) {
+  const auto t0 = std::chrono::steady_clock::now();
+  detail::start_petsc();  // the star forests are PETSc's (a serial Communicator has not started it)
+  DistributedCloud dc;
+  dc.comm = comm;
+  dc.halo_width = halo_width;
+  const int P = comm.size(), me = comm.rank();
+  const ChunkShape shape = agree_on_chunks(chunk, halo_width, comm);
+  dc.global_size = static_cast<Index>(shape.total);
+  const Index first_id = static_cast<Index>(offset_over_ranks(comm, chunk.size()));
+  dc.local.dim = shape.dim;
+  broadcast_domain(chunk, shape.first_nonempty, comm, dc.local);
+
+  // The curve: keys in the global bounding box.
+  Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+  for (const Vec3& x : chunk.positions) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = min_over_ranks(comm, lo[k]);
+    hi[k] = max_over_ranks(comm, hi[k]);
+  }
+  std::vector<std::uint64_t> keys(chunk.positions.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) keys[k] = morton(chunk.positions[k], lo, hi - lo, shape.dim);
+
+  // Migration to the owners.
+  auto ex = std::make_shared<CloudExchange>();
+  ex->comm = mpi_or_self(comm);
+  ex->chunk_size = chunk.size();
+  const std::vector<int> dest = partition(comm, keys, first_id, dc.global_size);
+  std::vector<PetscSFNode> remote;
+  std::vector<int> recv_begin;
+  const Index arrived = slots_for(ex->comm, P, dest, remote, recv_begin);
+  ex->migration = make_sf(ex->comm, arrived, remote, nullptr);
+  const Payload own = chunk_payload(chunk, first_id, shape.normals).sent(ex->migration, static_cast<std::size_t>(arrived));
+  // Payload per particle: its number, tag, position and normal.
+  const long long particle_bytes = static_cast<long long>(sizeof(Index)) + 1 + (shape.normals ? 48 : 24);
+  for (const int d : dest)
+    if (d != me) dc.stats.migration_bytes += particle_bytes;
+  collective(comm, [&] {
+    check<ConfigError>(arrived > 0, "rank ", me, " of ", P, " owns no particle after the partition along the "
+                       "space-filling curve (too many ranks for ", shape.total, " particles, or coincident particles): "
+                       "use fewer ranks");
+  });
+
+  // Halo: owned particles within halo_width of another rank's pieces of the curve.
+  std::vector<std::size_t> pair_particle;
+  std::vector<int> pair_rank;
+  halo_pairs(own, lo, hi, shape.dim, halo_width, ex->comm, me, P, pair_particle, pair_rank);
   const Index halo_count = slots_for(ex->comm, P, pair_rank, remote, recv_begin);
   PetscSF push = make_sf(ex->comm, halo_count, remote, nullptr);
   struct Destroy {
@@ -374,57 +454,10 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
     dc.stats.halo_messages = static_cast<int>(std::unique(ranks_sent.begin(), ranks_sent.end()) - ranks_sent.begin());
   }
   dc.stats.halo_bytes = static_cast<long long>(n_pairs) * (particle_bytes + static_cast<long long>(sizeof(Index)));
-  std::vector<Index> send_id(n_pairs), halo_id(n_halo);
-  std::vector<double> send_xyz(3 * n_pairs), halo_xyz(3 * n_halo), send_nrm(with_normals ? 3 * n_pairs : 0),
-      halo_nrm(with_normals ? 3 * n_halo : 0);
-  std::vector<std::uint8_t> send_tag(n_pairs), halo_tag(n_halo);
-  for (std::size_t p = 0; p < n_pairs; ++p) {
-    const std::size_t k = pair_particle[p];
-    send_id[p] = own_id[k];
-    send_tag[p] = own_tag[k];
-    for (int c = 0; c < 3; ++c) {
-      send_xyz[3 * p + static_cast<std::size_t>(c)] = own_xyz[3 * k + static_cast<std::size_t>(c)];
-      if (with_normals) send_nrm[3 * p + static_cast<std::size_t>(c)] = own_nrm[3 * k + static_cast<std::size_t>(c)];
-    }
-  }
-  reduce(push, send_id.data(), halo_id.data());
-  reduce(push, send_xyz.data(), halo_xyz.data(), 3);
-  reduce(push, send_tag.data(), halo_tag.data());
-  if (with_normals) reduce(push, send_nrm.data(), halo_nrm.data(), 3);
-
-  // Local arrays: owned and halo particles by global id.
-  struct Entry {
-    Index id;
-    std::size_t slot;  // arrival slot (owned) or halo slot
-    bool owned;
-  };
-  std::vector<Entry> entries;
-  entries.reserve(n_own + n_halo);
-  for (std::size_t k = 0; k < n_own; ++k) entries.push_back({own_id[k], k, true});
-  for (std::size_t k = 0; k < n_halo; ++k) entries.push_back({halo_id[k], k, false});
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
-  const std::size_t n_local = entries.size();
-  dc.global_id.resize(n_local);
-  dc.owned.resize(n_local);
-  dc.local.positions.resize(n_local);
-  dc.local.tags.resize(n_local);
-  if (with_normals) dc.local.normals.resize(n_local);
-  ex->arrival_to_local.resize(n_own);
-  std::vector<Index> halo_slot_to_local(n_halo);
-  for (std::size_t i = 0; i < n_local; ++i) {
-    const Entry& e = entries[i];
-    const auto& src_xyz = e.owned ? own_xyz : halo_xyz;
-    const auto& src_nrm = e.owned ? own_nrm : halo_nrm;
-    dc.global_id[i] = e.id;
-    dc.owned[i] = e.owned;
-    dc.local.positions[i] = Vec3(src_xyz[3 * e.slot], src_xyz[3 * e.slot + 1], src_xyz[3 * e.slot + 2]);
-    dc.local.tags[i] = static_cast<Tag>(e.owned ? own_tag[e.slot] : halo_tag[e.slot]);
-    if (with_normals) dc.local.normals[i] = Vec3(src_nrm[3 * e.slot], src_nrm[3 * e.slot + 1], src_nrm[3 * e.slot + 2]);
-    (e.owned ? ex->arrival_to_local[e.slot] : halo_slot_to_local[e.slot]) = static_cast<Index>(i);
-  }
-  dc.owned_count = static_cast<Index>(n_own);
-  dc.stats.owned = dc.owned_count;
-  dc.stats.halo = static_cast<Index>(n_halo);
+  Payload pairs(n_pairs, shape.normals);
+  for (std::size_t p = 0; p < n_pairs; ++p) pairs.copy(p, own, pair_particle[p]);
+  const Payload halo = pairs.sent(push, n_halo);
+  const std::vector<Index> halo_slot_to_local = local_arrays(own, halo, dc, *ex);
 
   // The ghost-update graph: each halo entry's owner and its place in the owner's local arrays.
   std::vector<Index> send_local(n_pairs), halo_owner_local(n_halo);
@@ -439,7 +472,7 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
       halo_remote[ss].index = halo_owner_local[ss];
       halo_leaf[ss] = halo_slot_to_local[ss];
     }
-  ex->halo = make_sf(ex->comm, static_cast<Index>(n_local), halo_remote, &halo_leaf);
+  ex->halo = make_sf(ex->comm, static_cast<Index>(dc.local.size()), halo_remote, &halo_leaf);
   dc.exchange = std::move(ex);
   dc.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return dc;
