@@ -206,24 +206,20 @@ void check_neumann_compatibility(const BvpStudyParams& p, const ProblemFunctions
 }  // namespace
 
 namespace {
-BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed,
-                     bool keep_fields, std::vector<std::string>* warnings, PointCloud* cloud_out) {
-  const ProblemFunctions pf = problem_functions(p);
-  BvpRun run;
-  run.method = method_name;
-  run.n = n;
-  run.seed = seed;
-  Stopwatch watch;
-  {
-    check_support_is_local(support_factor(p) / n, std::sqrt(static_cast<Real>(p.dim)), p.h_factor);  // [0,1]^d's diameter
-    const double per_side = p.cloud == CloudFamily::Disk ? n / 2.0 : n + 1.0;
-    const double particles = p.cloud == CloudFamily::Disk
-                                 ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
-                                                                           : 4.2 * per_side * per_side * per_side)
-                                 : std::pow(per_side, p.dim);
-    check_run_footprint(estimate_run_footprint(p.dim, particles / p.communicator.size(), support_factor(p), 1, true, p.solver.type),
-                        detail::concat("n = ", n));
-  }
+// The run's memory estimate against the limit, before the cloud is made.
+void check_run_size(const BvpStudyParams& p, int n) {
+  check_support_is_local(support_factor(p) / n, std::sqrt(static_cast<Real>(p.dim)), p.h_factor);  // [0,1]^d's diameter
+  const double per_side = p.cloud == CloudFamily::Disk ? n / 2.0 : n + 1.0;
+  const double particles = p.cloud == CloudFamily::Disk
+                               ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
+                                                                         : 4.2 * per_side * per_side * per_side)
+                               : std::pow(per_side, p.dim);
+  check_run_footprint(estimate_run_footprint(p.dim, particles / p.communicator.size(), support_factor(p), 1, true, p.solver.type),
+                      detail::concat("n = ", n));
+}
+
+// The cloud of this run (distributed: this rank's part of the serial numbering), flux faces tagged.
+StudyCloud study_cloud(const BvpStudyParams& p, int n, std::uint64_t seed, BvpRun& run) {
   CloudSpec spec;
   spec.family = p.cloud;
   spec.box = Domain::unit_box(p.dim);
@@ -233,33 +229,25 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   spec.seed = seed;
   spec.perturb_boundary = p.perturb_boundary;
   spec.regular_layer = p.regular_layer;
-  if (p.measure_memory) {
-    release_free_memory();  // what earlier runs freed is not this run's
-    run.resident_bytes_before = resident_memory_bytes();
-    reset_peak_resident_memory();
-  }
-  // Distributed: this rank makes only its part of the serial numbering.
-  const Communicator& comm = p.communicator;
-  spec.communicator = comm;
+  spec.communicator = p.communicator;
   StudyCloud sc = make_study_cloud(spec);  // (collective)
-  collective(comm, [&] {
+  collective(p.communicator, [&] {
     run.neumann_particles = retag_neumann_faces(sc.cloud, parse_box_faces(flux_faces(p), p.dim), sc.dx);
   });
-  run.neumann_particles = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(run.neumann_particles)));
-  const Index global_particles = sc.total;
+  run.neumann_particles = static_cast<Index>(sum_over_ranks(p.communicator, static_cast<long long>(run.neumann_particles)));
   run.first_id = sc.first;
-  BoundaryValueProblem bvp;
-  bvp.cloud = std::move(sc.cloud);
-  const PointCloud& cloud = bvp.cloud;
-  run.seconds_cloud = watch.seconds();
-  if (p.measure_memory) run.peak_bytes_cloud = peak_resident_memory_bytes();
   run.dx = sc.dx;
-  run.particles = global_particles;
+  run.particles = sc.total;
+  return sc;
+}
 
-  watch.restart();
+// The problem's data sampled at the particles; returns the exact solution there.
+Field sample_data(const BvpStudyParams& p, const ProblemFunctions& pf, const std::string& method_name,
+                  const BvpRun& run, BoundaryValueProblem& bvp) {
+  const PointCloud& cloud = bvp.cloud;
   // u first: a u that is not finite must be named as the user wrote it, not through
   // the derived f = div(a grad u).
-  const Field exact = sample(*pf.u, cloud, "the exact solution u (--u)");
+  Field exact = sample(*pf.u, cloud, "the exact solution u (--u)");
   if (pf.m.empty()) {
     bvp.a = sample(*pf.a, cloud, "the coefficient a (--a)");
   } else {
@@ -273,22 +261,24 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
     bvp.grad_a = sample_gradient(*pf.a, cloud);
   bvp.f = sample(*pf.f, cloud, "the right-hand side f (--f, default div(a grad u))");
   bvp.g = sample(*pf.g, cloud, "the Dirichlet data g (--g, default u)");
-  if (run.neumann_particles > 0) {
-    bvp.q = Field::Zero(cloud.size());
-    std::unique_ptr<Expression> q_expr = p.q.empty() ? nullptr : std::make_unique<Expression>(p.q);
-    bvp.robin = robin_coefficients(p, cloud, sc.dx);
-    for (Index i = 0; i < cloud.size(); ++i) {
-      if (cloud.tags[static_cast<std::size_t>(i)] != Tag::Neumann) continue;
-      const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-      bvp.q[i] = q_expr ? (*q_expr)(x) : natural_flux(pf, x, cloud.normals[static_cast<std::size_t>(i)]) +
-                                             (bvp.robin.size() ? bvp.robin[i] * exact[i] : 0.0);
-    }
-    if (sum_over_ranks(comm, static_cast<long long>(cloud.count(Tag::Dirichlet))) == 0 && p.robin.empty())
-      check_neumann_compatibility(p, pf, cloud.domain);
-  }
   bvp.fix_constant = p.fix_constant;
-  run.seconds_data = watch.seconds();
+  if (run.neumann_particles == 0) return exact;
+  bvp.q = Field::Zero(cloud.size());
+  std::unique_ptr<Expression> q_expr = p.q.empty() ? nullptr : std::make_unique<Expression>(p.q);
+  bvp.robin = robin_coefficients(p, cloud, run.dx);
+  for (Index i = 0; i < cloud.size(); ++i) {
+    if (cloud.tags[static_cast<std::size_t>(i)] != Tag::Neumann) continue;
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    bvp.q[i] = q_expr ? (*q_expr)(x) : natural_flux(pf, x, cloud.normals[static_cast<std::size_t>(i)]) +
+                                           (bvp.robin.size() ? bvp.robin[i] * exact[i] : 0.0);
+  }
+  if (sum_over_ranks(p.communicator, static_cast<long long>(cloud.count(Tag::Dirichlet))) == 0 && p.robin.empty())
+    check_neumann_compatibility(p, pf, cloud.domain);
+  return exact;
+}
 
+BvpSolveOptions solve_options(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed,
+                              Real dx) {
   BvpSolveOptions so;
   so.method = method_name;
   so.method_options = options_for(p.method_options, method_name);
@@ -296,7 +286,7 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   so.h_factor = support_factor(p);
   so.h_mode = p.h_mode;
   so.h_knn = p.h_knn;
-  so.spacing = sc.dx;
+  so.spacing = dx;
   so.solver = p.solver;
   so.solver.dimension = p.dim;
   so.on_infeasible = p.on_infeasible;
@@ -304,10 +294,12 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   so.check_m_matrix = p.check_m_matrix;
   so.measure_memory = p.measure_memory;
   so.label = detail::concat(method_name, " n=", n, " seed=", seed);
-  so.communicator = comm;
-  BvpSolution sol = solve(bvp, so);
+  so.communicator = p.communicator;
+  return so;
+}
+
+void record_solution(const BvpSolution& sol, BvpRun& run) {
   run.distribution = sol.distribution;
-  if (warnings) warnings->insert(warnings->end(), sol.warnings.begin(), sol.warnings.end());
   run.h = sol.h;
   run.covering_radius = sol.covering_radius;
   run.unknowns = sol.unknowns;
@@ -328,34 +320,67 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   run.seconds_assemble = sol.seconds_assemble;
   run.seconds_solve = sol.seconds_solve;
   run.stage_peak_bytes = sol.stage_peak_bytes;
-  const Field& U = sol.u;
-  watch.restart();
+}
+
+// The error norms over the unknowns and [SPE](95), equal volumes, over the interior
+// particles ([SPE]'s DoF are the n^d cells).
+void record_errors(const BvpStudyParams& p, const PointCloud& cloud, const Field& U, const Field& exact, BvpRun& run) {
+  const Communicator& comm = p.communicator;
   Eigen::MatrixXd err(cloud.size(), 1);
   err.col(0) = U - exact;
   const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
   run.errors = error_norms_over_ranks(err, unknown_mask(cloud), cloud, run.h, vol, comm, run.first_id);
-  {  // [SPE](95), equal volumes, over the interior particles: [SPE]'s DoF are the n^d cells
-    Real sum = 0;
-    Index count = 0;
-    for (Index i = 0; i < cloud.size(); ++i)
-      if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior) {
-        const Real rel = exact[i] != 0 ? (U[i] - exact[i]) / exact[i] : std::nan("");
-        sum += rel * rel;
-        ++count;
-      }
-    sum = sum_over_ranks(comm, sum);
-    count = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(count)));
-    run.error_rel = count ? std::sqrt(sum / static_cast<Real>(count)) : std::nan("");
-    run.dof = count;
+  Real sum = 0;
+  Index count = 0;
+  for (Index i = 0; i < cloud.size(); ++i)
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Interior) {
+      const Real rel = exact[i] != 0 ? (U[i] - exact[i]) / exact[i] : std::nan("");
+      sum += rel * rel;
+      ++count;
+    }
+  sum = sum_over_ranks(comm, sum);
+  count = static_cast<Index>(sum_over_ranks(comm, static_cast<long long>(count)));
+  run.error_rel = count ? std::sqrt(sum / static_cast<Real>(count)) : std::nan("");
+  run.dof = count;
+}
+
+BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed,
+                     bool keep_fields, std::vector<std::string>* warnings, PointCloud* cloud_out) {
+  const ProblemFunctions pf = problem_functions(p);
+  BvpRun run;
+  run.method = method_name;
+  run.n = n;
+  run.seed = seed;
+  Stopwatch watch;
+  check_run_size(p, n);
+  if (p.measure_memory) {
+    release_free_memory();  // what earlier runs freed is not this run's
+    run.resident_bytes_before = resident_memory_bytes();
+    reset_peak_resident_memory();
   }
+  BoundaryValueProblem bvp;
+  bvp.cloud = std::move(study_cloud(p, n, seed, run).cloud);
+  const PointCloud& cloud = bvp.cloud;
+  run.seconds_cloud = watch.seconds();
+  if (p.measure_memory) run.peak_bytes_cloud = peak_resident_memory_bytes();
+
+  watch.restart();
+  const Field exact = sample_data(p, pf, method_name, run, bvp);
+  run.seconds_data = watch.seconds();
+
+  const BvpSolution sol = solve(bvp, solve_options(p, method_name, n, seed, run.dx));
+  if (warnings) warnings->insert(warnings->end(), sol.warnings.begin(), sol.warnings.end());
+  record_solution(sol, run);
+  watch.restart();
+  record_errors(p, cloud, sol.u, exact, run);
   run.seconds_data += watch.seconds();
   if (keep_fields) {
-    run.U = U;
+    run.U = sol.u;
     run.exact = exact;
     run.local_residual = sol.local_residual;
   }
   if (cloud_out) *cloud_out = cloud;
-  run.peak_memory_mib = max_over_ranks(comm, static_cast<double>(peak_resident_memory_bytes()) / (1024.0 * 1024.0));
+  run.peak_memory_mib = max_over_ranks(p.communicator, static_cast<double>(peak_resident_memory_bytes()) / (1024.0 * 1024.0));
   return run;
 }
 }  // namespace
