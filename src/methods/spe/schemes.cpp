@@ -144,141 +144,26 @@ class SpeScheme final : public Method {
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);
     const auto& cloud = disc.cloud;
-    const int dim = cloud.dim;
     const Index n = cloud.size();
-    const auto V = taylor::method_volumes(disc, volume_);
-    NeighbourList own;
-    const bool symmetrise = radii_differ(disc.neighbours);
-    if (symmetrise) own = symmetrised_pairs(cloud, disc.neighbours);
-    const NeighbourList& nl = symmetrise ? own : disc.neighbours;
-    Stencil s = make_stencil_pattern(nl, req.kind, dim, info_.name);
+    Build b{disc, req, taylor::method_volumes(disc, volume_), {}, radii_differ(disc.neighbours), nullptr, {}};
+    if (b.symmetrise) b.own = symmetrised_pairs(cloud, disc.neighbours);
+    b.nl = b.symmetrise ? &b.own : &disc.neighbours;
+    Stencil s = make_stencil_pattern(*b.nl, req.kind, cloud.dim, info_.name);
     s.condition.assign(static_cast<std::size_t>(n), 0);
     const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
-    const bool consistent = second && req.mobility && anisotropy_ == Anisotropy::Consistent;
     if (second) s.xi.assign(static_cast<std::size_t>(n), 0);
     if (second) s.residual.assign(static_cast<std::size_t>(n), 0);
-    const Mobility mob{req.mobility, req.kind == OperatorKind::DivAGrad ? req.coefficient : nullptr};
-    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
-
+    b.mob = Mobility{req.mobility, req.kind == OperatorKind::DivAGrad ? req.coefficient : nullptr};
 #pragma omp parallel
     {
-      RowGeometry row;
-      RowIngredients in;
-      std::vector<Real> beta;
-      Eigen::Matrix3d gamma_star;
-      ConsistentCorrection corr;
-      row.dim = dim;
+      Scratch t;
+      t.row.dim = cloud.dim;
 #pragma omp for schedule(dynamic, 128)
       for (Index i = 0; i < n; ++i) {
         if (!taylor::wants_row(cloud, req, i)) continue;
-        const auto si = static_cast<std::size_t>(i);
-        const auto nbr = nl.of(i);
-        const Vec3& xi = cloud.positions[si];
-        const Real hi = nl.radius(i);
-        const Kernel self_kernel(disc.kernel, dim, hi);
-        row.resize(nbr.size());
-        row.volume_self = V[si];
-        row.W_self = self_kernel.W(0);
-        for (std::size_t k = 0; k < nbr.size(); ++k) {
-          const auto sj = static_cast<std::size_t>(nbr[k]);
-          row.delta[k] = cloud.positions[sj] - xi;
-          row.r[k] = row.delta[k].norm();
-          row.volume[k] = V[sj];
-          const Kernel pair = symmetrise ? Kernel(disc.kernel, dim, 0.5 * (hi + nl.radius(nbr[k]))) : self_kernel;
-          row.W[k] = pair.W(row.r[k]);
-          row.dW_over_r[k] = pair.dW_over_r(row.r[k]);
-        }
-        spe::compute_ingredients(row, gradient_, in);
-        Real cond = in.condition;
-        if (!std::isfinite(cond)) {
-          s.condition[si] = cond;
-          continue;
-        }
-        if (!second) {
-          s.condition[si] = cond;
-          for (std::size_t k = 0; k < nbr.size(); ++k) {
-            const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
-            const Vec3 g = row.volume[k] * in.gstar[k];
-            if (req.kind == OperatorKind::Gradient)
-              for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
-            else
-              s.values[0][slot] = g[axis];
-          }
-          continue;
-        }
-        // The scheme's bracket (unit mobility), the vector it subtracts, and its multiplier.
-        Vec3 X = Vec3::Zero();
-        Real factor = 1;
-        switch (scheme_) {
-          case Scheme::Brookshaw: break;
-          case Scheme::CorrectedBrookshaw: factor = spe::trace_of_inverse_over_dim(in.A, dim); break;
-          case Scheme::Schwaiger:
-            X = in.N;
-            factor = spe::trace_of_inverse_over_dim(in.Gamma, dim);
-            break;
-          case Scheme::Monotone: {
-            X = in.Ntilde;
-            std::vector<Real>& T = beta;
-            spe::monotone_transmissibilities(row, in, T, gamma_star);
-            const bool admissible = spe::gamma_star_admissible(gamma_star, in.Gamma, dim);
-            factor = spe::trace_of_inverse_over_dim(admissible ? gamma_star : in.Gamma, dim);
-            break;
-          }
-        }
-        Real reach = -std::numeric_limits<Real>::infinity();
-        for (std::size_t k = 0; k < nbr.size(); ++k) reach = std::max(reach, in.xi.dot(row.delta[k]));
-        s.xi[si] = nbr.empty() ? 0 : reach;
-        if (!std::isfinite(factor) || factor <= 0) {
-          s.condition[si] = std::numeric_limits<Real>::infinity();
-          continue;
-        }
-        s.condition[si] = cond;
-        // With only d neighbours in general position the first-moment correction annihilates
-        // the whole bracket (Σ T̄ Δ = 0 forces T̄ = 0), leaving round-off of either sign. Such a
-        // row falls back to the uncorrected pair term (the Brookshaw bracket, monotone) and is
-        // reported as infeasible (residual 1) so that the studies count and name it.
-        Real degenerate = 0;
-        if (X.squaredNorm() > 0) {
-          Real kept = 0, scale = 0;
-          for (std::size_t k = 0; k < nbr.size(); ++k) {
-            const Real pair = pair_term(row, in, k);
-            kept += std::abs(row.volume[k] * (pair - X.dot(in.gstar[k])));
-            scale += std::abs(row.volume[k] * pair);
-          }
-          if (!(kept > 1e-6 * scale)) {
-            X.setZero();
-            degenerate = 1;
-          }
-        }
-        s.residual[si] = degenerate;
-        if (consistent) {
-          beta.resize(nbr.size());
-          for (std::size_t k = 0; k < nbr.size(); ++k)
-            beta[k] = row.volume[k] * (pair_term(row, in, k) - X.dot(in.gstar[k]));
-          const Real res = corr.solve(row, beta, hi);
-          s.residual[si] = std::max(res, degenerate);
-          if (!std::isfinite(res)) {
-            s.condition[si] = res;
-            continue;
-          }
-          for (std::size_t k = 0; k < nbr.size(); ++k) {
-            Real w = 0;
-            for (int c = 0; c < dim; ++c) w += corr.weight(row, k, beta[k], hi, c) * pair_sum(mean_, mob(i, c), mob(nbr[k], c));
-            s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = w;
-          }
-          continue;
-        }
-        // Printed form: (m_I + m_J) a·b becomes aᵀ(M_I + M_J) b in both terms (§3.7.5).
-        for (std::size_t k = 0; k < nbr.size(); ++k) {
-          const Vec3& D = row.delta[k];
-          const Vec3& gp = corrected_pair_ ? in.gstar[k] : in.g[k];
-          Real w = 0;
-          for (int c = 0; c < dim; ++c) {
-            const Real mbar = pair_sum(mean_, mob(i, c), mob(nbr[k], c));
-            w += mbar * (D[c] * gp[c] / (row.r[k] * row.r[k]) - X[c] * in.gstar[k][c]);
-          }
-          s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = factor * row.volume[k] * w;
-        }
+        if (!row_ingredients(b, i, t, s)) continue;
+        if (second) second_order_row(b, i, t, s);
+        else gradient_row(b, i, t, s);
       }
     }
     set_difference_diagonal(s);
@@ -287,6 +172,154 @@ class SpeScheme final : public Method {
   }
 
  private:
+  // What every row of one build reads.
+  struct Build {
+    const Discretisation& disc;
+    const StencilRequest& req;
+    std::vector<Real> V;  ///< particle volumes
+    NeighbourList own;    ///< symmetrised pairs when the radii differ
+    bool symmetrise;
+    const NeighbourList* nl;
+    Mobility mob;
+  };
+  // Per thread: the row's geometry and the scheme's ingredients.
+  struct Scratch {
+    RowGeometry row;
+    RowIngredients in;
+    std::vector<Real> beta;
+    Eigen::Matrix3d gamma_star;
+    ConsistentCorrection corr;
+  };
+
+  // The row's geometry and the scheme's ingredients (renormalised gradients, moments);
+  // false for a row whose ingredients are singular (its condition says so).
+  bool row_ingredients(const Build& b, Index i, Scratch& t, Stencil& s) const {
+    const auto& cloud = b.disc.cloud;
+    const auto si = static_cast<std::size_t>(i);
+    const auto nbr = b.nl->of(i);
+    const Vec3& xi = cloud.positions[si];
+    const Real hi = b.nl->radius(i);
+    const Kernel self_kernel(b.disc.kernel, cloud.dim, hi);
+    RowGeometry& row = t.row;
+    row.resize(nbr.size());
+    row.volume_self = b.V[si];
+    row.W_self = self_kernel.W(0);
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const auto sj = static_cast<std::size_t>(nbr[k]);
+      row.delta[k] = cloud.positions[sj] - xi;
+      row.r[k] = row.delta[k].norm();
+      row.volume[k] = b.V[sj];
+      const Kernel pair = b.symmetrise ? Kernel(b.disc.kernel, cloud.dim, 0.5 * (hi + b.nl->radius(nbr[k]))) : self_kernel;
+      row.W[k] = pair.W(row.r[k]);
+      row.dW_over_r[k] = pair.dW_over_r(row.r[k]);
+    }
+    spe::compute_ingredients(row, gradient_, t.in);
+    s.condition[si] = t.in.condition;
+    return std::isfinite(t.in.condition);
+  }
+
+  // First-derivative rows: V_J g*_J (one component, or every one for the gradient).
+  void gradient_row(const Build& b, Index i, const Scratch& t, Stencil& s) const {
+    const OperatorKind kind = b.req.kind;
+    const int axis = kind == OperatorKind::Dy ? 1 : kind == OperatorKind::Dz ? 2 : 0;
+    for (std::size_t k = 0; k < b.nl->of(i).size(); ++k) {
+      const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
+      const Vec3 g = t.row.volume[k] * t.in.gstar[k];
+      if (kind == OperatorKind::Gradient)
+        for (int c = 0; c < t.row.dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
+      else
+        s.values[0][slot] = g[axis];
+    }
+  }
+
+  // The scheme's bracket (unit mobility): the vector X it subtracts and its multiplier.
+  void scheme_bracket(Scratch& t, Vec3& X, Real& factor) const {
+    const int dim = t.row.dim;
+    X = Vec3::Zero();
+    factor = 1;
+    switch (scheme_) {
+      case Scheme::Brookshaw: break;
+      case Scheme::CorrectedBrookshaw: factor = spe::trace_of_inverse_over_dim(t.in.A, dim); break;
+      case Scheme::Schwaiger:
+        X = t.in.N;
+        factor = spe::trace_of_inverse_over_dim(t.in.Gamma, dim);
+        break;
+      case Scheme::Monotone: {
+        X = t.in.Ntilde;
+        spe::monotone_transmissibilities(t.row, t.in, t.beta, t.gamma_star);
+        const bool admissible = spe::gamma_star_admissible(t.gamma_star, t.in.Gamma, dim);
+        factor = spe::trace_of_inverse_over_dim(admissible ? t.gamma_star : t.in.Gamma, dim);
+        break;
+      }
+    }
+  }
+
+  // With only d neighbours in general position the first-moment correction annihilates the
+  // whole bracket (Σ T̄ Δ = 0 forces T̄ = 0), leaving round-off of either sign. Such a row
+  // falls back to the uncorrected pair term (the Brookshaw bracket, monotone) and is
+  // reported as infeasible (residual 1) so that the studies count and name it.
+  Real drop_degenerate_correction(const Scratch& t, std::size_t neighbours, Vec3& X) const {
+    if (X.squaredNorm() == 0) return 0;
+    Real kept = 0, scale = 0;
+    for (std::size_t k = 0; k < neighbours; ++k) {
+      const Real pair = pair_term(t.row, t.in, k);
+      kept += std::abs(t.row.volume[k] * (pair - X.dot(t.in.gstar[k])));
+      scale += std::abs(t.row.volume[k] * pair);
+    }
+    if (kept > 1e-6 * scale) return 0;
+    X.setZero();
+    return 1;
+  }
+
+  // Second-derivative rows: the scheme's bracket with the pair mobilities, printed or with
+  // the consistent anisotropic correction.
+  void second_order_row(const Build& b, Index i, Scratch& t, Stencil& s) const {
+    const auto si = static_cast<std::size_t>(i);
+    const auto nbr = b.nl->of(i);
+    const int dim = t.row.dim;
+    Vec3 X;
+    Real factor = 1;
+    scheme_bracket(t, X, factor);
+    Real reach = -std::numeric_limits<Real>::infinity();
+    for (std::size_t k = 0; k < nbr.size(); ++k) reach = std::max(reach, t.in.xi.dot(t.row.delta[k]));
+    s.xi[si] = nbr.empty() ? 0 : reach;
+    if (!std::isfinite(factor) || factor <= 0) {
+      s.condition[si] = std::numeric_limits<Real>::infinity();
+      return;
+    }
+    const Real degenerate = drop_degenerate_correction(t, nbr.size(), X);
+    s.residual[si] = degenerate;
+    if (b.req.mobility && anisotropy_ == Anisotropy::Consistent) {
+      t.beta.resize(nbr.size());
+      for (std::size_t k = 0; k < nbr.size(); ++k)
+        t.beta[k] = t.row.volume[k] * (pair_term(t.row, t.in, k) - X.dot(t.in.gstar[k]));
+      const Real res = t.corr.solve(t.row, t.beta, b.nl->radius(i));
+      s.residual[si] = std::max(res, degenerate);
+      if (!std::isfinite(res)) {
+        s.condition[si] = res;
+        return;
+      }
+      for (std::size_t k = 0; k < nbr.size(); ++k) {
+        Real w = 0;
+        for (int c = 0; c < dim; ++c)
+          w += t.corr.weight(t.row, k, t.beta[k], b.nl->radius(i), c) * pair_sum(mean_, b.mob(i, c), b.mob(nbr[k], c));
+        s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = w;
+      }
+      return;
+    }
+    // Printed form: (m_I + m_J) a·b becomes aᵀ(M_I + M_J) b in both terms (§3.7.5).
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const Vec3& D = t.row.delta[k];
+      const Vec3& gp = corrected_pair_ ? t.in.gstar[k] : t.in.g[k];
+      Real w = 0;
+      for (int c = 0; c < dim; ++c) {
+        const Real mbar = pair_sum(mean_, b.mob(i, c), b.mob(nbr[k], c));
+        w += mbar * (D[c] * gp[c] / (t.row.r[k] * t.row.r[k]) - X[c] * t.in.gstar[k][c]);
+      }
+      s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = factor * t.row.volume[k] * w;
+    }
+  }
+
   // The pair term Δ·g/r² of the bracket, or Δ·g*/r² with pair_gradient=corrected.
   Real pair_term(const RowGeometry& row, const RowIngredients& in, std::size_t k) const {
     return corrected_pair_ ? row.delta[k].dot(in.gstar[k]) / (row.r[k] * row.r[k]) : in.radial[k];
