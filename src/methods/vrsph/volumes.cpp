@@ -43,13 +43,175 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
   return reconstruct_volumes(disc, conditions, rows, o, targets);
 }
 
+namespace {
+// One thread's rows of a reconstruction: per-thread workspaces sized once, so that the
+// particle loop allocates nothing (the signed and balance rows, a thin layer, allocate in
+// their own solvers). Every moment system is in units of the cloud's extent (length_scale):
+// the same systems, NNLS tolerances and least-squares fits of infeasible rows in metres or
+// millimetres (1 for the papers' unit boxes, whose numbers are unchanged); volumes come out
+// in length^d and are scaled back; first-moment targets (grad m) and the wall flux carry one
+// length more or less.
+class VolumeRows {
+ public:
+  VolumeRows(const Discretisation& disc, MomentConditions conditions, const VolumeOptions& opt,
+             std::span<const MomentTarget> targets, int m, int mw, Index max_count, ReconstructedVolumes& out)
+      : disc_(disc), nl_(disc.neighbours), conditions_(conditions), opt_(opt), targets_(targets), m_(m), mw_(mw),
+        max_count_(max_count), length_(disc.length_unit()), volume_unit_(std::pow(length_, disc.cloud.dim)), out_(out), solver_(m, static_cast<int>(max_count)),
+        A_(static_cast<std::size_t>(std::max(m, mw)) * (static_cast<std::size_t>(max_count) + 1)),
+        b_(static_cast<std::size_t>(std::max(m, mw))), half_y_(static_cast<std::size_t>(max_count)),
+        xji_(static_cast<std::size_t>(max_count)) {}
+
+  // Row i's volumes into v (and its wall flux, residual and counts into the output).
+  void solve(Index i, Real* v) {
+    const auto si = static_cast<std::size_t>(i);
+    // The kernel changes only with the support radius (the same for every particle unless
+    // h varies): rebuilding it per particle (a pow and checks) was ~2% of the volumes.
+    if (!ker_ || nl_.radius(i) != ker_->support()) ker_ = disc_.kernel_at(i);
+    neighbour_geometry(disc_, i, *ker_, xji_.data(), half_y_.data(), length_);
+    const bool wall = !opt_.wall.rows.empty() && opt_.wall.rows[si];
+    if (wall) wall_row(i, v);
+    else interior_row(i, v);
+    signed_fallback(i, v, wall);
+    if (length_ == 1) return;
+    for (Index j = 0; j < nl_.count(i); ++j) v[j] *= volume_unit_;
+    if (wall) out_.wall_flux[si] /= length_;
+  }
+
+ private:
+  void targets_in_units(MomentConditions c, Real* rhs) const {
+    if (length_ == 1) return;
+    for (int k = 0; k < disc_.cloud.dim; ++k) rhs[first_moment_row(c, disc_.cloud.dim, opt_.layout, k)] *= length_;
+  }
+
+  void record(Index i, const NnlsResult& r) {
+    const auto si = static_cast<std::size_t>(i);
+    out_.residual[si] = r.residual;
+    out_.failed[si] = r.status != NnlsStatus::Converged;
+    out_.iterations[si] = r.iterations;
+    out_.positive[si] = r.passive;
+  }
+
+  void interior_row(Index i, Real* v) {
+    const int dim = disc_.cloud.dim, cnt = static_cast<int>(nl_.count(i));
+    rows_ = m_;
+    // Row-major: the layout the solver works on, so it copies nothing.
+    build_moment_system(conditions_, dim, xji_.data(), half_y_.data(), cnt, A_.data(), b_.data(), opt_.layout,
+                        MatrixOrder::RowMajor);
+    if (!targets_.empty()) {
+      moment_targets(conditions_, dim, opt_.layout, targets_[static_cast<std::size_t>(i)], b_.data());
+      targets_in_units(conditions_, b_.data());
+    }
+    if (opt_.prefer_near) prefer_near(nl_.distances_of(i), A_.data(), static_cast<std::size_t>(m_), MatrixOrder::RowMajor, near_);
+    const NnlsResult r = solver_.solve(A_.data(), m_, cnt, b_.data(), v, opt_.nnls, MatrixOrder::RowMajor);
+    if (opt_.prefer_near)
+      for (int j = 0; j < cnt; ++j) v[j] *= near_[static_cast<std::size_t>(j)];
+    record(i, r);
+  }
+
+  // Columns: the neighbours, then the wall flux along the conormal in the first-moment rows,
+  // scaled like the largest neighbour column so that NNLS's tests treat it alike.
+  void wall_row(Index i, Real* v) {
+    const auto si = static_cast<std::size_t>(i);
+    const int dim = disc_.cloud.dim, cnt = static_cast<int>(nl_.count(i));
+    const auto ucnt = static_cast<std::size_t>(cnt), ur = static_cast<std::size_t>(mw_);
+    rows_ = mw_;
+    build_moment_system(MomentConditions::WallLaplace, dim, xji_.data(), half_y_.data(), cnt, A_.data(), b_.data(),
+                        opt_.layout, MatrixOrder::ColumnMajor);
+    if (!targets_.empty()) {
+      moment_targets(MomentConditions::WallLaplace, dim, opt_.layout, targets_[si], b_.data());
+      targets_in_units(MomentConditions::WallLaplace, b_.data());
+    }
+    // Nearer neighbours first (prefer_near): on a lattice NNLS otherwise takes the diagonal
+    // neighbours only, and the wall rows, like VRSPH's interior rows there, leave the two
+    // checkerboard sublattices uncoupled: a pure Neumann problem then has two constants.
+    prefer_near(nl_.distances_of(i), A_.data(), ur, MatrixOrder::ColumnMajor, near_);
+    kappa_ = 0;
+    for (std::size_t j = 0; j < ucnt; ++j) {
+      Real s2 = 0;
+      for (std::size_t r = 0; r < ur; ++r) s2 += A_[j * ur + r] * A_[j * ur + r];
+      kappa_ = std::max(kappa_, std::sqrt(s2));
+    }
+    if (kappa_ == 0) kappa_ = 1;
+    Real* flux_col = A_.data() + ucnt * ur;
+    std::fill(flux_col, flux_col + ur, 0.0);
+    for (int k = 0; k < dim; ++k)
+      flux_col[first_moment_row(MomentConditions::WallLaplace, dim, opt_.layout, k)] = kappa_ * opt_.wall.conormal[si][k];
+    xw_.assign(ucnt + 1, 0.0);
+    if (!wall_solver_) wall_solver_.emplace(mw_, static_cast<int>(max_count_) + 1);
+    const NnlsResult r = wall_solver_->solve(A_.data(), mw_, cnt + 1, b_.data(), xw_.data(), opt_.nnls, MatrixOrder::ColumnMajor);
+    for (std::size_t j = 0; j < ucnt; ++j) v[j] = xw_[j] * near_[j];
+    out_.wall_flux[si] = 2 * kappa_ * xw_[ucnt];
+    record(i, r);
+  }
+
+  // Signed fallback on the same columns (row-major copy; for a balance row the wall flux is
+  // one more column and may turn negative as well), never worse than the NNLS fit.
+  void signed_fallback(Index i, Real* v, bool wall) {
+    const auto si = static_cast<std::size_t>(i);
+    const auto ucnt = static_cast<std::size_t>(nl_.count(i)), ur = static_cast<std::size_t>(rows_);
+    Real bnorm = 0;
+    for (std::size_t r = 0; r < ur; ++r) bnorm += b_[r] * b_[r];
+    bnorm = std::sqrt(bnorm);
+    if (opt_.infeasible != InfeasibleRowPolicy::Signed || !(out_.residual[si] > opt_.signed_threshold * bnorm)) return;
+    const std::size_t cols = wall ? ucnt + 1 : ucnt;
+    Aw_.resize(ur * cols);
+    if (wall)
+      for (std::size_t r = 0; r < ur; ++r)
+        for (std::size_t j = 0; j < cols; ++j) Aw_[r * cols + j] = A_[j * ur + r];
+    else
+      std::copy(A_.begin(), A_.begin() + static_cast<std::ptrdiff_t>(ur * cols), Aw_.begin());
+    xw_.assign(cols, 0.0);
+    if (!signed_solver_) signed_solver_.emplace();
+    const SignedVolumesResult sr = signed_solver_->solve(Aw_.data(), rows_, static_cast<int>(cols), b_.data(), xw_.data());
+    if (!(sr.residual < out_.residual[si])) return;
+    for (std::size_t j = 0; j < ucnt; ++j) v[j] = wall || opt_.prefer_near ? xw_[j] * near_[j] : xw_[j];
+    if (wall) out_.wall_flux[si] = 2 * kappa_ * xw_[ucnt];
+    out_.residual[si] = sr.residual;
+    out_.failed[si] = 0;
+    out_.signed_row[si] = 1;
+    out_.negative[si] = sr.negative;
+  }
+
+  const Discretisation& disc_;
+  const NeighbourList& nl_;
+  const MomentConditions conditions_;
+  const VolumeOptions& opt_;
+  std::span<const MomentTarget> targets_;
+  const int m_, mw_;
+  const Index max_count_;
+  const Real length_, volume_unit_;
+  ReconstructedVolumes& out_;
+  NnlsSolver solver_;
+  std::vector<Real> A_, b_, half_y_, Aw_, xw_, near_;
+  std::vector<Vec3> xji_;
+  std::optional<Kernel> ker_;
+  std::optional<SignedVolumeSolver> signed_solver_;
+  std::optional<NnlsSolver> wall_solver_;
+  int rows_ = 0;     ///< moment rows of the current row's system
+  Real kappa_ = 0;   ///< the wall column's scale of the current balance row
+};
+
+ReconstructedVolumes empty_volumes(MomentConditions conditions, Index n, Index pairs, bool walls) {
+  ReconstructedVolumes out;
+  out.conditions = conditions;
+  out.v.resize(static_cast<std::size_t>(pairs));
+  out.residual.assign(static_cast<std::size_t>(n), 0.0);
+  out.failed.assign(static_cast<std::size_t>(n), 0);
+  out.iterations.assign(static_cast<std::size_t>(n), 0);
+  out.positive.assign(static_cast<std::size_t>(n), 0);
+  out.signed_row.assign(static_cast<std::size_t>(n), 0);
+  out.negative.assign(static_cast<std::size_t>(n), 0);
+  if (walls) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
+  return out;
+}
+}  // namespace
+
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
                                          std::span<const char> rows, const VolumeOptions& opt,
                                          std::span<const MomentTarget> targets) {
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const Index n = cloud.size();
-  const MomentRows layout = opt.layout;
   check<InputError>(rows.empty() || static_cast<Index>(rows.size()) == n, "volume reconstruction: row mask has ",
                     rows.size(), " entries for ", n, " particles");
   check<InputError>(nl.distances.size() == nl.indices.size(), "VRSPH needs neighbour lists with cached distances");
@@ -60,140 +222,24 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
                                static_cast<Index>(opt.wall.conormal.size()) == n),
                     "volume reconstruction: balance rows need the Laplace conditions and a row mask and conormal per "
                     "particle (", opt.wall.rows.size(), " and ", opt.wall.conormal.size(), " for ", n, ")");
-  const int dim = cloud.dim;
-  const int m = moment_rows(conditions, dim, layout);
-  const int mw = walls ? moment_rows(MomentConditions::WallLaplace, dim, layout) : 0;
-  ReconstructedVolumes out;
-  out.conditions = conditions;
-  out.v.resize(static_cast<std::size_t>(nl.total()));
-  out.residual.assign(static_cast<std::size_t>(n), 0.0);
-  out.failed.assign(static_cast<std::size_t>(n), 0);
-  out.iterations.assign(static_cast<std::size_t>(n), 0);
-  out.positive.assign(static_cast<std::size_t>(n), 0);
-  out.signed_row.assign(static_cast<std::size_t>(n), 0);
-  out.negative.assign(static_cast<std::size_t>(n), 0);
-  if (walls) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
+  const int m = moment_rows(conditions, cloud.dim, opt.layout);
+  const int mw = walls ? moment_rows(MomentConditions::WallLaplace, cloud.dim, opt.layout) : 0;
+  ReconstructedVolumes out = empty_volumes(conditions, n, nl.total(), walls);
   Index max_count = 0;
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
-  // Every moment system in units of the cloud's extent (length_scale): the same systems,
-  // NNLS tolerances and least-squares fits of infeasible rows in metres or millimetres (1 for
-  // the papers' unit boxes, whose numbers are unchanged): volumes
-  // come out in length^d and are scaled back; first-moment targets (grad m) and the wall
-  // flux carry one length more or less.
-  const Real length = disc.length_unit(), volume_unit = std::pow(length, dim);
-  const auto targets_in_units = [&](MomentConditions c, Real* rhs) {
-    if (length == 1) return;
-    for (int k = 0; k < dim; ++k) rhs[first_moment_row(c, dim, layout, k)] *= length;
-  };
-  const auto mc = static_cast<std::size_t>(max_count);
 #pragma omp parallel
   {
-    // Per-thread workspaces, sized once: no allocation inside the particle loop (the signed
-    // and balance rows, a thin layer, allocate in their own solvers).
-    NnlsSolver solver(m, static_cast<int>(max_count));
-    std::vector<Real> A(static_cast<std::size_t>(std::max(m, mw)) * (mc + 1)), b(static_cast<std::size_t>(std::max(m, mw))),
-        half_y(mc), Aw, xw, near_;
-    std::vector<Vec3> xji(mc);
-    std::optional<Kernel> ker;
-    std::optional<SignedVolumeSolver> signed_solver;
-    std::optional<NnlsSolver> wall_solver;
+    VolumeRows thread_rows(disc, conditions, opt, targets, m, mw, max_count, out);
 #pragma omp for schedule(dynamic, 64)
     for (Index i = 0; i < n; ++i) {
       const auto si = static_cast<std::size_t>(i);
       Real* v = out.v.data() + nl.offsets[si];
-      const int cnt = static_cast<int>(nl.count(i));
-      const auto ucnt = static_cast<std::size_t>(cnt);
       const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
       if (!wanted || interrupt_pending(i)) {  // (a stop asked for: the rest is skipped, see below)
-        std::fill(v, v + cnt, 0.0);
+        std::fill(v, v + nl.count(i), 0.0);
         continue;
       }
-      // One row's volumes in units of `length` (returns early where the NNLS fit stands).
-      const auto solve_row = [&] {
-        // The kernel changes only with the support radius (the same for every particle unless
-        // h varies): rebuilding it per particle (a pow and checks) was ~2% of the volumes.
-        if (!ker || nl.radius(i) != ker->support()) ker = disc.kernel_at(i);
-        neighbour_geometry(disc, i, *ker, xji.data(), half_y.data(), length);
-        const bool wall = walls && opt.wall.rows[si];
-        const int rows_i = wall ? mw : m;
-        const auto ur = static_cast<std::size_t>(rows_i);
-        Real bnorm = 0, kappa = 0;
-        if (!wall) {
-          // Row-major: the layout the solver works on, so it copies nothing.
-          build_moment_system(conditions, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout, MatrixOrder::RowMajor);
-          if (!targets.empty()) {
-            moment_targets(conditions, dim, layout, targets[si], b.data());
-            targets_in_units(conditions, b.data());
-          }
-          if (opt.prefer_near) prefer_near(nl.distances_of(i), A.data(), static_cast<std::size_t>(m), MatrixOrder::RowMajor, near_);
-          const NnlsResult r = solver.solve(A.data(), m, cnt, b.data(), v, opt.nnls, MatrixOrder::RowMajor);
-          if (opt.prefer_near)
-            for (std::size_t j = 0; j < ucnt; ++j) v[j] *= near_[j];
-          out.residual[si] = r.residual;
-          out.failed[si] = r.status != NnlsStatus::Converged;
-          out.iterations[si] = r.iterations;
-          out.positive[si] = r.passive;
-        } else {
-          // Columns: the neighbours, then the wall flux along the conormal in the first-moment
-          // rows, scaled like the largest neighbour column so that NNLS's tests treat it alike.
-          build_moment_system(MomentConditions::WallLaplace, dim, xji.data(), half_y.data(), cnt, A.data(), b.data(), layout,
-                              MatrixOrder::ColumnMajor);
-          if (!targets.empty()) {
-            moment_targets(MomentConditions::WallLaplace, dim, layout, targets[si], b.data());
-            targets_in_units(MomentConditions::WallLaplace, b.data());
-          }
-          // Nearer neighbours first (prefer_near): on a lattice NNLS otherwise takes the diagonal
-          // neighbours only, and the wall rows, like VRSPH's interior rows there, leave the two
-          // checkerboard sublattices uncoupled: a pure Neumann problem then has two constants.
-          prefer_near(nl.distances_of(i), A.data(), ur, MatrixOrder::ColumnMajor, near_);
-          for (std::size_t j = 0; j < ucnt; ++j) {
-            Real s2 = 0;
-            for (std::size_t r = 0; r < ur; ++r) s2 += A[j * ur + r] * A[j * ur + r];
-            kappa = std::max(kappa, std::sqrt(s2));
-          }
-          if (kappa == 0) kappa = 1;
-          Real* flux_col = A.data() + ucnt * ur;
-          std::fill(flux_col, flux_col + ur, 0.0);
-          for (int k = 0; k < dim; ++k)
-            flux_col[first_moment_row(MomentConditions::WallLaplace, dim, layout, k)] = kappa * opt.wall.conormal[si][k];
-          xw.assign(ucnt + 1, 0.0);
-          if (!wall_solver) wall_solver.emplace(mw, static_cast<int>(max_count) + 1);
-          const NnlsResult r = wall_solver->solve(A.data(), mw, cnt + 1, b.data(), xw.data(), opt.nnls, MatrixOrder::ColumnMajor);
-          for (std::size_t j = 0; j < ucnt; ++j) v[j] = xw[j] * near_[j];
-          out.wall_flux[si] = 2 * kappa * xw[ucnt];
-          out.residual[si] = r.residual;
-          out.failed[si] = r.status != NnlsStatus::Converged;
-          out.iterations[si] = r.iterations;
-          out.positive[si] = r.passive;
-        }
-        for (std::size_t r = 0; r < ur; ++r) bnorm += b[r] * b[r];
-        bnorm = std::sqrt(bnorm);
-        if (opt.infeasible != InfeasibleRowPolicy::Signed || !(out.residual[si] > opt.signed_threshold * bnorm)) return;
-        // Signed fallback on the same columns (row-major copy; for a balance row the wall flux
-        // is one more column and may turn negative as well).
-        const std::size_t cols = wall ? ucnt + 1 : ucnt;
-        Aw.resize(ur * cols);
-        if (wall)
-          for (std::size_t r = 0; r < ur; ++r)
-            for (std::size_t j = 0; j < cols; ++j) Aw[r * cols + j] = A[j * ur + r];
-        else
-          std::copy(A.begin(), A.begin() + static_cast<std::ptrdiff_t>(ur * cols), Aw.begin());
-        xw.assign(cols, 0.0);
-        if (!signed_solver) signed_solver.emplace();
-        const SignedVolumesResult sr = signed_solver->solve(Aw.data(), rows_i, static_cast<int>(cols), b.data(), xw.data());
-        if (!(sr.residual < out.residual[si])) return;  // never worse than the NNLS fit
-        for (std::size_t j = 0; j < ucnt; ++j) v[j] = wall || opt.prefer_near ? xw[j] * near_[j] : xw[j];
-        if (wall) out.wall_flux[si] = 2 * kappa * xw[ucnt];
-        out.residual[si] = sr.residual;
-        out.failed[si] = 0;
-        out.signed_row[si] = 1;
-        out.negative[si] = sr.negative;
-      };
-      solve_row();
-      if (length != 1) {
-        for (std::size_t j = 0; j < ucnt; ++j) v[j] *= volume_unit;
-        if (walls && opt.wall.rows[si]) out.wall_flux[si] /= length;
-      }
+      thread_rows.solve(i, v);
     }
   }
   check_interrupt();  // rows skipped after a stop request: the volumes are incomplete
