@@ -60,20 +60,153 @@ std::string test_function_of(const OperatorStudyParams& p) {
 }
 }  // namespace
 
+namespace {
+// The functions of a study: the test function u, the coefficient a (div-a-grad) and the
+// user's exact values (--exact), parsed once.
+struct StudyFunctions {
+  std::unique_ptr<ScalarFunction> u, a;
+  std::vector<Expression> expected;
+};
+
+StudyFunctions study_functions(const OperatorStudyParams& p) {
+  StudyFunctions fn;
+  fn.u = make_function_or_expression(test_function_of(p), p.dim);
+  if (p.op == OperatorKind::DivAGrad) fn.a = make_function_or_expression(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
+  if (p.exact.empty()) return fn;
+  for (const auto& e : split_semicolons(p.exact)) fn.expected.emplace_back(e);
+  check<InputError>(static_cast<int>(fn.expected.size()) == components(p.op, p.dim), "--exact gives ",
+                    fn.expected.size(), " expression(s) but operator ", to_string(p.op), " has ",
+                    components(p.op, p.dim), " component(s) in ", p.dim, "D (separate components with ';')");
+  return fn;
+}
+
+// The cloud of one level, its size checked against the memory limit first.
+StudyCloud level_cloud(const OperatorStudyParams& p, const Domain& box, const std::string& name, int n) {
+  CloudSpec spec;
+  spec.family = p.cloud;
+  spec.box = box;
+  spec.n = n;
+  spec.delta = p.delta;
+  spec.seed = p.seed;
+  spec.regular_layer = p.regular_layer;
+  const Real dx = (box.hi[0] - box.lo[0]) / n;
+  const Real h = p.h_factor * dx;
+  check_support_is_local(h, (box.hi - box.lo).norm(), p.h_factor);  // before the ghost layer grows with h
+  const int rings = builtin_methods().info(name).stencil_rings;
+  const double ghost_layers = p.ghosts ? std::ceil(rings * p.h_factor + 1) : 0;
+  const double particles = std::pow(n + 1.0 + 2 * ghost_layers, p.dim);
+  check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, components(p.op, p.dim), false),
+                      detail::concat("n = ", n));
+  spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
+  // Nested (two-ring) stencils need inner derivatives with full support at every
+  // neighbour: the ghost layer grows with the method's reach.
+  spec.ghost_width = p.ghosts ? rings * h + dx : 0;
+  return make_study_cloud(spec);
+}
+
+// The operator's exact values at the particles: from u (and a), or the user's --exact.
+Eigen::MatrixXd exact_values(const OperatorStudyParams& p, const StudyFunctions& fn, const PointCloud& cloud,
+                             const Stencil& s) {
+  Eigen::MatrixXd exact(cloud.size(), components(p.op, p.dim));
+  if (fn.expected.empty()) {
+    exact = sample_exact(p.op, *fn.u, fn.a.get(), cloud);
+  } else {
+    for (Index i = 0; i < cloud.size(); ++i)
+      for (int c = 0; c < exact.cols(); ++c) {
+        const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+        const Expression& e = fn.expected[static_cast<std::size_t>(c)];
+        exact(i, c) = e(x);
+        check<InputError>(std::isfinite(exact(i, c)), "--exact '", printable(e.text(), 200), "' is not finite (",
+                          exact(i, c), ") at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
+      }
+  }
+  // Compact rows (VRSPH rhs=compact) approximate the average Σ_k μ_ik (L u)(x_k) of the
+  // operator over their stencil, not its value at x_i: that is what they are compared with.
+  if (!s.rhs.empty()) exact.col(0) = average_rhs(s, Field(exact.col(0)));
+  return exact;
+}
+
+// Which rows are evaluated, their neighbour counts and the stencil's row diagnostics.
+std::vector<char> evaluated_rows(const OperatorStudyParams& p, const PointCloud& cloud, const NeighbourList& nl,
+                                 const Stencil& s, int n, OperatorStudyRow& row) {
+  std::vector<char> rows_mask(static_cast<std::size_t>(cloud.size()));
+  Index evaluated = 0, nmin = std::numeric_limits<Index>::max(), nmax = 0;
+  long long nsum = 0;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Tag tag = cloud.tags[static_cast<std::size_t>(i)];
+    const bool use = tag == Tag::Interior || (evaluates_boundary(p) && tag != Tag::Ghost);
+    rows_mask[static_cast<std::size_t>(i)] = use;
+    if (!use) continue;
+    ++evaluated;
+    nsum += nl.count(i);
+    nmin = std::min(nmin, nl.count(i));
+    nmax = std::max(nmax, nl.count(i));
+  }
+  check<GeometryError>(evaluated > 0, "no interior particle to evaluate at n = ", n);
+  const LocalResidualSummary local = summarise_local_residuals(s, rows_mask, 1e-6, 0);
+  row.max_local_residual = local.max_relative;
+  row.infeasible = local.infeasible;
+  for (std::size_t i = 0; i < s.negative_volumes.size(); ++i) row.signed_rows += rows_mask[i] && s.negative_volumes[i] > 0;
+  row.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(evaluated);
+  row.neighbours_min = nmin;
+  row.neighbours_max = nmax;
+  row.nnz_per_row = static_cast<Real>(s.nnz()) / static_cast<Real>(s.rows());
+  for (Index i = 0; i < cloud.size(); ++i)
+    if (!s.condition.empty() && rows_mask[static_cast<std::size_t>(i)])
+      row.condition_max = std::max(row.condition_max, s.condition[static_cast<std::size_t>(i)]);
+  return rows_mask;
+}
+
+// One (method, n) row of the table.
+OperatorStudyRow study_level(const OperatorStudyParams& p, const Domain& box, const StudyFunctions& fn,
+                             const std::string& name, const Method& method, int n) {
+  OperatorStudyRow row;
+  row.method = name;
+  row.n = n;
+  Stopwatch watch;
+  const StudyCloud sc = level_cloud(p, box, name, n);
+  const PointCloud& cloud = sc.cloud;
+  row.seconds_cloud = watch.seconds();
+  row.dx = sc.dx;
+  row.total = cloud.size();
+  row.particles = cloud.size() - cloud.count(Tag::Ghost);
+
+  watch.restart();
+  SmoothingChoice sm = choose_smoothing(cloud, sc.dx, p.h_factor, p.h_mode, p.h_knn);
+  row.h = sm.h;
+  SearchParams sp;
+  sp.radius = sm.h;
+  sp.radii = std::move(sm.radii);
+  const NeighbourList nl = find_neighbours(cloud, sp);
+  row.seconds_neighbours = watch.seconds();
+
+  watch.restart();
+  const Discretisation disc{cloud, nl, p.kernel, cloud.spacing};
+  StencilRequest req;
+  req.kind = p.op;
+  Field a_values;
+  if (fn.a) {
+    a_values = sample(*fn.a, cloud);
+    req.coefficient = &a_values;
+  }
+  const Stencil s = method.build(disc, req);
+  row.seconds_stencil = watch.seconds();
+
+  watch.restart();
+  const Eigen::MatrixXd approx = apply(s, sample(*fn.u, cloud));
+  row.seconds_apply = watch.seconds();
+  const Eigen::MatrixXd exact = exact_values(p, fn, cloud, s);
+  const std::vector<char> rows_mask = evaluated_rows(p, cloud, nl, s, n, row);
+  const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
+  row.errors = error_norms(approx - exact, rows_mask, cloud, row.h, vol);
+  return row;
+}
+}  // namespace
+
 OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
   validate_params(p);
   const Domain box = problem_domain(p.problem, p.dim);
-  auto u = make_function_or_expression(test_function_of(p), p.dim);
-  std::unique_ptr<ScalarFunction> a;
-  if (p.op == OperatorKind::DivAGrad) a = make_function_or_expression(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
-  std::vector<Expression> expected;
-  if (!p.exact.empty()) {
-    for (const auto& e : split_semicolons(p.exact)) expected.emplace_back(e);
-    check<InputError>(static_cast<int>(expected.size()) == components(p.op, p.dim), "--exact gives ", expected.size(),
-                      " expression(s) but operator ", to_string(p.op), " has ", components(p.op, p.dim),
-                      " component(s) in ", p.dim, "D (separate components with ';')");
-  }
-
+  const StudyFunctions fn = study_functions(p);
   OperatorStudyResult result;
   result.params = p;
   const double steps = static_cast<double>(p.methods.size() * p.n.size());
@@ -82,107 +215,7 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
     const auto method = builtin_methods().create(name, options_for(p.method_options, name));
     std::vector<OperatorStudyRow> rows;
     for (int n : p.n) {
-      OperatorStudyRow row;
-      row.method = name;
-      row.n = n;
-      Stopwatch watch;
-      CloudSpec spec;
-      spec.family = p.cloud;
-      spec.box = box;
-      spec.n = n;
-      spec.delta = p.delta;
-      spec.seed = p.seed;
-      spec.regular_layer = p.regular_layer;
-      const Real dx = (box.hi[0] - box.lo[0]) / n;
-      const Real h = p.h_factor * dx;
-      check_support_is_local(h, (box.hi - box.lo).norm(), p.h_factor);  // before the ghost layer grows with h
-      {
-        const double ghost_layers = p.ghosts ? std::ceil(builtin_methods().info(name).stencil_rings * p.h_factor + 1) : 0;
-        const double particles = std::pow(n + 1.0 + 2 * ghost_layers, p.dim);
-        check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, components(p.op, p.dim), false),
-                            detail::concat("n = ", n));
-      }
-      spec.layout = p.ghosts ? Layout::CellCentred : Layout::Vertex;
-      // Nested (two-ring) stencils need inner derivatives with full support at every
-      // neighbour: the ghost layer grows with the method's reach.
-      spec.ghost_width = p.ghosts ? builtin_methods().info(name).stencil_rings * h + dx : 0;
-      const StudyCloud sc = make_study_cloud(spec);
-      const PointCloud& cloud = sc.cloud;
-      row.seconds_cloud = watch.seconds();
-      row.dx = sc.dx;
-      row.total = cloud.size();
-      row.particles = cloud.size() - cloud.count(Tag::Ghost);
-
-      watch.restart();
-      SmoothingChoice sm = choose_smoothing(cloud, sc.dx, p.h_factor, p.h_mode, p.h_knn);
-      row.h = sm.h;
-      SearchParams sp;
-      sp.radius = sm.h;
-      sp.radii = std::move(sm.radii);
-      const NeighbourList nl = find_neighbours(cloud, sp);
-      row.seconds_neighbours = watch.seconds();
-
-      watch.restart();
-      const Discretisation disc{cloud, nl, p.kernel, cloud.spacing};
-      StencilRequest req;
-      req.kind = p.op;
-      Field a_values;
-      if (a) {
-        a_values = sample(*a, cloud);
-        req.coefficient = &a_values;
-      }
-      const Stencil s = method->build(disc, req);
-      row.seconds_stencil = watch.seconds();
-
-      watch.restart();
-      const Field uh = sample(*u, cloud);
-      const Eigen::MatrixXd approx = apply(s, uh);
-      row.seconds_apply = watch.seconds();
-      Eigen::MatrixXd exact(cloud.size(), components(p.op, p.dim));
-      if (expected.empty()) {
-        exact = sample_exact(p.op, *u, a.get(), cloud);
-      } else {
-        for (Index i = 0; i < cloud.size(); ++i)
-          for (int c = 0; c < exact.cols(); ++c) {
-            const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-            exact(i, c) = expected[static_cast<std::size_t>(c)](x);
-            check<InputError>(std::isfinite(exact(i, c)), "--exact '", printable(expected[static_cast<std::size_t>(c)].text(), 200),
-                              "' is not finite (", exact(i, c), ") at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
-          }
-      }
-      if (!s.rhs.empty()) {
-        // Compact rows (VRSPH rhs=compact) approximate the average Σ_k μ_ik (L u)(x_k) of the
-        // operator over their stencil, not its value at x_i: that is what they are compared with.
-        exact.col(0) = average_rhs(s, Field(exact.col(0)));
-      }
-      std::vector<char> rows_mask(static_cast<std::size_t>(cloud.size()));
-      Index evaluated = 0, nmin = std::numeric_limits<Index>::max(), nmax = 0;
-      long long nsum = 0;
-      for (Index i = 0; i < cloud.size(); ++i) {
-        const Tag tag = cloud.tags[static_cast<std::size_t>(i)];
-        const bool use = tag == Tag::Interior || (evaluates_boundary(p) && tag != Tag::Ghost);
-        rows_mask[static_cast<std::size_t>(i)] = use;
-        if (!use) continue;
-        ++evaluated;
-        nsum += nl.count(i);
-        nmin = std::min(nmin, nl.count(i));
-        nmax = std::max(nmax, nl.count(i));
-      }
-      check<GeometryError>(evaluated > 0, "no interior particle to evaluate at n = ", n);
-      const LocalResidualSummary local = summarise_local_residuals(s, rows_mask, 1e-6, 0);
-      row.max_local_residual = local.max_relative;
-      row.infeasible = local.infeasible;
-      for (std::size_t i = 0; i < s.negative_volumes.size(); ++i) row.signed_rows += rows_mask[i] && s.negative_volumes[i] > 0;
-      row.neighbours_mean = static_cast<Real>(nsum) / static_cast<Real>(evaluated);
-      row.neighbours_min = nmin;
-      row.neighbours_max = nmax;
-      row.nnz_per_row = static_cast<Real>(s.nnz()) / static_cast<Real>(s.rows());
-      for (Index i = 0; i < cloud.size(); ++i)
-        if (!s.condition.empty() && rows_mask[static_cast<std::size_t>(i)])
-          row.condition_max = std::max(row.condition_max, s.condition[static_cast<std::size_t>(i)]);
-      const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
-      row.errors = error_norms(approx - exact, rows_mask, cloud, row.h, vol);
-      rows.push_back(row);
+      rows.push_back(study_level(p, box, fn, name, *method, n));
       done += 1;
       if (p.progress) p.progress(name + " n=" + std::to_string(n), done / steps);
     }
