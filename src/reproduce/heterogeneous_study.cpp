@@ -147,6 +147,123 @@ CutFluxes cut_fluxes(const PointCloud& cloud, const SparseMatrix& L, const Field
 
 }  // namespace
 
+namespace {
+// Layout B over the unit box, each particle with its cell's permeability; no flow through
+// every face but the inlet and the outlet.
+struct ParticleProblem {
+  PointCloud cloud;
+  Eigen::MatrixXd mobility;
+  Field g, harmonic;
+  std::vector<Index> cell;
+};
+
+ParticleProblem particle_problem(const PermeabilityField& field, const TpfaOptions& to) {
+  const int dim = field.dim, n = field.n, axis = to.flow_axis;
+  ParticleProblem pp;
+  pp.cloud = cell_centred_lattice(Domain::unit_box(dim), n, true);
+  std::array<bool, 6> no_flow{};
+  for (int a = 0; a < dim; ++a)
+    if (a != axis) no_flow[static_cast<std::size_t>(2 * a)] = no_flow[static_cast<std::size_t>(2 * a + 1)] = true;
+  retag_neumann_faces(pp.cloud, no_flow, 1.0 / n);
+  const Index N = pp.cloud.size();
+  pp.mobility.resize(N, dim);
+  pp.cell.resize(static_cast<std::size_t>(N));
+  pp.g = Field::Zero(N);
+  for (Index i = 0; i < N; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Vec3& x = pp.cloud.positions[si];
+    pp.cell[si] = field.cell_of(x);
+    pp.mobility.row(i) = field.k.row(pp.cell[si]);
+    if (pp.cloud.tags[si] == Tag::Dirichlet) pp.g[i] = x[axis] < 0.5 ? to.p_in : to.p_out;
+  }
+  pp.harmonic.resize(N);
+  for (Index i = 0; i < N; ++i) pp.harmonic[i] = dim / pp.mobility.row(i).cwiseInverse().sum();
+  return pp;
+}
+
+// The TPFA reference itself as a row of the table.
+HeterogeneousRun tpfa_run(const PermeabilityField& field, const TpfaSolution& ref, double seconds) {
+  HeterogeneousRun run;
+  run.method = "tpfa";
+  run.coefficient = "tensor";
+  run.particles = run.unknowns = field.cells();
+  run.h = 1.0 / field.n;
+  run.outlet_flux = ref.outlet_flux;
+  run.flux_spread = std::abs(ref.inlet_flux - ref.outlet_flux) / std::abs(ref.outlet_flux);
+  run.m_matrix = true;  // by construction: non-negative transmissibilities, Dirichlet-connected
+  run.min_u = ref.pressure.minCoeff();
+  run.max_u = ref.pressure.maxCoeff();
+  run.solve = ref.solve;
+  run.seconds = seconds;
+  return run;
+}
+
+// A method's solve on the particles: the permeability as a scalar (isotropic fields), a
+// tensor (methods that take one) or its harmonic mean.
+BvpSolution method_solve(const HeterogeneousStudyParams& params, const PermeabilityField& field,
+                         const ParticleProblem& pp, const std::string& method, HeterogeneousRun& run) {
+  BoundaryValueProblem bp;
+  bp.cloud = pp.cloud;
+  const Index N = pp.cloud.size();
+  if (field.isotropic()) {  // exact as a scalar, and no tensor-only corrections (VRSPH's ∇m targets)
+    bp.a = pp.mobility.col(0);
+    run.coefficient = "scalar";
+  } else if (builtin_methods().info(method).tensor_mobility) {
+    bp.mobility = pp.mobility;
+    run.coefficient = "tensor";
+  } else {
+    bp.a = pp.harmonic;
+    run.coefficient = "harmonic";
+  }
+  bp.f = Field::Zero(N);
+  bp.g = pp.g;
+  bp.q = Field::Zero(N);
+  BvpSolveOptions o;
+  o.method = method;
+  if (auto it = params.method_options.find(method); it != params.method_options.end()) o.method_options = it->second;
+  o.kernel = params.kernel;
+  o.h = params.support_factor * (1.0 / field.n);  // as the spacing dx = 1/n times the factor
+  o.spacing = 1.0 / field.n;
+  o.solver = params.solver;
+  o.infeasible_tolerance = params.infeasible_tolerance;
+  o.keep_matrices = true;
+  o.label = concat(method, " ", params.problem);
+  Stopwatch watch;
+  BvpSolution s = solve(bp, o);
+  run.seconds = watch.seconds();
+  run.particles = s.particles;
+  run.unknowns = s.unknowns;
+  run.h = s.h;
+  run.m_matrix = s.m_matrix;
+  run.negative_transmissibilities = s.negative_transmissibilities;
+  run.infeasible = s.infeasible;
+  run.solve = s.solve;
+  return s;
+}
+
+// Cell by cell against TPFA at the cell-centre particles, and the range of u.
+void compare_with_tpfa(const ParticleProblem& pp, const Field& u, const Field& reference, HeterogeneousRun& run) {
+  Real sum = 0;
+  Index count = 0;
+  run.min_u = std::numeric_limits<Real>::infinity();
+  run.max_u = -run.min_u;
+  for (Index i = 0; i < pp.cloud.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (pp.cloud.tags[si] == Tag::Dirichlet) continue;
+    run.min_u = std::min(run.min_u, u[i]);
+    run.max_u = std::max(run.max_u, u[i]);
+    if (pp.cloud.tags[si] != Tag::Interior) continue;
+    const Real r = reference[pp.cell[si]], e = std::abs(u[i] - r);
+    run.error_abs_max = std::max(run.error_abs_max, e);
+    const Real rel = r != 0 ? e / std::abs(r) : std::numeric_limits<Real>::infinity();
+    run.error_rel_max = std::max(run.error_rel_max, rel);
+    sum += rel * rel;
+    ++count;
+  }
+  run.error_rel_rms = count ? std::sqrt(sum / static_cast<Real>(count)) : std::nan("");
+}
+}  // namespace
+
 HeterogeneousStudyResult run_heterogeneous_study(const HeterogeneousStudyParams& params) {
   check_params(params);
   HeterogeneousStudyResult res;
@@ -154,7 +271,6 @@ HeterogeneousStudyResult run_heterogeneous_study(const HeterogeneousStudyParams&
   const PermeabilityField field = field_of(params);
   res.params.field = field;
   res.params.n = field.n;
-  const int dim = field.dim, n = field.n, axis = params.flow_axis;
   const auto report = [&](const std::string& what, double f) {
     if (params.progress) params.progress(what, f);
   };
@@ -163,111 +279,31 @@ HeterogeneousStudyResult run_heterogeneous_study(const HeterogeneousStudyParams&
 
   // The reference: TPFA on the cells, solved directly when small (auto).
   TpfaOptions to;
-  to.flow_axis = axis;
+  to.flow_axis = params.flow_axis;
   to.solver = params.solver;
   report("tpfa reference", 0);
   Stopwatch watch;
   const TpfaSolution ref = solve_tpfa(field, to);
   const double tpfa_seconds = watch.seconds();
   res.reference = ref.pressure;
-
-  // Layout B over the unit box; no flow through every face but the inlet and the outlet.
-  PointCloud cloud = cell_centred_lattice(Domain::unit_box(dim), n, true);
-  const Real dx = 1.0 / n;
-  std::array<bool, 6> no_flow{};
-  for (int a = 0; a < dim; ++a)
-    if (a != axis) no_flow[static_cast<std::size_t>(2 * a)] = no_flow[static_cast<std::size_t>(2 * a + 1)] = true;
-  retag_neumann_faces(cloud, no_flow, dx);
-  const Index N = cloud.size();
-  Eigen::MatrixXd mobility(N, dim);
-  std::vector<Index> cell(static_cast<std::size_t>(N));
-  Field g = Field::Zero(N);
-  for (Index i = 0; i < N; ++i) {
-    const auto si = static_cast<std::size_t>(i);
-    const Vec3& x = cloud.positions[si];
-    cell[si] = field.cell_of(x);
-    mobility.row(i) = field.k.row(cell[si]);
-    if (cloud.tags[si] == Tag::Dirichlet) {
-      g[i] = x[axis] < 0.5 ? to.p_in : to.p_out;
-    }
-  }
-  Field harmonic(N);
-  for (Index i = 0; i < N; ++i) harmonic[i] = dim / mobility.row(i).cwiseInverse().sum();
-  if (params.keep_fields) res.cloud = cloud;
+  const ParticleProblem pp = particle_problem(field, to);
+  if (params.keep_fields) res.cloud = pp.cloud;
 
   for (const auto& method : params.methods) {
     report(method, static_cast<double>(stage++) / static_cast<double>(stages));
     HeterogeneousRun run;
     run.method = method;
     if (method == "tpfa") {
-      run.coefficient = "tensor";
-      run.particles = run.unknowns = field.cells();
-      run.h = dx;
-      run.outlet_flux = ref.outlet_flux;
-      run.flux_spread = std::abs(ref.inlet_flux - ref.outlet_flux) / std::abs(ref.outlet_flux);
-      run.m_matrix = true;  // by construction: non-negative transmissibilities, Dirichlet-connected
-      run.min_u = ref.pressure.minCoeff();
-      run.max_u = ref.pressure.maxCoeff();
-      run.solve = ref.solve;
-      run.seconds = tpfa_seconds;
+      run = tpfa_run(field, ref, tpfa_seconds);
+      if (!params.krylov.preconditioners.empty()) {
+        report("tpfa krylov", static_cast<double>(stage) / static_cast<double>(stages));
+        krylov_runs(method, assemble_tpfa(field, to), params, res.krylov);
+      }
     } else {
-      BoundaryValueProblem bp;
-      bp.cloud = cloud;
-      const MethodInfo& info = builtin_methods().info(method);
-      if (field.isotropic()) {  // exact as a scalar, and no tensor-only corrections (VRSPH's ∇m targets)
-        bp.a = mobility.col(0);
-        run.coefficient = "scalar";
-      } else if (info.tensor_mobility) {
-        bp.mobility = mobility;
-        run.coefficient = "tensor";
-      } else {
-        bp.a = harmonic;
-        run.coefficient = "harmonic";
-      }
-      bp.f = Field::Zero(N);
-      bp.g = g;
-      bp.q = Field::Zero(N);
-      BvpSolveOptions o;
-      o.method = method;
-      if (auto it = params.method_options.find(method); it != params.method_options.end()) o.method_options = it->second;
-      o.kernel = params.kernel;
-      o.h = params.support_factor * dx;
-      o.spacing = dx;
-      o.solver = params.solver;
-      o.infeasible_tolerance = params.infeasible_tolerance;
-      o.keep_matrices = true;
-      o.label = concat(method, " ", params.problem);
-      watch.restart();
-      BvpSolution s = solve(bp, o);
-      run.seconds = watch.seconds();
+      const BvpSolution s = method_solve(params, field, pp, method, run);
       res.warnings.insert(res.warnings.end(), s.warnings.begin(), s.warnings.end());
-      run.particles = s.particles;
-      run.unknowns = s.unknowns;
-      run.h = s.h;
-      run.m_matrix = s.m_matrix;
-      run.negative_transmissibilities = s.negative_transmissibilities;
-      run.infeasible = s.infeasible;
-      run.solve = s.solve;
-      // Cell by cell against TPFA at the cell-centre particles.
-      Real sum = 0;
-      Index count = 0;
-      run.min_u = std::numeric_limits<Real>::infinity();
-      run.max_u = -run.min_u;
-      for (Index i = 0; i < N; ++i) {
-        const auto si = static_cast<std::size_t>(i);
-        if (cloud.tags[si] == Tag::Dirichlet) continue;
-        run.min_u = std::min(run.min_u, s.u[i]);
-        run.max_u = std::max(run.max_u, s.u[i]);
-        if (cloud.tags[si] != Tag::Interior) continue;
-        const Real r = ref.pressure[cell[si]], e = std::abs(s.u[i] - r);
-        run.error_abs_max = std::max(run.error_abs_max, e);
-        const Real rel = r != 0 ? e / std::abs(r) : std::numeric_limits<Real>::infinity();
-        run.error_rel_max = std::max(run.error_rel_max, rel);
-        sum += rel * rel;
-        ++count;
-      }
-      run.error_rel_rms = count ? std::sqrt(sum / static_cast<Real>(count)) : std::nan("");
-      const CutFluxes q = cut_fluxes(cloud, s.operator_rows, s.u, axis, n, s.h);
+      compare_with_tpfa(pp, s.u, ref.pressure, run);
+      const CutFluxes q = cut_fluxes(pp.cloud, s.operator_rows, s.u, params.flow_axis, field.n, s.h);
       run.outlet_flux = q.mean;
       run.flux_spread = q.spread;
       if (params.keep_fields) run.u = s.u;
@@ -275,10 +311,6 @@ HeterogeneousStudyResult run_heterogeneous_study(const HeterogeneousStudyParams&
         report(method + " krylov", static_cast<double>(stage) / static_cast<double>(stages));
         krylov_runs(method, s.system, params, res.krylov);
       }
-    }
-    if (method == "tpfa" && !params.krylov.preconditioners.empty()) {
-      report("tpfa krylov", static_cast<double>(stage) / static_cast<double>(stages));
-      krylov_runs(method, assemble_tpfa(field, to), params, res.krylov);
     }
     stage += params.krylov.preconditioners.size();
     const Real lo = std::min(to.p_in, to.p_out), hi = std::max(to.p_in, to.p_out);
