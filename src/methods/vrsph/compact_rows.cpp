@@ -141,6 +141,145 @@ void tabulate(const Vec3& e, int degree, std::array<std::array<Real, 8>, 3>& pw)
 }
 }  // namespace
 
+namespace {
+// The monomials of each degree and their operator tables, built once per call.
+struct MonomialTables {
+  std::vector<std::vector<std::array<int, 3>>> mono;
+  std::vector<OperatorTable> table;
+  MonomialTables(int dim, int min_degree, int degree)
+      : mono(static_cast<std::size_t>(degree) + 1), table(static_cast<std::size_t>(degree) + 1) {
+    for (int d = min_degree; d <= degree; ++d) {
+      mono[static_cast<std::size_t>(d)] = monomials(dim, d);
+      table[static_cast<std::size_t>(d)] = operator_table(dim, d, mono[static_cast<std::size_t>(d)]);
+    }
+  }
+};
+
+// One thread's compact rows: per-thread workspaces, and for each wanted particle the highest
+// degree that admits w, μ >= 0. Rows: one per monomial q = e^alpha of e = (x - x_i)/h, scaled
+// by h^-|alpha| (with ŵ = w h^2 every entry is O(1)):
+//   Σ_j ŵ_j q(e_j) - Σ_k μ_k (a_k Δq + h ∇a_k·∇q)(e_k) = 0;  then Σ_k μ_k = 1.
+class CompactRowSolver {
+ public:
+  CompactRowSolver(const Discretisation& disc, const Field* a, const Eigen::MatrixXd* grad_a, const MonomialTables& t,
+                   int degree, int min_degree, Real tolerance, const CompactWalls& walls, Index max_count,
+                   Stencil& target, CompactRows& out)
+      : disc_(disc), a_(a), grad_a_(grad_a), t_(t), degree_(degree), min_degree_(min_degree), tolerance_(tolerance),
+        walls_(walls), target_(target), out_(out),
+        solver_(static_cast<int>(t.mono[static_cast<std::size_t>(degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2) {}
+
+  void solve(Index i) {
+    const auto si = static_cast<std::size_t>(i);
+    const NeighbourList& nl = disc_.neighbours;
+    column_scales(nl.distances_of(i), scale_);  // the w and μ columns of neighbour j, scaled back below
+    // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
+    // positive row with the O(h) part of the truncation moved into the average of f).
+    for (int deg = degree_; deg >= min_degree_ && !out_.ok[si]; --deg) try_degree(i, deg);
+  }
+
+ private:
+  // The columns of particle p from one evaluation of its monomials: its w column at w_col
+  // (q(e_p); none for the row's own particle) and its μ column at mu_col
+  // (-(a Δq + h ∇a·∇q)(e_p), and 1 in the Σ μ = 1 row).
+  void columns(Index i, Index p, int deg, std::size_t w_col, std::size_t mu_col, bool with_w, Real s) {
+    const OperatorTable& ops = t_.table[static_cast<std::size_t>(deg)];
+    const auto R = static_cast<std::size_t>(rows_);
+    const PointCloud& cloud = disc_.cloud;
+    const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[static_cast<std::size_t>(i)]) / h_;
+    tabulate(e, deg, pw_);
+    vals_.resize(ops.all.size());
+    for (std::size_t k = 0; k < ops.all.size(); ++k) vals_[k] = monomial(pw_, ops.all[k]);
+    const Real ap = a_ ? (*a_)[p] : 1.0;
+    Vec3 ga = Vec3::Zero();
+    if (grad_a_)
+      for (int k = 0; k < cloud.dim; ++k) ga[k] = h_ * (*grad_a_)(p, k);
+    for (std::size_t r = 0; r + 1 < R; ++r) {
+      const OperatorTable::Row& row = ops.rows[r];
+      if (with_w) A_[r * C_ + w_col] = s * vals_[static_cast<std::size_t>(row.value)];
+      Real lap = 0, drift = 0;
+      for (int t = 0; t < row.n_laplacian; ++t) {
+        const auto& term = row.laplacian[static_cast<std::size_t>(t)];
+        lap += term.coefficient * vals_[static_cast<std::size_t>(term.index)];
+      }
+      if (grad_a_)
+        for (int t = 0; t < row.n_drift; ++t) {
+          const auto& term = row.drift[static_cast<std::size_t>(t)];
+          drift += ga[term.axis] * term.coefficient * vals_[static_cast<std::size_t>(term.index)];
+        }
+      A_[r * C_ + mu_col] = -s * (ap * lap + drift);
+    }
+    A_[(R - 1) * C_ + mu_col] = s;
+  }
+
+  // ĉ = c h times a_i n·∇q(0): only the degree-1 monomials q = e_k have ∇q(0) != 0.
+  void wall_column(Index i, int deg, std::size_t col) {
+    const auto& mo = t_.mono[static_cast<std::size_t>(deg)];
+    for (std::size_t r = 0; r < static_cast<std::size_t>(rows_); ++r) {
+      Real entry = 0;  // (every row is written: A is not zero-filled)
+      if (r < mo.size() && mo[r][0] + mo[r][1] + mo[r][2] == 1)
+        for (int k = 0; k < disc_.cloud.dim; ++k)
+          if (mo[r][static_cast<std::size_t>(k)] == 1) entry = walls_.conormal[static_cast<std::size_t>(i)][k];
+      A_[r * C_ + col] = entry;
+    }
+  }
+
+  void try_degree(Index i, int deg) {
+    const auto si = static_cast<std::size_t>(i);
+    const auto nbr = disc_.neighbours.of(i);
+    const std::size_t cnt = nbr.size();
+    const bool wall = !walls_.rows.empty() && walls_.rows[si];
+    C_ = 2 * cnt + 1 + (wall ? 1 : 0);  // w, μ of the neighbours, μ_ii, the wall flux
+    h_ = disc_.neighbours.radius(i);
+    rows_ = static_cast<int>(t_.mono[static_cast<std::size_t>(deg)].size()) + 1;
+    const auto R = static_cast<std::size_t>(rows_);
+    // Every entry is written below except the Σ μ = 1 row's w columns and the wall column.
+    A_.resize(R * C_);
+    std::fill_n(A_.begin() + static_cast<std::ptrdiff_t>((R - 1) * C_), cnt, 0.0);
+    b_.assign(R, 0.0);
+    b_[R - 1] = 1;
+    for (std::size_t j = 0; j < cnt; ++j) columns(i, nbr[j], deg, j, cnt + j, true, scale_[j]);
+    columns(i, i, deg, 0, 2 * cnt, false, 1.0);
+    if (wall) wall_column(i, deg, 2 * cnt + 1);
+    x_.assign(C_, 0.0);
+    NnlsOptions options;
+    options.tie_tolerance = kTieTolerance;
+    const NnlsResult r = solver_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), x_.data(), options,
+                                       MatrixOrder::RowMajor);
+    // NNLS may stop at a residual somewhat above the tolerance (its multiplier test is
+    // relative to ||A||): the polish below finishes such near-exact rows.
+    const Real res = r.residual > kPolishAbove && r.residual <= kPolishBelow ? polish(A_, rows_, C_, b_, x_) : r.residual;
+    if (deg == degree_ || res < out_.residual[si]) out_.residual[si] = res;
+    if (!(r.status == NnlsStatus::Converged && res <= tolerance_)) return;
+    out_.ok[si] = 1;
+    out_.degree[si] = static_cast<char>(deg);
+    out_.residual[si] = res;
+    for (std::size_t j = 0; j < cnt; ++j) {
+      const auto slot = static_cast<std::size_t>(neighbour_slot(target_, i, static_cast<Index>(j)));
+      target_.values[0][slot] = x_[j] * scale_[j] / (h_ * h_);
+      target_.rhs[slot] = x_[cnt + j] * scale_[j];
+    }
+    out_.mu_self[si] = x_[2 * cnt];
+    if (wall) out_.wall_flux[si] = x_[2 * cnt + 1] / h_;
+  }
+
+  const Discretisation& disc_;
+  const Field* a_;
+  const Eigen::MatrixXd* grad_a_;
+  const MonomialTables& t_;
+  const int degree_, min_degree_;
+  const Real tolerance_;
+  const CompactWalls& walls_;
+  Stencil& target_;
+  CompactRows& out_;
+  NnlsSolver solver_;
+  std::vector<Real> A_, b_, x_, scale_, vals_;
+  std::array<std::array<Real, 8>, 3> pw_{};
+  std::size_t C_ = 0;  ///< columns of the current system
+  int rows_ = 0;       ///< its rows
+  Real h_ = 0;         ///< the current particle's support radius
+};
+}  // namespace
+
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a, const Eigen::MatrixXd* grad_a,
                          int degree, int min_degree, Real tolerance, Stencil& target, const CompactWalls& walls) {
   const PointCloud& cloud = disc.cloud;
@@ -158,16 +297,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   const bool any_wall = !walls.rows.empty();
   check<InputError>(!any_wall || (static_cast<Index>(walls.rows.size()) == n && static_cast<Index>(walls.conormal.size()) == n),
                     "compact rows: wall mask and conormals need one entry per particle");
-  // Rows: one per monomial q = e^alpha of e = (x - x_i)/h, scaled by h^-|alpha| (with
-  // ŵ = w h^2 every entry is O(1)): Σ_j ŵ_j q(e_j) - Σ_k μ_k (a_k Δq + h ∇a_k·∇q)(e_k) = 0;
-  // then Σ_k μ_k = 1.
-  std::vector<std::vector<std::array<int, 3>>> mono(static_cast<std::size_t>(degree) + 1);
-  std::vector<OperatorTable> table(static_cast<std::size_t>(degree) + 1);
-  for (int d = min_degree; d <= degree; ++d) {
-    mono[static_cast<std::size_t>(d)] = monomials(dim, d);
-    table[static_cast<std::size_t>(d)] = operator_table(dim, d, mono[static_cast<std::size_t>(d)]);
-  }
-  const int R_max = static_cast<int>(mono[static_cast<std::size_t>(degree)].size()) + 1;
+  const MonomialTables tables(dim, min_degree, degree);
   CompactRows out;
   out.ok.assign(static_cast<std::size_t>(n), 0);
   out.degree.assign(static_cast<std::size_t>(n), 0);
@@ -178,90 +308,13 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
 #pragma omp parallel
   {
-    NnlsSolver solver(R_max, 2 * static_cast<int>(max_count) + 2);
-    std::vector<Real> A, b, x, scale, vals;
-    std::array<std::array<Real, 8>, 3> pw{};
+    CompactRowSolver thread_rows(disc, a, grad_a, tables, degree, min_degree, tolerance, walls, max_count, target, out);
 #pragma omp for schedule(dynamic, 64)
     for (Index i = 0; i < n; ++i) {
       const auto si = static_cast<std::size_t>(i);
       const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
       if (!wanted || interrupt_pending(i)) continue;  // (after a stop request: skipped, see below)
-      const auto nbr = nl.of(i);
-      const std::size_t cnt = nbr.size();
-      const bool wall = any_wall && walls.rows[si];
-      const std::size_t C = 2 * cnt + 1 + (wall ? 1 : 0);  // w, μ of the neighbours, μ_ii, the wall flux
-      const Real h = nl.radius(i);
-      column_scales(nl.distances_of(i), scale);  // the w and μ columns of neighbour j, scaled back below
-      // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
-      // positive row with the O(h) part of the truncation moved into the average of f).
-      for (int deg = degree; deg >= min_degree && !out.ok[si]; --deg) {
-        const auto& mo = mono[static_cast<std::size_t>(deg)];
-        const OperatorTable& ops = table[static_cast<std::size_t>(deg)];
-        const int R = static_cast<int>(mo.size()) + 1;
-        // Every entry is written below except the Σ μ = 1 row's w columns and the wall column.
-        A.resize(static_cast<std::size_t>(R) * C);
-        std::fill_n(A.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(R - 1) * C), cnt, 0.0);
-        b.assign(static_cast<std::size_t>(R), 0.0);
-        b[static_cast<std::size_t>(R - 1)] = 1;
-        // The columns of particle p from one evaluation of its monomials: its w column at
-        // w_col (q(e_p); none for the row's own particle) and its μ column at mu_col
-        // (-(a Δq + h ∇a·∇q)(e_p), and 1 in the Σ μ = 1 row).
-        const auto columns = [&](Index p, std::size_t w_col, std::size_t mu_col, bool with_w, Real s) {
-          const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[si]) / h;
-          tabulate(e, deg, pw);
-          vals.resize(ops.all.size());
-          for (std::size_t k = 0; k < ops.all.size(); ++k) vals[k] = monomial(pw, ops.all[k]);
-          const Real ap = a ? (*a)[p] : 1.0;
-          Vec3 ga = Vec3::Zero();
-          if (grad_a)
-            for (int k = 0; k < dim; ++k) ga[k] = h * (*grad_a)(p, k);
-          for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(R); ++r) {
-            const OperatorTable::Row& row = ops.rows[r];
-            if (with_w) A[r * C + w_col] = s * vals[static_cast<std::size_t>(row.value)];
-            Real lap = 0, drift = 0;
-            for (int t = 0; t < row.n_laplacian; ++t) {
-              const auto& term = row.laplacian[static_cast<std::size_t>(t)];
-              lap += term.coefficient * vals[static_cast<std::size_t>(term.index)];
-            }
-            if (grad_a)
-              for (int t = 0; t < row.n_drift; ++t) {
-                const auto& term = row.drift[static_cast<std::size_t>(t)];
-                drift += ga[term.axis] * term.coefficient * vals[static_cast<std::size_t>(term.index)];
-              }
-            A[r * C + mu_col] = -s * (ap * lap + drift);
-          }
-          A[static_cast<std::size_t>(R - 1) * C + mu_col] = s;
-        };
-        for (std::size_t j = 0; j < cnt; ++j) columns(nbr[j], j, cnt + j, true, scale[j]);
-        columns(i, 0, 2 * cnt, false, 1.0);
-        if (wall)  // ĉ = c h times a_i n·∇q(0): only the degree-1 monomials q = e_k have ∇q(0) != 0
-          for (std::size_t r = 0; r < static_cast<std::size_t>(R); ++r) {
-            Real entry = 0;  // (every row is written: A is not zero-filled)
-            if (r < mo.size() && mo[r][0] + mo[r][1] + mo[r][2] == 1)
-              for (int k = 0; k < dim; ++k)
-                if (mo[r][static_cast<std::size_t>(k)] == 1) entry = walls.conormal[si][k];
-            A[r * C + 2 * cnt + 1] = entry;
-          }
-        x.assign(C, 0.0);
-        NnlsOptions options;
-        options.tie_tolerance = kTieTolerance;
-        const NnlsResult r = solver.solve(A.data(), R, static_cast<int>(C), b.data(), x.data(), options, MatrixOrder::RowMajor);
-        // NNLS may stop at a residual somewhat above the tolerance (its multiplier test is
-        // relative to ||A||): the polish below finishes such near-exact rows.
-        const Real res = r.residual > kPolishAbove && r.residual <= kPolishBelow ? polish(A, R, C, b, x) : r.residual;
-        if (deg == degree || res < out.residual[si]) out.residual[si] = res;
-        if (!(r.status == NnlsStatus::Converged && res <= tolerance)) continue;
-        out.ok[si] = 1;
-        out.degree[si] = static_cast<char>(deg);
-        out.residual[si] = res;
-        for (std::size_t j = 0; j < cnt; ++j) {
-          const auto slot = static_cast<std::size_t>(neighbour_slot(target, i, static_cast<Index>(j)));
-          target.values[0][slot] = x[j] * scale[j] / (h * h);
-          target.rhs[slot] = x[cnt + j] * scale[j];
-        }
-        out.mu_self[si] = x[2 * cnt];
-        if (wall) out.wall_flux[si] = x[2 * cnt + 1] / h;
-      }
+      thread_rows.solve(i);
     }
   }
   check_interrupt();  // rows skipped after a stop request: the result is incomplete
