@@ -244,10 +244,9 @@ void read_elements_v2(Mesh& m, Tokens& t) {
 }
 
 bool contains_neumann(std::string name) { return to_lower(std::move(name)).find("neumann") != std::string::npos; }
-}  // namespace
 
-CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int dim) {
-  Tokens t(text, name);
+// The sections of the file, read into the mesh (version 4.1 or 2.2, ASCII).
+Mesh read_sections(Tokens& t, const std::string& name) {
   Mesh m;
   int version = 0;
   bool have_nodes = false, have_elements = false;
@@ -263,42 +262,39 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       else if (v.rfind("2.", 0) == 0) version = 2;
       else throw InputError(detail::concat(name, ": MSH format version ", printable(v), " is not read (4.1 and 2.2 are)"));
       t.require(t.next("$EndMeshFormat") == "$EndMeshFormat", "expected $EndMeshFormat");
+      continue;
+    }
+    t.require(version != 0, "not a Gmsh mesh (no $MeshFormat section first)");
+    if (section == "$PhysicalNames") {
+      read_physical_names(m, t);
+    } else if (section == "$Entities" && version == 4) {
+      read_entities(m, t);
+    } else if (section == "$Nodes") {
+      t.require(!have_nodes, "a second $Nodes section");
+      version == 4 ? read_nodes_v4(m, t) : read_nodes_v2(m, t);
+      have_nodes = true;
+    } else if (section == "$Elements") {
+      t.require(have_nodes, "$Elements before $Nodes");
+      t.require(!have_elements, "a second $Elements section");
+      version == 4 ? read_elements_v4(m, t) : read_elements_v2(m, t);
+      have_elements = true;
     } else {
-      t.require(version != 0, "not a Gmsh mesh (no $MeshFormat section first)");
-      if (section == "$PhysicalNames") read_physical_names(m, t);
-      else if (section == "$Entities" && version == 4) read_entities(m, t);
-      else if (section == "$Nodes") {
-        t.require(!have_nodes, "a second $Nodes section");
-        version == 4 ? read_nodes_v4(m, t) : read_nodes_v2(m, t);
-        have_nodes = true;
-      } else if (section == "$Elements") {
-        t.require(have_nodes, "$Elements before $Nodes");
-        t.require(!have_elements, "a second $Elements section");
-        version == 4 ? read_elements_v4(m, t) : read_elements_v2(m, t);
-        have_elements = true;
-      } else {
-        t.require(section.size() > 1 && section[0] == '$', "expected a section ($Name), got '",
-                          printable(section), "'");
-        t.skip_to("$End" + section.substr(1));
-      }
+      t.require(section.size() > 1 && section[0] == '$', "expected a section ($Name), got '", printable(section), "'");
+      t.skip_to("$End" + section.substr(1));
     }
   }
   check<InputError>(version != 0, name, ": not a Gmsh mesh (no $MeshFormat section)");
   check<InputError>(have_nodes && have_elements, name, ": the mesh needs $Nodes and $Elements sections");
+  return m;
+}
 
-  // The mesh's dimension: that of its highest-dimensional elements.
-  int mesh_dim = 0;
-  for (const auto& e : m.elements) mesh_dim = std::max(mesh_dim, element_type(e.type)->dim);
-  check<InputError>(mesh_dim >= 1, name, ": the mesh has no lines, faces or volumes (only points)");
-  check<InputError>(dim == 0 || dim == mesh_dim, name, ": a ", mesh_dim, "D mesh where a ", dim, "D cloud was asked for");
-  // Particles: the nodes of those elements, in node order.
-  std::vector<long long> particle(m.nodes.size(), -1);
+// Particles: the nodes of the mesh-dimensional elements, in node order; particle[k] is node
+// k's particle (-1: none).
+void mesh_particles(const Mesh& m, int mesh_dim, const std::string& name, PointCloud& c, std::vector<long long>& particle) {
+  particle.assign(m.nodes.size(), -1);
   for (const auto& e : m.elements)
     if (element_type(e.type)->dim == mesh_dim)
       for (std::size_t v : e.nodes) particle[v] = 0;
-  CloudFile out;
-  out.source = name;
-  PointCloud& c = out.cloud;
   c.dim = mesh_dim;
   for (std::size_t k = 0; k < m.nodes.size(); ++k) {
     if (particle[k] < 0) continue;
@@ -311,10 +307,11 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
     particle[k] = c.size();
     c.add(x, Tag::Interior);
   }
-  c.normals.assign(c.positions.size(), Vec3::Zero());
-  // Boundary facets: facets of the mesh-dimensional elements that appear once. Each is
-  // oriented away from its element's centroid.
-  std::map<std::vector<std::size_t>, int> seen;  // sorted facet nodes -> count
+}
+
+// How often each facet (sorted nodes) of the mesh-dimensional elements occurs: once on the boundary.
+std::map<std::vector<std::size_t>, int> facet_counts(const Mesh& m, int mesh_dim) {
+  std::map<std::vector<std::size_t>, int> seen;
   for (const auto& e : m.elements) {
     const ElementType& et = *element_type(e.type);
     if (et.dim != mesh_dim) continue;
@@ -325,17 +322,46 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       ++seen[key];
     }
   }
-  // Boundary facets that are Neumann: those a boundary element of a "neumann" group covers.
-  std::set<std::vector<std::size_t>> neumann_facets;
+  return seen;
+}
+
+// Boundary facets that are Neumann: those a boundary element of a "neumann" group covers.
+std::set<std::vector<std::size_t>> neumann_facets(const Mesh& m, int mesh_dim) {
+  std::set<std::vector<std::size_t>> out;
   for (const auto& e : m.elements) {
     if (element_type(e.type)->dim != mesh_dim - 1 || e.physical == 0) continue;
     const auto it = m.physical_names.find({mesh_dim - 1, e.physical});
     if (it == m.physical_names.end() || !contains_neumann(it->second)) continue;
     std::vector<std::size_t> key = e.nodes;
     std::sort(key.begin(), key.end());
-    neumann_facets.insert(std::move(key));
+    out.insert(std::move(key));
   }
-  // A node is Neumann only if every boundary facet it is on is.
+  return out;
+}
+
+// A facet's size-weighted normal, away from its element's centroid: the facet's point (1D),
+// edge rotated (2D) or Newell vector (3D).
+Vec3 facet_normal(const Mesh& m, const std::vector<std::size_t>& key, int mesh_dim, const Vec3& centroid) {
+  Vec3 mid = Vec3::Zero(), n = Vec3::Zero();
+  for (std::size_t v : key) mid += m.nodes[v];
+  mid /= static_cast<Real>(key.size());
+  if (mesh_dim == 1) {
+    n = Vec3(1, 0, 0);
+  } else if (mesh_dim == 2) {
+    const Vec3 d = m.nodes[key[1]] - m.nodes[key[0]];
+    n = Vec3(d[1], -d[0], 0);
+  } else {
+    for (std::size_t a = 0; a < key.size(); ++a) n += m.nodes[key[a]].cross(m.nodes[key[(a + 1) % key.size()]]);
+    n *= 0.5;
+  }
+  return n.dot(mid - centroid) < 0 ? Vec3(-n) : n;
+}
+
+// Boundary nodes: tags and summed normals from the boundary facets they are on; a node is
+// Neumann only if every boundary facet it is on is. Returns the number of boundary facets.
+Index tag_boundary(const Mesh& m, int mesh_dim, const std::vector<long long>& particle, PointCloud& c) {
+  std::map<std::vector<std::size_t>, int> seen = facet_counts(m, mesh_dim);
+  const std::set<std::vector<std::size_t>> neumann = neumann_facets(m, mesh_dim);
   std::vector<char> on_dirichlet_facet(m.nodes.size(), 0);
   Index boundary_facets = 0;
   for (const auto& e : m.elements) {
@@ -351,21 +377,8 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       std::sort(sorted.begin(), sorted.end());
       if (seen[sorted] != 1) continue;
       ++boundary_facets;
-      const bool neumann_facet = neumann_facets.count(sorted) > 0;
-      // Size-weighted normal: the facet's point (1D), edge rotated (2D) or Newell vector (3D).
-      Vec3 mid = Vec3::Zero(), n = Vec3::Zero();
-      for (std::size_t v : key) mid += m.nodes[v];
-      mid /= static_cast<Real>(key.size());
-      if (mesh_dim == 1) {
-        n = Vec3(1, 0, 0);
-      } else if (mesh_dim == 2) {
-        const Vec3 d = m.nodes[key[1]] - m.nodes[key[0]];
-        n = Vec3(d[1], -d[0], 0);
-      } else {
-        for (std::size_t a = 0; a < key.size(); ++a) n += m.nodes[key[a]].cross(m.nodes[key[(a + 1) % key.size()]]);
-        n *= 0.5;
-      }
-      if (n.dot(mid - centroid) < 0) n = -n;
+      const bool neumann_facet = neumann.count(sorted) > 0;
+      const Vec3 n = facet_normal(m, key, mesh_dim, centroid);
       for (std::size_t v : key) {
         const auto i = static_cast<std::size_t>(particle[v]);
         c.normals[i] += n;
@@ -374,7 +387,26 @@ CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int
       }
     }
   }
-  check<InputError>(boundary_facets > 0, name, ": the mesh has no boundary (every facet is shared by two elements)");
+  return boundary_facets;
+}
+}  // namespace
+
+CloudFile parse_gmsh_cloud(const std::string& text, const std::string& name, int dim) {
+  Tokens t(text, name);
+  const Mesh m = read_sections(t, name);
+  // The mesh's dimension: that of its highest-dimensional elements.
+  int mesh_dim = 0;
+  for (const auto& e : m.elements) mesh_dim = std::max(mesh_dim, element_type(e.type)->dim);
+  check<InputError>(mesh_dim >= 1, name, ": the mesh has no lines, faces or volumes (only points)");
+  check<InputError>(dim == 0 || dim == mesh_dim, name, ": a ", mesh_dim, "D mesh where a ", dim, "D cloud was asked for");
+  CloudFile out;
+  out.source = name;
+  PointCloud& c = out.cloud;
+  std::vector<long long> particle;
+  mesh_particles(m, mesh_dim, name, c, particle);
+  c.normals.assign(c.positions.size(), Vec3::Zero());
+  check<InputError>(tag_boundary(m, mesh_dim, particle, c) > 0, name,
+                    ": the mesh has no boundary (every facet is shared by two elements)");
   for (std::size_t i = 0; i < c.normals.size(); ++i) {
     const Real len = c.normals[i].norm();
     if (c.tags[i] != Tag::Interior) {
