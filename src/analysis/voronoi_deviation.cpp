@@ -287,14 +287,14 @@ DeviationMethod parse_deviation_method(const std::string& name) {
   throw ConfigError("unknown d_N method '" + name + "' (known: auto, lp, flow)");
 }
 
-VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real> volumes, std::span<const Real> cells,
-                                   const VoronoiDeviationOptions& o) {
-  validate(cloud);
-  const Stopwatch clock;
+namespace {
+// The LP's data in scaled units (mean cell 1; lengths stay as they are, the LP's rows are
+// then O(1)), after checking the volumes against the cells.
+Problem scaled_problem(const PointCloud& cloud, std::span<const Real> volumes, std::span<const Real> cells,
+                       const VoronoiDeviationOptions& o, VoronoiDeviation& out) {
   const auto n = static_cast<std::size_t>(cloud.size());
   check<InputError>(volumes.size() == n && cells.size() == n, "Voronoi deviation: ", volumes.size(), " volumes and ",
                     cells.size(), " cell measures for ", n, " particles");
-  VoronoiDeviation out;
   for (std::size_t i = 0; i < n; ++i) {
     check<InputError>(std::isfinite(volumes[i]) && volumes[i] >= 0, "Voronoi deviation: particle ", i, " has volume ",
                       volumes[i], " (must be finite and >= 0)");
@@ -309,7 +309,6 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
                     " but the Voronoi cells to ", out.cell_sum, " (relative difference ", mismatch,
                     "): LP (63) is infeasible unless they agree ([IM] S9); pass --normalise-volumes to scale the volumes");
   out.volumes_normalised = o.normalise_volumes && mismatch != 0;
-  // Scaled units: mean cell 1 (lengths stay as they are; the LP's rows are then O(1)).
   const Real mean_cell = out.cell_sum / static_cast<Real>(n);
   Problem p;
   p.cells.resize(n);
@@ -320,14 +319,70 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
     check<InputError>(p.cells[i] > 0 || p.volumes[i] == 0, "particle ", i, " has an empty Voronoi cell (it lies outside "
                       "the domain) but volume ", volumes[i], ": d_N is infinite; exclude it or give it volume 0");
   }
-  const Real dx = cloud.spacing > 0 ? cloud.spacing : std::pow(mean_cell, 1.0 / cloud.dim);
-  p.length_scale = dx;
-  Real diameter = 0;
-  {
-    Vec3 lo = cloud.positions[0], hi = lo;
-    for (const auto& x : cloud.positions) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-    diameter = (hi - lo).norm();
+  p.length_scale = cloud.spacing > 0 ? cloud.spacing : std::pow(mean_cell, 1.0 / cloud.dim);
+  return p;
+}
+
+// Blocks are independent once the crossing flows are fixed: each writes only its own pairs'
+// transport, so they run in parallel (one Clp model per block) and the result does not
+// depend on the thread count. The first failure is rethrown after the loop.
+void solve_blocks(const Problem& p, const std::vector<std::vector<Index>>& members, const std::vector<Index>& block_of,
+                  Index nblocks, Transport& t, double max_seconds, VoronoiDeviation& out) {
+  std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (Index b = 0; b < nblocks; ++b) {
+    try {
+      const LpSize size = solve_block(p, members[static_cast<std::size_t>(b)], block_of, b, t, max_seconds);
+#pragma omp critical(vrsph_voronoi_deviation)
+      {
+        out.variables = std::max(out.variables, size.variables);
+        out.constraints = std::max(out.constraints, size.constraints);
+      }
+    } catch (...) {
+#pragma omp critical(vrsph_voronoi_deviation)
+      if (!failure) failure = std::current_exception();
+    }
   }
+  if (failure) std::rethrow_exception(failure);
+}
+
+// d_N from the transport itself, after checking that it is one.
+void deviation_from_transport(const Problem& p, const Transport& t, std::size_t n, VoronoiDeviation& out) {
+  std::vector<Real> supply(t.self.begin(), t.self.end()), demand(t.self.begin(), t.self.end()), dev(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto nbr = p.pairs.of(static_cast<Index>(i));
+    const auto dist = p.pairs.distances_of(static_cast<Index>(i));
+    for (std::size_t s = 0; s < nbr.size(); ++s) {
+      const auto j = static_cast<std::size_t>(nbr[s]);
+      const Real a = t.pair[static_cast<std::size_t>(p.pairs.offsets[i]) + s];
+      supply[i] += a;
+      demand[j] += a;
+      dev[i] += a * p.deviation_coefficient(i, dist[s]);
+      dev[j] += a * p.deviation_coefficient(j, dist[s]);
+    }
+  }
+  Real worst_balance = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    worst_balance = std::max({worst_balance, std::abs(supply[i] - p.cells[i]), std::abs(demand[i] - p.volumes[i])});
+  check<NumericalError>(worst_balance <= 1e-5, "Voronoi deviation: the LP's transport misses a cell or volume by ",
+                        worst_balance, " (relative to the mean cell); the result would not be d_N");
+  for (std::size_t i = 0; i < n; ++i)
+    if (out.worst < 0 || dev[i] > out.value) out.value = dev[i], out.worst = static_cast<Index>(i);
+  out.value *= p.length_scale;
+}
+}  // namespace
+
+VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real> volumes, std::span<const Real> cells,
+                                   const VoronoiDeviationOptions& o) {
+  validate(cloud);
+  const Stopwatch clock;
+  const auto n = static_cast<std::size_t>(cloud.size());
+  VoronoiDeviation out;
+  Problem p = scaled_problem(cloud, volumes, cells, o, out);
+  const Real dx = p.length_scale;
+  Vec3 lo = cloud.positions[0], hi = lo;
+  for (const auto& x : cloud.positions) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const Real diameter = (hi - lo).norm();
   check<InputError>(o.radius >= 0 && std::isfinite(o.radius), "Voronoi deviation: pair radius ", o.radius,
                     " (must be finite and >= 0)");
   Real rho = o.radius > 0 ? o.radius : 2 * dx;
@@ -365,25 +420,7 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
     }
     try {
       if (nblocks > 1) crossing_flows(p, block_of, nblocks, t);
-      // Blocks are independent once the crossing flows are fixed: each writes only its own
-      // pairs' transport, so they run in parallel (one Clp model per block) and the result
-      // does not depend on the thread count. The first failure is rethrown after the loop.
-      std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 1)
-      for (Index b = 0; b < nblocks; ++b) {
-        try {
-          const LpSize size = solve_block(p, members[static_cast<std::size_t>(b)], block_of, b, t, o.max_seconds);
-#pragma omp critical(vrsph_voronoi_deviation)
-          {
-            out.variables = std::max(out.variables, size.variables);
-            out.constraints = std::max(out.constraints, size.constraints);
-          }
-        } catch (...) {
-#pragma omp critical(vrsph_voronoi_deviation)
-          if (!failure) failure = std::current_exception();
-        }
-      }
-      if (failure) std::rethrow_exception(failure);
+      solve_blocks(p, members, block_of, nblocks, t, o.max_seconds, out);
       break;
     } catch (const NumericalError&) {
       if (nblocks > 1) {  // the crossing flows do not fit: one LP over the whole set, if affordable
@@ -400,28 +437,7 @@ VoronoiDeviation voronoi_deviation(const PointCloud& cloud, std::span<const Real
   out.blocks = nblocks;
   out.is_upper_bound = flow || nblocks > 1 || rho < diameter;
   out.method = flow ? "potential-flow" : nblocks > 1 ? "lp-blocks" : rho < diameter ? "lp-restricted" : "lp";
-  // d_N from the transport itself, after checking that it is one.
-  std::vector<Real> supply(t.self.begin(), t.self.end()), demand(t.self.begin(), t.self.end()), dev(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto nbr = p.pairs.of(static_cast<Index>(i));
-    const auto dist = p.pairs.distances_of(static_cast<Index>(i));
-    for (std::size_t s = 0; s < nbr.size(); ++s) {
-      const auto j = static_cast<std::size_t>(nbr[s]);
-      const Real a = t.pair[static_cast<std::size_t>(p.pairs.offsets[i]) + s];
-      supply[i] += a;
-      demand[j] += a;
-      dev[i] += a * p.deviation_coefficient(i, dist[s]);
-      dev[j] += a * p.deviation_coefficient(j, dist[s]);
-    }
-  }
-  Real worst_balance = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    worst_balance = std::max({worst_balance, std::abs(supply[i] - p.cells[i]), std::abs(demand[i] - p.volumes[i])});
-  check<NumericalError>(worst_balance <= 1e-5, "Voronoi deviation: the LP's transport misses a cell or volume by ",
-                        worst_balance, " (relative to the mean cell); the result would not be d_N");
-  for (std::size_t i = 0; i < n; ++i)
-    if (out.worst < 0 || dev[i] > out.value) out.value = dev[i], out.worst = static_cast<Index>(i);
-  out.value *= dx;
+  deviation_from_transport(p, t, n, out);
   out.seconds = clock.seconds();
   return out;
 }
