@@ -253,33 +253,31 @@ CloudFile read_vtk_cloud(const std::string& path, int dim) {
   return parse_vtk_cloud(read_file(path, "point cloud file"), path, dim);
 }
 
-CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
-  check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
-  check<InputError>(!text.empty(), path, ": empty file");
-  Source src;
-  src.name = path;
-  // Appended data may be raw bytes, which no XML parser accepts: cut them off first.
+namespace {
+// Appended data may be raw bytes, which no XML parser accepts: they are cut off into `src`
+// before the XML is parsed.
+void cut_appended_data(std::string& text, const std::string& path, Source& src) {
   const std::size_t app = text.find("<AppendedData");
-  if (app != std::string::npos) {
-    const std::size_t close = text.find('>', app);
-    const std::size_t underscore = close == std::string::npos ? std::string::npos : text.find('_', close);
-    check<InputError>(underscore != std::string::npos, path, ": <AppendedData> without the '_' that starts its data");
-    const std::string tag = text.substr(app, close - app);
-    src.appended_base64 = tag.find("base64") != std::string::npos;
-    src.appended = text.substr(underscore + 1);
-    if (src.appended_base64) {
-      const std::size_t end = src.appended.find("</AppendedData>");
-      if (end != std::string::npos) src.appended.resize(end);
-    }
-    text = text.substr(0, close + 1) + "</AppendedData></VTKFile>";
+  if (app == std::string::npos) return;
+  const std::size_t close = text.find('>', app);
+  const std::size_t underscore = close == std::string::npos ? std::string::npos : text.find('_', close);
+  check<InputError>(underscore != std::string::npos, path, ": <AppendedData> without the '_' that starts its data");
+  const std::string tag = text.substr(app, close - app);
+  src.appended_base64 = tag.find("base64") != std::string::npos;
+  src.appended = text.substr(underscore + 1);
+  if (src.appended_base64) {
+    const std::size_t end = src.appended.find("</AppendedData>");
+    if (end != std::string::npos) src.appended.resize(end);
   }
-  pugi::xml_document doc;
-  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
-  check<InputError>(static_cast<bool>(parsed), path, ": not a VTK XML file (", parsed.description(), " at byte ",
-                    parsed.offset, ")");
+  text = text.substr(0, close + 1) + "</AppendedData></VTKFile>";
+}
+
+// The <VTKFile> element: its type (UnstructuredGrid or PolyData), byte order, header type and
+// compressor, checked; the encoding recorded in `src`.
+pugi::xml_node vtk_root(const pugi::xml_document& doc, const std::string& path, Source& src, std::string& type) {
   const pugi::xml_node root = doc.child("VTKFile");
   check<InputError>(static_cast<bool>(root), path, ": no <VTKFile> element (not a VTK XML file)");
-  const std::string type = root.attribute("type").as_string();
+  type = root.attribute("type").as_string();
   check<InputError>(type == "UnstructuredGrid" || type == "PolyData", path, ": VTK file type '", type,
                     "' is not supported (UnstructuredGrid .vtu or PolyData .vtp)");
   check<InputError>(std::string(root.attribute("byte_order").as_string("LittleEndian")) == "LittleEndian", path,
@@ -289,12 +287,56 @@ CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
   check<InputError>(compressor.empty() || compressor == "vtkZLibDataCompressor", path, ": compressor '", compressor,
                     "' is not supported (zlib only)");
   src.compressed = !compressor.empty();
+  return root;
+}
 
-  CloudFile out;
-  out.source = path;
-  PointCloud& c = out.cloud;
-  c.dim = 3;
-  std::vector<std::pair<std::string, std::vector<Real>>> fields;
+using NamedArrays = std::vector<std::pair<std::string, std::vector<Real>>>;
+
+// One piece's point data: the tags, the normals and every other one-component array (the
+// first piece names them, later pieces must carry the same). Returns whether it had normals.
+bool read_point_data(const pugi::xml_node piece, const Source& src, std::size_t n, std::size_t start,
+                     const std::string& where_piece, bool first_piece, PointCloud& c, NamedArrays& fields) {
+  bool tags = false, normals = false;
+  std::vector<std::string> seen;
+  for (const pugi::xml_node a : piece.child("PointData").children("DataArray")) {
+    const std::string name = to_lower(a.attribute("Name").as_string());
+    const int comps = a.attribute("NumberOfComponents").as_int(1);
+    const std::string where = where_piece + " array '" + name + "'";
+    check<InputError>(std::find(seen.begin(), seen.end(), name) == seen.end(), where,
+                      ": appears twice in the piece (which one holds the data is ambiguous)");
+    seen.push_back(name);
+    if (name == "tag") {
+      check<InputError>(comps == 1, where, ": must have one component");
+      for (const Real t : values(a, src, n, where)) {
+        check<InputError>(t == std::floor(t) && t >= 0 && t <= 3, where, ": tag value ", t,
+                          " is not 0 (interior), 1 (dirichlet), 2 (neumann) or 3 (ghost)");
+        c.tags.push_back(static_cast<Tag>(static_cast<int>(t)));
+      }
+      tags = true;
+    } else if ((name == "normal" || name == "normals") && comps == 3) {
+      const std::vector<Real> v = values(a, src, 3 * n, where);
+      if (c.normals.size() < start) c.normals.resize(start, Vec3::Zero());
+      for (std::size_t i = 0; i < n; ++i) c.normals.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+      normals = true;
+    } else if (comps == 1 && !name.empty()) {
+      std::vector<Real> v = values(a, src, n, where);
+      auto it = std::find_if(fields.begin(), fields.end(), [&](const auto& f) { return f.first == name; });
+      if (first_piece) {
+        check<InputError>(it == fields.end(), where, ": appears twice");
+        fields.emplace_back(name, std::move(v));
+      } else {
+        check<InputError>(it != fields.end(), where, ": not in the first piece (every piece must carry the same arrays)");
+        it->second.insert(it->second.end(), v.begin(), v.end());
+      }
+    }
+  }
+  check<InputError>(tags, where_piece, ": no point-data array 'tag' (0 interior, 1 dirichlet, 2 neumann, 3 ghost)");
+  return normals;
+}
+
+// Every piece's points and point data appended to the cloud; returns the number of pieces.
+std::size_t read_pieces(const pugi::xml_node root, const std::string& type, const Source& src, const std::string& path,
+                        PointCloud& c, NamedArrays& fields) {
   bool have_normals = false, first_piece = true;
   std::size_t pieces = 0;
   for (const pugi::xml_node piece : root.child(type.c_str()).children("Piece")) {
@@ -314,50 +356,37 @@ CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
       check<InputError>(x.allFinite(), where_piece, ": point ", i, " has a non-finite coordinate");
       c.positions.push_back(x);
     }
-    bool tags = false, normals = false;
-    std::vector<std::string> seen;
-    for (const pugi::xml_node a : piece.child("PointData").children("DataArray")) {
-      const std::string name = to_lower(a.attribute("Name").as_string());
-      const int comps = a.attribute("NumberOfComponents").as_int(1);
-      const std::string where = where_piece + " array '" + name + "'";
-      check<InputError>(std::find(seen.begin(), seen.end(), name) == seen.end(), where,
-                        ": appears twice in the piece (which one holds the data is ambiguous)");
-      seen.push_back(name);
-      if (name == "tag") {
-        check<InputError>(comps == 1, where, ": must have one component");
-        for (const Real t : values(a, src, n, where)) {
-          check<InputError>(t == std::floor(t) && t >= 0 && t <= 3, where, ": tag value ", t,
-                            " is not 0 (interior), 1 (dirichlet), 2 (neumann) or 3 (ghost)");
-          c.tags.push_back(static_cast<Tag>(static_cast<int>(t)));
-        }
-        tags = true;
-      } else if ((name == "normal" || name == "normals") && comps == 3) {
-        const std::vector<Real> v = values(a, src, 3 * n, where);
-        if (c.normals.size() < start) c.normals.resize(start, Vec3::Zero());
-        for (std::size_t i = 0; i < n; ++i) c.normals.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
-        normals = true;
-      } else if (comps == 1 && !name.empty()) {
-        std::vector<Real> v = values(a, src, n, where);
-        auto it = std::find_if(fields.begin(), fields.end(), [&](const auto& f) { return f.first == name; });
-        if (first_piece) {
-          check<InputError>(it == fields.end(), where, ": appears twice");
-          fields.emplace_back(name, std::move(v));
-        } else {
-          check<InputError>(it != fields.end(), where, ": not in the first piece (every piece must carry the same arrays)");
-          it->second.insert(it->second.end(), v.begin(), v.end());
-        }
-      }
-    }
-    check<InputError>(tags, where_piece, ": no point-data array 'tag' (0 interior, 1 dirichlet, 2 neumann, 3 ghost)");
-    if (normals) have_normals = true;
+    if (read_point_data(piece, src, n, start, where_piece, first_piece, c, fields)) have_normals = true;
     else if (have_normals || !c.normals.empty()) c.normals.resize(c.positions.size(), Vec3::Zero());
     for (auto& f : fields)
       check<InputError>(f.second.size() == c.positions.size(), where_piece, ": array '", f.first, "' is missing");
     first_piece = false;
   }
+  if (have_normals) c.normals.resize(c.positions.size(), Vec3::Zero());
+  return pieces;
+}
+}  // namespace
+
+CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
+  check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
+  check<InputError>(!text.empty(), path, ": empty file");
+  Source src;
+  src.name = path;
+  cut_appended_data(text, path, src);
+  pugi::xml_document doc;
+  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
+  check<InputError>(static_cast<bool>(parsed), path, ": not a VTK XML file (", parsed.description(), " at byte ",
+                    parsed.offset, ")");
+  std::string type;
+  const pugi::xml_node root = vtk_root(doc, path, src, type);
+  CloudFile out;
+  out.source = path;
+  PointCloud& c = out.cloud;
+  c.dim = 3;
+  NamedArrays fields;
+  const std::size_t pieces = read_pieces(root, type, src, path, c, fields);
   check<InputError>(pieces > 0, path, ": no <Piece> in the file");
   check<InputError>(!c.positions.empty(), path, ": no points");
-  if (have_normals) c.normals.resize(c.positions.size(), Vec3::Zero());
   // Dimension: as for CSV, the last coordinate that is not identically zero, or the one asked for.
   int inferred = 1;
   for (const Vec3& x : c.positions)
