@@ -21,7 +21,7 @@ class WholeCloud final : public Partition {
   void widen(Real) override {}
   Field to_local(const Field& v) const override { return v; }
   Eigen::MatrixXd to_local(const Eigen::MatrixXd& v) const override { return v; }
-  Field to_chunk(const Field& v) const override { return v; }
+  Field to_chunk(Field v) const override { return v; }
   void update_halo(Field&) const override {}
   void update_halo(std::vector<Index>&) const override {}
   std::vector<char> reach(std::span<const Index> offsets, std::span<const Index> targets,

@@ -37,7 +37,7 @@ class Partition {
   /// chunk's order (serial: copies).
   virtual Field to_local(const Field& chunk_values) const = 0;
   virtual Eigen::MatrixXd to_local(const Eigen::MatrixXd& chunk_values) const = 0;
-  virtual Field to_chunk(const Field& local_values) const = 0;
+  virtual Field to_chunk(Field local_values) const = 0;  ///< (serial: moved through)
   /// Halo entries overwritten with their owners' values.
   virtual void update_halo(Field& local_values) const = 0;
   virtual void update_halo(std::vector<Index>& local_values) const = 0;

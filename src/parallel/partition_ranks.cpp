@@ -21,7 +21,7 @@ class OverRanks final : public Partition {
   }
   Field to_local(const Field& v) const override { return chunk_to_local(dc_, v); }
   Eigen::MatrixXd to_local(const Eigen::MatrixXd& v) const override { return chunk_to_local(dc_, v); }
-  Field to_chunk(const Field& v) const override { return local_to_chunk(dc_, v); }
+  Field to_chunk(Field v) const override { return local_to_chunk(dc_, v); }
   void update_halo(Field& v) const override { vrsph::update_halo(dc_, v); }
   void update_halo(std::vector<Index>& v) const override { vrsph::update_halo(dc_, v); }
   std::vector<char> reach(std::span<const Index> offsets, std::span<const Index> targets,

@@ -30,10 +30,16 @@ struct Support {
   std::vector<Real> radii;  ///< per local particle (knn), else empty
 };
 
-/// The problem's data at the local particles (owned and halo).
+/// The problem's data at the local particles (owned and halo). f and g are read in place
+/// in serial (the whole cloud's own fields: no copy of two values per particle).
 struct LocalData {
-  Field a, f, g, q, robin;
+  Field a, q, robin;
   Eigen::MatrixXd mobility, grad_a;
+  const Field& f() const { return f_in_place ? *f_in_place : f_local; }
+  const Field& g() const { return g_in_place ? *g_in_place : g_local; }
+  Field f_local, g_local;
+  const Field* f_in_place = nullptr;
+  const Field* g_in_place = nullptr;
 };
 
 /// Row masks over the local particles: the owned interior, Neumann and unknown particles,

@@ -16,8 +16,13 @@ LocalData local_data(const Partition& part, const BoundaryValueProblem& p, const
   const auto at_neumann = [&](const Field& v) { return v.size() ? v : Field(Field::Zero(n_chunk)); };
   LocalData d;
   d.a = part.to_local(given.a ? p.a : Field(Field::Ones(n_chunk)));
-  d.f = part.to_local(p.f);
-  d.g = part.to_local(p.g);
+  if (part.distributed()) {
+    d.f_local = part.to_local(p.f);
+    d.g_local = part.to_local(p.g);
+  } else {
+    d.f_in_place = &p.f;
+    d.g_in_place = &p.g;
+  }
   if (given.q) d.q = part.to_local(at_neumann(p.q));
   if (given.robin) d.robin = part.to_local(at_neumann(p.robin));
   if (given.tensor) d.mobility = part.to_local(p.mobility);

@@ -159,7 +159,7 @@ LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& r, c
     bc.robin = data.robin;
   }
   bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(part, masks.interior) : -1;
-  LinearSystem sys = assemble_over_ranks(part, r.L, masks, data.f, data.g, bc);
+  LinearSystem sys = assemble_over_ranks(part, r.L, masks, data.f(), data.g(), bc);
   if (part.distributed()) sys = globalise(part, std::move(sys));
   s.unknowns = static_cast<Index>(part.distributed() ? sys.A.cols() : sys.size());
   s.nnz_per_row = static_cast<Real>(sum_over_ranks(part.comm(), static_cast<long long>(sys.A.nonZeros()))) /
@@ -195,9 +195,9 @@ void report_solution(const Partition& part, const LinearSystem& sys, const Eigen
   const Index m = sys.rows_owned >= 0 ? sys.rows_owned : sys.size();
   Field u = sys.known;
   for (Index d = 0; d < m; ++d) u[sys.particle_of_dof[static_cast<std::size_t>(d)]] = x[d];
-  s.u = part.to_chunk(u);
-  s.local_residual = part.to_chunk(s.local_residual);
-  if (any_rank(part.comm(), s.wall_flux.size() > 0)) s.wall_flux = part.to_chunk(s.wall_flux);
+  s.u = part.to_chunk(std::move(u));
+  s.local_residual = part.to_chunk(std::move(s.local_residual));
+  if (any_rank(part.comm(), s.wall_flux.size() > 0)) s.wall_flux = part.to_chunk(std::move(s.wall_flux));
   // With only Neumann data a solution exists only if the boundary flux equals the source
   // (divergence theorem). Without a domain description both integrals are estimated by
   // particle quadrature: volume dx^d per interior particle (half at Neumann particles, which
@@ -214,8 +214,8 @@ void report_solution(const Partition& part, const LinearSystem& sys, const Eigen
     const Tag t = cloud.tags[static_cast<std::size_t>(i)];
     if (t == Tag::Interior || t == Tag::Neumann) {
       const Real v = t == Tag::Interior ? volume : 0.5 * volume;
-      sums[0] += v * data.f[i];
-      sums[2] += v * std::abs(data.f[i]);
+      sums[0] += v * data.f()[i];
+      sums[2] += v * std::abs(data.f()[i]);
     }
     if (t == Tag::Neumann) {
       sums[1] += area * data.q[i];
