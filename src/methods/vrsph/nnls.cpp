@@ -166,6 +166,10 @@ void NnlsSolver::reserve(int m, int n) {
   in_passive_.resize(N);
 }
 
+// Kept whole on purpose (about 250 lines, the one function of src/ above 120): the
+// Lawson-Hanson iteration's inner and outer loops share the QR factor, the passive set and the
+// workspaces, and the compiler specialises the whole loop nest on FixedRows; split into
+// functions the state would travel through arguments on the hottest path of the library.
 template <int FixedRows>
 VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x,
                                                      const NnlsOptions& options, MatrixOrder order) {
