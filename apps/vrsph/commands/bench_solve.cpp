@@ -83,6 +83,222 @@ AnchorRow run_anchor(const std::string& script, int n, bool perturbed) {
 }
 }  // namespace
 
+namespace {
+// The study behind the benchmark: [QW] Example 5 on the requested cloud, memory measured.
+BvpStudyParams bench_params(const SolveBenchArgs& a, const Communicator& comm) {
+  check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim must be 2 or 3 for bench solve, got ", a.dim);
+  check<ConfigError>(a.anchor.empty() || a.anchor == "fenicsx", "--anchor must be fenicsx, got '", a.anchor, "'");
+  check<ConfigError>(a.anchor.empty() || a.dim == 2, "--anchor fenicsx runs [QW] Example 5 in 2D only");
+  check<ConfigError>(!a.baseline || comm.distributed(), "--baseline compares with one rank: run under mpirun with "
+                     "more than one rank");
+  BvpStudyParams p;
+  p.dim = a.dim;
+  p.cloud = parse_cloud_family(a.cloud);
+  check<ConfigError>(p.cloud == CloudFamily::Uniform || p.cloud == CloudFamily::Perturbed,
+                     "--cloud must be uniform or perturbed for bench solve (the peer's node sets)");
+  p.h_factor = a.h_factor;
+  p.measure_memory = true;
+  p.check_m_matrix = false;  // a diagnostic, not part of a user's solve
+  p.communicator = comm;
+  p.method_options = parse_method_options(a.method_opts, {a.method});
+  // ConfigError on an unknown method or option, before any run.
+  (void)builtin_methods().create(a.method, options_for(p.method_options, a.method));
+  return p;
+}
+
+// The peer on every size, rank 0 only (serial), the others asleep; only rank 0 prints. A
+// failure of the peer is rank 0's; after the (sleeping) barrier every rank throws it.
+std::vector<AnchorRow> run_anchors(const SolveBenchArgs& a, const std::vector<int>& sizes, bool perturbed,
+                                   const Communicator& comm) {
+  std::vector<AnchorRow> anchor;
+  if (a.anchor.empty()) return anchor;
+  const std::string script = anchor_script(a);
+  check<IoError>(std::filesystem::exists(script), "the FEniCSx anchor script '", script,
+                 "' does not exist (--anchor-script or VRSPH_ANCHOR_DIR)");
+  Progress progress;
+  std::exception_ptr failure;
+  try {
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+      progress.update("anchor n=" + std::to_string(sizes[k]), static_cast<double>(k) / static_cast<double>(sizes.size()));
+      if (!comm.is_root()) {
+        anchor.push_back({1, 0, 0});
+        continue;
+      }
+      (void)run_anchor(script, sizes[k], perturbed);  // warm-up: form compilation
+      anchor.push_back(run_anchor(script, sizes[k], perturbed));
+    }
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  idle_barrier(comm);
+  collective(comm, [&] {
+    if (failure) std::rethrow_exception(failure);
+  });
+  return anchor;
+}
+
+std::vector<std::string> bench_columns(bool baseline, bool anchor) {
+  std::vector<std::string> c = {"n", "N", "method", "solver", "seconds_cloud", "seconds_data", "seconds_neighbours",
+                                "seconds_stencil", "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total",
+                                "solver_iterations", "error_inf", "bytes_per_particle", "bytes_per_particle_cloud",
+                                "bytes_per_particle_neighbours", "bytes_per_particle_stencil",
+                                "bytes_per_particle_assemble", "bytes_per_particle_solve", "ranks", "seconds_partition",
+                                "halo_bytes", "halo_bytes_max", "halo_messages", "halo_particles", "owned_particles",
+                                "peak_memory_mib_per_rank"};
+  if (baseline)
+    c.insert(c.end(), {"baseline_seconds_build", "baseline_seconds_solve", "baseline_seconds_total",
+                       "parallel_efficiency_build", "parallel_efficiency_solve", "parallel_efficiency"});
+  if (anchor) c.insert(c.end(), {"anchor_seconds_total", "anchor_iterations", "anchor_error_inf", "ratio_to_anchor"});
+  return c;
+}
+
+// One run's row: stage seconds, memory per particle above what the process held before the
+// run (program, libraries), the partition's figures.
+std::vector<std::pair<std::string, TableCell>> bench_row(const BvpRun& r, int n, const std::string& method,
+                                                        const Communicator& comm) {
+  const double total = stage_times(r).total;
+  const auto per = [&](std::size_t bytes) {
+    const double above = static_cast<double>(bytes) - static_cast<double>(r.resident_bytes_before);
+    return std::max(0.0, above) / static_cast<double>(comm.distributed() ? r.distribution.owned : r.particles);
+  };
+  const auto& sp = r.stage_peak_bytes;
+  const std::size_t peak = std::max({r.peak_bytes_cloud, sp.neighbours, sp.stencil, sp.assemble, sp.solve});
+  return {{"n", static_cast<long long>(n)},
+          {"N", static_cast<long long>(r.particles)},
+          {"method", method},
+          {"solver", r.solve.solver},
+          {"seconds_cloud", r.seconds_cloud},
+          {"seconds_data", r.seconds_data},
+          {"seconds_neighbours", r.seconds_neighbours},
+          {"seconds_stencil", r.seconds_stencil},
+          {"seconds_assemble", r.seconds_assemble},
+          {"seconds_setup", r.solve.seconds_setup},
+          {"seconds_solve", r.seconds_solve},  // set-up included, as in the study rows
+          {"seconds_total", total},
+          {"solver_iterations", static_cast<long long>(r.solve.iterations)},
+          {"error_inf", r.errors.all.linf},
+          {"bytes_per_particle", per(peak)},
+          {"bytes_per_particle_cloud", per(r.peak_bytes_cloud)},
+          {"bytes_per_particle_neighbours", per(sp.neighbours)},
+          {"bytes_per_particle_stencil", per(sp.stencil)},
+          {"bytes_per_particle_assemble", per(sp.assemble)},
+          {"bytes_per_particle_solve", per(sp.solve)},
+          {"ranks", static_cast<long long>(comm.size())},
+          {"seconds_partition", r.distribution.seconds_distribute},
+          {"halo_bytes", static_cast<long long>(r.distribution.halo_bytes_total)},  // all ranks, one exchange
+          {"halo_bytes_max", static_cast<long long>(r.distribution.halo_bytes_max)},
+          {"halo_messages", static_cast<long long>(r.distribution.halo_messages)},
+          {"halo_particles", static_cast<long long>(r.distribution.halo)},
+          {"owned_particles", static_cast<long long>(comm.distributed() ? r.distribution.owned : r.particles)},
+          {"peak_memory_mib_per_rank", r.peak_memory_mib}};
+}
+
+// Warm-up on a tiny problem: one-time costs (PETSc and MPI start-up, page faults of the
+// libraries) stay out of the table, as the peer's import and form compilation do. Its failure
+// is not reported: a message about n = 8 would name a size nobody asked for; the first size
+// asked for fails with its own message if the cause is general.
+void warm_up(const BvpStudyParams& p, const SolveBenchArgs& a) {
+  try {
+    (void)run_bvp(p, a.method, 8, a.seed, false, nullptr, nullptr);
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const Error&) {
+  }
+}
+
+// Every size with one solver: the rows, and the cost slopes in N into `meta`.
+void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<int>& sizes,
+                  const std::vector<AnchorRow>& anchor, const std::string& solver, Table& t, Progress& progress,
+                  double& done, double total_runs, nlohmann::ordered_json& meta) {
+  const Communicator& comm = p.communicator;
+  std::vector<Real> big_n, work, iterations;
+  warm_up(p, a);
+  for (std::size_t k = 0; k < sizes.size(); ++k) {
+    progress.update(solver + " n=" + std::to_string(sizes[k]), done++ / total_runs);
+    // The one-rank baseline first, rank 0 alone, with the other ranks asleep.
+    StageTimes base;
+    if (a.baseline) {
+      if (comm.is_root()) {
+        BvpStudyParams serial = p;
+        serial.communicator = Communicator();
+        base = stage_times(run_bvp(serial, a.method, sizes[k], a.seed, false, nullptr, nullptr));
+      }
+      idle_barrier(comm);
+    }
+    const BvpRun r = run_bvp(p, a.method, sizes[k], a.seed, false, nullptr, nullptr);
+    const StageTimes times = stage_times(r);
+    auto row = bench_row(r, sizes[k], a.method, comm);
+    if (a.baseline) {
+      const double P = comm.size();
+      row.emplace_back("baseline_seconds_build", base.build);
+      row.emplace_back("baseline_seconds_solve", base.solve);
+      row.emplace_back("baseline_seconds_total", base.total);
+      row.emplace_back("parallel_efficiency_build", base.build / (P * times.build));
+      row.emplace_back("parallel_efficiency_solve", base.solve / (P * times.solve));
+      row.emplace_back("parallel_efficiency", base.total / (P * times.total));
+    }
+    if (!anchor.empty()) {
+      row.emplace_back("anchor_seconds_total", anchor[k].seconds_total);
+      row.emplace_back("anchor_iterations", static_cast<long long>(anchor[k].iterations));
+      row.emplace_back("anchor_error_inf", anchor[k].error_inf);
+      row.emplace_back("ratio_to_anchor", times.total / anchor[k].seconds_total);
+    }
+    t.add_row(row);
+    big_n.push_back(static_cast<Real>(r.particles));
+    work.push_back(r.seconds_assemble + r.seconds_solve);
+    iterations.push_back(std::max(1, r.solve.iterations));
+  }
+  // Cost slopes in N: least_squares_order fits log(value) against log(1/size).
+  if (sizes.size() < 2) return;
+  std::vector<Real> inverse;
+  for (Real v : big_n) inverse.push_back(1 / v);
+  meta["slope_assemble_solve"][solver] = -least_squares_order(inverse, work);
+  meta["slope_iterations"][solver] = -least_squares_order(inverse, iterations);
+}
+
+void run_solve_bench(const SolveBenchArgs& a) {
+  validate_output(a.out);
+  set_thread_count(a.threads);
+  const Communicator& comm = communicator();
+  BvpStudyParams p = bench_params(a, comm);
+  const std::vector<int> sizes = parse_int_list(a.n, "--n");
+  const std::vector<std::string> solvers = parse_name_list(a.solvers, "--solver");
+  std::vector<SolverOptions> solver_options;
+  for (const auto& s : solvers) {
+    SolverOptions o;
+    o.type = parse_solver(s);
+    o.petsc_options = a.petsc_options;
+    solver_options.push_back(o);
+  }
+  const std::vector<AnchorRow> anchor = run_anchors(a, sizes, p.cloud == CloudFamily::Perturbed, comm);
+  Table t;
+  t.columns = bench_columns(a.baseline, !anchor.empty());
+  nlohmann::ordered_json meta;
+  meta["benchmark"] = "solve";
+  meta["dim"] = a.dim;
+  meta["cloud"] = a.cloud;
+  meta["method"] = a.method;
+  meta["method_options"] = a.method_opts;
+#ifdef _OPENMP
+  meta["threads"] = omp_get_max_threads();
+#else
+  meta["threads"] = 1;
+#endif
+  Progress progress;
+  const double total_runs = static_cast<double>(sizes.size() * solvers.size());
+  double done = 0;
+  for (std::size_t s = 0; s < solvers.size(); ++s) {
+    p.solver = solver_options[s];
+    p.solver.dimension = a.dim;
+    bench_solver(a, p, sizes, anchor, solvers[s], t, progress, done, total_runs, meta);
+  }
+  meta["peak_memory_mib"] = max_over_ranks(comm, peak_memory_mib());
+  meta["ranks"] = comm.size();
+  emit(t, a.out, meta.dump(), "N", "seconds_total:1,solver_iterations:0", "solver",
+       "Example 5 " + std::to_string(a.dim) + "D " + a.cloud + ": seconds and solver iterations to solution");
+}
+}  // namespace
+
 void add_solve_bench(CLI::App& bench) {
   auto a = std::make_shared<SolveBenchArgs>();
   auto* cmd = bench.add_subcommand("solve", "[QW] Example 5 end to end: seconds and memory per stage, solver iterations, "
@@ -109,193 +325,7 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot seconds_total and solver_iterations against N (log-log, reference slopes 1 and 0) into this PNG file");
-  cmd->callback([a] {
-    validate_output(a->out);
-    set_thread_count(a->threads);
-    check<ConfigError>(a->dim == 2 || a->dim == 3, "--dim must be 2 or 3 for bench solve, got ", a->dim);
-    check<ConfigError>(a->anchor.empty() || a->anchor == "fenicsx", "--anchor must be fenicsx, got '", a->anchor, "'");
-    check<ConfigError>(a->anchor.empty() || a->dim == 2, "--anchor fenicsx runs [QW] Example 5 in 2D only");
-    const Communicator& comm = communicator();
-    check<ConfigError>(!a->baseline || comm.distributed(), "--baseline compares with one rank: run under mpirun with "
-                       "more than one rank");
-    BvpStudyParams p;
-    p.dim = a->dim;
-    p.cloud = parse_cloud_family(a->cloud);
-    check<ConfigError>(p.cloud == CloudFamily::Uniform || p.cloud == CloudFamily::Perturbed,
-                       "--cloud must be uniform or perturbed for bench solve (the peer's node sets)");
-    p.h_factor = a->h_factor;
-    p.measure_memory = true;
-    p.check_m_matrix = false;  // a diagnostic, not part of a user's solve
-    p.communicator = comm;
-    const std::vector<int> sizes = parse_int_list(a->n, "--n");
-    const std::vector<std::string> solvers = parse_name_list(a->solvers, "--solver");
-    std::vector<SolverOptions> solver_options;
-    for (const auto& s : solvers) {
-      SolverOptions o;
-      o.type = parse_solver(s);
-      o.petsc_options = a->petsc_options;
-      solver_options.push_back(o);
-    }
-    p.method_options = parse_method_options(a->method_opts, {a->method});
-    // ConfigError on an unknown method or option, before any run.
-    (void)builtin_methods().create(a->method, options_for(p.method_options, a->method));
-
-    std::vector<AnchorRow> anchor;
-    if (!a->anchor.empty()) {
-      const std::string script = anchor_script(*a);
-      check<IoError>(std::filesystem::exists(script), "the FEniCSx anchor script '", script,
-                     "' does not exist (--anchor-script or VRSPH_ANCHOR_DIR)");
-      // Under mpirun only rank 0 runs the peer (serial), the others sleep; only rank 0 prints.
-      // A failure of the peer is rank 0's; after the (sleeping) barrier every rank throws it.
-      Progress progress;
-      std::exception_ptr failure;
-      try {
-        for (std::size_t k = 0; k < sizes.size(); ++k) {
-          progress.update("anchor n=" + std::to_string(sizes[k]), static_cast<double>(k) / static_cast<double>(sizes.size()));
-          if (!comm.is_root()) {
-            anchor.push_back({1, 0, 0});
-            continue;
-          }
-          (void)run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed);  // warm-up: form compilation
-          anchor.push_back(run_anchor(script, sizes[k], p.cloud == CloudFamily::Perturbed));
-        }
-      } catch (...) {
-        failure = std::current_exception();
-      }
-      idle_barrier(comm);
-      collective(comm, [&] {
-        if (failure) std::rethrow_exception(failure);
-      });
-    }
-
-    Table t;
-    t.columns = {"n", "N", "method", "solver", "seconds_cloud", "seconds_data", "seconds_neighbours", "seconds_stencil",
-                 "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total", "solver_iterations",
-                 "error_inf", "bytes_per_particle", "bytes_per_particle_cloud", "bytes_per_particle_neighbours",
-                 "bytes_per_particle_stencil", "bytes_per_particle_assemble", "bytes_per_particle_solve"};
-    t.columns.insert(t.columns.end(), {"ranks", "seconds_partition", "halo_bytes", "halo_bytes_max", "halo_messages",
-                                       "halo_particles",
-                                       "owned_particles", "peak_memory_mib_per_rank"});
-    if (a->baseline)
-      t.columns.insert(t.columns.end(), {"baseline_seconds_build", "baseline_seconds_solve", "baseline_seconds_total",
-                                         "parallel_efficiency_build", "parallel_efficiency_solve", "parallel_efficiency"});
-    if (!anchor.empty()) {
-      t.columns.insert(t.columns.end(), {"anchor_seconds_total", "anchor_iterations", "anchor_error_inf",
-                                         "ratio_to_anchor"});
-    }
-    nlohmann::ordered_json meta;
-    meta["benchmark"] = "solve";
-    meta["dim"] = a->dim;
-    meta["cloud"] = a->cloud;
-    meta["method"] = a->method;
-    meta["method_options"] = a->method_opts;
-#ifdef _OPENMP
-    meta["threads"] = omp_get_max_threads();
-#else
-    meta["threads"] = 1;
-#endif
-    Progress progress;
-    const double total_runs = static_cast<double>(sizes.size() * solvers.size());
-    int done = 0;
-    for (std::size_t s = 0; s < solvers.size(); ++s) {
-      p.solver = solver_options[s];
-      p.solver.dimension = a->dim;
-      std::vector<Real> big_n, work, iterations;
-      // Warm-up on a tiny problem: one-time costs (PETSc and MPI start-up, page faults of
-      // the libraries) stay out of the table, as the peer's import and form compilation do.
-      // Its failure is not reported: a message about n = 8 would name a size nobody asked
-      // for; the first size asked for fails with its own message if the cause is general.
-      try {
-        (void)run_bvp(p, a->method, 8, a->seed, false, nullptr, nullptr);
-      } catch (const Interrupted&) {
-        throw;
-      } catch (const Error&) {
-      }
-      for (std::size_t k = 0; k < sizes.size(); ++k) {
-        progress.update(solvers[s] + " n=" + std::to_string(sizes[k]), done++ / total_runs);
-        // The one-rank baseline first, rank 0 alone, with the other ranks asleep.
-        StageTimes base;
-        if (a->baseline) {
-          if (comm.is_root()) {
-            BvpStudyParams serial = p;
-            serial.communicator = Communicator();
-            base = stage_times(run_bvp(serial, a->method, sizes[k], a->seed, false, nullptr, nullptr));
-          }
-          idle_barrier(comm);
-        }
-        const BvpRun r = run_bvp(p, a->method, sizes[k], a->seed, false, nullptr, nullptr);
-        const StageTimes times = stage_times(r);
-        const double total = times.total;
-        // Bytes per particle above what the process held before the run (program, libraries).
-        const auto per = [&](std::size_t bytes) {
-          const double above = static_cast<double>(bytes) - static_cast<double>(r.resident_bytes_before);
-          return std::max(0.0, above) / static_cast<double>(comm.distributed() ? r.distribution.owned : r.particles);
-        };
-        const auto& sp = r.stage_peak_bytes;
-        const std::size_t peak =
-            std::max({r.peak_bytes_cloud, sp.neighbours, sp.stencil, sp.assemble, sp.solve});
-        std::vector<std::pair<std::string, TableCell>> row{
-            {"n", static_cast<long long>(sizes[k])},
-            {"N", static_cast<long long>(r.particles)},
-            {"method", a->method},
-            {"solver", r.solve.solver},
-            {"seconds_cloud", r.seconds_cloud},
-            {"seconds_data", r.seconds_data},
-            {"seconds_neighbours", r.seconds_neighbours},
-            {"seconds_stencil", r.seconds_stencil},
-            {"seconds_assemble", r.seconds_assemble},
-            {"seconds_setup", r.solve.seconds_setup},
-            {"seconds_solve", r.seconds_solve},  // set-up included, as in the study rows
-            {"seconds_total", total},
-            {"solver_iterations", static_cast<long long>(r.solve.iterations)},
-            {"error_inf", r.errors.all.linf},
-            {"bytes_per_particle", per(peak)},
-            {"bytes_per_particle_cloud", per(r.peak_bytes_cloud)},
-            {"bytes_per_particle_neighbours", per(sp.neighbours)},
-            {"bytes_per_particle_stencil", per(sp.stencil)},
-            {"bytes_per_particle_assemble", per(sp.assemble)},
-            {"bytes_per_particle_solve", per(sp.solve)},
-            {"ranks", static_cast<long long>(comm.size())},
-            {"seconds_partition", r.distribution.seconds_distribute},
-            {"halo_bytes", static_cast<long long>(r.distribution.halo_bytes_total)},  // all ranks, one exchange
-            {"halo_bytes_max", static_cast<long long>(r.distribution.halo_bytes_max)},
-            {"halo_messages", static_cast<long long>(r.distribution.halo_messages)},
-            {"halo_particles", static_cast<long long>(r.distribution.halo)},
-            {"owned_particles", static_cast<long long>(comm.distributed() ? r.distribution.owned : r.particles)},
-            {"peak_memory_mib_per_rank", r.peak_memory_mib}};
-        if (a->baseline) {
-          const double P = comm.size();
-          row.emplace_back("baseline_seconds_build", base.build);
-          row.emplace_back("baseline_seconds_solve", base.solve);
-          row.emplace_back("baseline_seconds_total", base.total);
-          row.emplace_back("parallel_efficiency_build", base.build / (P * times.build));
-          row.emplace_back("parallel_efficiency_solve", base.solve / (P * times.solve));
-          row.emplace_back("parallel_efficiency", base.total / (P * times.total));
-        }
-        if (!anchor.empty()) {
-          row.emplace_back("anchor_seconds_total", anchor[k].seconds_total);
-          row.emplace_back("anchor_iterations", static_cast<long long>(anchor[k].iterations));
-          row.emplace_back("anchor_error_inf", anchor[k].error_inf);
-          row.emplace_back("ratio_to_anchor", total / anchor[k].seconds_total);
-        }
-        t.add_row(row);
-        big_n.push_back(static_cast<Real>(r.particles));
-        work.push_back(r.seconds_assemble + r.seconds_solve);
-        iterations.push_back(std::max(1, r.solve.iterations));
-      }
-      // Cost slopes in N: least_squares_order fits log(value) against log(1/size).
-      if (sizes.size() >= 2) {
-        std::vector<Real> inverse;
-        for (Real v : big_n) inverse.push_back(1 / v);
-        meta["slope_assemble_solve"][solvers[s]] = -least_squares_order(inverse, work);
-        meta["slope_iterations"][solvers[s]] = -least_squares_order(inverse, iterations);
-      }
-    }
-    meta["peak_memory_mib"] = max_over_ranks(comm, peak_memory_mib());
-    meta["ranks"] = comm.size();
-    emit(t, a->out, meta.dump(), "N", "seconds_total:1,solver_iterations:0", "solver",
-         "Example 5 " + std::to_string(a->dim) + "D " + a->cloud + ": seconds and solver iterations to solution");
-  });
+  cmd->callback([a] { run_solve_bench(*a); });
 }
 
 }  // namespace vrsph::cli
