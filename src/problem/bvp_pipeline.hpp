@@ -66,9 +66,14 @@ RowMasks row_masks(const Partition& part);
 NeighbourList find_local_neighbours(const Partition& part, const Support& support, const RowMasks& masks);
 /// Neighbours per unknown row, over every rank.
 Real mean_neighbours(const Partition& part, const NeighbourList& nl, const RowMasks& masks);
-/// `name`: the method's name in messages; `use`: System for a boundary value problem.
+/// The method's rows on the local particles: the cloud, its neighbours, and for MPI the whole
+/// cloud's size and length unit (serial: taken from the cloud itself).
+Discretisation local_discretisation(const Partition& part, const NeighbourList& nl, KernelType kernel, Real spacing);
+/// `neumann`: Neumann particles on some rank; `name`: the method's name in messages; `use`:
+/// System for a boundary value problem.
 OperatorRows build_operator_rows(const Partition& part, const Method& method, const Discretisation& disc,
-                                 const LocalData& data, const RowMasks& masks, const std::string& name, StencilUse use);
+                                 const LocalData& data, const RowMasks& masks, bool neumann, const std::string& name,
+                                 StencilUse use);
 void diagnose_rows(const Partition& part, const Method& method, const OperatorRows& rows, const RowMasks& masks,
                    const LocalData& data, const BvpSolveOptions& o, BvpSolution& s);
 /// assemble() over the partition: the whole system with assemble()'s own checks in serial;

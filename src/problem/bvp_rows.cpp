@@ -78,14 +78,19 @@ Real mean_neighbours(const Partition& part, const NeighbourList& nl, const RowMa
 
 // div(a grad) on the interior rows; on the Neumann rows either the same operator (balance
 // rows, VRSPH flux=balance) or the method's gradient for the flux rows.
+Discretisation local_discretisation(const Partition& part, const NeighbourList& nl, KernelType kernel, Real spacing) {
+  return {part.local(), nl, kernel, spacing, part.global_size(),
+          part.distributed() ? length_scale(part.local(), part.comm()) : 0};
+}
+
 OperatorRows build_operator_rows(const Partition& part, const Method& method, const Discretisation& disc,
-                                 const LocalData& data, const RowMasks& masks, const std::string& name, StencilUse use) {
-  const long long neumann = sum_over_ranks(part.comm(), static_cast<long long>(std::count(masks.flux.begin(), masks.flux.end(), 1)));
+                                 const LocalData& data, const RowMasks& masks, bool neumann, const std::string& name,
+                                 StencilUse use) {
   OperatorRows r;
-  r.balance = neumann > 0 && method.balances_flux_rows(use);
+  r.balance = neumann && method.balances_flux_rows(use);
   collective(part.comm(), [&] {
     check<ConfigError>(method.info().supports(OperatorKind::DivAGrad), "method ", name, " does not provide div-a-grad");
-    check<ConfigError>(neumann == 0 || r.balance || method.info().supports(OperatorKind::Gradient), "method ", name,
+    check<ConfigError>(!neumann || r.balance || method.info().supports(OperatorKind::Gradient), "method ", name,
                        " has no gradient stencil for Neumann rows");
   });
   StencilRequest req;
@@ -99,7 +104,7 @@ OperatorRows build_operator_rows(const Partition& part, const Method& method, co
   part.stage([&] {
     fault_point(part.comm(), "stencil");
     r.L = method.build(disc, req);
-    if (neumann > 0 && !r.balance) {
+    if (neumann && !r.balance) {
       StencilRequest greq;
       greq.kind = OperatorKind::Gradient;
       greq.use = use;

@@ -3,14 +3,9 @@
 #include <memory>
 #include <cmath>
 #include <limits>
-#include <vrsph/assembly/assemble.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
-#include <vrsph/methods/registry.hpp>
-#include <vrsph/neighbours/search.hpp>
-#include <vrsph/problem/boundary_value_problem.hpp>
 #include <vrsph/problem/diffusion.hpp>
-#include <vrsph/stencil/apply.hpp>
 #include "diffusion_stepper.hpp"
 
 namespace vrsph {
@@ -124,9 +119,7 @@ DiffusionProblem part_of(const DiffusionProblem& p, Index b, Index e) {
 DiffusionResult diffuse(const DiffusionProblem& p, const DiffusionOptions& o) {
   Stopwatch watch;
   check_diffusion(p, o);
-  const bool neumann_anywhere = any_rank(o.communicator, p.cloud.count(Tag::Neumann) > 0);
-  const detail::DiffusionOperator op =
-      detail::build_diffusion_operator(p, o, o.scheme != TimeScheme::Explicit || neumann_anywhere);
+  const detail::DiffusionOperator op = detail::build_diffusion_operator(p, o);
   DiffusionResult r;
   r.dt = o.dt;
   stability_number(op, o, r);

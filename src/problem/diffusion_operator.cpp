@@ -23,7 +23,7 @@ BvpSolveOptions as_solve_options(const DiffusionOptions& o) {
 }
 }  // namespace
 
-DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const DiffusionOptions& o, bool assembled) {
+DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const DiffusionOptions& o) {
   DiffusionOperator op;
   const auto method = builtin_methods().create(o.method, o.method_options);
   Support support;
@@ -47,14 +47,14 @@ DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const Diff
   });
   {
     const NeighbourList nl = find_local_neighbours(part, support, op.masks);
-    const Discretisation disc{part.local(), nl, o.kernel, support.spacing, part.global_size(),
-                              part.distributed() ? length_scale(part.local(), part.comm()) : 0};
-    OperatorRows rows = build_operator_rows(part, *method, disc, op.data, op.masks, o.method, StencilUse::Values);
+    const Discretisation disc = local_discretisation(part, nl, o.kernel, support.spacing);
+    OperatorRows rows =
+        build_operator_rows(part, *method, disc, op.data, op.masks, op.neumann, o.method, StencilUse::Values);
     op.L = std::move(rows.L);
     op.G = std::move(rows.G);
   }
   part.stage([&] { require_point_rows(op.L, "diffuse"); });
-  if (!assembled) return op;
+  if (o.scheme == TimeScheme::Explicit && !op.neumann) return op;  // explicit steps apply L as it is
   BoundaryRows bc;
   if (op.neumann) {
     bc.gradient = &op.G;
@@ -68,11 +68,16 @@ DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const Diff
   return op;
 }
 
+void set_dirichlet_values(const DiffusionOperator& op, const DiffusionProblem& p, Real t, Field& u) {
+  const PointCloud& cloud = op.part->local();
+  for (Index i = 0; i < cloud.size(); ++i)
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Dirichlet) u[i] = p.boundary(cloud.positions[static_cast<std::size_t>(i)], t);
+}
+
 Eigen::VectorXd known_coupling(const DiffusionOperator& op, const DiffusionProblem& p, Real t) {
   const PointCloud& cloud = op.part->local();
   Field g = Field::Zero(cloud.size());
-  for (Index i = 0; i < cloud.size(); ++i)
-    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Dirichlet) g[i] = p.boundary(cloud.positions[static_cast<std::size_t>(i)], t);
+  set_dirichlet_values(op, p, t, g);
   const Field Lg = apply_component(op.L, g, 0);
   const Eigen::MatrixXd Gg = op.neumann ? apply(op.G, g) : Eigen::MatrixXd();
   const Eigen::MatrixXd& M = op.data.mobility;

@@ -28,8 +28,11 @@ struct DiffusionOperator {
   Index owned_dofs() const { return local.rows_owned >= 0 ? local.rows_owned : local.size(); }
 };
 
-/// Checks the method, builds the stencils and, when `assembled`, the system.
-DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const DiffusionOptions& o, bool assembled);
+/// Checks the method, builds the stencils and, for implicit schemes or Neumann rows, the system.
+DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const DiffusionOptions& o);
+
+/// u = g(x, t) at the local Dirichlet particles (halo included: g is a function of position).
+void set_dirichlet_values(const DiffusionOperator& op, const DiffusionProblem& p, Real t, Field& u);
 
 /// c(t) = sum over known J of A_iJ g_J(t) for each owned dof: the known neighbours' share of
 /// each row (interior rows: L g; flux rows: n.M (G g)).

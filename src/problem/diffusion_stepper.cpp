@@ -42,11 +42,6 @@ DiffusionStepper::DiffusionStepper(const DiffusionOperator& op, const DiffusionP
   }
 }
 
-void DiffusionStepper::boundary_values(Field& u, Real t) const {
-  for (Index i = 0; i < cloud_.size(); ++i)
-    if (cloud_.tags[static_cast<std::size_t>(i)] == Tag::Dirichlet) u[i] = p_.boundary(cloud_.positions[static_cast<std::size_t>(i)], t);
-}
-
 Real DiffusionStepper::source(Index i, Real t) const {
   return p_.source ? p_.source(cloud_.positions[static_cast<std::size_t>(i)], t) : 0.0;
 }
@@ -91,7 +86,7 @@ void DiffusionStepper::explicit_step(Real t, Real t_next, DiffusionResult& r) {
 void DiffusionStepper::neumann_values(Real t_next, DiffusionResult& r) {
   op_.part->update_halo(u_);  // the interior values just stepped, at the halo too
   Field with_data = u_;
-  boundary_values(with_data, t_next);
+  set_dirichlet_values(op_, p_, t_next, with_data);
   const Eigen::VectorXd c_next = known_coupling(op_, p_, t_next);
   const LinearSystem& sys = op_.local;
   const auto rows = static_cast<Index>(block_.dofs.size());
@@ -153,7 +148,7 @@ bool DiffusionStepper::diverged(Real t, DiffusionResult& r) {
 }
 
 void DiffusionStepper::run(DiffusionResult& r) {
-  boundary_values(u_, 0);
+  set_dirichlet_values(op_, p_, 0, u_);
   record(0, r);
   const auto steps = static_cast<Index>(std::ceil(o_.t_end / o_.dt - 1e-9));
   const Real u0_max = max_over_ranks(comm_, p_.u0.size() ? p_.u0.cwiseAbs().maxCoeff() : 0.0);
@@ -171,7 +166,7 @@ void DiffusionStepper::run(DiffusionResult& r) {
     if (o_.scheme == TimeScheme::Explicit) explicit_step(t, t_next, r);
     else implicit_step(t, t_next, r);
     t = t_next;
-    boundary_values(u_, t);
+    set_dirichlet_values(op_, p_, t, u_);
     stepping += step_watch.seconds();
     ++r.steps;
     record(t, r);

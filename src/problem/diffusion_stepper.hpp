@@ -20,7 +20,6 @@ class DiffusionStepper {
   const Field& u() const { return u_; }
 
  private:
-  void boundary_values(Field& u, Real t) const;
   Real source(Index i, Real t) const;
   Real owned_max(const Field& v, const std::vector<char>& where) const;
   void record(Real t, DiffusionResult& r) const;

@@ -99,9 +99,9 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   check_interrupt();  // a stop asked for (Ctrl-C in Python) between stages
 
   watch.restart();
-  const Discretisation disc{part->local(), nl, o.kernel, support.spacing, part->global_size(),
-                            part->distributed() ? length_scale(part->local(), o.communicator) : 0};
-  detail::OperatorRows rows = detail::build_operator_rows(*part, *method, disc, data, masks, o.method, StencilUse::System);
+  const Discretisation disc = detail::local_discretisation(*part, nl, o.kernel, support.spacing);
+  detail::OperatorRows rows = detail::build_operator_rows(*part, *method, disc, data, masks, s.neumann_particles > 0,
+                                                          o.method, StencilUse::System);
   s.seconds_stencil = max_over_ranks(o.communicator, watch.seconds());
   s.neighbours_mean = detail::mean_neighbours(*part, nl, masks);
   nl = NeighbourList();  // not needed any more: its memory goes back before assembly and solve

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal: the negative-transmissibility, signed-row and [SPE] ξ summary of the operator
-// rows, and the M-matrix test's view of balance rows with Robin data, shared by the serial
-// solve and each rank's rows of the distributed one.
+// rows, and the M-matrix test's view of balance rows with Robin data (the solve pipeline's
+// row diagnostics, bvp_diagnostics.cpp).
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
