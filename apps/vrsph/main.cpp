@@ -20,6 +20,7 @@
 #include <fstream>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/features.hpp>
 #include <vrsph/core/resources.hpp>
@@ -84,6 +85,102 @@ std::string version_line() {
   return "vrsph " + std::string(vrsph::version()) + " (BSD-3-Clause)\nbuilt with:" + (with.empty() ? " none" : with) +
          "\nbuilt without:" + (without.empty() ? " none" : without);
 }
+// Started by mpirun with several ranks: run on MPI_COMM_WORLD; only rank 0 prints (the
+// others' standard output goes nowhere; an error is the same on every rank, see
+// vrsph::collective, and rank 0 reports it). Returns an exit code if joining failed.
+std::optional<int> join_mpi_world() {
+  if (!vrsph::Communicator::launched_in_parallel()) return std::nullopt;
+  try {
+    vrsph::cli::set_communicator(vrsph::Communicator::world());
+  } catch (const vrsph::FeatureUnavailable& e) {
+    return report("not in this build", e, 2);
+  } catch (const vrsph::ConfigError& e) {
+    return report("configuration error", e, 2);
+  }
+#ifdef _OPENMP
+  // One thread per rank's share of the cores unless the user chose (ranks x threads <= cores).
+  if (!std::getenv("OMP_NUM_THREADS")) {
+    const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+    const int ranks_here = local ? std::max(1, std::atoi(local)) : vrsph::cli::communicator().size();
+    omp_set_num_threads(std::max(1, omp_get_num_procs() / ranks_here));
+  }
+#endif
+  if (!vrsph::cli::communicator().is_root()) {
+    // Never destroyed: the standard streams keep using the buffer until the process ends.
+    static auto* const nowhere = new std::ofstream("/dev/null");
+    std::cout.rdbuf(nowhere->rdbuf());
+    std::cerr.rdbuf(nowhere->rdbuf());
+  }
+  return std::nullopt;
+}
+
+// Under mpirun: the commands with a distributed pipeline; any other would only repeat
+// the same serial run on every rank.
+void require_distributed_command(const CLI::App& app) {
+  const auto& comm = vrsph::cli::communicator();
+  if (!comm.distributed()) return;
+  const auto subs = app.get_subcommands();
+  const std::string name = subs.empty() ? "" : subs.front()->get_name();
+  const bool parallel = name == "study" || name == "solve" || name == "diffuse" ||
+                        (name == "bench" && !subs.front()->get_subcommands().empty() &&
+                         subs.front()->get_subcommands().front()->get_name() == "solve");
+  vrsph::check<vrsph::ConfigError>(parallel, "vrsph ", name, " runs on one rank; under mpirun (", comm.size(),
+                                   " ranks) only study, solve, diffuse and bench solve are distributed");
+}
+
+// The options every command takes (--max-memory, --verbose, --version) and the checks
+// that run after parsing, before the subcommand's callback.
+struct GlobalOptions {
+  std::string max_memory;
+  bool verbose = false;
+};
+
+void add_global_options(CLI::App& app, GlobalOptions& g) {
+  app.set_version_flag("--version", version_line());
+  app.require_subcommand(1);
+  app.fallthrough();  // global options may also follow the subcommand
+  app.add_option("--max-memory", g.max_memory,
+                 "Refuse runs whose estimated memory exceeds this (e.g. 8G, 512M; 0 = no limit; default: the memory "
+                 "available when the run starts)");
+  app.add_flag("--verbose", g.verbose, "Warnings with their full lists (e.g. every row that could not meet its moment "
+                                       "conditions); without it one line per kind of condition");
+  app.parse_complete_callback([&app, &g] {
+    vrsph::cli::set_verbose(g.verbose);
+    vrsph::cli::reject_empty_values(app);
+    vrsph::cli::reject_output_over_input(app);
+    require_distributed_command(app);
+    if (app.count("--max-memory")) vrsph::set_memory_limit_bytes(vrsph::parse_memory_size(g.max_memory));
+  });
+}
+
+void add_commands(CLI::App& app) {
+  vrsph::cli::add_methods_command(app);
+  vrsph::cli::add_kernels_command(app);
+  vrsph::cli::add_cloud_command(app);
+  vrsph::cli::add_operator_command(app);
+  vrsph::cli::add_study_command(app);
+  vrsph::cli::add_solve_command(app);
+  vrsph::cli::add_spectrum_command(app);
+  vrsph::cli::add_stability_command(app);
+  vrsph::cli::add_diffuse_command(app);
+  vrsph::cli::add_bench_command(app);
+}
+
+int usage_error(const CLI::ParseError& e, CLI::App& app, int argc, char** argv) {
+  // "vrsph frobnicate": CLI11 only says a subcommand is required; name what was given.
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && argc > 1 && argv[1][0] != '-' && app.get_subcommands().empty()) {
+    std::string known;
+    for (const CLI::App* sub : app.get_subcommands({})) known += (known.empty() ? "" : ", ") + sub->get_name();
+    std::cerr << "vrsph: unknown command '" << argv[1] << "' (known: " << known << "; vrsph --help)\n";
+    return 1;
+  }
+  const int rc = app.exit(e);
+  if (rc == 0) return 0;  // --help, --version
+  // A value that does not convert or validate is a configuration error like any
+  // other bad option value; only the shape of the command line is a usage error.
+  const bool bad_value = dynamic_cast<const CLI::ConversionError*>(&e) || dynamic_cast<const CLI::ValidationError*>(&e);
+  return bad_value ? 2 : 1;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -95,91 +192,18 @@ int main(int argc, char** argv) {
   } catch (const vrsph::ConfigError& e) {
     return report("configuration error", e, 2);
   }
-  // Started by mpirun with several ranks: run on MPI_COMM_WORLD; only rank 0 prints (the
-  // others' standard output goes nowhere; an error is the same on every rank, see
-  // vrsph::collective, and rank 0 reports it).
-  if (vrsph::Communicator::launched_in_parallel()) {
-    try {
-      vrsph::cli::set_communicator(vrsph::Communicator::world());
-    } catch (const vrsph::FeatureUnavailable& e) {
-      return report("not in this build", e, 2);
-    } catch (const vrsph::ConfigError& e) {
-      return report("configuration error", e, 2);
-    }
-#ifdef _OPENMP
-    // One thread per rank's share of the cores unless the user chose (ranks x threads <= cores).
-    if (!std::getenv("OMP_NUM_THREADS")) {
-      const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
-      const int ranks_here = local ? std::max(1, std::atoi(local)) : vrsph::cli::communicator().size();
-      omp_set_num_threads(std::max(1, omp_get_num_procs() / ranks_here));
-    }
-#endif
-    if (!vrsph::cli::communicator().is_root()) {
-      // Never destroyed: the standard streams keep using the buffer until the process ends.
-      static auto* const nowhere = new std::ofstream("/dev/null");
-      std::cout.rdbuf(nowhere->rdbuf());
-      std::cerr.rdbuf(nowhere->rdbuf());
-    }
-  }
+  if (const auto failed = join_mpi_world()) return *failed;
   CLI::App app{"vrsph — particle discretisations of elliptic operators on irregular point clouds"};
-  app.set_version_flag("--version", version_line());
-  app.require_subcommand(1);
-  app.fallthrough();  // global options may also follow the subcommand
-  std::string max_memory;
-  app.add_option("--max-memory", max_memory,
-                 "Refuse runs whose estimated memory exceeds this (e.g. 8G, 512M; 0 = no limit; default: the memory "
-                 "available when the run starts)");
-  bool verbose = false;
-  app.add_flag("--verbose", verbose, "Warnings with their full lists (e.g. every row that could not meet its moment "
-                                     "conditions); without it one line per kind of condition");
-  // Runs after parsing, before the subcommand's callback.
-  app.parse_complete_callback([&] {
-    vrsph::cli::set_verbose(verbose);
-    vrsph::cli::reject_empty_values(app);
-    vrsph::cli::reject_output_over_input(app);
-    // Under mpirun: the commands with a distributed pipeline; any other would only repeat
-    // the same serial run on every rank.
-    const auto& comm = vrsph::cli::communicator();
-    if (comm.distributed()) {
-      const auto subs = app.get_subcommands();
-      const std::string name = subs.empty() ? "" : subs.front()->get_name();
-      const bool parallel = name == "study" || name == "solve" || name == "diffuse" ||
-                            (name == "bench" && !subs.front()->get_subcommands().empty() &&
-                             subs.front()->get_subcommands().front()->get_name() == "solve");
-      vrsph::check<vrsph::ConfigError>(parallel, "vrsph ", name, " runs on one rank; under mpirun (", comm.size(),
-                                       " ranks) only study, solve, diffuse and bench solve are distributed");
-    }
-    if (app.count("--max-memory")) vrsph::set_memory_limit_bytes(vrsph::parse_memory_size(max_memory));
-  });
-  vrsph::cli::add_methods_command(app);
-  vrsph::cli::add_kernels_command(app);
-  vrsph::cli::add_cloud_command(app);
-  vrsph::cli::add_operator_command(app);
-  vrsph::cli::add_study_command(app);
-  vrsph::cli::add_solve_command(app);
-  vrsph::cli::add_spectrum_command(app);
-  vrsph::cli::add_stability_command(app);
-  vrsph::cli::add_diffuse_command(app);
-  vrsph::cli::add_bench_command(app);
+  GlobalOptions global;
+  add_global_options(app, global);
+  add_commands(app);
   try {
     app.parse(argc, argv);
     vrsph::cli::print_notes();
     // Whatever a command printed must have reached stdout (a full disk, a closed pipe).
     vrsph::check_stream(std::cout, "to standard output");
   } catch (const CLI::ParseError& e) {
-    // "vrsph frobnicate": CLI11 only says a subcommand is required; name what was given.
-    if (dynamic_cast<const CLI::RequiredError*>(&e) && argc > 1 && argv[1][0] != '-' && app.get_subcommands().empty()) {
-      std::string known;
-      for (const CLI::App* sub : app.get_subcommands({})) known += (known.empty() ? "" : ", ") + sub->get_name();
-      std::cerr << "vrsph: unknown command '" << argv[1] << "' (known: " << known << "; vrsph --help)\n";
-      return 1;
-    }
-    const int rc = app.exit(e);
-    if (rc == 0) return 0;  // --help, --version
-    // A value that does not convert or validate is a configuration error like any
-    // other bad option value; only the shape of the command line is a usage error.
-    const bool bad_value = dynamic_cast<const CLI::ConversionError*>(&e) || dynamic_cast<const CLI::ValidationError*>(&e);
-    return bad_value ? 2 : 1;
+    return usage_error(e, app, argc, argv);
   } catch (const vrsph::ResourceError& e) {
     return report("resource limit", e, 2);
   } catch (const vrsph::FeatureUnavailable& e) {

@@ -145,195 +145,231 @@ PointCloud generate(const CloudArgs& a, const CLI::App& cmd) {
   spec.perturb_boundary = a.perturb_boundary;
   return make_study_cloud(spec).cloud;
 }
+void add_cloud_options(CLI::App* cmd, CloudArgs& a) {
+  cmd->add_option("--input", a.input, "Read this cloud file (CSV x,y,z,tag[,nx,ny,nz][,fields], VTU/VTP with a point array tag, or a Gmsh .msh mesh: its nodes, boundary and normals from the elements, Neumann where a physical group name contains \"neumann\") instead of generating one");
+  cmd->add_option("--output", a.output, "Write the cloud to this file (.csv or .vtu)");
+  cmd->add_option("--vtu-format", a.vtu_format, "With --output .vtu: binary (base64, exact, smaller) or ascii")
+      ->capture_default_str();
+  cmd->add_option("--format", a.format, "Report format: md, csv or json")->capture_default_str();
+  cmd->add_option("--family", a.family, "Generated family: uniform, perturbed, centroids, disk, im ([IM] §5.4 set on (-0.1,1.1)^d, dx = 1/n, delta 1/4); with --geometry: "
+                  "uniform, perturbed or blue-noise")->capture_default_str();
+  cmd->add_option("--layout", a.layout, "Lattice layout: vertex (A, boundary on faces) or cells (B)")->capture_default_str();
+  cmd->add_option("--domain", a.domain, "Box: unit ([0,1]^d) or symmetric ([-1,1]^d)")->capture_default_str();
+  cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (with --input: 0 = infer from the columns)")->capture_default_str();
+  cmd->add_option("--n", a.n, "Intervals per direction (dx = side/n)")->capture_default_str();
+  cmd->add_option("--ghost-layers", a.ghost_layers, "Lattice layers of ghost particles outside the box")->capture_default_str();
+  cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx (perturbed family)")->capture_default_str();
+  cmd->add_option("--seed", a.seed, "Random seed")->check(seed_validator())->capture_default_str();
+  cmd->add_flag("--perturb-boundary", a.perturb_boundary, "Also move boundary particles along their faces");
+  cmd->add_option("--h-factor", a.h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
+  cmd->add_flag("--regularity", a.regularity,
+                "[IM] regularity report: covering radius r_N, Voronoi deviation d_N (LP (63)), the order m with "
+                "h^m >= c0 (r_N + d_N) for h = --h-factor * spacing, and Theorem 3's predicted rates");
+  cmd->add_option("--volumes", a.volumes, "With --regularity: particle volumes uniform (|Omega|/N), voronoi or vrsph")
+      ->capture_default_str();
+  cmd->add_option("--dn-radius", a.dn_radius, "With --regularity: LP (63) pair radius rho (0 = 2 dx; raised by 1.5x "
+                  "until feasible); a smaller rho than the set's diameter gives an upper bound")->capture_default_str();
+  cmd->add_option("--dn-direct-limit", a.dn_direct_limit, "With --regularity: above this many particles d_N is "
+                  "bounded by spatial blocks (an upper bound)")->capture_default_str();
+  cmd->add_option("--dn-block", a.dn_block, "With --regularity: particles per block")->capture_default_str();
+  cmd->add_option("--dn-method", a.dn_method, "With --regularity: how d_N is bounded: lp (LP (63), minimised over "
+                  "decompositions), flow (one decomposition by a potential flow over the pairs: an upper bound, seconds "
+                  "at 10^5 particles), auto (lp up to --dn-flow-above particles, flow above)")->capture_default_str();
+  cmd->add_option("--dn-flow-above", a.dn_flow_above, "With --regularity and --dn-method auto: more particles than this "
+                  "use the flow")->capture_default_str();
+  cmd->add_flag("--normalise-volumes", a.normalise_volumes, "With --regularity: scale the volumes to the cells' sum "
+                "(else a mismatch is an error: LP (63) would be infeasible)");
+  cmd->add_option("--c0", a.c0, "With --regularity: the constant c0 of h^m >= c0 (r_N + d_N)")->capture_default_str();
+  cmd->add_flag("--check", a.check_brute, "Verify the neighbour search against brute force (N <= 50000)");
+  cmd->add_option("--geometry", a.geometry,
+                  "Fill this domain with particles: a 2D GeoJSON Polygon or MultiPolygon (holes, and islands in holes) or a 3D closed surface "
+                  "(STL, OFF, OBJ); boundary particles on the boundary with outward normals, interior ones on a "
+                  "lattice or as blue noise (--family uniform|perturbed|blue-noise); Neumann on surface regions (OBJ groups, "
+                  "STL solids) whose name contains \"neumann\"");
+  cmd->add_option("--spacing", a.spacing, "With --geometry: the particle spacing");
+  cmd->add_option("--neumann", a.neumann,
+                  "With --geometry: boundary particles where this expression is non-zero are Neumann (e.g. \"x^2+y^2<0.3\")");
+  cmd->add_option("--dirichlet", a.dirichlet,
+                  "With --geometry: only boundary particles where this expression is non-zero are Dirichlet, the rest Neumann");
+}
+
+// The cloud the command works on: read (--input), filled (--geometry) or generated.
+struct LoadedCloud {
+  PointCloud cloud;
+  std::vector<NamedField> data_columns;  // a cloud file's data columns: a conversion keeps them
+  std::optional<GeometryCloud> geometry;
+};
+
+LoadedCloud load_cloud(const CloudArgs& a, const CLI::App& cmd) {
+  LoadedCloud c;
+  if (!a.input.empty()) {
+    CloudFile file = read_cloud_file(a.input, cmd.count("--dim") ? a.dim : 0);
+    c.cloud = std::move(file.cloud);
+    c.data_columns = std::move(file.fields);
+  } else if (!a.geometry.empty()) {
+    c.geometry = from_geometry(a, cmd);
+    c.cloud = std::move(c.geometry->cloud);
+  } else {
+    for (const char* opt : {"--spacing", "--neumann", "--dirichlet"})
+      check<ConfigError>(cmd.count(opt) == 0, opt, " needs --geometry");
+    c.cloud = generate(a, cmd);
+  }
+  validate(c.cloud);
+  return c;
+}
+
+// Duplicates: particles whose nearest other particle is closer than the search's duplicate
+// tolerance. They make every method's weights singular: report and fail.
+void reject_duplicates(const PointCloud& cloud, const ClosestPair& cp, Real dup_tol) {
+  long long duplicates = 0;
+  for (Real d : kth_neighbour_distance(cloud, 1)) duplicates += d <= dup_tol ? 1 : 0;
+  if (duplicates == 0) return;
+  const Vec3& x = cloud.positions[static_cast<std::size_t>(cp.i)];
+  throw InputError(detail::concat(duplicates, " particles have a duplicate (distance <= ", dup_tol,
+                                  "); first: duplicate particles ", cp.i, " and ", cp.j, " at (", x[0], ", ", x[1],
+                                  ", ", x[2], ")"));
+}
+
+using AddRow = std::function<void(const std::string&, TableCell)>;
+
+// Neighbour counts over the non-ghost particles, and the bounding box.
+void add_neighbour_rows(const PointCloud& cloud, const NeighbourList& nl, const AddRow& add) {
+  Index nmin = std::numeric_limits<Index>::max(), nmax = 0, isolated = 0;
+  long long nsum = 0, counted = 0;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
+    const Index c = nl.count(i);
+    nmin = std::min(nmin, c);
+    nmax = std::max(nmax, c);
+    nsum += c;
+    ++counted;
+    if (c == 0) ++isolated;
+  }
+  add("neighbours_min", static_cast<long long>(counted ? nmin : 0));
+  add("neighbours_mean", counted ? static_cast<double>(nsum) / static_cast<double>(counted) : 0.0);
+  add("neighbours_max", static_cast<long long>(nmax));
+  add("isolated_particles", static_cast<long long>(isolated));
+  Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+  for (const auto& x : cloud.positions) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  for (int k = 0; k < cloud.dim; ++k) {
+    add(std::string("min_") + "xyz"[k], lo[k]);
+    add(std::string("max_") + "xyz"[k], hi[k]);
+  }
+}
+
+void add_covering_rows(const LoadedCloud& c, Real spacing, const AddRow& add) {
+  const PointCloud& cloud = c.cloud;
+  if (cloud.domain.shape == Domain::Shape::None && !c.geometry) return;
+  if (!built_with("CGAL") && (cloud.dim > 1 || c.geometry)) {
+    // CGAL's Voronoi vertices give it in 2D/3D: a build without CGAL leaves it out of the
+    // report (and says so) rather than failing the whole report.
+    add("covering_radius", std::string("not computed: vrsph was built without CGAL"));
+    return;
+  }
+  // A geometry's covering radius is exact inside and sampled on the boundary: the true
+  // value lies within covering_radius_uncertainty above the one reported.
+  const CoveringRadius cr = c.geometry ? covering_radius(cloud, c.geometry->inside, c.geometry->boundary_sample(),
+                                                         c.geometry->sample_step)
+                                       : covering_radius(cloud);
+  add("covering_radius", cr.radius);
+  add("covering_radius_over_spacing", cr.radius / spacing);
+  if (c.geometry) add("covering_radius_uncertainty", cr.uncertainty);
+}
+
+void print_report(const Table& t, const std::string& format) {
+  if (format != "json") {
+    std::cout << format_table(t, parse_table_format(format));
+    return;
+  }
+  nlohmann::ordered_json j;
+  for (const auto& row : t.rows) {
+    const auto& name = std::get<std::string>(row[0]);
+    std::visit([&](const auto& v) {
+      using V = std::decay_t<decltype(v)>;
+      if constexpr (std::is_same_v<V, std::monostate>) j[name] = nullptr;
+      else j[name] = v;
+    }, row[1]);
+  }
+  std::cout << j.dump(2) << '\n';
+}
+
+// --output: the cloud as CSV (its data columns kept) or VTU (plus the neighbour counts).
+void write_cloud(const std::string& path, const LoadedCloud& c, const NeighbourList& nl, VtuFormat vtu_format) {
+  if (ends_with(path, ".vtu")) {
+    Eigen::MatrixXd counts(c.cloud.size(), 1);
+    for (Index i = 0; i < c.cloud.size(); ++i) counts(i, 0) = nl.count(i);
+    std::vector<PointField> fields;
+    for (const auto& f : c.data_columns)
+      if (f.name != "neighbours") fields.push_back({f.name, Eigen::MatrixXd(f.values)});
+    fields.push_back({"neighbours", counts});
+    write_vtu(path, c.cloud, fields, vtu_format);
+  } else {
+    check<ConfigError>(ends_with(path, ".csv"), "--output must end in .csv or .vtu, got '", path, "'");
+    write_csv(path, c.cloud, c.data_columns);
+  }
+}
+
+void run_cloud(const CloudArgs& a, const CLI::App& cmd) {
+  const VtuFormat vtu_format = parse_vtu_format(a.vtu_format);  // checked before any work
+  const LoadedCloud c = load_cloud(a, cmd);
+  const PointCloud& cloud = c.cloud;
+  // Before anything uses it (the duplicate test's distance scales with it).
+  check<ConfigError>(std::isfinite(a.h_factor) && a.h_factor > 0, "--h-factor must be positive and finite, got ",
+                     a.h_factor);
+  const Real spacing = estimate_spacing(cloud);
+  check<InputError>(spacing > 0 && std::isfinite(spacing), "cannot estimate a particle spacing for this cloud");
+  const ClosestPair cp = closest_pair(cloud);
+  SearchParams sp;
+  reject_duplicates(cloud, cp, sp.duplicate_tolerance * a.h_factor * spacing);
+  sp.radius = a.h_factor * spacing;
+  check_support_is_local(sp.radius, cloud_extent(cloud), a.h_factor);
+  sp.min_neighbours = 0;  // report, do not fail, on isolated particles
+  const NeighbourList nl = find_neighbours(cloud, sp);  // throws on duplicates, naming them
+  if (a.check_brute) {
+    check<ConfigError>(cloud.size() <= 50000, "--check is limited to 50000 particles");
+    const NeighbourList ref = find_neighbours_brute_force(cloud, sp);
+    check<NumericalError>(ref.offsets == nl.offsets && ref.indices == nl.indices,
+                          "neighbour search disagrees with the brute-force reference");
+  }
+  Table t;
+  t.columns = {"quantity", "value"};
+  const AddRow add = [&](const std::string& q, TableCell v) { t.add_row({{"quantity", q}, {"value", v}}); };
+  add("dim", static_cast<long long>(cloud.dim));
+  add("particles", static_cast<long long>(cloud.size()));
+  add("interior", static_cast<long long>(cloud.count(Tag::Interior)));
+  add("dirichlet", static_cast<long long>(cloud.count(Tag::Dirichlet)));
+  add("neumann", static_cast<long long>(cloud.count(Tag::Neumann)));
+  add("ghost", static_cast<long long>(cloud.count(Tag::Ghost)));
+  add("spacing", spacing);
+  add("min_distance", cp.distance);
+  add("min_distance_pair", std::to_string(cp.i) + "," + std::to_string(cp.j));
+  add("duplicates", 0LL);
+  add("h", sp.radius);
+  add_neighbour_rows(cloud, nl, add);
+  add_covering_rows(c, spacing, add);
+  if (a.regularity) {
+    check<ConfigError>(!c.geometry && cloud.domain.shape != Domain::Shape::None,
+                       "--regularity needs a box or disk domain (a generated family, or a cloud file whose domain is known)");
+    add_regularity_rows(cloud, a, sp.radius, add);
+  } else {
+    for (const char* opt : {"--volumes", "--dn-radius", "--dn-direct-limit", "--dn-block", "--dn-method", "--dn-flow-above",
+                            "--normalise-volumes", "--c0"})
+      check<ConfigError>(cmd.count(opt) == 0, opt, " needs --regularity");
+  }
+  if (a.check_brute) add("brute_force_check", std::string("agrees"));
+  print_report(t, a.format);
+  if (!a.output.empty()) write_cloud(a.output, c, nl, vtu_format);
+}
 }  // namespace
 
 void add_cloud_command(CLI::App& app) {
   auto a = std::make_shared<CloudArgs>();
   auto* cmd = app.add_subcommand("cloud", "Generate a point cloud, or inspect/convert one given with --input");
-  cmd->add_option("--input", a->input, "Read this cloud file (CSV x,y,z,tag[,nx,ny,nz][,fields], VTU/VTP with a point array tag, or a Gmsh .msh mesh: its nodes, boundary and normals from the elements, Neumann where a physical group name contains \"neumann\") instead of generating one");
-  cmd->add_option("--output", a->output, "Write the cloud to this file (.csv or .vtu)");
-  cmd->add_option("--vtu-format", a->vtu_format, "With --output .vtu: binary (base64, exact, smaller) or ascii")
-      ->capture_default_str();
-  cmd->add_option("--format", a->format, "Report format: md, csv or json")->capture_default_str();
-  cmd->add_option("--family", a->family, "Generated family: uniform, perturbed, centroids, disk, im ([IM] §5.4 set on (-0.1,1.1)^d, dx = 1/n, delta 1/4); with --geometry: "
-                  "uniform, perturbed or blue-noise")->capture_default_str();
-  cmd->add_option("--layout", a->layout, "Lattice layout: vertex (A, boundary on faces) or cells (B)")->capture_default_str();
-  cmd->add_option("--domain", a->domain, "Box: unit ([0,1]^d) or symmetric ([-1,1]^d)")->capture_default_str();
-  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3 (with --input: 0 = infer from the columns)")->capture_default_str();
-  cmd->add_option("--n", a->n, "Intervals per direction (dx = side/n)")->capture_default_str();
-  cmd->add_option("--ghost-layers", a->ghost_layers, "Lattice layers of ghost particles outside the box")->capture_default_str();
-  cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx (perturbed family)")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed")->check(seed_validator())->capture_default_str();
-  cmd->add_flag("--perturb-boundary", a->perturb_boundary, "Also move boundary particles along their faces");
-  cmd->add_option("--h-factor", a->h_factor, "Neighbour statistics for support radius h = h_factor * spacing")->capture_default_str();
-  cmd->add_flag("--regularity", a->regularity,
-                "[IM] regularity report: covering radius r_N, Voronoi deviation d_N (LP (63)), the order m with "
-                "h^m >= c0 (r_N + d_N) for h = --h-factor * spacing, and Theorem 3's predicted rates");
-  cmd->add_option("--volumes", a->volumes, "With --regularity: particle volumes uniform (|Omega|/N), voronoi or vrsph")
-      ->capture_default_str();
-  cmd->add_option("--dn-radius", a->dn_radius, "With --regularity: LP (63) pair radius rho (0 = 2 dx; raised by 1.5x "
-                  "until feasible); a smaller rho than the set's diameter gives an upper bound")->capture_default_str();
-  cmd->add_option("--dn-direct-limit", a->dn_direct_limit, "With --regularity: above this many particles d_N is "
-                  "bounded by spatial blocks (an upper bound)")->capture_default_str();
-  cmd->add_option("--dn-block", a->dn_block, "With --regularity: particles per block")->capture_default_str();
-  cmd->add_option("--dn-method", a->dn_method, "With --regularity: how d_N is bounded: lp (LP (63), minimised over "
-                  "decompositions), flow (one decomposition by a potential flow over the pairs: an upper bound, seconds "
-                  "at 10^5 particles), auto (lp up to --dn-flow-above particles, flow above)")->capture_default_str();
-  cmd->add_option("--dn-flow-above", a->dn_flow_above, "With --regularity and --dn-method auto: more particles than this "
-                  "use the flow")->capture_default_str();
-  cmd->add_flag("--normalise-volumes", a->normalise_volumes, "With --regularity: scale the volumes to the cells' sum "
-                "(else a mismatch is an error: LP (63) would be infeasible)");
-  cmd->add_option("--c0", a->c0, "With --regularity: the constant c0 of h^m >= c0 (r_N + d_N)")->capture_default_str();
-  cmd->add_flag("--check", a->check_brute, "Verify the neighbour search against brute force (N <= 50000)");
-  cmd->add_option("--geometry", a->geometry,
-                  "Fill this domain with particles: a 2D GeoJSON Polygon or MultiPolygon (holes, and islands in holes) or a 3D closed surface "
-                  "(STL, OFF, OBJ); boundary particles on the boundary with outward normals, interior ones on a "
-                  "lattice or as blue noise (--family uniform|perturbed|blue-noise); Neumann on surface regions (OBJ groups, "
-                  "STL solids) whose name contains \"neumann\"");
-  cmd->add_option("--spacing", a->spacing, "With --geometry: the particle spacing");
-  cmd->add_option("--neumann", a->neumann,
-                  "With --geometry: boundary particles where this expression is non-zero are Neumann (e.g. \"x^2+y^2<0.3\")");
-  cmd->add_option("--dirichlet", a->dirichlet,
-                  "With --geometry: only boundary particles where this expression is non-zero are Dirichlet, the rest Neumann");
-  cmd->callback([a, cmd] {
-    const VtuFormat vtu_format = parse_vtu_format(a->vtu_format);  // checked before any work
-    PointCloud cloud;
-    std::vector<NamedField> data_columns;  // a cloud file's data columns: a conversion keeps them
-    std::optional<GeometryCloud> geometry;
-    if (!a->input.empty()) {
-      const int dim = cmd->count("--dim") ? a->dim : 0;
-      CloudFile file = read_cloud_file(a->input, dim);
-      cloud = std::move(file.cloud);
-      data_columns = std::move(file.fields);
-    } else if (!a->geometry.empty()) {
-      geometry = from_geometry(*a, *cmd);
-      cloud = std::move(geometry->cloud);
-    } else {
-      for (const char* opt : {"--spacing", "--neumann", "--dirichlet"})
-        check<ConfigError>(cmd->count(opt) == 0, opt, " needs --geometry");
-      cloud = generate(*a, *cmd);
-    }
-    validate(cloud);
-    // Before anything uses it (the duplicate test's distance scales with it).
-    check<ConfigError>(std::isfinite(a->h_factor) && a->h_factor > 0, "--h-factor must be positive and finite, got ",
-                       a->h_factor);
-    const Real spacing = estimate_spacing(cloud);
-    check<InputError>(spacing > 0 && std::isfinite(spacing), "cannot estimate a particle spacing for this cloud");
-    const ClosestPair cp = closest_pair(cloud);
-    // Duplicates: particles whose nearest other particle is closer than the search's
-    // duplicate tolerance. They make every method's weights singular: report and fail.
-    SearchParams sp;
-    const Real dup_tol = sp.duplicate_tolerance * a->h_factor * spacing;
-    long long duplicates = 0;
-    for (Real d : kth_neighbour_distance(cloud, 1)) duplicates += d <= dup_tol ? 1 : 0;
-    if (duplicates > 0) {
-      const Vec3& x = cloud.positions[static_cast<std::size_t>(cp.i)];
-      throw InputError(detail::concat(duplicates, " particles have a duplicate (distance <= ", dup_tol,
-                                      "); first: duplicate particles ", cp.i, " and ", cp.j, " at (", x[0], ", ", x[1],
-                                      ", ", x[2], ")"));
-    }
-    sp.radius = a->h_factor * spacing;
-    check_support_is_local(sp.radius, cloud_extent(cloud), a->h_factor);
-    sp.min_neighbours = 0;  // report, do not fail, on isolated particles
-    const NeighbourList nl = find_neighbours(cloud, sp);  // throws on duplicates, naming them
-    if (a->check_brute) {
-      check<ConfigError>(cloud.size() <= 50000, "--check is limited to 50000 particles");
-      const NeighbourList ref = find_neighbours_brute_force(cloud, sp);
-      check<NumericalError>(ref.offsets == nl.offsets && ref.indices == nl.indices,
-                            "neighbour search disagrees with the brute-force reference");
-    }
-    Index nmin = std::numeric_limits<Index>::max(), nmax = 0, isolated = 0;
-    long long nsum = 0, counted = 0;
-    for (Index i = 0; i < cloud.size(); ++i) {
-      if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost) continue;
-      const Index c = nl.count(i);
-      nmin = std::min(nmin, c);
-      nmax = std::max(nmax, c);
-      nsum += c;
-      ++counted;
-      if (c == 0) ++isolated;
-    }
-    Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
-    for (const auto& x : cloud.positions) {
-      lo = lo.cwiseMin(x);
-      hi = hi.cwiseMax(x);
-    }
-    Table t;
-    t.columns = {"quantity", "value"};
-    auto add = [&](const std::string& q, TableCell v) { t.add_row({{"quantity", q}, {"value", v}}); };
-    add("dim", static_cast<long long>(cloud.dim));
-    add("particles", static_cast<long long>(cloud.size()));
-    add("interior", static_cast<long long>(cloud.count(Tag::Interior)));
-    add("dirichlet", static_cast<long long>(cloud.count(Tag::Dirichlet)));
-    add("neumann", static_cast<long long>(cloud.count(Tag::Neumann)));
-    add("ghost", static_cast<long long>(cloud.count(Tag::Ghost)));
-    add("spacing", spacing);
-    add("min_distance", cp.distance);
-    add("min_distance_pair", std::to_string(cp.i) + "," + std::to_string(cp.j));
-    add("duplicates", duplicates);
-    add("h", sp.radius);
-    add("neighbours_min", static_cast<long long>(counted ? nmin : 0));
-    add("neighbours_mean", counted ? static_cast<double>(nsum) / static_cast<double>(counted) : 0.0);
-    add("neighbours_max", static_cast<long long>(nmax));
-    add("isolated_particles", static_cast<long long>(isolated));
-    for (int k = 0; k < cloud.dim; ++k) {
-      add(std::string("min_") + "xyz"[k], lo[k]);
-      add(std::string("max_") + "xyz"[k], hi[k]);
-    }
-    if (cloud.domain.shape != Domain::Shape::None || geometry) {
-      if (!built_with("CGAL") && (cloud.dim > 1 || geometry)) {
-        // CGAL's Voronoi vertices give it in 2D/3D: a build without CGAL leaves it out of the
-        // report (and says so) rather than failing the whole report.
-        add("covering_radius", std::string("not computed: vrsph was built without CGAL"));
-      } else {
-        // A geometry's covering radius is exact inside and sampled on the boundary: the true
-        // value lies within covering_radius_uncertainty above the one reported.
-        const CoveringRadius cr = geometry ? covering_radius(cloud, geometry->inside, geometry->boundary_sample(), geometry->sample_step)
-                                           : covering_radius(cloud);
-        add("covering_radius", cr.radius);
-        add("covering_radius_over_spacing", cr.radius / spacing);
-        if (geometry) add("covering_radius_uncertainty", cr.uncertainty);
-      }
-    }
-    if (a->regularity) {
-      check<ConfigError>(!geometry && cloud.domain.shape != Domain::Shape::None,
-                         "--regularity needs a box or disk domain (a generated family, or a cloud file whose domain is known)");
-      add_regularity_rows(cloud, *a, sp.radius, add);
-    } else {
-      for (const char* opt : {"--volumes", "--dn-radius", "--dn-direct-limit", "--dn-block", "--dn-method", "--dn-flow-above",
-                              "--normalise-volumes", "--c0"})
-        check<ConfigError>(cmd->count(opt) == 0, opt, " needs --regularity");
-    }
-    if (a->check_brute) add("brute_force_check", std::string("agrees"));
-    if (a->format == "json") {
-      nlohmann::ordered_json j;
-      for (const auto& row : t.rows) {
-        const auto& name = std::get<std::string>(row[0]);
-        std::visit([&](const auto& v) {
-          using V = std::decay_t<decltype(v)>;
-          if constexpr (std::is_same_v<V, std::monostate>) j[name] = nullptr;
-          else j[name] = v;
-        }, row[1]);
-      }
-      std::cout << j.dump(2) << '\n';
-    } else {
-      std::cout << format_table(t, parse_table_format(a->format));
-    }
-    if (!a->output.empty()) {
-      if (ends_with(a->output, ".vtu")) {
-        Eigen::MatrixXd counts(cloud.size(), 1);
-        for (Index i = 0; i < cloud.size(); ++i) counts(i, 0) = nl.count(i);
-        std::vector<PointField> fields;
-        for (const auto& f : data_columns)
-          if (f.name != "neighbours") fields.push_back({f.name, Eigen::MatrixXd(f.values)});
-        fields.push_back({"neighbours", counts});
-        write_vtu(a->output, cloud, fields, vtu_format);
-      } else {
-        check<ConfigError>(ends_with(a->output, ".csv"), "--output must end in .csv or .vtu, got '", a->output, "'");
-        write_csv(a->output, cloud, data_columns);
-      }
-    }
-  });
+  add_cloud_options(cmd, *a);
+  cmd->callback([a, cmd] { run_cloud(*a, *cmd); });
 }
 
 }  // namespace vrsph::cli

@@ -206,101 +206,112 @@ void operator_im_table1(const OperatorArgs& a, const CLI::App& cmd) {
   emit(t, a.out, R"j({"problem": "im-table1", "reference": "[IM] Table 1 (Imoto, JJIAM 37 (2020), doi:10.1007/s13160-020-00407-1)"})j", "h", "error_rel",
        "series", "[IM] Table 1: relative max-norm error against h");
 }
+void add_operator_options(CLI::App* cmd, OperatorArgs& a) {
+  cmd->add_option("--problem", a.problem,
+                  "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d), im-table1 ([IM] Table 1, gpm weights; see --weight), unit-box ([0,1]^d), aar-derivative ([AAR] e^x on [0,1], "
+                  "all particles) or spe-patch ([SPE] §4 operator tests along a cross-section, see --test)")
+      ->capture_default_str();
+  a.dim_opt = cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (aar-derivative: 1)")->capture_default_str();
+  cmd->add_option("--method", a.methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
+  cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value for one method (repeatable)");
+  cmd->add_option("--operator", a.op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative")
+      ->capture_default_str();
+  cmd->add_option("--cloud", a.cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
+  cmd->add_option("--n", a.n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();
+  cmd->add_option("--seed", a.seed, "Random seed (perturbed, centroids)")->check(seed_validator())->capture_default_str();
+  a.h_factor_opt = cmd->add_option("--h-factor", a.h_factor, "Support radius h = h_factor * dx (aar-derivative: 6)")
+                        ->capture_default_str();
+  cmd->add_option("--h-mode", a.h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
+      ->capture_default_str();
+  a.h_knn_opt = cmd->add_option("--h-knn", a.h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
+      ->capture_default_str();
+  a.delta_opt = cmd->add_option("--delta", a.delta, "Perturbation amplitude in units of dx (aar-derivative: 0.25)")
+                     ->capture_default_str();
+  a.kernel_opt = cmd->add_option("--kernel", a.kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4 "
+                                                         "(aar-derivative: gaussian)")
+                      ->capture_default_str();
+  cmd->add_option("--regular-layer", a.regular_layer,
+                  "Perturbed clouds: particles within this many dx of a face move only tangentially")
+      ->capture_default_str();
+  a.ghosts_opt = cmd->add_flag("--no-ghosts", a.no_ghosts,
+                                "No ghost particles: layout A with boundary particles ([QW] Example 4; implied by aar-derivative)");
+  cmd->add_option("--u", a.u, "Test function: catalogue name (cos-pi, sin-pi, exp-x, ...) or expression in x,y,z; default cos-pi");
+  cmd->add_option("--exact", a.exact, "Expected operator value as expression(s), ';' between gradient components; default: exact derivatives of --u");
+  cmd->add_option("--a", a.a, "Coefficient a(x) for div-a-grad: name or expression; default one-plus-r2");
+  cmd->add_option("--format", a.out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a.out.output, "Write the table to this file instead of stdout");
+  cmd->add_option("--plot", a.out.plot, "Also plot error_inf against dx (log-log) into this PNG file");
+  cmd->add_option("--cloud-file", a.cloud_file,
+                  "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., VTU/VTP, or Gmsh .msh) against the exact derivatives of --u: "
+                  "error over interior particles, and over the tagged boundary particles apart");
+  add_spe_patch_options(cmd, a.patch);
+  cmd->add_option("--at", a.at, "Evaluate gpm's interpolant, gradient and Laplacian ([IM] (2)-(4)) at the points of this "
+                  "CSV file (columns x[,y[,z]]) against the exact derivatives of --u; particles from --cloud/--n (one "
+                  "value) on the unit box with ghost layers, or --cloud-file");
+  cmd->add_option("--weight", a.im_weights, "im-table1: [IM] weights pi1-3, grad1-3, delta1-3")->capture_default_str();
+  cmd->add_option("--m", a.im_m, "im-table1: regularity orders m of the h rule h = 2.6 * 2^(5/m-5) dx^(1/m)")->capture_default_str();
+  cmd->add_option("--levels", a.im_levels, "im-table1: dx = 2^-level")->capture_default_str();
+  cmd->add_option("--points", a.im_points, "im-table1: evaluation points per level (a seeded random subset of the "
+                  "particles in Omega when there are more)")->capture_default_str();
+  cmd->add_option("--volumes", a.im_volumes, "im-table1: particle volumes uniform (|Omega_H| / N, [IM] 5.4) or cells "
+                  "(the lattice cells stretched to the boundary of Omega_H: dx^d inside, a control without the "
+                  "volume bias)")->capture_default_str();
+}
+
+// The refinement study of a built-in problem (qw-trunc, unit-box, aar-derivative).
+void operator_study(const OperatorArgs& a) {
+  OperatorStudyParams p;
+  p.problem = a.problem;
+  const ProblemDefaults def = problem_defaults(p.problem);
+  p.dim = a.dim_opt->count() ? a.dim : def.dim;
+  p.methods = parse_name_list(a.methods, "--method");
+  p.method_options = parse_method_options(a.method_opts, p.methods);
+  note_row_forms(p.methods, p.method_options, StencilUse::Values);
+  p.op = parse_operator(a.op);
+  p.cloud = parse_cloud_family(a.cloud);
+  p.n = parse_int_list(a.n, "--n");
+  p.seed = a.seed;
+  p.h_factor = a.h_factor_opt->count() ? a.h_factor : def.h_factor;
+  p.h_mode = parse_smoothing_mode(a.h_mode);
+  p.h_knn = a.h_knn;
+  check_h_knn_applies(a.h_knn_opt, a.h_mode);
+  p.delta = a.delta_opt->count() ? a.delta : def.delta;
+  p.ghosts = a.ghosts_opt->count() ? !a.no_ghosts : def.ghosts;
+  p.regular_layer = a.regular_layer;
+  p.kernel = a.kernel_opt->count() ? parse_kernel(a.kernel) : def.kernel;
+  p.u = a.u;
+  p.exact = a.exact;
+  p.a = a.a;
+  Progress progress;
+  p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
+  const OperatorStudyResult r = run_operator_study(p);
+  emit(to_table(r), a.out, metadata_json(r), "dx", "error_inf", "method",
+       a.problem + " " + a.op + " " + a.cloud + " " + std::to_string(p.dim) + "D");
+}
+
+// Which mode the options ask for; each refuses the options of the others.
+void run_operator(OperatorArgs& a, const CLI::App& cmd) {
+  validate_output(a.out);
+  if (!a.at.empty()) return operator_at_points(a, cmd);
+  if (a.problem == "im-table1") return operator_im_table1(a, cmd);
+  for (const char* opt : {"--weight", "--m", "--levels", "--points", "--volumes"})
+    check<ConfigError>(cmd.count(opt) == 0, opt, " applies to --problem im-table1 only");
+  if (a.problem == "spe-patch") {
+    check<ConfigError>(a.cloud_file.empty(), "--cloud-file does not apply to --problem spe-patch");
+    return run_spe_patch_command(a.patch, cmd, a.dim, a.h_factor, a.delta, a.seed, a.out);
+  }
+  for (const char* opt : {"--test", "--exponent", "--rotated", "--variant", "--profile"})
+    check<ConfigError>(cmd.count(opt) == 0, opt, " applies to --problem spe-patch only");
+  if (!a.cloud_file.empty()) return operator_on_cloud_file(a, cmd);
+  operator_study(a);
+}
 }  // namespace
 
 void add_operator_command(CLI::App& app) {
   auto a = std::make_shared<OperatorArgs>();
   auto* cmd = app.add_subcommand("operator", "Truncation-error study: method x operator x cloud x refinement list");
-  cmd->add_option("--problem", a->problem,
-                  "qw-trunc ([QW] Ex. 1,2,4 on [-1,1]^d), im-table1 ([IM] Table 1, gpm weights; see --weight), unit-box ([0,1]^d), aar-derivative ([AAR] e^x on [0,1], "
-                  "all particles) or spe-patch ([SPE] §4 operator tests along a cross-section, see --test)")
-      ->capture_default_str();
-  a->dim_opt = cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3 (aar-derivative: 1)")->capture_default_str();
-  cmd->add_option("--method", a->methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
-  cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value for one method (repeatable)");
-  cmd->add_option("--operator", a->op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative")
-      ->capture_default_str();
-  cmd->add_option("--cloud", a->cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
-  cmd->add_option("--n", a->n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed (perturbed, centroids)")->check(seed_validator())->capture_default_str();
-  a->h_factor_opt = cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx (aar-derivative: 6)")
-                        ->capture_default_str();
-  cmd->add_option("--h-mode", a->h_mode, "Support radius rule: fixed (kappa dx), covering (kappa max(dx, r_N)), knn (per particle)")
-      ->capture_default_str();
-  a->h_knn_opt = cmd->add_option("--h-knn", a->h_knn, "k for --h-mode knn: h_i = kappa * distance to the k-th neighbour (0: 2d)")
-      ->capture_default_str();
-  a->delta_opt = cmd->add_option("--delta", a->delta, "Perturbation amplitude in units of dx (aar-derivative: 0.25)")
-                     ->capture_default_str();
-  a->kernel_opt = cmd->add_option("--kernel", a->kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4 "
-                                                         "(aar-derivative: gaussian)")
-                      ->capture_default_str();
-  cmd->add_option("--regular-layer", a->regular_layer,
-                  "Perturbed clouds: particles within this many dx of a face move only tangentially")
-      ->capture_default_str();
-  a->ghosts_opt = cmd->add_flag("--no-ghosts", a->no_ghosts,
-                                "No ghost particles: layout A with boundary particles ([QW] Example 4; implied by aar-derivative)");
-  cmd->add_option("--u", a->u, "Test function: catalogue name (cos-pi, sin-pi, exp-x, ...) or expression in x,y,z; default cos-pi");
-  cmd->add_option("--exact", a->exact, "Expected operator value as expression(s), ';' between gradient components; default: exact derivatives of --u");
-  cmd->add_option("--a", a->a, "Coefficient a(x) for div-a-grad: name or expression; default one-plus-r2");
-  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
-  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
-  cmd->add_option("--plot", a->out.plot, "Also plot error_inf against dx (log-log) into this PNG file");
-  cmd->add_option("--cloud-file", a->cloud_file,
-                  "Evaluate the operator on this cloud file (CSV x,y,z,tag,..., VTU/VTP, or Gmsh .msh) against the exact derivatives of --u: "
-                  "error over interior particles, and over the tagged boundary particles apart");
-  add_spe_patch_options(cmd, a->patch);
-  cmd->add_option("--at", a->at, "Evaluate gpm's interpolant, gradient and Laplacian ([IM] (2)-(4)) at the points of this "
-                  "CSV file (columns x[,y[,z]]) against the exact derivatives of --u; particles from --cloud/--n (one "
-                  "value) on the unit box with ghost layers, or --cloud-file");
-  cmd->add_option("--weight", a->im_weights, "im-table1: [IM] weights pi1-3, grad1-3, delta1-3")->capture_default_str();
-  cmd->add_option("--m", a->im_m, "im-table1: regularity orders m of the h rule h = 2.6 * 2^(5/m-5) dx^(1/m)")->capture_default_str();
-  cmd->add_option("--levels", a->im_levels, "im-table1: dx = 2^-level")->capture_default_str();
-  cmd->add_option("--points", a->im_points, "im-table1: evaluation points per level (a seeded random subset of the "
-                  "particles in Omega when there are more)")->capture_default_str();
-  cmd->add_option("--volumes", a->im_volumes, "im-table1: particle volumes uniform (|Omega_H| / N, [IM] 5.4) or cells "
-                  "(the lattice cells stretched to the boundary of Omega_H: dx^d inside, a control without the "
-                  "volume bias)")->capture_default_str();
-  cmd->callback([a, cmd] {
-    validate_output(a->out);
-    if (!a->at.empty()) return operator_at_points(*a, *cmd);
-    if (a->problem == "im-table1") return operator_im_table1(*a, *cmd);
-    for (const char* opt : {"--weight", "--m", "--levels", "--points", "--volumes"})
-      check<ConfigError>(cmd->count(opt) == 0, opt, " applies to --problem im-table1 only");
-    if (a->problem == "spe-patch") {
-      check<ConfigError>(a->cloud_file.empty(), "--cloud-file does not apply to --problem spe-patch");
-      return run_spe_patch_command(a->patch, *cmd, a->dim, a->h_factor, a->delta, a->seed, a->out);
-    }
-    for (const char* opt : {"--test", "--exponent", "--rotated", "--variant", "--profile"})
-      check<ConfigError>(cmd->count(opt) == 0, opt, " applies to --problem spe-patch only");
-    if (!a->cloud_file.empty()) return operator_on_cloud_file(*a, *cmd);
-    OperatorStudyParams p;
-    p.problem = a->problem;
-    const ProblemDefaults def = problem_defaults(p.problem);
-    p.dim = a->dim_opt->count() ? a->dim : def.dim;
-    p.methods = parse_name_list(a->methods, "--method");
-    p.method_options = parse_method_options(a->method_opts, p.methods);
-    note_row_forms(p.methods, p.method_options, StencilUse::Values);
-    p.op = parse_operator(a->op);
-    p.cloud = parse_cloud_family(a->cloud);
-    p.n = parse_int_list(a->n, "--n");
-    p.seed = a->seed;
-    p.h_factor = a->h_factor_opt->count() ? a->h_factor : def.h_factor;
-    p.h_mode = parse_smoothing_mode(a->h_mode);
-    p.h_knn = a->h_knn;
-    check_h_knn_applies(a->h_knn_opt, a->h_mode);
-    p.delta = a->delta_opt->count() ? a->delta : def.delta;
-    p.ghosts = a->ghosts_opt->count() ? !a->no_ghosts : def.ghosts;
-    p.regular_layer = a->regular_layer;
-    p.kernel = a->kernel_opt->count() ? parse_kernel(a->kernel) : def.kernel;
-    p.u = a->u;
-    p.exact = a->exact;
-    p.a = a->a;
-    Progress progress;
-    p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
-    const OperatorStudyResult r = run_operator_study(p);
-    emit(to_table(r), a->out, metadata_json(r), "dx", "error_inf", "method",
-         a->problem + " " + a->op + " " + a->cloud + " " + std::to_string(p.dim) + "D");
-  });
+  add_operator_options(cmd, *a);
+  cmd->callback([a, cmd] { run_operator(*a, *cmd); });
 }
 
 }  // namespace vrsph::cli

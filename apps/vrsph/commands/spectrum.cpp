@@ -27,6 +27,106 @@ nlohmann::ordered_json finite_or_null(const std::vector<Real>& v) {
   for (Real x : v) a.push_back(std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json());
   return a;
 }
+
+SpectrumParams spectrum_params(const SpectrumArgs& a, const std::string& method, const MethodOptions& options,
+                               CloudFamily family) {
+  SpectrumParams p;
+  p.method = method;
+  p.options = options;
+  p.n = a.n;
+  p.kernel = parse_kernel(a.kernel);
+  p.h_factor = a.h_factor;
+  p.cloud = family;
+  p.delta = a.delta;
+  p.seed = a.seed;
+  return p;
+}
+
+// Dense O(n^3) eigenproblems: refuse what does not fit, say how long the rest takes. A long
+// run is timed first on a quarter of the intervals (a 64th of one problem's work); the
+// caller re-times each problem as it finishes, so the progress bar and the estimate follow
+// this machine's speed now, not a fixed rate. Returns the seconds per problem.
+double seconds_per_spectrum(const SpectrumArgs& a, const SpectrumParams& first, std::size_t problems) {
+  check_spectrum_size(a.n);
+  double each = dense_spectrum_seconds(a.n);
+  if (each * static_cast<double>(problems) > 2) each = calibrated_spectrum_seconds(first);
+  const double total = each * static_cast<double>(problems);
+  if (total > 10)
+    std::cerr << "vrsph: spectrum: " << problems << " dense eigenvalue problems of " << a.n - 1 << " unknowns, about "
+              << static_cast<long long>(std::ceil(total)) << " s in all (O(n^3), timed on " << std::max(3, a.n / 4)
+              << " intervals)\n";
+  return each;
+}
+
+void add_spectrum_rows(Table& t, const std::string& name, const std::vector<Real>& ratio) {
+  for (std::size_t k = 0; k < ratio.size(); ++k)
+    t.add_row({{"method", name},
+               {"mode", static_cast<long long>(k + 1)},
+               {"n_over_N", static_cast<Real>(k + 1) / static_cast<Real>(ratio.size())},
+               {"omega_ratio", ratio[k]}});
+}
+
+// What a spectrum says a user should know: unstable modes, complex eigenvalues.
+void collect_spectrum_warnings(const std::string& m, const Spectrum& s, std::vector<std::string>& warnings) {
+  if (s.negative > 0)
+    warnings.push_back(detail::concat(m, ": ", s.negative, " eigenvalue(s) of -K with negative real part (unstable modes, "
+                                         "omega_ratio null)"));
+  if (s.max_imag_relative > 1e-8)
+    warnings.push_back(detail::concat(m, ": complex eigenvalues, max |Im|/|lambda| = ", s.max_imag_relative,
+                                      " (sorted by real part)"));
+}
+
+void run_spectrum(const SpectrumArgs& a) {
+  validate_output(a.out);
+  const auto methods = parse_name_list(a.methods, "--method");
+  const auto options = parse_method_options(a.method_opts, methods);
+  note_row_forms(methods, options, StencilUse::Values);
+  const CloudFamily family = parse_cloud_family(a.cloud);
+  check<ConfigError>(family == CloudFamily::Uniform || family == CloudFamily::Perturbed,
+                     "vrsph spectrum: --cloud must be uniform or perturbed");
+  Table t;
+  t.columns = {"method", "mode", "n_over_N", "omega_ratio"};
+  nlohmann::ordered_json meta, spectra = nlohmann::ordered_json::object(), imag = nlohmann::ordered_json::object();
+  std::vector<std::string> warnings;
+  const auto params_of = [&](const std::string& m) { return spectrum_params(a, m, options_for(options, m), family); };
+  double each = seconds_per_spectrum(a, params_of(methods.front()), methods.size() + 1);
+  Progress progress;
+  double done = 0;
+  const double steps = static_cast<double>(methods.size() + 1);
+  for (const auto& m : methods) {
+    Spectrum s;
+    {
+      const auto start = std::chrono::steady_clock::now();
+      const EstimatedProgress ticker(progress, m, done / steps, (done + 1) / steps, each);
+      s = vibration_spectrum(params_of(m));
+      each = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    ++done;
+    if (meta.find("omega_ratio") == meta.end()) meta["omega_ratio"] = finite_or_null(s.omega_ratio);
+    spectra[m] = finite_or_null(s.omega_ratio);
+    imag[m] = s.max_imag_relative;
+    collect_spectrum_warnings(m, s, warnings);
+    add_spectrum_rows(t, m, s.omega_ratio);
+  }
+  Spectrum fem;
+  {
+    const EstimatedProgress ticker(progress, "fem-lumped", done / steps, 1.0, each);
+    fem = fem_lumped_spectrum(a.n);
+  }
+  add_spectrum_rows(t, "fem-lumped", fem.omega_ratio);
+  meta["fem_ratio"] = finite_or_null(fem.omega_ratio);
+  meta["spectra"] = spectra;
+  meta["max_imag_relative"] = imag;
+  meta["n"] = a.n;
+  meta["unknowns"] = a.n - 1;
+  meta["kernel"] = a.kernel;
+  meta["h_factor"] = a.h_factor;
+  meta["cloud"] = a.cloud;
+  meta["warnings"] = warnings;
+  for (const auto& w : warnings) std::cerr << "vrsph: warning: " << w << '\n';
+  emit(t, a.out, meta.dump(), "n_over_N", "omega_ratio", "method",
+       "normalised spectrum, " + std::to_string(a.n - 1) + " unknowns", false);
+}
 }  // namespace
 
 void add_spectrum_command(CLI::App& app) {
@@ -46,92 +146,7 @@ void add_spectrum_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Plot omega_h/omega against n/N (PNG)");
-  cmd->callback([a] {
-    validate_output(a->out);
-    const auto methods = parse_name_list(a->methods, "--method");
-    const auto options = parse_method_options(a->method_opts, methods);
-    note_row_forms(methods, options, StencilUse::Values);
-    const CloudFamily family = parse_cloud_family(a->cloud);
-    check<ConfigError>(family == CloudFamily::Uniform || family == CloudFamily::Perturbed,
-                       "vrsph spectrum: --cloud must be uniform or perturbed");
-    Table t;
-    t.columns = {"method", "mode", "n_over_N", "omega_ratio"};
-    nlohmann::ordered_json meta, spectra = nlohmann::ordered_json::object(), imag = nlohmann::ordered_json::object();
-    const auto add_rows = [&t](const std::string& name, const std::vector<Real>& ratio) {
-      for (std::size_t k = 0; k < ratio.size(); ++k)
-        t.add_row({{"method", name},
-                   {"mode", static_cast<long long>(k + 1)},
-                   {"n_over_N", static_cast<Real>(k + 1) / static_cast<Real>(ratio.size())},
-                   {"omega_ratio", ratio[k]}});
-    };
-    std::vector<std::string> warnings;
-    // Dense O(n^3) eigenproblems: refuse what does not fit, say how long the rest takes. A
-    // long run is timed first on a quarter of the intervals (a 64th of one problem's work),
-    // and each finished problem re-times the ones left: the progress bar and the estimate
-    // follow this machine's speed now, not a fixed rate.
-    check_spectrum_size(a->n);
-    const auto params_of = [&](const std::string& m) {
-      SpectrumParams p;
-      p.method = m;
-      p.options = options_for(options, m);
-      p.n = a->n;
-      p.kernel = parse_kernel(a->kernel);
-      p.h_factor = a->h_factor;
-      p.cloud = family;
-      p.delta = a->delta;
-      p.seed = a->seed;
-      return p;
-    };
-    double each = dense_spectrum_seconds(a->n);
-    if (each * static_cast<double>(methods.size() + 1) > 2) each = calibrated_spectrum_seconds(params_of(methods.front()));
-    const double total = each * static_cast<double>(methods.size() + 1);
-    if (total > 10)
-      std::cerr << "vrsph: spectrum: " << methods.size() + 1 << " dense eigenvalue problems of " << a->n - 1
-                << " unknowns, about " << static_cast<long long>(std::ceil(total)) << " s in all (O(n^3), timed on "
-                << std::max(3, a->n / 4) << " intervals)\n";
-    Progress progress;
-    double done = 0;
-    const double steps = static_cast<double>(methods.size() + 1);
-    for (const auto& m : methods) {
-      const SpectrumParams p = params_of(m);
-      Spectrum s;
-      {
-        const auto start = std::chrono::steady_clock::now();
-        const EstimatedProgress ticker(progress, m, done / steps, (done + 1) / steps, each);
-        s = vibration_spectrum(p);
-        each = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      }
-      ++done;
-      if (meta.find("omega_ratio") == meta.end()) meta["omega_ratio"] = finite_or_null(s.omega_ratio);
-      spectra[m] = finite_or_null(s.omega_ratio);
-      imag[m] = s.max_imag_relative;
-      if (s.negative > 0)
-        warnings.push_back(detail::concat(m, ": ", s.negative, " eigenvalue(s) of -K with negative real part (unstable modes, "
-                                             "omega_ratio null)"));
-      if (s.max_imag_relative > 1e-8)
-        warnings.push_back(detail::concat(m, ": complex eigenvalues, max |Im|/|lambda| = ", s.max_imag_relative,
-                                          " (sorted by real part)"));
-      add_rows(m, s.omega_ratio);
-    }
-    Spectrum fem;
-    {
-      const EstimatedProgress ticker(progress, "fem-lumped", done / steps, 1.0, each);
-      fem = fem_lumped_spectrum(a->n);
-    }
-    add_rows("fem-lumped", fem.omega_ratio);
-    meta["fem_ratio"] = finite_or_null(fem.omega_ratio);
-    meta["spectra"] = spectra;
-    meta["max_imag_relative"] = imag;
-    meta["n"] = a->n;
-    meta["unknowns"] = a->n - 1;
-    meta["kernel"] = a->kernel;
-    meta["h_factor"] = a->h_factor;
-    meta["cloud"] = a->cloud;
-    meta["warnings"] = warnings;
-    for (const auto& w : warnings) std::cerr << "vrsph: warning: " << w << '\n';
-    emit(t, a->out, meta.dump(), "n_over_N", "omega_ratio", "method",
-         "normalised spectrum, " + std::to_string(a->n - 1) + " unknowns", false);
-  });
+  cmd->callback([a] { run_spectrum(*a); });
 }
 
 }  // namespace vrsph::cli
