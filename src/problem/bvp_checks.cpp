@@ -48,7 +48,6 @@ void check_chunk(const BoundaryValueProblem& p, const BvpSolveOptions& o, bool t
   check_options(o);
   check<ConfigError>(!distributed || p.pinned < 0, "BoundaryValueProblem::pinned names a particle of one rank's "
                      "part: with several ranks use fix_constant");
-  check<ConfigError>(!distributed || !o.keep_matrices, "keep_matrices is not available for a distributed solve");
 }
 }  // namespace
 

@@ -24,6 +24,11 @@ struct ProblemFields {
   bool a = false, grad_a = false, tensor = false, q = false, robin = false;
 };
 
+/// Supports away from a row that its weights read (Method::reach), or further when the
+/// method estimates ∇a itself for this use (Method::estimated_gradient_reach): the halo's
+/// width in supports.
+int halo_reach(const Method& method, StencilUse use, bool coefficient_gradient_given);
+
 /// The support radius: h, per-particle radii (knn), the spacing it came from.
 struct Support {
   Real spacing = 0, h = 0, covering_radius = 0;
@@ -88,6 +93,10 @@ LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& rows
                                  const LocalData& data, const BoundaryValueProblem& p, const ProblemFields& given,
                                  BvpSolution& s);
 Eigen::VectorXd solve_system(const Partition& part, const LinearSystem& sys, const BvpSolveOptions& o, BvpSolution& s);
+/// The operator rows a caller keeps (BvpSolveOptions::keep_matrices), rows and columns in
+/// the whole cloud's particle numbers: serial, every row; under MPI the rows this rank owns
+/// (each row on exactly one rank, the others empty).
+SparseMatrix kept_operator_rows(const Partition& part, const Stencil& L);
 /// u and the local residuals back in the chunk's order; the Neumann solvability warning.
 void report_solution(const Partition& part, const LinearSystem& sys, const Eigen::VectorXd& x, const LocalData& data,
                      Real spacing, BvpSolution& s);

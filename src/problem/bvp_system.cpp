@@ -7,6 +7,7 @@
 #include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/solve/solver.hpp>
+#include <vrsph/stencil/apply.hpp>
 #include "bvp_pipeline.hpp"
 
 namespace vrsph::detail {
@@ -165,6 +166,21 @@ LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& r, c
   s.nnz_per_row = static_cast<Real>(sum_over_ranks(part.comm(), static_cast<long long>(sys.A.nonZeros()))) /
                   static_cast<Real>(std::max<Index>(s.unknowns, 1));
   return sys;
+}
+
+SparseMatrix kept_operator_rows(const Partition& part, const Stencil& L) {
+  if (!part.distributed()) return as_eigen(L);
+  const SparseView local = as_eigen(L);
+  std::vector<Eigen::Triplet<Real>> entries;
+  entries.reserve(static_cast<std::size_t>(local.nonZeros()));
+  for (Index i = 0; i < part.local_size(); ++i) {
+    if (!part.owned()[static_cast<std::size_t>(i)]) continue;
+    for (SparseView::InnerIterator it(local, i); it; ++it)
+      entries.emplace_back(static_cast<Index>(part.global_id(i)), static_cast<Index>(part.global_id(static_cast<Index>(it.col()))), it.value());
+  }
+  SparseMatrix out(part.global_size(), part.global_size());
+  out.setFromTriplets(entries.begin(), entries.end());
+  return out;
 }
 
 Eigen::VectorXd solve_system(const Partition& part, const LinearSystem& sys, const BvpSolveOptions& o, BvpSolution& s) {

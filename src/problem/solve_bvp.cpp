@@ -87,7 +87,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   // neighbours (all timed as the neighbour stage, the partition's share in `distribution`).
   Stopwatch watch;
   detail::Support support;
-  const auto part = detail::choose_support(p.cloud, o, method->reach(), support);
+  const auto part = detail::choose_support(p.cloud, o, detail::halo_reach(*method, StencilUse::System, given.grad_a), support);
   const detail::LocalData data = detail::local_data(*part, p, given);
   record_support(*part, support, s);
   const detail::RowMasks masks = detail::row_masks(*part);
@@ -113,7 +113,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   watch.restart();
   LinearSystem sys = detail::assemble_owned_rows(*part, rows, masks, data, p, given, s);
   // The stencils are in the system now: keep what the report needs and free them.
-  if (o.keep_matrices) s.operator_rows = as_eigen(rows.L);
+  if (o.keep_matrices) s.operator_rows = detail::kept_operator_rows(*part, rows.L);
   if (any_rank(o.communicator, !rows.L.wall_flux.empty()))  // balance rows (a rank may have no Neumann row)
     s.wall_flux = rows.L.wall_flux.empty() ? Field(Field::Zero(part->local_size()))
                                            : Field(Eigen::Map<const Field>(rows.L.wall_flux.data(), part->local_size()));

@@ -40,6 +40,9 @@ void check_params(const HeterogeneousStudyParams& p) {
   check<ConfigError>(std::isfinite(k.rtol) && k.rtol > 0 && k.rtol < 1, "Krylov tolerance must be in (0, 1), got ",
                      k.rtol);
   check<ConfigError>(k.max_iterations >= 1, "Krylov iteration cap must be >= 1, got ", k.max_iterations);
+  check<ConfigError>(k.preconditioners.empty() || !p.communicator.distributed(),
+                     "the Krylov study of the heterogeneous problems runs on one rank (it solves each assembled "
+                     "system again serially); drop the Krylov preconditioners or run without mpirun");
 }
 
 // Peak memory of one method's run per particle: the neighbour list, the stencil and the
@@ -116,7 +119,9 @@ struct CutFluxes {
   Real mean = 0, spread = 0;
 };
 
-CutFluxes cut_fluxes(const PointCloud& cloud, const SparseMatrix& L, const Field& u, int axis, int n, Real h) {
+// Distributed: each rank's L holds the rows it owned; the sums are completed over the ranks.
+CutFluxes cut_fluxes(const PointCloud& cloud, const SparseMatrix& L, const Field& u, int axis, int n, Real h,
+                     const Communicator& comm) {
   const Real dx = 1.0 / n, volume = std::pow(dx, cloud.dim);
   const Real a = std::min(h, 0.25), b = 1 - a;  // the averaging window (a quarter of the domain at least)
   // Cross-sections: between the inlet particles and the first layer (dx/4), between layers
@@ -138,6 +143,10 @@ CutFluxes cut_fluxes(const PointCloud& cloud, const SparseMatrix& L, const Field
       for (std::size_t k = 0; k < at.size(); ++k)
         if (at[k] > lo && at[k] < hi) rate[k] += sign * f;
     }
+  }
+  if (comm.distributed()) {
+    out.mean = sum_over_ranks(comm, out.mean);
+    sum_over_ranks(comm, rate);
   }
   out.mean /= b - a;
   const auto [mn, mx] = std::minmax_element(rate.begin(), rate.end());
@@ -198,6 +207,19 @@ HeterogeneousRun tpfa_run(const PermeabilityField& field, const TpfaSolution& re
   return run;
 }
 
+// solve() over o.communicator, each rank passing an equal slice of the particles; u comes
+// back at every particle on every rank.
+BvpSolution solve_on_ranks(const BoundaryValueProblem& whole, const BvpSolveOptions& o) {
+  const Communicator& comm = o.communicator;
+  if (!comm.distributed()) return solve(whole, o);
+  const Index N = whole.cloud.size(), ranks = comm.size(), r = comm.rank();
+  BvpSolution s = solve(part_of(whole, N * r / ranks, N * (r + 1) / ranks), o);
+  const std::vector<double> mine(s.u.data(), s.u.data() + s.u.size());
+  const std::vector<double> all = gather_over_ranks(comm, mine);
+  s.u = Eigen::Map<const Field>(all.data(), static_cast<Index>(all.size()));
+  return s;
+}
+
 // A method's solve on the particles: the permeability as a scalar (isotropic fields), a
 // tensor (methods that take one) or its harmonic mean.
 BvpSolution method_solve(const HeterogeneousStudyParams& params, const PermeabilityField& field,
@@ -228,8 +250,9 @@ BvpSolution method_solve(const HeterogeneousStudyParams& params, const Permeabil
   o.infeasible_tolerance = params.infeasible_tolerance;
   o.keep_matrices = true;
   o.label = concat(method, " ", params.problem);
+  o.communicator = params.communicator;
   Stopwatch watch;
-  BvpSolution s = solve(bp, o);
+  BvpSolution s = solve_on_ranks(bp, o);
   run.seconds = watch.seconds();
   run.particles = s.particles;
   run.unknowns = s.unknowns;
@@ -303,7 +326,7 @@ HeterogeneousStudyResult run_heterogeneous_study(const HeterogeneousStudyParams&
       const BvpSolution s = method_solve(params, field, pp, method, run);
       res.warnings.insert(res.warnings.end(), s.warnings.begin(), s.warnings.end());
       compare_with_tpfa(pp, s.u, ref.pressure, run);
-      const CutFluxes q = cut_fluxes(pp.cloud, s.operator_rows, s.u, params.flow_axis, field.n, s.h);
+      const CutFluxes q = cut_fluxes(pp.cloud, s.operator_rows, s.u, params.flow_axis, field.n, s.h, params.communicator);
       run.outlet_flux = q.mean;
       run.flux_spread = q.spread;
       if (params.keep_fields) run.u = s.u;

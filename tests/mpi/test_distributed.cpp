@@ -20,6 +20,7 @@
 #include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
 #include <vrsph/problem/diffusion.hpp>
+#include <vrsph/reproduce/heterogeneous_study.hpp>
 
 using namespace vrsph;
 
@@ -59,8 +60,10 @@ std::pair<Index, Index> my_slice(Index total) {
 }
 
 // Data of u = sin(x) exp(y) + z^2 with a = 1 + x y (f = div(a grad u) by hand is tedious:
-// the solution need not be exact, only equal in serial and in parallel).
-BoundaryValueProblem problem_on(const PointCloud& cloud) {
+// the solution need not be exact, only equal in serial and in parallel). `wavy`: a = 2 +
+// sin(5x) cos(3y), which no quadratic fit reproduces: ∇a estimated at a halo particle from a
+// cut support differs from the serial estimate (VRSPH compact rows read it at neighbours).
+BoundaryValueProblem problem_on(const PointCloud& cloud, bool wavy = false) {
   BoundaryValueProblem p;
   p.cloud = cloud;
   const Index n = cloud.size();
@@ -70,7 +73,7 @@ BoundaryValueProblem problem_on(const PointCloud& cloud) {
   p.q = Field::Zero(n);
   for (Index i = 0; i < n; ++i) {
     const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-    p.a[i] = 1 + x[0] * x[1];
+    p.a[i] = wavy ? 2 + std::sin(5 * x[0]) * std::cos(3 * x[1]) : 1 + x[0] * x[1];
     p.f[i] = std::cos(3 * x[0]) - x[1];
     p.g[i] = std::sin(x[0]) * std::exp(x[1]) + x[2] * x[2];
     if (cloud.has_normals()) p.q[i] = cloud.normals[static_cast<std::size_t>(i)].sum();
@@ -199,6 +202,23 @@ TEST(DistributedSolve, EqualsSerialForEveryFluxMethod) {
   }
 }
 
+// A coefficient given only at the particles, not a quadratic: the methods that fit ∇a
+// themselves (VRSPH's default compact rows at the neighbours, FPM at the row) must see the
+// same supports as in serial, so the halo reaches one support further for them.
+TEST(DistributedSolve, EstimatedCoefficientGradientAsSerial) {
+  for (const char* method : {"vrsph", "fpm"}) {
+    PointCloud full = perturbed_box(2, 24, 5);
+    retag_neumann_faces(full, parse_box_faces({"y1"}, 2), 1.0 / 24);
+    const BoundaryValueProblem whole = problem_on(full, true);
+    const BvpSolveOptions serial = serial_options(method, 24);
+    const BvpSolution ref = solve(whole, serial);
+    const auto [s, b] = solve_my_part(whole, serial);
+    const Real scale = ref.u.cwiseAbs().maxCoeff();
+    for (Index k = 0; k < s.u.size(); ++k)
+      ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-10 * scale) << method << " particle " << b + k;
+  }
+}
+
 TEST(DistributedSolve, PureNeumannWithTheConstantFixed) {
   PointCloud full = perturbed_box(2, 16, 4);
   retag_neumann_faces(full, parse_box_faces({"all"}, 2), 1.0 / 16);
@@ -264,6 +284,36 @@ TEST(DistributedStudy, TheStudyTableEqualsTheSerialOne) {
     EXPECT_EQ(r.rows[k].first.particles, ref.rows[k].first.particles);
     EXPECT_EQ(r.rows[k].m_matrix_all, ref.rows[k].m_matrix_all);
   }
+}
+
+// [SPE] §5.3 over the ranks: every particle method's solve distributed, the TPFA reference
+// and the table's figures (errors against TPFA, fluxes through the cross-sections, which sum
+// each rank's operator rows) as in serial; the Krylov study stays serial.
+TEST(DistributedStudy, HeterogeneousStudyAsSerial) {
+  HeterogeneousStudyParams p;
+  p.problem = "spe-lognormal";
+  p.n = 16;
+  p.methods = {"vrsph", "m-sph", "tpfa"};
+  p.solver = direct_petsc();
+  p.keep_fields = true;
+  const HeterogeneousStudyResult ref = run_heterogeneous_study(p);
+  p.communicator = world();
+  const HeterogeneousStudyResult r = run_heterogeneous_study(p);
+  ASSERT_EQ(r.runs.size(), ref.runs.size());
+  for (std::size_t k = 0; k < r.runs.size(); ++k) {
+    const HeterogeneousRun &a = r.runs[k], &e = ref.runs[k];
+    EXPECT_NEAR(a.error_rel_max, e.error_rel_max, 1e-9 * e.error_rel_max) << e.method;
+    EXPECT_NEAR(a.error_rel_rms, e.error_rel_rms, 1e-9 * e.error_rel_rms) << e.method;
+    EXPECT_NEAR(a.outlet_flux, e.outlet_flux, 1e-9 * std::abs(e.outlet_flux)) << e.method;
+    EXPECT_NEAR(a.flux_spread, e.flux_spread, 1e-8) << e.method;
+    EXPECT_EQ(a.m_matrix, e.m_matrix) << e.method;
+    EXPECT_EQ(a.monotone, e.monotone) << e.method;
+    EXPECT_EQ(a.unknowns, e.unknowns) << e.method;
+    ASSERT_EQ(a.u.size(), e.u.size()) << e.method;
+    if (e.u.size()) EXPECT_LT((a.u - e.u).cwiseAbs().maxCoeff(), 1e-10) << e.method;
+  }
+  p.krylov.preconditioners = {"jacobi"};
+  if (world().distributed()) EXPECT_THROW(run_heterogeneous_study(p), ConfigError);
 }
 
 // Every registered method with a div(a grad) stencil, in 1D (with a Neumann end) and 2D:

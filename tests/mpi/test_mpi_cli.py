@@ -79,6 +79,32 @@ class SameTables(unittest.TestCase):
                       "--solver", "petsc"], 1e-6, ranks=(2,), atol=1e-10)
 
 
+class HeterogeneousStudy(unittest.TestCase):
+    """vrsph study --problem spe-*: every particle method's solve over the ranks; the table
+    against TPFA as in serial (MUMPS on both sides), the fields written once by rank 0, and
+    the Krylov study refused (it re-solves each assembled system serially)."""
+
+    def test_channel_as_serial_and_fields_written_once(self):
+        args = ["study", "--problem", "spe-channel", "--n", "20", "--method", "vrsph,m-sph,tpfa", "--solver", "petsc",
+                "--petsc-options", DIRECT]
+        serial = run_json(0, *args)
+        with tempfile.TemporaryDirectory() as d:
+            par = run_json(2, *args, "--vtu", os.path.join(d, "fields.vtu"))
+            self.assertEqual(sorted(os.listdir(d)), ["fields.vtu"])
+        self.assertEqual(len(par["rows"]), len(serial["rows"]))
+        for a, b in zip(serial["rows"], par["rows"]):
+            self.assertEqual(a["method"], b["method"])
+            for key in ("unknowns", "mmatrix", "monotone"):
+                self.assertEqual(a[key], b[key], key)
+            for key in ("error_rel_vs_tpfa", "error_rms_rel_vs_tpfa", "outlet_flux", "flux_error_vs_tpfa"):
+                self.assertTrue(close(a[key], b[key], 1e-9, 1e-12), f"{a['method']} {key}: {b[key]} vs {a[key]}")
+
+    def test_krylov_study_refused(self):
+        out = run(2, "study", "--problem", "spe-channel", "--n", "12", "--krylov", "jacobi")
+        self.assertEqual(out.returncode, 2)
+        self.assertIn("runs on one rank", out.stderr)
+
+
 class Diffusion(unittest.TestCase):
     """vrsph diffuse on the ranks' slices: the serial error table (explicit steps with the Neumann
     block, the [SPE] plate; Crank-Nicolson with a direct parallel solve)."""

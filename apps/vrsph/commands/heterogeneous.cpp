@@ -84,15 +84,43 @@ void write_fields(const HeterogeneousStudyResult& r, const std::string& path) {
   write_vtu(path, cloud, arrays, VtuFormat::Binary);
 }
 
-}  // namespace
-
-void study_heterogeneous(const StudyArgs& a, const HeterogeneousArgs& h, const CLI::App& cmd) {
+// Options of the other studies that do not apply, and the field options of the other problems.
+void reject_foreign_options(const StudyArgs& a, const HeterogeneousArgs& h, const CLI::App& cmd) {
   for (const char* o : {"--cloud", "--delta", "--perturb-boundary", "--regular-layer", "--h-mode", "--h-knn", "--neumann",
                         "--q", "--robin", "--beta", "--fix-constant", "--u", "--a", "--mobility", "--layout", "--f", "--g", "--seeds",
                         "--on-infeasible", "--cloud-file-pattern", "--h", "--geometry"})
     check<ConfigError>(cmd.count(o) == 0, o, " does not apply to ", a.problem,
                        " (the particles are the cell centres of the permeability grid, layout B, with u = 1 at y = 0, "
                        "u = 0 at y = 1 and no flow elsewhere)");
+  const bool is_file = a.problem == "spe10";
+  for (const char* o : {"--perm-file", "--perm-grid", "--perm-subset"})
+    check<ConfigError>(is_file || cmd.count(o) == 0, o, " applies to --problem spe10 only");
+  for (const char* o : {"--contrast", "--channels"})
+    check<ConfigError>(a.problem == "spe-channel" || cmd.count(o) == 0, o, " applies to --problem spe-channel only");
+  for (const char* o : {"--sigma-ln", "--correlation-length"})
+    check<ConfigError>(a.problem == "spe-lognormal" || cmd.count(o) == 0, o, " applies to --problem spe-lognormal only");
+  check<ConfigError>(!is_file || cmd.count("--kz-ratio") == 0, "--kz-ratio does not apply to spe10 (k_z is in the file)");
+  for (const char* o : {"--krylov-restart", "--krylov-rtol", "--krylov-max-it", "--history", "--krylov-output"})
+    check<ConfigError>(!h.krylov.empty() || cmd.count(o) == 0, o, " needs --krylov");
+  check<ConfigError>(!h.krylov.empty() || a.out.plot.empty(), "--plot for ", a.problem,
+                     " draws the Krylov residual histories: it needs --krylov");
+}
+
+// spe10: the file's field on the chosen cells.
+PermeabilityField spe10_field(const HeterogeneousArgs& h, int dim) {
+  check<ConfigError>(!h.perm_file.empty(), "--problem spe10 needs --perm-file (SPE10's spe_perm.dat is not shipped: "
+                                           "R18; spe-channel and spe-lognormal are the built-in substitutes)");
+  PermeabilityFileLayout layout;
+  layout.dim = dim;
+  const auto grid = parse_int_list(h.perm_grid, "--perm-grid");
+  check<ConfigError>(grid.size() == 3, "--perm-grid needs three sizes I,J,K, got '", h.perm_grid, "'");
+  layout.grid = {grid[0], grid[1], grid[2]};
+  if (!h.perm_subset.empty()) layout.subset = parse_subset(h.perm_subset);
+  else if (dim == 3) layout.subset = {{{1, 60}, {1, 60}, {1, 60}}};
+  return read_permeability(h.perm_file, layout);
+}
+
+HeterogeneousStudyParams heterogeneous_params(const StudyArgs& a, const HeterogeneousArgs& h, const CLI::App& cmd) {
   const ProblemDefaults def = problem_defaults(a.problem);
   HeterogeneousStudyParams p;
   p.problem = a.problem;
@@ -120,61 +148,58 @@ void study_heterogeneous(const StudyArgs& a, const HeterogeneousArgs& h, const C
   p.channel.seed = p.lognormal.seed = a.seed;
   p.lognormal.sigma_ln = h.sigma_ln;
   p.lognormal.correlation_length = h.correlation_length;
-  const bool is_file = a.problem == "spe10";
-  for (const char* o : {"--perm-file", "--perm-grid", "--perm-subset"})
-    check<ConfigError>(is_file || cmd.count(o) == 0, o, " applies to --problem spe10 only");
-  for (const char* o : {"--contrast", "--channels"})
-    check<ConfigError>(a.problem == "spe-channel" || cmd.count(o) == 0, o, " applies to --problem spe-channel only");
-  for (const char* o : {"--sigma-ln", "--correlation-length"})
-    check<ConfigError>(a.problem == "spe-lognormal" || cmd.count(o) == 0, o, " applies to --problem spe-lognormal only");
-  check<ConfigError>(!is_file || cmd.count("--kz-ratio") == 0, "--kz-ratio does not apply to spe10 (k_z is in the file)");
-  if (is_file) {
-    check<ConfigError>(!h.perm_file.empty(), "--problem spe10 needs --perm-file (SPE10's spe_perm.dat is not shipped: "
-                                             "R18; spe-channel and spe-lognormal are the built-in substitutes)");
-    PermeabilityFileLayout layout;
-    layout.dim = p.dim;
-    const auto grid = parse_int_list(h.perm_grid, "--perm-grid");
-    check<ConfigError>(grid.size() == 3, "--perm-grid needs three sizes I,J,K, got '", h.perm_grid, "'");
-    layout.grid = {grid[0], grid[1], grid[2]};
-    if (!h.perm_subset.empty()) layout.subset = parse_subset(h.perm_subset);
-    else if (p.dim == 3) layout.subset = {{{1, 60}, {1, 60}, {1, 60}}};
-    p.field = read_permeability(h.perm_file, layout);
-  }
+  if (a.problem == "spe10") p.field = spe10_field(h, p.dim);
   if (!h.krylov.empty()) p.krylov.preconditioners = parse_name_list(h.krylov, "--krylov");
-  for (const char* o : {"--krylov-restart", "--krylov-rtol", "--krylov-max-it", "--history", "--krylov-output"})
-    check<ConfigError>(!h.krylov.empty() || cmd.count(o) == 0, o, " needs --krylov");
-  check<ConfigError>(!h.krylov.empty() || a.out.plot.empty(), "--plot for ", a.problem,
-                     " draws the Krylov residual histories: it needs --krylov");
   p.krylov.restart = h.restart;
   p.krylov.rtol = h.rtol;
   p.krylov.max_iterations = h.max_iterations;
   p.keep_fields = !h.vtu.empty();
-  Progress progress;
-  p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
-  const HeterogeneousStudyResult r = run_heterogeneous_study(p);
-  print_warnings(r.warnings, false);
+  p.communicator = communicator();
+  return p;
+}
+
+// The methods' table; the Krylov table (into the JSON, a file of its own, or after the
+// methods' table), the residual histories, their plot and the fields.
+void report_heterogeneous(const HeterogeneousStudyResult& r, const StudyArgs& a, const HeterogeneousArgs& h) {
   auto meta = nlohmann::ordered_json::parse(metadata_json(r));
   meta["peak_memory_mib"] = peak_memory_mib();
   OutputOptions out = a.out;
   out.plot.clear();
   out.key_columns = {"method", "coefficient", "error_rel_vs_tpfa", "error_rms_rel_vs_tpfa", "outlet_flux",
                      "flux_error_vs_tpfa", "mmatrix", "min_u", "max_u", "monotone", "solver_iterations"};
+  const bool root = communicator().is_root();  // rank 0 writes for all
+  const TableFormat format = parse_table_format(a.out.format);
   if (!r.krylov.empty()) {
-    const std::string text = format_table(krylov_table(r), parse_table_format(a.out.format));
-    if (!h.krylov_output.empty()) write_file(h.krylov_output, "Krylov study table", [&](std::ostream& f) { f << text; });
-    else if (parse_table_format(a.out.format) == TableFormat::Json) meta["krylov_rows"] = nlohmann::ordered_json::parse(text)["rows"];
+    const std::string text = format_table(krylov_table(r), format);
+    if (!h.krylov_output.empty()) {
+      if (root) write_file(h.krylov_output, "Krylov study table", [&](std::ostream& f) { f << text; });
+    } else if (format == TableFormat::Json) {
+      meta["krylov_rows"] = nlohmann::ordered_json::parse(text)["rows"];
+    }
   }
   emit(to_table(r), out, meta.dump(), "", "", "", "");
-  if (!r.krylov.empty() && h.krylov_output.empty() && parse_table_format(a.out.format) != TableFormat::Json) {
-    std::cout << "\nKrylov study: GMRES(" << p.krylov.restart << "), right preconditioning, rtol " << p.krylov.rtol
-              << " on the true residual, zero initial guess\n\n"
-              << format_table(krylov_table(r), parse_table_format(a.out.format));
+  if (!root) return;
+  if (!r.krylov.empty() && h.krylov_output.empty() && format != TableFormat::Json) {
+    std::cout << "\nKrylov study: GMRES(" << r.params.krylov.restart << "), right preconditioning, rtol "
+              << r.params.krylov.rtol << " on the true residual, zero initial guess\n\n"
+              << format_table(krylov_table(r), format);
     check_stream(std::cout, "the Krylov table to standard output");
   }
   if (!h.history.empty())
     write_file(h.history, "Krylov residual histories", [&](std::ostream& f) { f << to_csv(krylov_history_table(r)); });
   if (!a.out.plot.empty()) plot_krylov(r, a.out.plot);
   if (!h.vtu.empty()) write_fields(r, h.vtu);
+}
+}  // namespace
+
+void study_heterogeneous(const StudyArgs& a, const HeterogeneousArgs& h, const CLI::App& cmd) {
+  reject_foreign_options(a, h, cmd);
+  HeterogeneousStudyParams p = heterogeneous_params(a, h, cmd);
+  Progress progress;
+  p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
+  const HeterogeneousStudyResult r = run_heterogeneous_study(p);
+  print_warnings(r.warnings, false);
+  report_heterogeneous(r, a, h);
 }
 
 }  // namespace vrsph::cli

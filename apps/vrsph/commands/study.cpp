@@ -217,9 +217,6 @@ void add_study_command(CLI::App& app) {
       reject_output_over_input(*cmd);  // the file may have set either side
     }
     validate_output(a->out);
-    check<ConfigError>(!communicator().distributed() || !is_heterogeneous_problem(a->problem),
-                       "under mpirun, vrsph study --problem spe-channel/spe-lognormal/spe10 is not distributed (it runs "
-                       "on one rank)");
     if (is_heterogeneous_problem(a->problem)) return study_heterogeneous(*a, *het, *cmd);
     reject_group_options(*cmd, heterogeneous_group, "--problem spe-channel, spe-lognormal or spe10");
     const bool user_cloud = !file->pattern.empty() || !file->geometry.empty();

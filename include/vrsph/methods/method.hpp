@@ -98,6 +98,11 @@ class Method {
   /// volumes of the neighbours (averages of the NNLS volumes of every row that sees them). A
   /// distributed solve sizes its halo by it (reach x h).
   virtual int reach() const { return info().stencil_rings; }
+  /// Supports away from a row at which its weights read ∇a when this method estimates it
+  /// itself (needs_coefficient_gradient, none given): 1 when a row fits ∇a at its own
+  /// particle (the Taylor-type methods), 2 when it reads ∇a at its neighbours, each fitted
+  /// over that neighbour's support (VRSPH compact rows). A distributed solve widens its halo.
+  virtual int estimated_gradient_reach() const { return 1; }
   /// True when this method's Laplacian / div(a grad) rows at Neumann particles are balance
   /// rows (Stencil::wall_flux) that take the flux data themselves, for requests of this use:
   /// a boundary value problem then asks for those rows in the operator request and builds no

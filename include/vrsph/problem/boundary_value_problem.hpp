@@ -125,6 +125,9 @@ struct BvpSolution {
   } stage_peak_bytes;
   /// With BvpSolveOptions::keep_matrices: the div(a grad) rows of the interior particles
   /// over every particle (other rows empty), and the linear system that was solved.
+  /// Distributed: operator_rows is over the whole cloud's particle numbers (the chunks in
+  /// rank order) and holds the rows this rank owned in the partition (each row on exactly
+  /// one rank: the ranks' matrices sum to the serial one); system is this rank's rows.
   SparseMatrix operator_rows;
   LinearSystem system;
   /// Balance rows (VRSPH flux=balance): the wall flux c_i >= 0 of each Neumann particle's row,

@@ -32,6 +32,7 @@
 #include <vrsph/io/table.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/parallel/communicator.hpp>
 #include <vrsph/problem/permeability.hpp>
 #include <vrsph/solve/solver.hpp>
 
@@ -65,6 +66,11 @@ struct HeterogeneousStudyParams {
   KrylovStudyOptions krylov;
   bool keep_fields = false;                  ///< keep the cloud and every method's solution
   std::function<void(const std::string&, double)> progress;
+  /// Distributed: each particle method's solve() runs over these ranks (every rank builds
+  /// the field and passes an equal slice of the particles); the TPFA reference is solved
+  /// on every rank alike (serial), the Krylov study (krylov) is refused. The result is the
+  /// same on every rank.
+  Communicator communicator;
 };
 
 struct HeterogeneousRun {

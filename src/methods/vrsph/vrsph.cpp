@@ -122,6 +122,7 @@ class Vrsph final : public Method {
   bool balances_flux_rows(StencilUse use) const override { return resolve(flux_, use); }
   // Compact rows use grad a: better than the fit they fall back on.
   bool needs_coefficient_gradient(StencilUse use) const override { return compact_rows_for(use); }
+  int estimated_gradient_reach() const override { return 2; }  // compact_system: ∇a at the neighbours
   std::string row_forms(StencilUse use) const override {
     if (flux_ != Choice::Auto && rhs_ != Choice::Auto) return {};
     const bool system = use == StencilUse::System;
