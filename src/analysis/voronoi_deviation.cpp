@@ -44,6 +44,104 @@ struct LpSize {
   Index variables = 0, constraints = 0;
 };
 
+// LP (63) of one block in Clp's column form. Rows: [0,n) supply, [n,2n) demand, [2n,3n)
+// deviation (<= -fixed); columns: each member's a_ii, then its a_ij with j in the block,
+// and last q (cost 1).
+struct BlockLp {
+  int n = 0;
+  std::vector<Real> row_lo, row_hi, fixed;
+  std::vector<CoinBigIndex> start{0};
+  std::vector<int> index;
+  std::vector<double> value, cost, col_lo, col_hi;
+  std::vector<Index> slot_of_column;  // -1: a_ii
+
+  void add_column(int row_supply, int row_demand, double dev_i, int row_i, double dev_j, int row_j) {
+    index.push_back(row_supply), value.push_back(1);
+    index.push_back(n + row_demand), value.push_back(1);
+    if (dev_i > 0) index.push_back(2 * n + row_i), value.push_back(dev_i);
+    if (dev_j > 0) index.push_back(2 * n + row_j), value.push_back(dev_j);
+    start.push_back(static_cast<CoinBigIndex>(index.size()));
+    cost.push_back(0), col_lo.push_back(0), col_hi.push_back(kInfinity);
+  }
+};
+
+// The block's columns; what each member exchanges with particles outside the block (fixed
+// in `t`) leaves its supply and demand and enters its deviation row as a constant.
+BlockLp block_columns(const Problem& p, const std::vector<Index>& members, const std::vector<Index>& block_of,
+                      Index block, const Transport& t) {
+  BlockLp lp;
+  const int n = lp.n = static_cast<int>(members.size());
+  std::vector<int> local(p.cells.size(), -1);
+  for (int k = 0; k < n; ++k) local[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])] = k;
+  lp.row_lo.resize(static_cast<std::size_t>(3 * n));
+  lp.row_hi.resize(static_cast<std::size_t>(3 * n));
+  lp.fixed.assign(static_cast<std::size_t>(n), 0);
+  for (int k = 0; k < n; ++k) {
+    const auto si = static_cast<std::size_t>(members[static_cast<std::size_t>(k)]);
+    lp.row_lo[static_cast<std::size_t>(k)] = p.cells[si];
+    lp.row_lo[static_cast<std::size_t>(n + k)] = p.volumes[si];
+  }
+  for (int k = 0; k < n; ++k) {
+    const Index i = members[static_cast<std::size_t>(k)];
+    const auto si = static_cast<std::size_t>(i);
+    lp.add_column(k, k, 0, k, 0, k);
+    lp.slot_of_column.push_back(-1);
+    const auto nbr = p.pairs.of(i);
+    const auto dist = p.pairs.distances_of(i);
+    const Index first = p.pairs.offsets[si];
+    for (std::size_t s = 0; s < nbr.size(); ++s) {
+      const auto sj = static_cast<std::size_t>(nbr[s]);
+      const Real r = dist[s];
+      if (block_of[sj] == block) {
+        lp.add_column(k, local[sj], p.deviation_coefficient(si, r), k, p.deviation_coefficient(sj, r), local[sj]);
+        lp.slot_of_column.push_back(first + static_cast<Index>(s));
+        continue;
+      }
+      // A fixed crossing pair, in either direction: remove it from the supply/demand.
+      const Real out = t.pair[static_cast<std::size_t>(first) + s];  // a_ij, i inside
+      lp.row_lo[static_cast<std::size_t>(k)] -= out;
+      lp.fixed[static_cast<std::size_t>(k)] += out * p.deviation_coefficient(si, r);
+      const auto back = p.pairs.of(static_cast<Index>(sj));
+      const auto pos = std::find(back.begin(), back.end(), i) - back.begin();
+      const Real in = t.pair[static_cast<std::size_t>(p.pairs.offsets[sj] + pos)];  // a_ji
+      lp.row_lo[static_cast<std::size_t>(n + k)] -= in;
+      lp.fixed[static_cast<std::size_t>(k)] += in * p.deviation_coefficient(si, r);
+    }
+  }
+  return lp;
+}
+
+// The rows' bounds: supply and demand balanced, equalities, the deviation rows; and q.
+void block_rows(BlockLp& lp, const std::vector<Index>& members) {
+  const int n = lp.n;
+  auto& lo = lp.row_lo;
+  auto& hi = lp.row_hi;
+  // Round-off in the crossing flows (and in sum V = sum |sigma|) leaves the block's supply and
+  // demand apart by ~1e-8 of a cell: more than the LP's feasibility tolerance. Scale the
+  // demands onto the supply (a relative change of that size), else the LP is "infeasible".
+  Real supply = 0, demand = 0;
+  for (int k = 0; k < n; ++k) supply += std::max(0.0, lo[static_cast<std::size_t>(k)]), demand += std::max(0.0, lo[static_cast<std::size_t>(n + k)]);
+  check<NumericalError>(std::abs(supply - demand) <= 1e-6 * (supply + 1), "Voronoi deviation: a block's cells and volumes "
+                        "differ by ", supply - demand, " mean cells after the crossing flows");
+  if (demand > 0)
+    for (int k = 0; k < n; ++k) lo[static_cast<std::size_t>(n + k)] *= supply / demand;
+  // q: one column with -1 in every deviation row.
+  for (int k = 0; k < n; ++k) lp.index.push_back(2 * n + k), lp.value.push_back(-1);
+  lp.start.push_back(static_cast<CoinBigIndex>(lp.index.size()));
+  lp.cost.push_back(1), lp.col_lo.push_back(0), lp.col_hi.push_back(kInfinity);
+  for (int k = 0; k < n; ++k) {
+    const auto sk = static_cast<std::size_t>(k), dk = static_cast<std::size_t>(n) + sk;
+    for (std::size_t r : {sk, dk})
+      check<NumericalError>(lo[r] > -1e-9, "Voronoi deviation: the flows between blocks exceed particle ",
+                            members[sk], "'s ", r == sk ? "cell" : "volume",
+                            "; use a larger pair radius or a larger --dn-direct-limit");
+    lo[sk] = std::max(lo[sk], 0.0), lo[dk] = std::max(lo[dk], 0.0);
+    hi[sk] = lo[sk], hi[dk] = lo[dk];
+    lo[static_cast<std::size_t>(2 * n) + sk] = -kInfinity;
+    hi[static_cast<std::size_t>(2 * n) + sk] = -lp.fixed[sk];
+  }
+}
+
 // LP (63) for the particles `members` (all of one block), with what the particles outside
 // the block exchange with them fixed in `t`: the block's rows and columns get the
 // remaining supply and demand, and the fixed pairs' share of the deviation as a constant.
@@ -52,90 +150,17 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
                    Transport& t, Real max_seconds) {
   // A build without Clp refuses before assembling anything (--dn-method flow needs no LP).
   require_part("CLP", "the Voronoi deviation's linear program (--dn-method lp; --dn-method flow needs no LP)");
-  const auto n = static_cast<int>(members.size());
-  std::vector<int> local(p.cells.size(), -1);
-  for (int k = 0; k < n; ++k) local[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])] = k;
-  // rows: [0,n) supply, [n,2n) demand, [2n,3n) deviation (<= -fixed)
-  std::vector<Real> row_lo(static_cast<std::size_t>(3 * n)), row_hi(static_cast<std::size_t>(3 * n));
-  std::vector<Real> fixed(static_cast<std::size_t>(n), 0);
-  for (int k = 0; k < n; ++k) {
-    const auto si = static_cast<std::size_t>(members[static_cast<std::size_t>(k)]);
-    row_lo[static_cast<std::size_t>(k)] = p.cells[si];
-    row_lo[static_cast<std::size_t>(n + k)] = p.volumes[si];
-  }
-  std::vector<CoinBigIndex> start{0};
-  std::vector<int> index;
-  std::vector<double> value, cost, col_lo, col_hi;
-  std::vector<Index> slot_of_column;  // -1: a_ii
-  auto add_column = [&](int row_supply, int row_demand, double dev_i, int row_i, double dev_j, int row_j) {
-    index.push_back(row_supply), value.push_back(1);
-    index.push_back(n + row_demand), value.push_back(1);
-    if (dev_i > 0) index.push_back(2 * n + row_i), value.push_back(dev_i);
-    if (dev_j > 0) index.push_back(2 * n + row_j), value.push_back(dev_j);
-    start.push_back(static_cast<CoinBigIndex>(index.size()));
-    cost.push_back(0), col_lo.push_back(0), col_hi.push_back(kInfinity);
-  };
-  for (int k = 0; k < n; ++k) {
-    const Index i = members[static_cast<std::size_t>(k)];
-    const auto si = static_cast<std::size_t>(i);
-    add_column(k, k, 0, k, 0, k);
-    slot_of_column.push_back(-1);
-    const auto nbr = p.pairs.of(i);
-    const auto dist = p.pairs.distances_of(i);
-    const Index first = p.pairs.offsets[si];
-    for (std::size_t s = 0; s < nbr.size(); ++s) {
-      const auto sj = static_cast<std::size_t>(nbr[s]);
-      const Real r = dist[s];
-      if (block_of[sj] == block) {
-        add_column(k, local[sj], p.deviation_coefficient(si, r), k, p.deviation_coefficient(sj, r), local[sj]);
-        slot_of_column.push_back(first + static_cast<Index>(s));
-        continue;
-      }
-      // A fixed crossing pair, in either direction: remove it from the supply/demand.
-      const Real out = t.pair[static_cast<std::size_t>(first) + s];  // a_ij, i inside
-      row_lo[static_cast<std::size_t>(k)] -= out;
-      fixed[static_cast<std::size_t>(k)] += out * p.deviation_coefficient(si, r);
-      const auto back = p.pairs.of(static_cast<Index>(sj));
-      const auto pos = std::find(back.begin(), back.end(), i) - back.begin();
-      const Real in = t.pair[static_cast<std::size_t>(p.pairs.offsets[sj] + pos)];  // a_ji
-      row_lo[static_cast<std::size_t>(n + k)] -= in;
-      fixed[static_cast<std::size_t>(k)] += in * p.deviation_coefficient(si, r);
-    }
-  }
-  // Round-off in the crossing flows (and in sum V = sum |sigma|) leaves the block's supply and
-  // demand apart by ~1e-8 of a cell: more than the LP's feasibility tolerance. Scale the
-  // demands onto the supply (a relative change of that size), else the LP is "infeasible".
-  {
-    Real supply = 0, demand = 0;
-    for (int k = 0; k < n; ++k) supply += std::max(0.0, row_lo[static_cast<std::size_t>(k)]), demand += std::max(0.0, row_lo[static_cast<std::size_t>(n + k)]);
-    check<NumericalError>(std::abs(supply - demand) <= 1e-6 * (supply + 1), "Voronoi deviation: a block's cells and volumes "
-                          "differ by ", supply - demand, " mean cells after the crossing flows");
-    if (demand > 0)
-      for (int k = 0; k < n; ++k) row_lo[static_cast<std::size_t>(n + k)] *= supply / demand;
-  }
-  // q: one column with -1 in every deviation row.
-  for (int k = 0; k < n; ++k) index.push_back(2 * n + k), value.push_back(-1);
-  start.push_back(static_cast<CoinBigIndex>(index.size()));
-  cost.push_back(1), col_lo.push_back(0), col_hi.push_back(kInfinity);
-  for (int k = 0; k < n; ++k) {
-    const auto sk = static_cast<std::size_t>(k);
-    for (std::size_t r : {sk, static_cast<std::size_t>(n) + sk})
-      check<NumericalError>(row_lo[r] > -1e-9, "Voronoi deviation: the flows between blocks exceed particle ",
-                            members[sk], "'s ", r == sk ? "cell" : "volume",
-                            "; use a larger pair radius or a larger --dn-direct-limit");
-    row_lo[sk] = std::max(row_lo[sk], 0.0), row_lo[static_cast<std::size_t>(n) + sk] = std::max(row_lo[static_cast<std::size_t>(n) + sk], 0.0);
-    row_hi[sk] = row_lo[sk], row_hi[static_cast<std::size_t>(n) + sk] = row_lo[static_cast<std::size_t>(n) + sk];
-    row_lo[static_cast<std::size_t>(2 * n) + sk] = -kInfinity;
-    row_hi[static_cast<std::size_t>(2 * n) + sk] = -fixed[sk];
-  }
+  BlockLp b = block_columns(p, members, block_of, block, t);
+  block_rows(b, members);
+  const int n = b.n;
 #if VRSPH_HAVE_CLP
   std::unique_ptr<Clp_Simplex, void (*)(Clp_Simplex*)> lp(Clp_newModel(), Clp_deleteModel);
   Clp_setLogLevel(lp.get(), 0);
   Clp_setMaximumSeconds(lp.get(), max_seconds);
   Clp_setPrimalTolerance(lp.get(), 1e-9);  // rows are O(1) (mean cell 1): balances to ~1e-9
-  const auto cols = static_cast<int>(cost.size());
-  Clp_loadProblem(lp.get(), cols, 3 * n, start.data(), index.data(), value.data(), col_lo.data(), col_hi.data(), cost.data(),
-                  row_lo.data(), row_hi.data());
+  const auto cols = static_cast<int>(b.cost.size());
+  Clp_loadProblem(lp.get(), cols, 3 * n, b.start.data(), b.index.data(), b.value.data(), b.col_lo.data(), b.col_hi.data(),
+                  b.cost.data(), b.row_lo.data(), b.row_hi.data());
   Clp_initialSolve(lp.get());
   const int status = Clp_status(lp.get());
   if (status != 0) {
@@ -148,7 +173,7 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
   const double* a = Clp_getColSolution(lp.get());
   // Each member's a_ii column comes first in its run of columns.
   for (int c = 0, k = -1; c + 1 < cols; ++c) {
-    const Index slot = slot_of_column[static_cast<std::size_t>(c)];
+    const Index slot = b.slot_of_column[static_cast<std::size_t>(c)];
     if (slot < 0)
       t.self[static_cast<std::size_t>(members[static_cast<std::size_t>(++k)])] = std::max(0.0, a[c]);
     else
@@ -156,7 +181,7 @@ LpSize solve_block(const Problem& p, const std::vector<Index>& members, const st
   }
   return {cols, 3 * n};
 #else
-  (void)max_seconds, (void)t;
+  (void)max_seconds, (void)t, (void)n;
   return {};  // not reached: refused at the start
 #endif
 }

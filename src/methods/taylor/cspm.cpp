@@ -27,7 +27,6 @@ class Corrective final : public Method {
     const auto v = taylor::method_volumes(disc, volume_);
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, dim, info_.name);
     s.condition.assign(static_cast<std::size_t>(cloud.size()), 0);
-    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
     const bool second = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
 
 #pragma omp parallel
@@ -37,92 +36,18 @@ class Corrective final : public Method {
 #pragma omp for schedule(dynamic, 128)
       for (Index i = 0; i < cloud.size(); ++i) {
         if (!taylor::wants_row(cloud, req, i)) continue;
-        const Kernel ker = disc.kernel_at(i);
-        const auto nbr = disc.neighbours.of(i);
-        const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
         if (req.kind == OperatorKind::Value) {
-          Real sum = v[static_cast<std::size_t>(i)] * ker.W(0);
-          for (Index j : nbr) sum += v[static_cast<std::size_t>(j)] * ker.W((cloud.positions[static_cast<std::size_t>(j)] - xi).norm());
-          const bool ok = sum > 0 && std::isfinite(sum);
-          s.condition[static_cast<std::size_t>(i)] = ok ? 1 : std::numeric_limits<Real>::infinity();
-          if (!ok) continue;
-          for (std::size_t k = 0; k < nbr.size(); ++k) {
-            const auto j = static_cast<std::size_t>(nbr[k]);
-            s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] =
-                v[j] * ker.W((cloud.positions[j] - xi).norm()) / sum;
-          }
-          s.values[0][static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])] = v[static_cast<std::size_t>(i)] * ker.W(0) / sum;
+          shepard_row(disc, v, i, s);
           continue;
         }
-        // Correction matrix A_i = sum_j v_j x_ji ⊗ grad_i W_ij.
-        A.setZero(dim, dim);
-        for (Index j : nbr) {
-          const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
-          const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;  // grad_i W_ij = W'(r) x_ij / r
-          for (int a = 0; a < dim; ++a)
-            for (int b = 0; b < dim; ++b) A(a, b) += v[static_cast<std::size_t>(j)] * xji[a] * gw[b];
-        }
-        Real cond = taylor::equilibrated_inverse(A, Ainv);
+        const Real cond = corrected_gradient(disc, v, i, A, Ainv, g);
         if (!std::isfinite(cond)) {
           s.condition[static_cast<std::size_t>(i)] = cond;
-          continue;
-        }
-        g.assign(nbr.size(), Vec3::Zero());
-        for (std::size_t k = 0; k < nbr.size(); ++k) {
-          const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
-          const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;
-          for (int a = 0; a < dim; ++a) {
-            Real acc = 0;
-            for (int b = 0; b < dim; ++b) acc += Ainv(b, a) * gw[b];  // A^{-T} grad W
-            g[k][a] = v[static_cast<std::size_t>(nbr[k])] * acc;
-          }
-        }
-        if (!second) {
+        } else if (!second) {
           s.condition[static_cast<std::size_t>(i)] = cond;
-          for (std::size_t k = 0; k < nbr.size(); ++k) {
-            const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
-            if (req.kind == OperatorKind::Gradient)
-              for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[k][c];
-            else
-              s.values[0][slot] = g[k][axis];
-          }
-          continue;
-        }
-        // Second derivative: per direction (cspm) or isotropic (chen-beraun).
-        const int directions = second_ == SecondDerivative::KernelHessian ? dim : 1;
-        Vec3 D = Vec3::Zero(), Dabs = Vec3::Zero();
-        std::array<Vec3, 3> S{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-        for (Index j : nbr) {
-          const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
-          const Real r = xji.norm();
-          const Real vj = v[static_cast<std::size_t>(j)];
-          for (int a = 0; a < directions; ++a) {
-            const Real q = weight_function(ker, xji, r, a);
-            const Real moment = second_ == SecondDerivative::KernelHessian ? xji[a] * xji[a] : xji.squaredNorm();
-            D[a] += 0.5 * vj * moment * q;
-            Dabs[a] += 0.5 * vj * moment * std::abs(q);
-            S[static_cast<std::size_t>(a)] += vj * q * xji;
-          }
-        }
-        for (int a = 0; a < directions; ++a) {
-          const Real c = std::abs(D[a]) > 0 ? Dabs[a] / std::abs(D[a]) : std::numeric_limits<Real>::infinity();
-          cond = std::max(cond, c);
-        }
-        s.condition[static_cast<std::size_t>(i)] = cond;
-        if (!std::isfinite(cond)) continue;
-        const Vec3 grad_a = req.kind != OperatorKind::DivAGrad
-                                ? Vec3::Zero()
-                                : taylor::coefficient_gradient(req, i, nbr, dim, [&](std::size_t k) { return g[k]; });
-        const Real iso = second_ == SecondDerivative::KernelOnly ? static_cast<Real>(dim) : 1;
-        for (std::size_t k = 0; k < nbr.size(); ++k) {
-          const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
-          const Real r = xji.norm();
-          Real w = 0;
-          for (int a = 0; a < directions; ++a)
-            w += iso * (v[static_cast<std::size_t>(nbr[k])] * weight_function(ker, xji, r, a) -
-                        S[static_cast<std::size_t>(a)].dot(g[k])) / D[a];
-          if (req.kind == OperatorKind::DivAGrad) w = (*req.coefficient)[i] * w + grad_a.dot(g[k]);
-          s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = w;
+          store_gradient_row(req, dim, i, g, s);
+        } else {
+          second_derivative_row(disc, req, v, i, g, cond, s);
         }
       }
     }
@@ -132,6 +57,113 @@ class Corrective final : public Method {
   }
 
  private:
+  // Value rows: the Shepard-normalised kernel sum.
+  static void shepard_row(const Discretisation& disc, const std::vector<Real>& v, Index i, Stencil& s) {
+    const auto& cloud = disc.cloud;
+    const Kernel ker = disc.kernel_at(i);
+    const auto nbr = disc.neighbours.of(i);
+    const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+    Real sum = v[static_cast<std::size_t>(i)] * ker.W(0);
+    for (Index j : nbr) sum += v[static_cast<std::size_t>(j)] * ker.W((cloud.positions[static_cast<std::size_t>(j)] - xi).norm());
+    const bool ok = sum > 0 && std::isfinite(sum);
+    s.condition[static_cast<std::size_t>(i)] = ok ? 1 : std::numeric_limits<Real>::infinity();
+    if (!ok) return;
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const auto j = static_cast<std::size_t>(nbr[k]);
+      s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] =
+          v[j] * ker.W((cloud.positions[j] - xi).norm()) / sum;
+    }
+    s.values[0][static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])] = v[static_cast<std::size_t>(i)] * ker.W(0) / sum;
+  }
+
+  // The corrected gradient weights g_k = v_k A_i^{-T} grad W of row i, with the correction
+  // matrix A_i = sum_j v_j x_ji ⊗ grad_i W_ij. Returns A_i's condition (infinite: singular,
+  // g untouched).
+  static Real corrected_gradient(const Discretisation& disc, const std::vector<Real>& v, Index i, SmallMatrix& A,
+                                 SmallMatrix& Ainv, std::vector<Vec3>& g) {
+    const auto& cloud = disc.cloud;
+    const int dim = cloud.dim;
+    const Kernel ker = disc.kernel_at(i);
+    const auto nbr = disc.neighbours.of(i);
+    const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+    A.setZero(dim, dim);
+    for (Index j : nbr) {
+      const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+      const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;  // grad_i W_ij = W'(r) x_ij / r
+      for (int a = 0; a < dim; ++a)
+        for (int b = 0; b < dim; ++b) A(a, b) += v[static_cast<std::size_t>(j)] * xji[a] * gw[b];
+    }
+    const Real cond = taylor::equilibrated_inverse(A, Ainv);
+    if (!std::isfinite(cond)) return cond;
+    g.assign(nbr.size(), Vec3::Zero());
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
+      const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;
+      for (int a = 0; a < dim; ++a) {
+        Real acc = 0;
+        for (int b = 0; b < dim; ++b) acc += Ainv(b, a) * gw[b];  // A^{-T} grad W
+        g[k][a] = v[static_cast<std::size_t>(nbr[k])] * acc;
+      }
+    }
+    return cond;
+  }
+
+  static void store_gradient_row(const StencilRequest& req, int dim, Index i, const std::vector<Vec3>& g, Stencil& s) {
+    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+    for (std::size_t k = 0; k < g.size(); ++k) {
+      const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
+      if (req.kind == OperatorKind::Gradient)
+        for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[k][c];
+      else
+        s.values[0][slot] = g[k][axis];
+    }
+  }
+
+  // Second derivative: per direction (cspm) or isotropic (chen-beraun); cond is A_i's.
+  void second_derivative_row(const Discretisation& disc, const StencilRequest& req, const std::vector<Real>& v, Index i,
+                             const std::vector<Vec3>& g, Real cond, Stencil& s) const {
+    const auto& cloud = disc.cloud;
+    const int dim = cloud.dim;
+    const Kernel ker = disc.kernel_at(i);
+    const auto nbr = disc.neighbours.of(i);
+    const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+    const int directions = second_ == SecondDerivative::KernelHessian ? dim : 1;
+    Vec3 D = Vec3::Zero(), Dabs = Vec3::Zero();
+    std::array<Vec3, 3> S{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    for (Index j : nbr) {
+      const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+      const Real r = xji.norm();
+      const Real vj = v[static_cast<std::size_t>(j)];
+      for (int a = 0; a < directions; ++a) {
+        const Real q = weight_function(ker, xji, r, a);
+        const Real moment = second_ == SecondDerivative::KernelHessian ? xji[a] * xji[a] : xji.squaredNorm();
+        D[a] += 0.5 * vj * moment * q;
+        Dabs[a] += 0.5 * vj * moment * std::abs(q);
+        S[static_cast<std::size_t>(a)] += vj * q * xji;
+      }
+    }
+    for (int a = 0; a < directions; ++a) {
+      const Real c = std::abs(D[a]) > 0 ? Dabs[a] / std::abs(D[a]) : std::numeric_limits<Real>::infinity();
+      cond = std::max(cond, c);
+    }
+    s.condition[static_cast<std::size_t>(i)] = cond;
+    if (!std::isfinite(cond)) return;
+    const Vec3 grad_a = req.kind != OperatorKind::DivAGrad
+                            ? Vec3::Zero()
+                            : taylor::coefficient_gradient(req, i, nbr, dim, [&](std::size_t k) { return g[k]; });
+    const Real iso = second_ == SecondDerivative::KernelOnly ? static_cast<Real>(dim) : 1;
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
+      const Real r = xji.norm();
+      Real w = 0;
+      for (int a = 0; a < directions; ++a)
+        w += iso * (v[static_cast<std::size_t>(nbr[k])] * weight_function(ker, xji, r, a) -
+                    S[static_cast<std::size_t>(a)].dot(g[k])) / D[a];
+      if (req.kind == OperatorKind::DivAGrad) w = (*req.coefficient)[i] * w + grad_a.dot(g[k]);
+      s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] = w;
+    }
+  }
+
   // cspm: d2W/dx_a^2 at x_ij; chen-beraun: W itself.
   Real weight_function(const Kernel& ker, const Vec3& xji, Real r, int a) const {
     if (second_ == SecondDerivative::KernelOnly) return ker.W(r);

@@ -153,30 +153,7 @@ class Vrsph final : public Method {
     std::vector<char> wall;
     std::vector<Vec3> conormal;
     const bool balance = resolve(flux_, req.use), compact = compact_rows_for(req.use);
-    if (balance && laplace) {
-      wall.assign(static_cast<std::size_t>(cloud.size()), 0);
-      bool any = false;
-      for (Index i = 0; i < cloud.size(); ++i) {
-        const auto si = static_cast<std::size_t>(i);
-        wall[si] = cloud.tags[si] == Tag::Neumann && (req.rows.empty() || req.rows[si]);
-        any = any || wall[si];
-      }
-      if (any) {
-        check<InputError>(cloud.has_normals(), "vrsph flux=balance: the cloud has Neumann particles but no normals");
-        conormal.assign(static_cast<std::size_t>(cloud.size()), Vec3::Zero());
-        for (Index i = 0; i < cloud.size(); ++i) {
-          const auto si = static_cast<std::size_t>(i);
-          if (!wall[si]) continue;
-          const Vec3& nn = cloud.normals[si];
-          check<InputError>(nn.allFinite() && nn.norm() > 0, "vrsph flux=balance: Neumann particle ", i,
-                            " has no outward normal");
-          conormal[si] = nn.normalized();
-          if (tensor)
-            for (int k = 0; k < cloud.dim; ++k) conormal[si][k] *= (*req.mobility)(i, k);
-        }
-        vo.wall = {wall, conormal};
-      }
-    }
+    if (balance && laplace && balance_walls(cloud, req, tensor, wall, conormal)) vo.wall = {wall, conormal};
     // Compact rows first, written into the pattern; the point rows (their NNLS volumes) only
     // where no compact row exists: the point NNLS of a row that then takes the compact form
     // would be thrown away.
@@ -200,11 +177,55 @@ class Vrsph final : public Method {
         const Real bnorm = std::sqrt((0.5 * t.first).squaredNorm() + t.second.squaredNorm());
         if (bnorm > 0) vol.residual[i] *= std::sqrt(static_cast<Real>(disc.cloud.dim)) / bnorm;
       }
+    point_weights(disc, req, vol, compact_form ? &point_rows : nullptr, tensor, s);
+    s.residual = vol.residual;
+    s.local_failure = vol.failed;
+    s.wall_flux = std::move(vol.wall_flux);
+    if (signed_) s.negative_volumes = std::move(vol.negative);
+    if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
+    set_difference_diagonal(s);
+    return s;
+  }
+
+ private:
+  // The Neumann particles that take balance rows (wall) and their conormals (the unit
+  // normal, times the mobility for a tensor). False when the request has none.
+  static bool balance_walls(const PointCloud& cloud, const StencilRequest& req, bool tensor, std::vector<char>& wall,
+                            std::vector<Vec3>& conormal) {
+    wall.assign(static_cast<std::size_t>(cloud.size()), 0);
+    bool any = false;
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      wall[si] = cloud.tags[si] == Tag::Neumann && (req.rows.empty() || req.rows[si]);
+      any = any || wall[si];
+    }
+    if (!any) return false;
+    check<InputError>(cloud.has_normals(), "vrsph flux=balance: the cloud has Neumann particles but no normals");
+    conormal.assign(static_cast<std::size_t>(cloud.size()), Vec3::Zero());
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (!wall[si]) continue;
+      const Vec3& nn = cloud.normals[si];
+      check<InputError>(nn.allFinite() && nn.norm() > 0, "vrsph flux=balance: Neumann particle ", i,
+                        " has no outward normal");
+      conormal[si] = nn.normalized();
+      if (tensor)
+        for (int k = 0; k < cloud.dim; ++k) conormal[si][k] *= (*req.mobility)(i, k);
+    }
+    return true;
+  }
+
+  // The point rows' weights from their reconstructed volumes: w_ij = v_j Y_ij for the
+  // Laplacian (times the pair coefficient for div(a grad)), v_j grad_i W_ij for gradients.
+  // point_rows: the rows without a compact form (null: every requested row).
+  void point_weights(const Discretisation& disc, const StencilRequest& req, const ReconstructedVolumes& vol,
+                     const std::vector<char>* point_rows, bool tensor, Stencil& s) const {
+    const auto& cloud = disc.cloud;
     const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
-      if (compact_form ? !point_rows[si] : !row_requested(cloud, req, i)) continue;
+      if (point_rows ? !(*point_rows)[si] : !row_requested(cloud, req, i)) continue;
       const Kernel ker = disc.kernel_at(i);
       const auto nbr = disc.neighbours.of(i);
       const auto dist = disc.neighbours.distances_of(i);
@@ -229,16 +250,8 @@ class Vrsph final : public Method {
         }
       }
     }
-    s.residual = vol.residual;
-    s.local_failure = vol.failed;
-    s.wall_flux = std::move(vol.wall_flux);
-    if (signed_) s.negative_volumes = std::move(vol.negative);
-    if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
-    set_difference_diagonal(s);
-    return s;
   }
 
- private:
   MethodInfo info_;
   NnlsOptions nnls_;
   MomentRows rows_ = MomentRows::Merged;
