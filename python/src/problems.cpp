@@ -48,27 +48,27 @@ std::string python_names(const std::string& message) {
   return std::regex_replace(message, option, "the parameter $1");
 }
 
-py::dict solve_problem(const py::object& self, const py::dict& expressions, const py::dict& values, const py::dict& opt) {
-  const auto& cloud = as_cloud(self);
-  const Index n = cloud.size();
-  ProblemExpressions e{text(expressions, "u"), text(expressions, "a"), text(expressions, "f"), text(expressions, "g"),
-                       text(expressions, "q")};
-  if (expressions.contains("mobility") && !expressions["mobility"].is_none())
-    e.mobility = expressions["mobility"].cast<std::vector<std::string>>();
-  // Arrays given for a role replace its expression (problem_from_expressions checks both are not given).
-  Field fu, fa, ff, fg, fq;
-  ProblemValues pv;
+// Arrays given for a role replace its expression (problem_from_expressions checks both are not given).
+struct GivenValues {
+  Field u, a, f, g, q;
+  ProblemValues pointers;
+};
+
+void take_values(const py::dict& values, Index n, GivenValues& v) {
   const auto take = [&](const char* key, Field& store, const Field*& slot) {
     if (values.contains(key) && !values[key].is_none()) {
       store = field_from(values[key], n, key);
       slot = &store;
     }
   };
-  take("u", fu, pv.u);
-  take("a", fa, pv.a);
-  take("f", ff, pv.f);
-  take("g", fg, pv.g);
-  take("q", fq, pv.q);
+  take("u", v.u, v.pointers.u);
+  take("a", v.a, v.pointers.a);
+  take("f", v.f, v.pointers.f);
+  take("g", v.g, v.pointers.g);
+  take("q", v.q, v.pointers.q);
+}
+
+BvpSolveOptions solve_options(const py::dict& opt) {
   BvpSolveOptions o;
   o.method = opt["method"].cast<std::string>();
   o.method_options = method_options_from(opt["method_options"].cast<py::dict>());
@@ -79,51 +79,79 @@ py::dict solve_problem(const py::object& self, const py::dict& expressions, cons
   o.solver = to_solver(opt["solver"].cast<std::string>(), opt["petsc_options"].cast<std::string>());
   o.on_infeasible = parse_infeasible_policy(opt["on_infeasible"].cast<std::string>());
   o.infeasible_tolerance = opt["infeasible_tol"].cast<double>();
-  const bool fix_constant = opt["fix_constant"].cast<bool>();
   o.keep_matrices = opt.contains("return_system") && opt["return_system"].cast<bool>();
-  validate(cloud);
-  o.spacing = cached_spacing(self);  // the cloud's, computed once
-  // Robin data a du/dn + beta u = q at the Neumann particles: beta >= 0 per particle.
-  Field robin;
-  if (values.contains("robin") && !values["robin"].is_none()) {
-    robin = field_from(values["robin"], n, "robin");
-    for (Index i = 0; i < n; ++i)
-      check<InputError>(std::isfinite(robin[i]) && robin[i] >= 0, "robin: beta = ", robin[i], " at particle ", i,
-                        " must be finite and >= 0 (a du/dn + beta u = q)");
-  }
   check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "h must be >= 0 (0: h_factor x spacing), got ", o.h);
-  struct Out {
-    ExpressionProblem ep;
-    BvpSolution s;
-    ErrorReport errors;
+  return o;
+}
+
+// Robin data a du/dn + beta u = q at the Neumann particles: beta >= 0 per particle (empty: none).
+Field robin_field(const py::dict& values, Index n) {
+  if (!values.contains("robin") || values["robin"].is_none()) return {};
+  Field robin = field_from(values["robin"], n, "robin");
+  for (Index i = 0; i < n; ++i)
+    check<InputError>(std::isfinite(robin[i]) && robin[i] >= 0, "robin: beta = ", robin[i], " at particle ", i,
+                      " must be finite and >= 0 (a du/dn + beta u = q)");
+  return robin;
+}
+
+struct SolvedProblem {
+  ExpressionProblem ep;
+  BvpSolution s;
+  ErrorReport errors;
+};
+
+// The problem from its expressions and arrays, solved, and its errors where u is known
+// (over the unknowns, split at one support radius from the boundary). Runs without the GIL.
+SolvedProblem solve_expressions(const PointCloud& cloud, const ProblemExpressions& e, const ProblemValues& pv,
+                                const Field& robin, bool fix_constant, const BvpSolveOptions& o) {
+  const Index n = cloud.size();
+  SolvedProblem x;
+  try {
+    x.ep = problem_from_expressions(cloud, e, pv);
+  } catch (const std::exception& err) {  // the library's texts name the CLI's options
+    rethrow_with_message(err, python_names(err.what()));
+  }
+  x.ep.problem.fix_constant = fix_constant;
+  if (robin.size()) {
+    // q derived from the exact u (no q given) is a du/dn: the Robin condition adds beta u.
+    const bool derived = x.ep.exact.size() && !pv.q && e.q.empty();
+    if (derived && x.ep.problem.q.size())
+      for (Index i = 0; i < n; ++i)
+        if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann) x.ep.problem.q[i] += robin[i] * x.ep.exact[i];
+    x.ep.problem.robin = robin;
+  }
+  x.s = solve(x.ep.problem, o);
+  if (x.ep.exact.size()) {
+    const PointCloud& c = x.ep.problem.cloud;
+    Eigen::MatrixXd err(c.size(), 1);
+    err.col(0) = x.s.u - x.ep.exact;
+    const std::vector<Real> volumes(static_cast<std::size_t>(c.size()), std::pow(x.s.spacing, c.dim));
+    x.errors = error_norms(err, unknown_mask(c), c, x.s.h, volumes);
+  }
+  return x;
+}
+
+// The assembled system A x = b over the unknowns (dof k is particle dofs[k]) and the
+// operator rows, as CSR arrays for scipy.sparse (Python builds the matrices).
+void add_system(const BvpSolution& s, py::dict& d) {
+  const auto csr = [](const SparseMatrix& given) {
+    SparseMatrix M = given;
+    M.makeCompressed();
+    py::dict m;
+    m["indptr"] = py::array_t<int>(M.outerSize() + 1, M.outerIndexPtr());
+    m["indices"] = py::array_t<int>(M.nonZeros(), M.innerIndexPtr());
+    m["data"] = py::array_t<double>(M.nonZeros(), M.valuePtr());
+    m["shape"] = py::make_tuple(M.rows(), M.cols());
+    return m;
   };
-  Out r = [&] {
-    py::gil_scoped_release release;
-    Out x;
-    try {
-      x.ep = problem_from_expressions(cloud, e, pv);
-    } catch (const std::exception& err) {  // the library's texts name the CLI's options
-      rethrow_with_message(err, python_names(err.what()));
-    }
-    x.ep.problem.fix_constant = fix_constant;
-    if (robin.size()) {
-      // q derived from the exact u (no q given) is a du/dn: the Robin condition adds beta u.
-      const bool derived = x.ep.exact.size() && !pv.q && e.q.empty();
-      if (derived && x.ep.problem.q.size())
-        for (Index i = 0; i < n; ++i)
-          if (cloud.tags[static_cast<std::size_t>(i)] == Tag::Neumann) x.ep.problem.q[i] += robin[i] * x.ep.exact[i];
-      x.ep.problem.robin = robin;
-    }
-    x.s = solve(x.ep.problem, o);
-    if (x.ep.exact.size()) {  // errors over the unknowns, split at one support radius from the boundary
-      const PointCloud& c = x.ep.problem.cloud;
-      Eigen::MatrixXd err(c.size(), 1);
-      err.col(0) = x.s.u - x.ep.exact;
-      const std::vector<Real> volumes(static_cast<std::size_t>(c.size()), std::pow(x.s.spacing, c.dim));
-      x.errors = error_norms(err, unknown_mask(c), c, x.s.h, volumes);
-    }
-    return x;
-  }();
+  py::dict sys = csr(s.system.A);
+  sys["rhs"] = py::array_t<double>(s.system.b.size(), s.system.b.data());
+  sys["dofs"] = s.system.particle_of_dof;
+  d["system"] = sys;
+  d["operator_rows"] = csr(s.operator_rows);
+}
+
+py::dict solution_dict(const SolvedProblem& r, bool with_system) {
   const BvpSolution& s = r.s;
   py::dict d;
   d["u"] = py::array_t<double>(s.u.size(), s.u.data());
@@ -145,25 +173,7 @@ py::dict solve_problem(const py::object& self, const py::dict& expressions, cons
   d["warnings"] = s.warnings;
   d["infeasible_residuals"] = s.infeasible_residuals;
   if (s.wall_flux.size()) d["wall_flux"] = py::array_t<double>(s.wall_flux.size(), s.wall_flux.data());
-  if (o.keep_matrices) {
-    // The assembled system A x = b over the unknowns (dof k is particle dofs[k]) and the
-    // operator rows, as CSR arrays for scipy.sparse (Python builds the matrices).
-    const auto csr = [](const SparseMatrix& given) {
-      SparseMatrix M = given;
-      M.makeCompressed();
-      py::dict m;
-      m["indptr"] = py::array_t<int>(M.outerSize() + 1, M.outerIndexPtr());
-      m["indices"] = py::array_t<int>(M.nonZeros(), M.innerIndexPtr());
-      m["data"] = py::array_t<double>(M.nonZeros(), M.valuePtr());
-      m["shape"] = py::make_tuple(M.rows(), M.cols());
-      return m;
-    };
-    py::dict sys = csr(s.system.A);
-    sys["rhs"] = py::array_t<double>(s.system.b.size(), s.system.b.data());
-    sys["dofs"] = s.system.particle_of_dof;
-    d["system"] = sys;
-    d["operator_rows"] = csr(s.operator_rows);
-  }
+  if (with_system) add_system(s, d);
   d["seconds_neighbours"] = s.seconds_neighbours;
   d["seconds_stencil"] = s.seconds_stencil;
   d["seconds_assemble"] = s.seconds_assemble;
@@ -176,6 +186,28 @@ py::dict solve_problem(const py::object& self, const py::dict& expressions, cons
     d["error_inf_boundary"] = r.errors.near_boundary.linf;
   }
   return d;
+}
+
+py::dict solve_problem(const py::object& self, const py::dict& expressions, const py::dict& values, const py::dict& opt) {
+  const auto& cloud = as_cloud(self);
+  const Index n = cloud.size();
+  ProblemExpressions e{text(expressions, "u"), text(expressions, "a"), text(expressions, "f"), text(expressions, "g"),
+                       text(expressions, "q")};
+  if (expressions.contains("mobility") && !expressions["mobility"].is_none())
+    e.mobility = expressions["mobility"].cast<std::vector<std::string>>();
+  GivenValues given;
+  take_values(values, n, given);
+  BvpSolveOptions o = solve_options(opt);
+  const bool fix_constant = opt["fix_constant"].cast<bool>();
+  validate(cloud);
+  o.spacing = cached_spacing(self);  // the cloud's, computed once
+  const Field robin = robin_field(values, n);
+  SolvedProblem r;
+  {
+    py::gil_scoped_release release;
+    r = solve_expressions(cloud, e, given.pointers, robin, fix_constant, o);
+  }
+  return solution_dict(r, o.keep_matrices);
 }
 
 // Rows (the CLI's JSON fields) and metadata of a study's table.

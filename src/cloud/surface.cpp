@@ -148,46 +148,45 @@ bool zero_area(const std::vector<K::Point_3>& points, const std::vector<std::siz
 }
 }  // namespace
 
-ClosedSurface read_closed_surface(const std::string& path) {
-  PolygonSoup soup = read_polygon_soup(path);
-  for (std::size_t k = 0; k < soup.points.size(); ++k)
-    check<InputError>(soup.points[k].cwiseAbs().maxCoeff() <= max_coordinate, path, ": vertex ", k, " is beyond +-",
-                      max_coordinate, " (rescale the geometry)");
-  ClosedSurface s;
-  auto& impl = *s.impl_;
-  if (!soup.points.empty()) {  // the surface's own frame (see Impl)
-    Vec3 lo = soup.points.front(), hi = lo;
-    for (const Vec3& x : soup.points) {
-      lo = lo.cwiseMin(x);
-      hi = hi.cwiseMax(x);
-    }
-    impl.origin = lo;
-    const Real side = (hi - lo).maxCoeff();
-    impl.unit = side > 0 && std::isfinite(side) ? side : 1;
-    for (Vec3& x : soup.points) x = impl.to_frame(x);
+namespace {
+using SurfaceImpl = ClosedSurface::Impl;
+
+// The surface's own frame (see Impl): its bounding box's corner at the origin, its longest
+// side the unit.
+void to_surface_frame(PolygonSoup& soup, SurfaceImpl& impl) {
+  if (soup.points.empty()) return;
+  Vec3 lo = soup.points.front(), hi = lo;
+  for (const Vec3& x : soup.points) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
   }
-  // The soup (indices validated by the reader) into a mesh: duplicate points merged,
-  // degenerate and repeated faces dropped, faces oriented consistently.
-  std::vector<K::Point_3> points;
-  points.reserve(soup.points.size());
-  for (const Vec3& x : soup.points) points.push_back(point(x));
+  impl.origin = lo;
+  const Real side = (hi - lo).maxCoeff();
+  impl.unit = side > 0 && std::isfinite(side) ? side : 1;
+  for (Vec3& x : soup.points) x = impl.to_frame(x);
+}
+
+// With a region named "neumann": the other regions' faces, fan-triangulated, for the tag
+// of boundary particles.
+void dirichlet_regions(const PolygonSoup& soup, const std::vector<K::Point_3>& points, SurfaceImpl& impl) {
   impl.regions = soup.regions;
   for (const auto& name : soup.regions) impl.has_neumann_region |= to_lower(name).find("neumann") != std::string::npos;
-  if (impl.has_neumann_region) {  // the other regions' faces, fan-triangulated, for the tag of boundary particles
-    for (std::size_t f = 0; f < soup.faces.size(); ++f) {
-      if (to_lower(soup.regions[soup.face_region[f]]).find("neumann") != std::string::npos) continue;
-      const auto& face = soup.faces[f];
-      for (std::size_t k = 1; k + 1 < face.size(); ++k) {
-        const K::Triangle_3 t(points[face[0]], points[face[k]], points[face[k + 1]]);
-        if (!t.is_degenerate()) impl.dirichlet_triangles.push_back(t);  // no area: nothing to be near
-      }
-    }
-    if (!impl.dirichlet_triangles.empty()) {
-      impl.dirichlet_tree.emplace(impl.dirichlet_triangles.begin(), impl.dirichlet_triangles.end());
-      impl.dirichlet_tree->accelerate_distance_queries();
+  if (!impl.has_neumann_region) return;
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    if (to_lower(soup.regions[soup.face_region[f]]).find("neumann") != std::string::npos) continue;
+    const auto& face = soup.faces[f];
+    for (std::size_t k = 1; k + 1 < face.size(); ++k) {
+      const K::Triangle_3 t(points[face[0]], points[face[k]], points[face[k + 1]]);
+      if (!t.is_degenerate()) impl.dirichlet_triangles.push_back(t);  // no area: nothing to be near
     }
   }
-  auto& faces = soup.faces;
+  if (impl.dirichlet_triangles.empty()) return;
+  impl.dirichlet_tree.emplace(impl.dirichlet_triangles.begin(), impl.dirichlet_triangles.end());
+  impl.dirichlet_tree->accelerate_distance_queries();
+}
+
+// Duplicate points merged, degenerate and repeated faces dropped, faces oriented consistently.
+void repair_and_orient(const std::string& path, std::vector<K::Point_3>& points, std::vector<std::vector<std::size_t>>& faces) {
   PMP::repair_polygon_soup(points, faces);
   check<InputError>(!faces.empty(), path, ": every face is degenerate (no area)");
   // A face of zero area (collinear vertices) lying on a closed surface shares its edges with
@@ -209,8 +208,10 @@ ClosedSurface read_closed_surface(const std::string& path) {
   // Points no face uses any more (a dropped face's) would be isolated vertices, which the
   // orientation of the shells below does not accept.
   PMP::remove_isolated_points_in_polygon_soup(points, faces);
-  Mesh& m = impl.mesh;
-  PMP::polygon_soup_to_polygon_mesh(points, faces, m);
+}
+
+// A triangle mesh, closed, without degenerate faces or self-intersections.
+void check_closed_mesh(const std::string& path, Mesh& m) {
   check<InputError>(m.number_of_faces() > 0, path, ": no faces left after repair");
   if (!CGAL::is_triangle_mesh(m))
     check<InputError>(PMP::triangulate_faces(m), path, ": a polygonal face could not be split into triangles");
@@ -221,16 +222,20 @@ ClosedSurface read_closed_surface(const std::string& path) {
   for (auto h : m.halfedges()) border += m.is_border(h) ? 1 : 0;
   check<InputError>(border == 0, path, ": the surface is not closed (", border, " border edges); a solid needs a "
                     "watertight surface");
-  if (PMP::does_self_intersect(m)) {
-    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
-    PMP::self_intersections(m, std::back_inserter(pairs));
-    const auto f1 = pairs.empty() ? 0u : static_cast<std::size_t>(pairs.front().first),
-               f2 = pairs.empty() ? 0u : static_cast<std::size_t>(pairs.front().second);
-    throw InputError(detail::concat(path, ": the surface intersects itself (", pairs.size(), " face pairs, e.g. faces ",
-                                    f1, " and ", f2, ")"));
-  }
-  // Every shell oriented by its nesting: an outer shell's normals point out, a cavity's into
-  // the cavity (out of the material), whichever way the file stored each solid.
+  if (!PMP::does_self_intersect(m)) return;
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+  PMP::self_intersections(m, std::back_inserter(pairs));
+  const auto f1 = pairs.empty() ? 0u : static_cast<std::size_t>(pairs.front().first),
+             f2 = pairs.empty() ? 0u : static_cast<std::size_t>(pairs.front().second);
+  throw InputError(detail::concat(path, ": the surface intersects itself (", pairs.size(), " face pairs, e.g. faces ",
+                                  f1, " and ", f2, ")"));
+}
+
+// Every shell oriented by its nesting: an outer shell's normals point out, a cavity's into
+// the cavity (out of the material), whichever way the file stored each solid. Then the
+// volume, area, face normals, bounding box and the search trees.
+void finish_surface(const std::string& path, SurfaceImpl& impl) {
+  Mesh& m = impl.mesh;
   PMP::orient_to_bound_a_volume(m);
   impl.volume = PMP::volume(m);
   impl.area = PMP::area(m);
@@ -246,6 +251,25 @@ ClosedSurface read_closed_surface(const std::string& path) {
   impl.tree->build();
   impl.tree->accelerate_distance_queries();
   impl.side.emplace(*impl.tree);
+}
+}  // namespace
+
+ClosedSurface read_closed_surface(const std::string& path) {
+  PolygonSoup soup = read_polygon_soup(path);
+  for (std::size_t k = 0; k < soup.points.size(); ++k)
+    check<InputError>(soup.points[k].cwiseAbs().maxCoeff() <= max_coordinate, path, ": vertex ", k, " is beyond +-",
+                      max_coordinate, " (rescale the geometry)");
+  ClosedSurface s;
+  auto& impl = *s.impl_;
+  to_surface_frame(soup, impl);
+  std::vector<K::Point_3> points;
+  points.reserve(soup.points.size());
+  for (const Vec3& x : soup.points) points.push_back(point(x));
+  dirichlet_regions(soup, points, impl);
+  repair_and_orient(path, points, soup.faces);
+  PMP::polygon_soup_to_polygon_mesh(points, soup.faces, impl.mesh);
+  check_closed_mesh(path, impl.mesh);
+  finish_surface(path, impl);
   return s;
 }
 

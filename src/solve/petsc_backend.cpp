@@ -108,104 +108,14 @@ class PetscBackend final : public Backend {
   PetscBackend(const CsrMatrix& A, const SolverOptions& o) {
     const std::lock_guard<std::mutex> lock(petsc_mutex);
     start_petsc();
-    // Options: vrsph's defaults, then PETSC_OPTIONS, then the caller's (later ones win), in
-    // a database of this back-end's own so that one solver's options never leak into the next.
-    const char* env = std::getenv("PETSC_OPTIONS");
-    const std::string from_env = env ? env : "";
-    call(PetscOptionsCreate(&options_), "options");
-    call(PetscOptionsInsertString(options_, default_petsc_options(o.dimension).c_str()), "default options");
-    call(PetscOptionsInsertString(options_, from_env.c_str()), "options from PETSC_OPTIONS", Blame::Options);
-    call(PetscOptionsInsertString(options_, o.petsc_options.c_str()), "options '" + o.petsc_options + "'",
-         Blame::Options);
+    load_options(o);
     const PushedOptions pushed(options_);
-
-    m_ = static_cast<PetscInt>(A.rows());
-    static_assert(sizeof(PetscInt) == sizeof(Index) && sizeof(PetscScalar) == sizeof(Real),
-                  "PETSc's index and scalar types must match vrsph's for the no-copy matrix");
-    // Distributed: this rank's rows, after those of the lower ranks, with global columns.
-    distributed_ = o.communicator.distributed();
-    comm_ = distributed_ ? MPI_Comm_f2c(o.communicator.fortran_handle()) : PETSC_COMM_SELF;
-    PetscInt first_row = 0;
-    if (distributed_) MPI_Exscan(&m_, &first_row, 1, MPIU_INT, MPI_SUM, comm_);
-    if (distributed_ && o.communicator.rank() == 0) first_row = 0;
-    auto& Am = const_cast<CsrMatrix&>(A);  // PETSc only reads the arrays (the matrix is never modified)
-    // Rows divided by their diagonal: Laplacian rows (negative diagonal) and flux rows of
-    // Neumann particles (positive diagonal, one power of h smaller) then look alike to the
-    // AMG. Without it, mixed problems took 196 iterations at 4 10^5 unknowns and 810 at 10^6
-    // instead of ~20. The index arrays are shared; only the values are copied.
-    Real* a_values = Am.valuePtr();
-    if (o.scale_rows) {
-      scaled_.assign(Am.valuePtr(), Am.valuePtr() + Am.nonZeros());
-      row_scale_.assign(static_cast<std::size_t>(m_), 1.0);
-#pragma omp parallel for schedule(static)
-      for (Index d = 0; d < m_; ++d) {
-        Real diagonal = 0;
-        for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k)
-          if (Am.innerIndexPtr()[k] == first_row + d) diagonal = Am.valuePtr()[k];
-        if (diagonal == 0 || !std::isfinite(diagonal)) continue;
-        row_scale_[static_cast<std::size_t>(d)] = 1 / diagonal;
-        for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k) scaled_[static_cast<std::size_t>(k)] /= diagonal;
-      }
-      a_values = scaled_.data();
-    }
-    if (distributed_) {
-      // MPIAIJ from the rows: PETSc splits them into the diagonal and off-diagonal blocks and
-      // preallocates both from the row pattern (a copy: the local blocks are PETSc's own).
-      const auto global = static_cast<PetscInt>(A.cols());
-      call(MatCreateMPIAIJWithArrays(comm_, m_, m_, global, global, Am.outerIndexPtr(), Am.innerIndexPtr(), a_values, &A_),
-           "matrix");
-      scaled_.clear();
-      scaled_.shrink_to_fit();
-    } else {
-      call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m_, m_, Am.outerIndexPtr(), Am.innerIndexPtr(), a_values, &A_),
-           "matrix");
-    }
-    call(KSPCreate(comm_, &ksp_), "KSP");
-    call(KSPSetOperators(ksp_, A_, A_), "KSP");
-    call(KSPSetTolerances(ksp_, o.rtol, PETSC_DEFAULT, PETSC_DEFAULT, o.max_iterations), "KSP");
-    monitor_.callback = o.monitor;
-    call(KSPMonitorSet(ksp_, monitor, &monitor_, nullptr), "KSP");
-    call(KSPSetFromOptions(ksp_), "options", Blame::Options);
-
-    PetscReal rtol = 0, abstol = 0, dtol = 0;
-    PetscInt max_it = 0;
-    call(KSPGetTolerances(ksp_, &rtol, &abstol, &dtol, &max_it), "KSP");
-    if (!(rtol > 0 && rtol < 1) || max_it < 1)
-      throw ConfigError(concat("PETSc options give the relative tolerance ", rtol, " and iteration cap ", max_it,
-                               ": the tolerance must be in (0, 1) and the cap at least 1"));
-
-    KSPType ksp_type = nullptr;
-    PCType pc_type = nullptr;
-    PC pc = nullptr;
-    call(KSPGetType(ksp_, &ksp_type), "KSP");
-    call(KSPGetPC(ksp_, &pc), "PC");
-    call(PCGetType(pc, &pc_type), "PC");
-    name = concat("petsc ", ksp_type ? ksp_type : "?", "+", pc_type ? pc_type : "?");
-    takes_guess_ = !(ksp_type && std::string(ksp_type) == KSPPREONLY);  // preonly refuses an initial guess
-    if (pc_type && std::string(pc_type) == PCHYPRE) {
-      const char* hypre = nullptr;
-      call(PCHYPREGetType(pc, &hypre), "PC");
-      name += concat("(", hypre ? hypre : "?", ")");
-    }
+    create_matrix(A, o);
+    create_ksp(o);
     const auto t0 = std::chrono::steady_clock::now();
     call(KSPSetUp(ksp_), concat("preconditioner set-up (", name, ")"));
     seconds_setup = since(t0);
-
-    // Options the caller gave that no object read: a misspelt name or one that does not
-    // apply to the chosen KSP/PC would otherwise be ignored in silence.
-    PetscInt left = 0;
-    char **names = nullptr, **values = nullptr;
-    if (PetscOptionsLeftGet(options_, &left, &names, &values) == 0) {
-      // Only the caller's: PETSC_OPTIONS also feeds PETSc's start-up (-log_view, -malloc_debug...).
-      const std::vector<std::string> given = option_names(o.petsc_options);
-      for (PetscInt k = 0; k < left; ++k) {
-        const std::string option = to_lower(names[k]);
-        if (std::find(given.begin(), given.end(), option) != given.end())
-          warnings.push_back(concat("PETSc option -", option, " was given but not used (misspelt, or it does not "
-                                    "apply to ", name, ")"));
-      }
-      PetscOptionsLeftRestore(options_, &left, &names, &values);
-    }
+    warn_unused_options(o);
   }
 
   ~PetscBackend() override {
@@ -258,6 +168,112 @@ class PetscBackend final : public Backend {
   }
 
  private:
+  // Options: vrsph's defaults, then PETSC_OPTIONS, then the caller's (later ones win), in
+  // a database of this back-end's own so that one solver's options never leak into the next.
+  void load_options(const SolverOptions& o) {
+    const char* env = std::getenv("PETSC_OPTIONS");
+    const std::string from_env = env ? env : "";
+    call(PetscOptionsCreate(&options_), "options");
+    call(PetscOptionsInsertString(options_, default_petsc_options(o.dimension).c_str()), "default options");
+    call(PetscOptionsInsertString(options_, from_env.c_str()), "options from PETSC_OPTIONS", Blame::Options);
+    call(PetscOptionsInsertString(options_, o.petsc_options.c_str()), "options '" + o.petsc_options + "'",
+         Blame::Options);
+  }
+
+  void create_matrix(const CsrMatrix& A, const SolverOptions& o) {
+    m_ = static_cast<PetscInt>(A.rows());
+    static_assert(sizeof(PetscInt) == sizeof(Index) && sizeof(PetscScalar) == sizeof(Real),
+                  "PETSc's index and scalar types must match vrsph's for the no-copy matrix");
+    // Distributed: this rank's rows, after those of the lower ranks, with global columns.
+    distributed_ = o.communicator.distributed();
+    comm_ = distributed_ ? MPI_Comm_f2c(o.communicator.fortran_handle()) : PETSC_COMM_SELF;
+    PetscInt first_row = 0;
+    if (distributed_) MPI_Exscan(&m_, &first_row, 1, MPIU_INT, MPI_SUM, comm_);
+    if (distributed_ && o.communicator.rank() == 0) first_row = 0;
+    auto& Am = const_cast<CsrMatrix&>(A);  // PETSc only reads the arrays (the matrix is never modified)
+    const Real* a_values = o.scale_rows ? scale_rows(Am, first_row) : Am.valuePtr();
+    if (distributed_) {
+      // MPIAIJ from the rows: PETSc splits them into the diagonal and off-diagonal blocks and
+      // preallocates both from the row pattern (a copy: the local blocks are PETSc's own).
+      const auto global = static_cast<PetscInt>(A.cols());
+      call(MatCreateMPIAIJWithArrays(comm_, m_, m_, global, global, Am.outerIndexPtr(), Am.innerIndexPtr(), a_values, &A_),
+           "matrix");
+      scaled_.clear();
+      scaled_.shrink_to_fit();
+    } else {
+      call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m_, m_, Am.outerIndexPtr(), Am.innerIndexPtr(),
+                                     const_cast<Real*>(a_values), &A_),
+           "matrix");
+    }
+  }
+
+  // Rows divided by their diagonal: Laplacian rows (negative diagonal) and flux rows of
+  // Neumann particles (positive diagonal, one power of h smaller) then look alike to the
+  // AMG. Without it, mixed problems took 196 iterations at 4 10^5 unknowns and 810 at 10^6
+  // instead of ~20. The index arrays are shared; only the values are copied.
+  const Real* scale_rows(const CsrMatrix& Am, PetscInt first_row) {
+    scaled_.assign(Am.valuePtr(), Am.valuePtr() + Am.nonZeros());
+    row_scale_.assign(static_cast<std::size_t>(m_), 1.0);
+#pragma omp parallel for schedule(static)
+    for (Index d = 0; d < m_; ++d) {
+      Real diagonal = 0;
+      for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k)
+        if (Am.innerIndexPtr()[k] == first_row + d) diagonal = Am.valuePtr()[k];
+      if (diagonal == 0 || !std::isfinite(diagonal)) continue;
+      row_scale_[static_cast<std::size_t>(d)] = 1 / diagonal;
+      for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k) scaled_[static_cast<std::size_t>(k)] /= diagonal;
+    }
+    return scaled_.data();
+  }
+
+  // The KSP with the options applied; its tolerances checked and its name ("petsc gmres+hypre(boomeramg)").
+  void create_ksp(const SolverOptions& o) {
+    call(KSPCreate(comm_, &ksp_), "KSP");
+    call(KSPSetOperators(ksp_, A_, A_), "KSP");
+    call(KSPSetTolerances(ksp_, o.rtol, PETSC_DEFAULT, PETSC_DEFAULT, o.max_iterations), "KSP");
+    monitor_.callback = o.monitor;
+    call(KSPMonitorSet(ksp_, monitor, &monitor_, nullptr), "KSP");
+    call(KSPSetFromOptions(ksp_), "options", Blame::Options);
+
+    PetscReal rtol = 0, abstol = 0, dtol = 0;
+    PetscInt max_it = 0;
+    call(KSPGetTolerances(ksp_, &rtol, &abstol, &dtol, &max_it), "KSP");
+    if (!(rtol > 0 && rtol < 1) || max_it < 1)
+      throw ConfigError(concat("PETSc options give the relative tolerance ", rtol, " and iteration cap ", max_it,
+                               ": the tolerance must be in (0, 1) and the cap at least 1"));
+
+    KSPType ksp_type = nullptr;
+    PCType pc_type = nullptr;
+    PC pc = nullptr;
+    call(KSPGetType(ksp_, &ksp_type), "KSP");
+    call(KSPGetPC(ksp_, &pc), "PC");
+    call(PCGetType(pc, &pc_type), "PC");
+    name = concat("petsc ", ksp_type ? ksp_type : "?", "+", pc_type ? pc_type : "?");
+    takes_guess_ = !(ksp_type && std::string(ksp_type) == KSPPREONLY);  // preonly refuses an initial guess
+    if (pc_type && std::string(pc_type) == PCHYPRE) {
+      const char* hypre = nullptr;
+      call(PCHYPREGetType(pc, &hypre), "PC");
+      name += concat("(", hypre ? hypre : "?", ")");
+    }
+  }
+
+  // Options the caller gave that no object read: a misspelt name or one that does not
+  // apply to the chosen KSP/PC would otherwise be ignored in silence.
+  void warn_unused_options(const SolverOptions& o) {
+    PetscInt left = 0;
+    char **names = nullptr, **values = nullptr;
+    if (PetscOptionsLeftGet(options_, &left, &names, &values) != 0) return;
+    // Only the caller's: PETSC_OPTIONS also feeds PETSc's start-up (-log_view, -malloc_debug...).
+    const std::vector<std::string> given = option_names(o.petsc_options);
+    for (PetscInt k = 0; k < left; ++k) {
+      const std::string option = to_lower(names[k]);
+      if (std::find(given.begin(), given.end(), option) != given.end())
+        warnings.push_back(concat("PETSc option -", option, " was given but not used (misspelt, or it does not "
+                                  "apply to ", name, ")"));
+    }
+    PetscOptionsLeftRestore(options_, &left, &names, &values);
+  }
+
   // ||b - A x|| / ||b|| of the unscaled system over every rank: the scaled residual
   // D^-1 (b - A x) from PETSc, times the row scales D.
   Real true_residual(Vec bv, Vec xv, const Eigen::VectorXd& b) {
