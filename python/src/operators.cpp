@@ -35,6 +35,31 @@ std::shared_ptr<const NeighbourList> user_neighbours(const PointCloud& cloud, co
   return std::make_shared<const NeighbourList>(neighbour_list_from(cloud, u));
 }
 
+// Only the entries some component (or the rhs weights) needs, and the diagonal: NNLS leaves
+// most neighbours of a row at v = 0, and scipy's nnz should count what the row uses.
+void drop_unused_entries(Stencil& s) {
+  const std::size_t comps = s.values.size();
+  std::size_t out = 0;
+  std::vector<Index> row_ptr(s.row_ptr.size(), 0);
+  for (Index i = 0; i < s.rows(); ++i) {
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+      const auto sk = static_cast<std::size_t>(k);
+      bool keep = s.col[sk] == i || (!s.rhs.empty() && s.rhs[sk] != 0);
+      for (std::size_t c = 0; c < comps && !keep; ++c) keep = s.values[c][sk] != 0;
+      if (!keep) continue;
+      s.col[out] = s.col[sk];
+      for (std::size_t c = 0; c < comps; ++c) s.values[c][out] = s.values[c][sk];
+      if (!s.rhs.empty()) s.rhs[out] = s.rhs[sk];
+      ++out;
+    }
+    row_ptr[static_cast<std::size_t>(i) + 1] = static_cast<Index>(out);
+  }
+  s.row_ptr = std::move(row_ptr);
+  s.col.resize(out);
+  for (auto& v : s.values) v.resize(out);
+  if (!s.rhs.empty()) s.rhs.resize(out);
+}
+
 py::dict stencil(const py::object& self, const std::string& method_name, const std::string& op, double h,
                  double h_factor, const std::string& kernel, const py::dict& options, const py::object& coefficient,
                  double infeasible_tol, const py::object& user_list) {
@@ -88,30 +113,7 @@ py::dict stencil(const py::object& self, const std::string& method_name, const s
     return r;
   }();
   Stencil& s = b.s;
-  // Only the entries some component (or the rhs weights) needs, and the diagonal: NNLS leaves
-  // most neighbours of a row at v = 0, and scipy's nnz should count what the row uses.
-  {
-    const std::size_t comps = s.values.size();
-    std::size_t out = 0;
-    std::vector<Index> row_ptr(s.row_ptr.size(), 0);
-    for (Index i = 0; i < s.rows(); ++i) {
-      for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
-        const auto sk = static_cast<std::size_t>(k);
-        bool keep = s.col[sk] == i || (!s.rhs.empty() && s.rhs[sk] != 0);
-        for (std::size_t c = 0; c < comps && !keep; ++c) keep = s.values[c][sk] != 0;
-        if (!keep) continue;
-        s.col[out] = s.col[sk];
-        for (std::size_t c = 0; c < comps; ++c) s.values[c][out] = s.values[c][sk];
-        if (!s.rhs.empty()) s.rhs[out] = s.rhs[sk];
-        ++out;
-      }
-      row_ptr[static_cast<std::size_t>(i) + 1] = static_cast<Index>(out);
-    }
-    s.row_ptr = std::move(row_ptr);
-    s.col.resize(out);
-    for (auto& v : s.values) v.resize(out);
-    if (!s.rhs.empty()) s.rhs.resize(out);
-  }
+  drop_unused_entries(s);
   py::list data;
   for (auto& v : s.values) data.append(owning_array(std::move(v)));
   py::dict out;

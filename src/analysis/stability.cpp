@@ -41,6 +41,76 @@ void validate(const StabilityParams& p) {
 }
 }  // namespace
 
+namespace {
+// Wave vectors k = (π/dx)(-1 + (2 a + 1)/K) per direction: symmetric, excluding ±π/dx twice.
+std::vector<Vec3> wave_vectors(int dim, int K, Real dx) {
+  std::vector<Vec3> waves;
+  const auto component = [&](int a) { return std::numbers::pi / dx * (-1 + (2.0 * a + 1) / K); };
+  for (int a = 0; a < K; ++a)
+    for (int b = 0; b < (dim > 1 ? K : 1); ++b)
+      for (int c = 0; c < (dim > 2 ? K : 1); ++c)
+        waves.emplace_back(component(a), dim > 1 ? component(b) : 0, dim > 2 ? component(c) : 0);
+  return waves;
+}
+
+// Particles within one support of a face: their rows are the boundary's.
+std::vector<char> near_faces(const PointCloud& cloud, int dim, Real support) {
+  std::vector<char> boundary(static_cast<std::size_t>(cloud.size()), 0);
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    for (int k = 0; k < dim; ++k)
+      if (x[k] < support || 1 - x[k] < support) boundary[static_cast<std::size_t>(i)] = 1;
+  }
+  return boundary;
+}
+
+// Per particle j, over the waves: max |λ| and max |Im λ| of the amplification factor
+// λ = 1 + scale Σ_J L_jJ e^{i k·(x_J - x_j)}; the kept λ (every stride-th particle) in `row`.
+void amplification(const PointCloud& cloud, const Stencil& L, const std::vector<Vec3>& waves, Real scale,
+                   const std::vector<char>& boundary, bool keep, std::size_t stride, std::vector<Real>& worst,
+                   std::vector<Real>& imag, StabilityRow& row) {
+#pragma omp parallel for schedule(dynamic, 64)
+  for (Index j = 0; j < cloud.size(); ++j) {
+    const auto sj = static_cast<std::size_t>(j);
+    const Vec3& xj = cloud.positions[sj];
+    for (std::size_t w = 0; w < waves.size(); ++w) {
+      std::complex<Real> sum = 0;
+      for (Index e = L.row_begin(j); e < L.row_end(j); ++e) {
+        const auto J = static_cast<std::size_t>(L.col[static_cast<std::size_t>(e)]);
+        const Real phase = waves[w].dot(cloud.positions[J] - xj);
+        sum += L.values[0][static_cast<std::size_t>(e)] * std::complex<Real>(std::cos(phase), std::sin(phase));
+      }
+      const std::complex<Real> lambda = 1.0 + scale * sum;
+      worst[sj] = std::max(worst[sj], std::abs(lambda));
+      imag[sj] = std::max(imag[sj], std::abs(lambda.imag()));
+      if (keep && sj % stride == 0) {
+        row.samples[sj / stride * waves.size() + w] = lambda;
+        row.sample_is_boundary[sj / stride * waves.size() + w] = boundary[sj];
+      }
+    }
+  }
+}
+
+// The row's maxima over the interior and the boundary particles.
+void summarise(const std::vector<Real>& worst, const std::vector<Real>& imag, const std::vector<char>& boundary,
+               StabilityRow& row) {
+  for (std::size_t sj = 0; sj < worst.size(); ++sj) {
+    row.max_abs = std::max(row.max_abs, worst[sj]);
+    row.max_imag = std::max(row.max_imag, imag[sj]);
+    const bool unstable = worst[sj] > 1 + 1e-12;
+    if (boundary[sj]) {
+      row.max_abs_boundary = std::max(row.max_abs_boundary, worst[sj]);
+      row.unstable_boundary += unstable;
+    } else {
+      ++row.interior;
+      row.max_abs_interior = std::max(row.max_abs_interior, worst[sj]);
+      row.max_imag_interior = std::max(row.max_imag_interior, imag[sj]);
+      row.unstable_interior += unstable;
+    }
+  }
+}
+}  // namespace
+
 StabilityResult run_stability(const StabilityParams& p) {
   validate(p);
   CloudSpec spec;
@@ -62,20 +132,8 @@ StabilityResult run_stability(const StabilityParams& p) {
   const NeighbourList nl = find_neighbours(cloud, sp);
   const Discretisation disc{cloud, nl, p.kernel, sc.dx};
   std::vector<char> rows(static_cast<std::size_t>(cloud.size()), 1);
-  std::vector<char> boundary(rows.size(), 0);
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-    for (int k = 0; k < p.dim; ++k)
-      if (x[k] < support || 1 - x[k] < support) boundary[static_cast<std::size_t>(i)] = 1;
-  }
-  // Wave vectors k = (π/dx)(-1 + (2 a + 1)/K) per direction: symmetric, excluding ±π/dx twice.
-  std::vector<Vec3> waves;
-  const int K = p.k_samples;
-  const auto component = [&](int a) { return std::numbers::pi / sc.dx * (-1 + (2.0 * a + 1) / K); };
-  for (int a = 0; a < K; ++a)
-    for (int b = 0; b < (p.dim > 1 ? K : 1); ++b)
-      for (int c = 0; c < (p.dim > 2 ? K : 1); ++c)
-        waves.emplace_back(component(a), p.dim > 1 ? component(b) : 0, p.dim > 2 ? component(c) : 0);
+  const std::vector<char> boundary = near_faces(cloud, p.dim, support);
+  const std::vector<Vec3> waves = wave_vectors(p.dim, p.k_samples, sc.dx);
   const Real scale = p.tau * r.smoothing_length * r.smoothing_length;
   for (const auto& name : p.methods) {
     const auto method = builtin_methods().create(name, options_for(p.method_options, name));
@@ -95,41 +153,8 @@ StabilityResult run_stability(const StabilityParams& p) {
       row.samples.resize((static_cast<std::size_t>(cloud.size()) / stride + 1) * waves.size());
       row.sample_is_boundary.resize(row.samples.size());
     }
-#pragma omp parallel for schedule(dynamic, 64)
-    for (Index j = 0; j < cloud.size(); ++j) {
-      const auto sj = static_cast<std::size_t>(j);
-      const Vec3& xj = cloud.positions[sj];
-      for (std::size_t w = 0; w < waves.size(); ++w) {
-        std::complex<Real> sum = 0;
-        for (Index e = L.row_begin(j); e < L.row_end(j); ++e) {
-          const auto J = static_cast<std::size_t>(L.col[static_cast<std::size_t>(e)]);
-          const Real phase = waves[w].dot(cloud.positions[J] - xj);
-          sum += L.values[0][static_cast<std::size_t>(e)] * std::complex<Real>(std::cos(phase), std::sin(phase));
-        }
-        const std::complex<Real> lambda = 1.0 + scale * sum;
-        worst[sj] = std::max(worst[sj], std::abs(lambda));
-        imag[sj] = std::max(imag[sj], std::abs(lambda.imag()));
-        if (p.keep_samples && sj % stride == 0) {
-          row.samples[sj / stride * waves.size() + w] = lambda;
-          row.sample_is_boundary[sj / stride * waves.size() + w] = boundary[sj];
-        }
-      }
-    }
-    for (Index j = 0; j < cloud.size(); ++j) {
-      const auto sj = static_cast<std::size_t>(j);
-      row.max_abs = std::max(row.max_abs, worst[sj]);
-      row.max_imag = std::max(row.max_imag, imag[sj]);
-      const bool unstable = worst[sj] > 1 + 1e-12;
-      if (boundary[sj]) {
-        row.max_abs_boundary = std::max(row.max_abs_boundary, worst[sj]);
-        row.unstable_boundary += unstable;
-      } else {
-        ++row.interior;
-        row.max_abs_interior = std::max(row.max_abs_interior, worst[sj]);
-        row.max_imag_interior = std::max(row.max_imag_interior, imag[sj]);
-        row.unstable_interior += unstable;
-      }
-    }
+    amplification(cloud, L, waves, scale, boundary, p.keep_samples, stride, worst, imag, row);
+    summarise(worst, imag, boundary, row);
     if (p.keep_samples) {  // drop the unused tail slots
       const std::size_t used = (static_cast<std::size_t>(cloud.size() - 1) / stride + 1) * waves.size();
       row.samples.resize(used);

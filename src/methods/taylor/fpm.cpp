@@ -57,7 +57,6 @@ class TaylorProjection final : public Method {
     const auto v = taylor::method_volumes(disc, volume_);
     Stencil s = make_stencil_pattern(disc.neighbours, req.kind, dim, info_.name);
     s.condition.assign(static_cast<std::size_t>(cloud.size()), 0);
-    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
 
 #pragma omp parallel
     {
@@ -106,25 +105,7 @@ class TaylorProjection final : public Method {
                                 (Minv * Eigen::Map<const SmallVector>(psi.data() + k * static_cast<std::size_t>(m), m));
           const auto slot = static_cast<std::size_t>(self ? s.diag[static_cast<std::size_t>(i)]
                                                           : neighbour_slot(s, i, static_cast<Index>(k)));
-          switch (req.kind) {
-            case OperatorKind::Value: s.values[0][slot] = w[0]; break;
-            case OperatorKind::Dx:
-            case OperatorKind::Dy:
-            case OperatorKind::Dz: s.values[0][slot] = w[grad_pos[static_cast<std::size_t>(axis)]]; break;
-            case OperatorKind::Gradient:
-              for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = w[grad_pos[static_cast<std::size_t>(c)]];
-              break;
-            case OperatorKind::Laplacian:
-            case OperatorKind::DivAGrad: {
-              Real lap = 0, adv = 0;
-              for (int c = 0; c < dim; ++c) {
-                lap += w[hess_pos[static_cast<std::size_t>(c)]];
-                adv += grad_a[c] * w[grad_pos[static_cast<std::size_t>(c)]];
-              }
-              s.values[0][slot] = req.kind == OperatorKind::Laplacian ? lap : (*req.coefficient)[i] * lap + adv;
-              break;
-            }
-          }
+          store_weights(req, i, slot, w, grad_pos, hess_pos, grad_a, s);
         }
       }
     }
@@ -134,6 +115,33 @@ class TaylorProjection final : public Method {
   }
 
  private:
+  // Row i's weight at `slot` from the fit's column w: the value, a derivative, the
+  // Laplacian (trace of the Hessian) or a Δu + ∇a·∇u.
+  static void store_weights(const StencilRequest& req, Index i, std::size_t slot, const SmallVector& w,
+                            const std::vector<int>& grad_pos, const std::vector<int>& hess_pos, const Vec3& grad_a,
+                            Stencil& s) {
+    const int dim = static_cast<int>(grad_pos.size());
+    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+    switch (req.kind) {
+      case OperatorKind::Value: s.values[0][slot] = w[0]; break;
+      case OperatorKind::Dx:
+      case OperatorKind::Dy:
+      case OperatorKind::Dz: s.values[0][slot] = w[grad_pos[static_cast<std::size_t>(axis)]]; break;
+      case OperatorKind::Gradient:
+        for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = w[grad_pos[static_cast<std::size_t>(c)]];
+        break;
+      case OperatorKind::Laplacian:
+      case OperatorKind::DivAGrad: {
+        Real lap = 0, adv = 0;
+        for (int c = 0; c < dim; ++c) {
+          lap += w[hess_pos[static_cast<std::size_t>(c)]];
+          adv += grad_a[c] * w[grad_pos[static_cast<std::size_t>(c)]];
+        }
+        s.values[0][slot] = req.kind == OperatorKind::Laplacian ? lap : (*req.coefficient)[i] * lap + adv;
+        break;
+      }
+    }
+  }
   Real test_function(const Kernel& ker, const Vec3& xji, Real r, const std::array<int, 3>& alpha) const {
     const Vec3 xij = -xji;
     switch (tests_) {
