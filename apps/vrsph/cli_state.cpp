@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// CLI state shared by the commands: the communicator, --verbose, notes printed at the end, threads and peak memory.
+#include "cli_common.hpp"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#include <iostream>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/resources.hpp>
+#include <vrsph/methods/registry.hpp>
+
+namespace vrsph::cli {
+
+namespace {
+Communicator& the_communicator() {
+  static Communicator comm;
+  return comm;
+}
+}  // namespace
+
+const Communicator& communicator() { return the_communicator(); }
+void set_communicator(const Communicator& comm) { the_communicator() = comm; }
+namespace {
+bool& verbose_flag() {
+  static bool on = false;
+  return on;
+}
+}  // namespace
+bool verbose() { return verbose_flag(); }
+namespace {
+std::vector<std::string>& pending_notes() {
+  static std::vector<std::string> notes;
+  return notes;
+}
+}  // namespace
+void note_row_forms(const std::vector<std::string>& methods, const std::map<std::string, MethodOptions>& options,
+                    StencilUse use) {
+  for (const auto& m : methods) {
+    const std::string note = builtin_methods().create(m, options_for(options, m))->row_forms(use);
+    if (!note.empty()) pending_notes().push_back(note);
+  }
+}
+void print_notes() {
+  for (const auto& n : pending_notes()) std::cerr << "vrsph: note: " << n << '\n';
+  pending_notes().clear();
+}
+void set_verbose(bool on) { verbose_flag() = on; }
+
+void set_thread_count(int threads) {
+  check<ConfigError>(threads >= 0, "--threads must be >= 0 (0 = one per core), got ", threads);
+#ifdef _OPENMP
+  const int cores = omp_get_num_procs();
+  if (threads > cores)
+    std::cerr << "vrsph: warning: --threads " << threads << " is more than the " << cores
+              << " cores of this machine; using " << cores << '\n';
+  omp_set_num_threads(threads == 0 || threads > cores ? cores : threads);
+#else
+  if (threads > 1)
+    std::cerr << "vrsph: warning: --threads " << threads << " is more than the 1 thread of this build (no OpenMP); using 1\n";
+#endif
+}
+
+double peak_memory_mib() { return static_cast<double>(peak_resident_memory_bytes()) / (1024.0 * 1024.0); }
+
+}  // namespace vrsph::cli
