@@ -310,10 +310,14 @@ TEST(DistributedStudy, HeterogeneousStudyAsSerial) {
     EXPECT_EQ(a.monotone, e.monotone) << e.method;
     EXPECT_EQ(a.unknowns, e.unknowns) << e.method;
     ASSERT_EQ(a.u.size(), e.u.size()) << e.method;
-    if (e.u.size()) EXPECT_LT((a.u - e.u).cwiseAbs().maxCoeff(), 1e-10) << e.method;
+    if (e.u.size()) {
+      EXPECT_LT((a.u - e.u).cwiseAbs().maxCoeff(), 1e-10) << e.method;
+    }
   }
   p.krylov.preconditioners = {"jacobi"};
-  if (world().distributed()) EXPECT_THROW(run_heterogeneous_study(p), ConfigError);
+  if (world().distributed()) {
+    EXPECT_THROW(run_heterogeneous_study(p), ConfigError);
+  }
 }
 
 // Every registered method with a div(a grad) stencil, in 1D (with a Neumann end) and 2D:
