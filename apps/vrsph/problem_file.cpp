@@ -98,7 +98,7 @@ void apply_problem_file(CLI::App& cmd, const std::string& path) {
       if (const auto* arr = e.value->as_array()) {
         std::vector<std::string> items;
         for (const auto& v : *arr) items.push_back(text(v));
-        static const std::vector<std::string> comma_lists = {"--method", "--n", "--seeds", "--neumann"};
+        static const std::vector<std::string> comma_lists = {"--method", "--n", "--seeds", "--neumann", "--periodic"};
         if (opt->get_items_expected_max() > 1) {  // a repeatable option (--method-opt)
           for (auto& item : items) opt->add_result(item);
         } else if (std::find(comma_lists.begin(), comma_lists.end(), "--" + e.key) != comma_lists.end()) {

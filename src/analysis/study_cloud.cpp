@@ -104,7 +104,15 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
   const Communicator& comm = spec.communicator;
   StudyCloud out;
   Index inside = 0;
-  collective(comm, [&] { out = make_part(spec, inside); });
+  collective(comm, [&] {
+    check<ConfigError>(!spec.box.any_periodic() || spec.family == CloudFamily::Uniform ||
+                           spec.family == CloudFamily::Perturbed,
+                       "periodic axes apply to the uniform and perturbed lattices, not to this cloud family");
+    check<ConfigError>(!spec.box.any_periodic() || !comm.distributed(),
+                       "a periodic domain runs on one rank for now (periodic halos across the ranks are not "
+                       "implemented): run without mpirun");
+    out = make_part(spec, inside);
+  });
   if (spec.family == CloudFamily::Centroids) {
     const long long mine = out.cloud.size();
     out.total = static_cast<Index>(sum_over_ranks(comm, mine));

@@ -53,6 +53,7 @@ Real Domain::signed_distance(const Vec3& x) const {
       Real inside = std::numeric_limits<Real>::infinity();
       Real outside2 = 0;
       for (int k = 0; k < dim; ++k) {
+        if (periodic[static_cast<std::size_t>(k)]) continue;
         inside = std::min({inside, x[k] - lo[k], hi[k] - x[k]});
         const Real excess = std::max({lo[k] - x[k], x[k] - hi[k], Real(0)});
         outside2 += excess * excess;
@@ -90,11 +91,61 @@ Vec3 Domain::outward_normal(const Vec3& x, Real tol) const {
   if (shape != Shape::Box) return n;
   const Real d = std::abs(signed_distance(x));
   for (int k = 0; k < dim; ++k) {
+    if (periodic[static_cast<std::size_t>(k)]) continue;
     if (std::abs(x[k] - lo[k]) <= d + tol) n[k] -= 1;
     if (std::abs(hi[k] - x[k]) <= d + tol) n[k] += 1;
   }
   const Real len = n.norm();
   return len > 0 ? Vec3(n / len) : n;
+}
+
+bool Domain::any_periodic() const {
+  return shape == Shape::Box && (periodic[0] || periodic[1] || periodic[2]);
+}
+
+bool Domain::fully_periodic() const {
+  if (shape != Shape::Box) return false;
+  for (int k = 0; k < dim; ++k)
+    if (!periodic[static_cast<std::size_t>(k)]) return false;
+  return true;
+}
+
+Vec3 Domain::wrap(const Vec3& x) const {
+  Vec3 y = x;
+  for (int k = 0; k < dim; ++k) {
+    if (!periodic[static_cast<std::size_t>(k)]) continue;
+    const Real L = period(k);
+    y[k] = lo[k] + (x[k] - lo[k]) - L * std::floor((x[k] - lo[k]) / L);
+    if (y[k] >= hi[k]) y[k] = lo[k];  // round-off of a point just below lo
+  }
+  return y;
+}
+
+void Domain::set_periodic(const std::string& axes) {
+  periodic = {false, false, false};
+  if (axes.empty() || axes == "none") return;
+  check<InputError>(shape == Shape::Box, "periodic axes need a box domain");
+  std::size_t start = 0;
+  while (start <= axes.size()) {
+    const std::size_t comma = std::min(axes.find(',', start), axes.size());
+    const std::string a = axes.substr(start, comma - start);
+    if (a == "all") {
+      for (int k = 0; k < dim; ++k) periodic[static_cast<std::size_t>(k)] = true;
+    } else {
+      const int k = a == "x" ? 0 : a == "y" ? 1 : a == "z" ? 2 : -1;
+      check<ConfigError>(k >= 0, "periodic axes are x, y, z or all (comma-separated), got '", a, "'");
+      check<ConfigError>(k < dim, "periodic axis ", a, " does not exist in ", dim, "D");
+      periodic[static_cast<std::size_t>(k)] = true;
+    }
+    start = comma + 1;
+  }
+}
+
+std::string Domain::periodic_axes() const {
+  std::string out;
+  for (int k = 0; k < 3; ++k)
+    if (periodic[static_cast<std::size_t>(k)]) out += std::string(out.empty() ? "" : ",") + "xyz"[k];
+  return out;
 }
 
 }  // namespace vrsph

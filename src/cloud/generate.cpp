@@ -90,6 +90,10 @@ PointCloud vertex_lattice(const Domain& box, int n, int ghost_layers, const Part
   std::vector<std::vector<Real>> axes(3);
   for (int k = 0; k < box.dim; ++k) {
     const Real dx = (box.hi[k] - box.lo[k]) / n;
+    if (box.periodic[static_cast<std::size_t>(k)]) {  // lo is hi's image: n points, no ghosts
+      for (int i = 0; i < n; ++i) axes[static_cast<std::size_t>(k)].push_back(box.lo[k] + i * dx);
+      continue;
+    }
     for (int i = -ghost_layers; i <= n + ghost_layers; ++i)
       axes[static_cast<std::size_t>(k)].push_back(i == n ? box.hi[k] : box.lo[k] + i * dx);
   }
@@ -104,6 +108,10 @@ PointCloud cell_centred_lattice(const Domain& box, int n, bool boundary_particle
   for (int k = 0; k < box.dim; ++k) {
     const Real dx = (box.hi[k] - box.lo[k]) / n;
     auto& a = axes[static_cast<std::size_t>(k)];
+    if (box.periodic[static_cast<std::size_t>(k)]) {  // n cell centres, no boundary particles or ghosts
+      for (int i = 0; i < n; ++i) a.push_back(box.lo[k] + (i + 0.5) * dx);
+      continue;
+    }
     for (int i = -ghost_layers; i < n + ghost_layers; ++i) {
       if (boundary_particles && i == 0) a.push_back(box.lo[k]);
       if (boundary_particles && i == n) a.push_back(box.hi[k]);
@@ -142,14 +150,17 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
       const Vec3 x = cloud.positions[si] + step;
       bool inside_face = true;  // stay strictly inside the face, off its edges
       for (int k = 0; k < cloud.dim; ++k)
-        if (std::abs(nrm[k]) < 0.5) inside_face = inside_face && x[k] > cloud.domain.lo[k] && x[k] < cloud.domain.hi[k];
-      if (inside_face) cloud.positions[si] = x;
+        if (std::abs(nrm[k]) < 0.5 && !cloud.domain.periodic[static_cast<std::size_t>(k)])
+          inside_face = inside_face && x[k] > cloud.domain.lo[k] && x[k] < cloud.domain.hi[k];
+      if (inside_face) cloud.positions[si] = cloud.domain.wrap(x);
       continue;
     }
     if (o.regular_layer > 0 && tag == Tag::Interior && cloud.domain.shape == Domain::Shape::Box) {
       const Vec3& x0 = cloud.positions[si];
       for (int k = 0; k < cloud.dim; ++k)
-        if (std::min(x0[k] - cloud.domain.lo[k], cloud.domain.hi[k] - x0[k]) < o.regular_layer * cloud.spacing) step[k] = 0;
+        if (!cloud.domain.periodic[static_cast<std::size_t>(k)] &&
+            std::min(x0[k] - cloud.domain.lo[k], cloud.domain.hi[k] - x0[k]) < o.regular_layer * cloud.spacing)
+          step[k] = 0;
     }
     Vec3 x = cloud.positions[si] + step;
     if (bounded && tag == Tag::Interior) {
@@ -158,7 +169,7 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
         x = cloud.positions[si] + step;
       }
     }
-    cloud.positions[si] = x;
+    cloud.positions[si] = cloud.domain.wrap(x);  // across a periodic face: back into the box
   }
   if (!bounded && cloud.domain.shape != Domain::Shape::None) {
 #pragma omp parallel for schedule(static) if (cloud.size() > 4096)

@@ -8,6 +8,7 @@ namespace detail {
 
 NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
 NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
+NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& params);  // periodic.cpp
 
 namespace {
 // A radius that covers much of the cloud makes the search itself O(N^2) in time
@@ -59,6 +60,7 @@ std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& par
 }  // namespace detail
 
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params) {
+  if (params.wrap_periodic && cloud.domain.any_periodic()) return detail::periodic_search(cloud, params);
   auto radii = detail::resolve_radii(cloud, params);
   if (params.backend == SearchBackend::KdTree) return detail::kd_tree_search(cloud, std::move(radii), params);
   return detail::cell_list_search(cloud, std::move(radii), params);

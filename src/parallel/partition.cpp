@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The partition every build has: the whole cloud on one process (partition.hpp), and the
 // dispatch to the ranks' partition of an MPI build.
+#include <algorithm>
 #include <limits>
+#include <vrsph/parallel/communicator.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include "../core/reachability.hpp"
 #include "partition.hpp"
 
@@ -28,6 +31,57 @@ class WholeCloud final : public Partition {
                           std::vector<char> seeds) const override {
     return reaching(offsets, targets, std::move(seeds));
   }
+  bool has_halo() const override { return false; }
+};
+
+// One process, a box periodic along some axes: the cloud and, as its halo, the images of the
+// particles within the halo width of a periodic face (periodic.hpp). Every original is owned;
+// an image's global number is its original's, and an exchange copies the original's value.
+class PeriodicCloud final : public Partition {
+ public:
+  PeriodicCloud(const PointCloud& cloud, Real halo_width) : Partition(Communicator()), chunk_(cloud) {
+    global_size_ = cloud.size();
+    widen(halo_width);
+  }
+  void widen(Real halo_width) override {
+    halo_width_ = halo_width;
+    images_ = periodic_images(chunk_, halo_width_);
+    local_ = &images_.cloud;
+    ids_ = &images_.image_of;
+    owned_.assign(static_cast<std::size_t>(images_.cloud.size()), 0);
+    std::fill(owned_.begin(), owned_.begin() + chunk_.size(), 1);
+  }
+  Field to_local(const Field& v) const override { return expand(v); }
+  Eigen::MatrixXd to_local(const Eigen::MatrixXd& v) const override {
+    Eigen::MatrixXd out(local_size(), v.cols());
+    for (Index i = 0; i < local_size(); ++i) out.row(i) = v.row(images_.image_of[static_cast<std::size_t>(i)]);
+    return out;
+  }
+  Field to_chunk(Field v) const override { return v.head(chunk_.size()); }
+  void update_halo(Field& v) const override { v = expand(Field(v.head(chunk_.size()))); }
+  void update_halo(std::vector<Index>& v) const override {
+    for (Index i = chunk_.size(); i < local_size(); ++i)
+      v[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(images_.image_of[static_cast<std::size_t>(i)])];
+  }
+  // An edge to an image is an edge to its original; the images take their originals' flags.
+  std::vector<char> reach(std::span<const Index> offsets, std::span<const Index> targets,
+                          std::vector<char> seeds) const override {
+    std::vector<Index> to_original(targets.begin(), targets.end());
+    for (Index& j : to_original) j = images_.image_of[static_cast<std::size_t>(j)];
+    std::vector<char> r = reaching(offsets, to_original, std::move(seeds));
+    for (Index i = chunk_.size(); i < local_size(); ++i)
+      r[static_cast<std::size_t>(i)] = r[static_cast<std::size_t>(images_.image_of[static_cast<std::size_t>(i)])];
+    return r;
+  }
+
+ private:
+  Field expand(const Field& v) const {
+    Field out(local_size());
+    for (Index i = 0; i < local_size(); ++i) out[i] = v[images_.image_of[static_cast<std::size_t>(i)]];
+    return out;
+  }
+  const PointCloud& chunk_;
+  PeriodicImages images_;
 };
 }  // namespace
 
@@ -45,6 +99,11 @@ void Partition::stage(const std::function<void()>& run) const {
 }
 
 std::unique_ptr<Partition> make_partition(const PointCloud& chunk, Real halo_width, const Communicator& comm) {
+  if (any_rank(comm, chunk.domain.any_periodic())) {
+    check<ConfigError>(!comm.distributed(), "a periodic domain runs on one rank for now (periodic halos across the "
+                                            "ranks are not implemented): run without mpirun");
+    return std::make_unique<PeriodicCloud>(chunk, halo_width);
+  }
 #if VRSPH_HAVE_MPI
   if (comm.distributed()) return partition_over_ranks(chunk, halo_width, comm);
 #endif

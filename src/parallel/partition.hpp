@@ -20,6 +20,9 @@ class Partition {
   virtual ~Partition() = default;
   const Communicator& comm() const { return comm_; }
   bool distributed() const { return comm_.distributed(); }
+  /// Whether local() holds copies of other particles (a rank's halo, periodic images): the
+  /// stages then work on owned rows and number columns through global_id.
+  virtual bool has_halo() const { return true; }
   /// Owned and halo particles (serial: the whole cloud, not a copy).
   const PointCloud& local() const { return *local_; }
   Index local_size() const { return local_->size(); }
@@ -63,7 +66,8 @@ class Partition {
 
 /// The partition of `chunk` (this rank's part of the cloud) over `comm` with a halo of
 /// `halo_width`: the whole cloud in serial (the chunk, validated by the caller, must outlive
-/// the partition).
+/// the partition), with the images of the particles within halo_width of its periodic faces
+/// when its box is periodic (one rank only, for now).
 std::unique_ptr<Partition> make_partition(const PointCloud& chunk, Real halo_width, const Communicator& comm);
 
 /// estimate_spacing of the whole cloud from every rank's chunk (the same value on every rank).

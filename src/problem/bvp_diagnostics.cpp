@@ -89,8 +89,15 @@ void report_m_matrix(const Partition& part, const OperatorRows& r, const RowMask
   const std::vector<char>& rows = flux_rows_apart ? masks.interior : masks.unknown;
   const std::vector<char> columns = flux_rows_apart ? tag_mask(part.local(), {Tag::Interior}) : masks.unknown_columns;
   const std::optional<Stencil> robin_rows = with_robin_diagonal(r.L, masks.flux, data.robin);
+  // A fully periodic box without boundary particles: -L is singular (its rows sum to zero)
+  // and the solve pins one particle; the pinned system is an M-matrix when every row is
+  // chained to that particle.
+  const bool periodic = part.local().domain.fully_periodic() && s.neumann_particles == 0 &&
+                        !any_rank(part.comm(), part.local().count(Tag::Dirichlet) > 0);
+  const Index pinned = periodic ? centre_particle(part, masks.interior) : -1;
   const MMatrixReport mm = check_m_matrix(robin_rows ? *robin_rows : r.L, columns, 1e-12, rows,
                                           [&](std::span<const Index> off, std::span<const Index> tgt, std::vector<char> seeds) {
+                                            if (pinned >= 0) seeds[static_cast<std::size_t>(pinned)] = 1;
                                             return part.reach(off, tgt, std::move(seeds));
                                           });
   const Communicator& comm = part.comm();

@@ -22,6 +22,9 @@ namespace vrsph::detail {
 /// Which optional fields the problem gives (agreed over the ranks: a chunk may be empty).
 struct ProblemFields {
   bool a = false, grad_a = false, tensor = false, q = false, robin = false;
+  /// A box periodic along every axis without Dirichlet or Neumann particles: u is fixed up
+  /// to a constant, pinned at one particle for the solve and then shifted to zero mean.
+  bool periodic_without_boundary = false;
 };
 
 /// Supports away from a row that its weights read (Method::reach), or further when the
@@ -88,6 +91,9 @@ LinearSystem assemble_over_ranks(const Partition& part, const Stencil& L, const 
                                 const Field& g, const BoundaryRows& bc);
 /// This rank's rows with their columns renumbered from local dofs to global ones.
 LinearSystem globalise(const Partition& part, LinearSystem local);
+/// The interior particle nearest the domain's centre (the one fix_constant pins), on the
+/// rank that owns it (-1 on the others).
+Index centre_particle(const Partition& part, const std::vector<char>& interior);
 /// This rank's rows of the system, columns numbered over every rank (serial: the system).
 LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& rows, const RowMasks& masks,
                                  const LocalData& data, const BoundaryValueProblem& p, const ProblemFields& given,
@@ -97,6 +103,16 @@ Eigen::VectorXd solve_system(const Partition& part, const LinearSystem& sys, con
 /// the whole cloud's particle numbers: serial, every row; under MPI the rows this rank owns
 /// (each row on exactly one rank, the others empty).
 SparseMatrix kept_operator_rows(const Partition& part, const Stencil& L);
+/// Fully periodic problems (bvp_periodic.cpp): the equation the pin replaces, kept before
+/// the rows are freed, and the correction that spreads its defect evenly.
+struct PinnedRow {
+  Index particle = -1;                         ///< local; -1: no pin here
+  std::vector<std::pair<Index, Real>> entries; ///< (global particle, L_pj)
+  Real rhs = 0;                                ///< f_p, or the compact row's average of f
+};
+PinnedRow pinned_row(const Partition& part, const Stencil& L, const LocalData& data, const RowMasks& masks);
+void spread_periodic_defect(const Partition& part, LinearSystem& sys, const PinnedRow& row, const Field& f_owned,
+                            const BvpSolveOptions& o, Eigen::VectorXd& x, BvpSolution& s);
 /// u and the local residuals back in the chunk's order; the Neumann solvability warning.
 void report_solution(const Partition& part, const LinearSystem& sys, const Eigen::VectorXd& x, const LocalData& data,
                      Real spacing, BvpSolution& s);

@@ -16,7 +16,7 @@ LocalData local_data(const Partition& part, const BoundaryValueProblem& p, const
   const auto at_neumann = [&](const Field& v) { return v.size() ? v : Field(Field::Zero(n_chunk)); };
   LocalData d;
   d.a = part.to_local(given.a ? p.a : Field(Field::Ones(n_chunk)));
-  if (part.distributed()) {
+  if (part.has_halo()) {
     d.f_local = part.to_local(p.f);
     d.g_local = part.to_local(p.g);
   } else {
@@ -54,6 +54,7 @@ NeighbourList find_local_neighbours(const Partition& part, const Support& suppor
   sp.radius = support.h;
   sp.radii = support.radii;
   sp.min_neighbours = 0;
+  sp.wrap_periodic = false;  // a periodic partition holds the images itself
   NeighbourList nl;
   part.stage([&] {
     fault_point(part.comm(), "neighbours");

@@ -9,6 +9,7 @@
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include "bvp_pipeline.hpp"
 
@@ -103,6 +104,15 @@ std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolv
                          "--h-mode covering needs a known domain (box or ball) for the covering radius; a cloud "
                          "without one (e.g. read from a file) cannot use it: use fixed or knn");
       check<InputError>(n > dim, "the covering radius needs more than ", dim, " particles");
+    });
+  }
+  if (any_rank(comm, chunk.domain.any_periodic())) {
+    collective(comm, [&] {
+      check<ConfigError>(!comm.distributed(), "a periodic domain runs on one rank for now (periodic halos across the "
+                                              "ranks are not implemented): run without mpirun");
+      check<ConfigError>(!covering && !knn, "a periodic domain takes --h-mode fixed (the covering radius and the knn "
+                                            "radii are not computed across periodic faces yet)");
+      check_periodic_cloud(chunk, sup.h);
     });
   }
   auto part = make_partition(chunk, reach * sup.h * kHaloMargin, comm);

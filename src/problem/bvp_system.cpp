@@ -13,41 +13,6 @@
 namespace vrsph::detail {
 
 namespace {
-// The interior particle nearest the centre of the domain (or of the interior particles) over
-// every rank: it pins the constant of a pure-Neumann problem. Ties: the smallest global id,
-// as a serial search keeps the first.
-Index centre_particle(const Partition& part, const std::vector<char>& interior) {
-  const PointCloud& cloud = part.local();
-  const Communicator& comm = part.comm();
-  Vec3 centre = Vec3::Zero();
-  if (cloud.domain.shape == Domain::Shape::Ball) {
-    centre = cloud.domain.centre;
-  } else if (cloud.domain.shape == Domain::Shape::Box) {
-    centre = 0.5 * (cloud.domain.lo + cloud.domain.hi);
-  } else {
-    long long count = 0;
-    for (Index i = 0; i < cloud.size(); ++i)
-      if (interior[static_cast<std::size_t>(i)]) {
-        centre += cloud.positions[static_cast<std::size_t>(i)];
-        ++count;
-      }
-    for (int k = 0; k < 3; ++k) centre[k] = sum_over_ranks(comm, centre[k]);
-    centre /= static_cast<Real>(std::max<long long>(sum_over_ranks(comm, count), 1));
-  }
-  Real best = std::numeric_limits<Real>::infinity();
-  Index best_i = -1;
-  for (Index i = 0; i < cloud.size(); ++i)
-    if (interior[static_cast<std::size_t>(i)] && (cloud.positions[static_cast<std::size_t>(i)] - centre).norm() < best) {
-      best = (cloud.positions[static_cast<std::size_t>(i)] - centre).norm();
-      best_i = i;
-    }
-  const Real global_best = min_over_ranks(comm, best);
-  const long long mine =
-      best == global_best && best_i >= 0 ? part.global_id(best_i) : std::numeric_limits<long long>::max();
-  const long long chosen = static_cast<long long>(-max_over_ranks(comm, -static_cast<double>(mine)));
-  return best_i >= 0 && part.global_id(best_i) == chosen ? best_i : -1;
-}
-
 // Some data anywhere, and every owned unknown connected through non-zero entries to a row
 // coupled to data (else the system is singular); the whole-cloud assembly checks this itself.
 void check_anchored_over_ranks(const Partition& part, const LinearSystem& sys, bool neumann, bool robin, bool pinned) {
@@ -98,6 +63,41 @@ void check_anchored_over_ranks(const Partition& part, const LinearSystem& sys, b
 
 }  // namespace
 
+// The interior particle nearest the centre of the domain (or of the interior particles) over
+// every rank: it pins the constant of a pure-Neumann problem. Ties: the smallest global id,
+// as a serial search keeps the first.
+Index centre_particle(const Partition& part, const std::vector<char>& interior) {
+  const PointCloud& cloud = part.local();
+  const Communicator& comm = part.comm();
+  Vec3 centre = Vec3::Zero();
+  if (cloud.domain.shape == Domain::Shape::Ball) {
+    centre = cloud.domain.centre;
+  } else if (cloud.domain.shape == Domain::Shape::Box) {
+    centre = 0.5 * (cloud.domain.lo + cloud.domain.hi);
+  } else {
+    long long count = 0;
+    for (Index i = 0; i < cloud.size(); ++i)
+      if (interior[static_cast<std::size_t>(i)]) {
+        centre += cloud.positions[static_cast<std::size_t>(i)];
+        ++count;
+      }
+    for (int k = 0; k < 3; ++k) centre[k] = sum_over_ranks(comm, centre[k]);
+    centre /= static_cast<Real>(std::max<long long>(sum_over_ranks(comm, count), 1));
+  }
+  Real best = std::numeric_limits<Real>::infinity();
+  Index best_i = -1;
+  for (Index i = 0; i < cloud.size(); ++i)
+    if (interior[static_cast<std::size_t>(i)] && (cloud.positions[static_cast<std::size_t>(i)] - centre).norm() < best) {
+      best = (cloud.positions[static_cast<std::size_t>(i)] - centre).norm();
+      best_i = i;
+    }
+  const Real global_best = min_over_ranks(comm, best);
+  const long long mine =
+      best == global_best && best_i >= 0 ? part.global_id(best_i) : std::numeric_limits<long long>::max();
+  const long long chosen = static_cast<long long>(-max_over_ranks(comm, -static_cast<double>(mine)));
+  return best_i >= 0 && part.global_id(best_i) == chosen ? best_i : -1;
+}
+
 // This rank's rows with their columns renumbered from local dofs to global ones (sorted
 // again: the halo dofs' global numbers need not follow the local order).
 LinearSystem globalise(const Partition& part, LinearSystem sys) {
@@ -134,7 +134,7 @@ LinearSystem globalise(const Partition& part, LinearSystem sys) {
 
 LinearSystem assemble_over_ranks(const Partition& part, const Stencil& L, const RowMasks& masks, const Field& f,
                                 const Field& g, const BoundaryRows& bc) {
-  if (!part.distributed()) return assemble(L, part.local(), masks.unknown, f, g, &bc);
+  if (!part.has_halo()) return assemble(L, part.local(), masks.unknown, f, g, &bc);
   const AssemblyScope scope{masks.unknown};
   LinearSystem sys;
   part.stage([&] {
@@ -159,17 +159,18 @@ LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& r, c
     bc.q = data.q;
     bc.robin = data.robin;
   }
-  bc.pinned = p.pinned >= 0 ? p.pinned : p.fix_constant ? centre_particle(part, masks.interior) : -1;
+  const bool fix = p.fix_constant || given.periodic_without_boundary;
+  bc.pinned = p.pinned >= 0 ? p.pinned : fix ? centre_particle(part, masks.interior) : -1;
   LinearSystem sys = assemble_over_ranks(part, r.L, masks, data.f(), data.g(), bc);
-  if (part.distributed()) sys = globalise(part, std::move(sys));
-  s.unknowns = static_cast<Index>(part.distributed() ? sys.A.cols() : sys.size());
+  if (part.has_halo()) sys = globalise(part, std::move(sys));
+  s.unknowns = static_cast<Index>(part.has_halo() ? sys.A.cols() : sys.size());
   s.nnz_per_row = static_cast<Real>(sum_over_ranks(part.comm(), static_cast<long long>(sys.A.nonZeros()))) /
                   static_cast<Real>(std::max<Index>(s.unknowns, 1));
   return sys;
 }
 
 SparseMatrix kept_operator_rows(const Partition& part, const Stencil& L) {
-  if (!part.distributed()) return as_eigen(L);
+  if (!part.has_halo()) return as_eigen(L);
   const SparseView local = as_eigen(L);
   std::vector<Eigen::Triplet<Real>> entries;
   entries.reserve(static_cast<std::size_t>(local.nonZeros()));

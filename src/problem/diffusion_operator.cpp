@@ -25,6 +25,8 @@ BvpSolveOptions as_solve_options(const DiffusionOptions& o) {
 
 DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const DiffusionOptions& o) {
   DiffusionOperator op;
+  check<ConfigError>(!any_rank(o.communicator, p.cloud.domain.any_periodic()),
+                     "diffusion on a periodic domain is not implemented yet (boundary value problems are)");
   const auto method = builtin_methods().create(o.method, o.method_options);
   Support support;
   op.part = choose_support(p.cloud, as_solve_options(o), halo_reach(*method, StencilUse::Values, false), support);
@@ -64,7 +66,7 @@ DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const Diff
   }
   const Field zero = Field::Zero(part.local_size());
   op.local = assemble_over_ranks(part, op.L, op.masks, zero, zero, bc);
-  if (part.distributed()) op.global = globalise(part, op.local);
+  if (part.has_halo()) op.global = globalise(part, op.local);
   return op;
 }
 

@@ -21,7 +21,7 @@ struct DiffusionOperator {
   /// columns local dofs (owned first, then halo copies) in `local`, global ones in `global`
   /// (serial: the same system, kept once in `local`).
   LinearSystem local, global;
-  const LinearSystem& system() const { return part->distributed() ? global : local; }
+  const LinearSystem& system() const { return part->has_halo() ? global : local; }
   bool is_flux_dof(Index d) const {
     return masks.flux[static_cast<std::size_t>(local.particle_of_dof[static_cast<std::size_t>(d)])] != 0;
   }

@@ -119,14 +119,22 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                                            : Field(Eigen::Map<const Field>(rows.L.wall_flux.data(), part->local_size()));
   s.local_residual = rows.L.residual.empty() ? Field::Zero(part->local_size())
                                              : Field(Eigen::Map<const Field>(rows.L.residual.data(), part->local_size()));
+  const detail::PinnedRow pinned =
+      given.periodic_without_boundary ? detail::pinned_row(*part, rows.L, data, masks) : detail::PinnedRow{};
   rows = detail::OperatorRows();
   s.seconds_assemble = max_over_ranks(o.communicator, watch.seconds());
   mark(&s.stage_peak_bytes.assemble);
   check_interrupt();
 
-  const Eigen::VectorXd x = detail::solve_system(*part, sys, o, s);
+  Eigen::VectorXd x = detail::solve_system(*part, sys, o, s);
+  if (given.periodic_without_boundary) detail::spread_periodic_defect(*part, sys, pinned, p.f, o, x, s);
   mark(&s.stage_peak_bytes.solve);
   detail::report_solution(*part, sys, x, data, support.spacing, s);
+  if (given.periodic_without_boundary) {  // u up to a constant: the one with zero mean
+    const Real mean = sum_over_ranks(o.communicator, s.u.sum()) /
+                      static_cast<Real>(std::max<long long>(1, sum_over_ranks(o.communicator, static_cast<long long>(s.u.size()))));
+    s.u.array() -= mean;
+  }
   if (o.keep_matrices) s.system = std::move(sys);
   return s;
 }

@@ -3,6 +3,7 @@
 // tests/CMakeLists.txt). Every rank computes the serial reference itself (on
 // PETSC_COMM_SELF-free serial paths) and compares its own part of the distributed result.
 #include <gtest/gtest.h>
+#include "../test_util.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -264,6 +265,12 @@ TEST(DistributedSolve, UnsupportedSettingsAreConfigErrors) {
   o.communicator = world();
   o.solver.type = SolverType::UmfPack;
   EXPECT_THROW(solve(part_of(whole, b, e), o), ConfigError);
+  // Periodic halos across the ranks are not implemented: refused, not solved wrongly.
+  BoundaryValueProblem periodic = part_of(whole, b, e);
+  periodic.cloud.domain.set_periodic("x");
+  o.solver = direct_petsc();
+  o.spacing = 0.1;
+  EXPECT_THROW_MSG(solve(periodic, o), ConfigError, "a periodic domain runs on one rank");
 }
 
 TEST(DistributedStudy, TheStudyTableEqualsTheSerialOne) {

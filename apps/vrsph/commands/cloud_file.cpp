@@ -27,7 +27,7 @@ namespace {
 // (a geometry's fill uses --seed and --delta).
 void reject_generator_options(const CLI::App& cmd, const char* source, bool geometry = false) {
   for (const char* opt : {"--cloud", "--problem", "--seed", "--delta", "--perturb-boundary", "--regular-layer",
-                          "--neumann", "--robin", "--beta"}) {
+                          "--neumann", "--robin", "--beta", "--periodic"}) {
     if (geometry && (std::string(opt) == "--seed" || std::string(opt) == "--delta")) continue;
     check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with ", source,
                        geometry ? " (the geometry is the domain; --neumann-where tags its boundary)"

@@ -87,7 +87,7 @@ void write_fields(const HeterogeneousStudyResult& r, const std::string& path) {
 // Options of the other studies that do not apply, and the field options of the other problems.
 void reject_foreign_options(const StudyArgs& a, const HeterogeneousArgs& h, const CLI::App& cmd) {
   for (const char* o : {"--cloud", "--delta", "--perturb-boundary", "--regular-layer", "--h-mode", "--h-knn", "--neumann",
-                        "--q", "--robin", "--beta", "--fix-constant", "--u", "--a", "--mobility", "--layout", "--f", "--g", "--seeds",
+                        "--q", "--robin", "--beta", "--fix-constant", "--u", "--a", "--mobility", "--layout", "--f", "--g", "--seeds", "--periodic",
                         "--on-infeasible", "--cloud-file-pattern", "--h", "--geometry"})
     check<ConfigError>(cmd.count(o) == 0, o, " does not apply to ", a.problem,
                        " (the particles are the cell centres of the permeability grid, layout B, with u = 1 at y = 0, "

@@ -48,6 +48,9 @@ void add_common(CLI::App* cmd, StudyArgs& a) {
   a.kernel_opt = cmd->add_option("--kernel", a.kernel, "Kernel: cubic, cubic-spe, gaussian, quintic, wendland-c2, wendland-c4 "
                                                         "(default cubic; aar-static: gaussian)")
                      ->capture_default_str();
+  cmd->add_option("--periodic", a.periodic,
+                  "Comma-separated periodic axes x,y,z or all: the unit box wraps around along them (no boundary "
+                  "particles there; fully periodic: u with zero mean, errors up to the constant, f must have zero mean)");
   cmd->add_option("--neumann", a.neumann,
                   "Comma-separated Neumann faces x0,x1,y0,y1,z0,z1 or all (flux rows a du/dn = q from the method's own "
                   "gradient; default: the problem's, none for qw-ex5)");
@@ -103,6 +106,7 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   p.regular_layer = a.regular_layer;
   p.kernel = a.kernel_opt->count() ? parse_kernel(a.kernel) : def.kernel;
   if (!a.neumann.empty()) p.neumann = parse_name_list(a.neumann, "--neumann");
+  p.periodic = a.periodic;
   if (!a.robin.empty()) p.robin = parse_name_list(a.robin, "--robin");
   p.beta = a.beta;
   p.q = a.q;

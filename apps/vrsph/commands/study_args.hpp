@@ -20,7 +20,7 @@ struct StudyArgs {
   double h_factor = 3, delta = 0.5, infeasible_tol = 1e-6, regular_layer = 0;
   bool perturb_boundary = false, fix_constant = false, monitor = false;
   std::string vtu_format = "binary";
-  std::string neumann, q, mobility, layout, robin, beta;
+  std::string neumann, q, mobility, layout, robin, beta, periodic;
   std::vector<std::string> method_opts;
   OutputOptions out;
   // Set by the user (else the problem's default applies, see problem_defaults.hpp).

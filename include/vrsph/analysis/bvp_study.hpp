@@ -85,6 +85,9 @@ struct BvpStudyParams {
   std::vector<std::string> mobility; ///< custom problem: m_1..m_d (diagonal tensor), instead of a
   Layout layout = Layout::Vertex;    ///< layout A (vertex lattice) or B (cell centres + boundary particles)
   std::vector<std::string> neumann;  ///< Neumann faces (empty: the problem's default)
+  /// Periodic axes of the unit box ("x,y", "all"; empty: none). Fully periodic: no boundary
+  /// particles, u has zero mean and the errors are taken up to the constant.
+  std::string periodic;
   std::string q;                     ///< Neumann data a ∂u/∂n (expression; default from u)
   /// Robin faces: flux rows a ∂u/∂n + β u = q with β = `beta` (expression >= 0); q defaults
   /// to a ∂u/∂n + β u of the exact solution. A face is Neumann or Robin, not both.

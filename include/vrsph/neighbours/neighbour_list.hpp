@@ -4,6 +4,7 @@
 // compressed-sparse-row form. Row i is indices[offsets[i] .. offsets[i+1]),
 // sorted ascending; self is excluded unless the search asked for it.
 // If distances were cached, distances[k] = |x_i - x_j| for the same slot k.
+#include <cstdint>
 #include <span>
 #include <vrsph/core/types.hpp>
 #include <vrsph/core/uninitialized.hpp>
@@ -15,6 +16,9 @@ struct NeighbourList {
   UninitVector<Index> indices;    ///< size offsets.back()
   UninitVector<Real> distances;   ///< empty, or one r_ij per entry of indices
   std::vector<Real> radii;        ///< search radius used for each row (size N)
+  /// Periodic clouds: per entry, the image of j that i sees (periodic.hpp's shift code:
+  /// x_j + periodic_shift(domain, code) - x_i is the pair's vector); empty otherwise.
+  std::vector<std::uint8_t> shifts;
 
   Index size() const { return static_cast<Index>(offsets.size()) - 1; }
   Index count(Index i) const { return offsets[static_cast<std::size_t>(i) + 1] - offsets[static_cast<std::size_t>(i)]; }

@@ -25,9 +25,14 @@ struct SearchParams {
   Index min_neighbours = 1;
   /// Two particles closer than duplicate_tolerance * radius are reported as duplicates (InputError).
   Real duplicate_tolerance = 1e-10;
+  /// A cloud whose box is periodic (Domain::periodic) is searched with minimum-image
+  /// distances, each pair's image in NeighbourList::shifts. False: search the positions as
+  /// they are (a cloud that already holds its periodic images).
+  bool wrap_periodic = true;
 };
 
-/// Throws InputError (non-positive or non-finite radius, duplicate particles) or
+/// Throws InputError (non-positive or non-finite radius, duplicate particles; on a periodic
+/// box a period not larger than twice the radius or a particle outside the box) or
 /// GeometryError (a non-ghost particle with too few neighbours), naming the particle.
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params);
 

@@ -115,6 +115,10 @@ struct BvpSolution {
   /// quadrature (first order; > 0.2 means the data violate the solvability condition,
   /// and a warning says so). The studies, which know the domain, check it exactly.
   Real neumann_imbalance = 0;
+  /// Fully periodic problems: the constant λ taken out of f to make the data compatible with
+  /// the discrete operator (L u = f - λ at every particle; truncation-sized for data with zero
+  /// mean, and a warning when it is more than 5 % of the mean |f|).
+  Real periodic_source_shift = 0;
   std::vector<std::string> warnings;
   /// seconds_neighbours: the support radius, the partition, the data's exchange and the search.
   double seconds_neighbours = 0, seconds_stencil = 0, seconds_assemble = 0, seconds_solve = 0;

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// Periodic clouds: the images of particles near periodic faces, and the shift of a pair
+// across them. A cloud whose box is periodic along some axes (Domain::periodic) is
+// searched with minimum-image distances (find_neighbours): each pair (i, j) stores the
+// image of j that i sees, as a shift code, so x_j + shift - x_i is the pair's vector.
+// Methods build their rows on the cloud extended by images (every method unchanged: its
+// rows read ordinary positions) and the columns are folded back onto the originals.
+#include <cstdint>
+#include <vector>
+#include <vrsph/cloud/point_cloud.hpp>
+
+namespace vrsph {
+
+/// Shift code of an image: s = (s_x + 1) + 3 (s_y + 1) + 9 (s_z + 1), each s_k in {-1, 0, 1}
+/// periods; 13 is no shift.
+inline constexpr std::uint8_t no_shift = 13;
+/// The displacement of an image with this code in this domain.
+Vec3 periodic_shift(const Domain& domain, std::uint8_t code);
+
+struct PeriodicImages {
+  /// The originals (first, in their order) and the images of those within `width` of a
+  /// periodic face (each combination of the periodic axes), with the originals' tags and
+  /// normals; its domain is the original's.
+  PointCloud cloud;
+  std::vector<Index> image_of;     ///< per particle of `cloud`: its original (originals: themselves)
+  std::vector<std::uint8_t> shift; ///< per particle of `cloud`: its shift code (originals: no_shift)
+  Index originals = 0;
+};
+
+/// Checks a periodic cloud for a search of this radius: each periodic axis's period larger
+/// than twice the radius (else a particle would meet two images of one neighbour), every
+/// particle inside [lo, hi) along the periodic axes (InputError naming the first outside:
+/// the library refuses rather than wraps; wrap them with Domain::wrap).
+void check_periodic_cloud(const PointCloud& cloud, Real radius);
+/// The cloud with the images of its particles within `width` (less than a period; ConfigError
+/// otherwise) of a periodic face.
+PeriodicImages periodic_images(const PointCloud& cloud, Real width);
+
+}  // namespace vrsph

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Periodic images and the minimum-image neighbour search (periodic.hpp).
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include "two_pass.hpp"
+
+namespace vrsph {
+
+Vec3 periodic_shift(const Domain& domain, std::uint8_t code) {
+  Vec3 s = Vec3::Zero();
+  int c = code;
+  for (int k = 0; k < 3; ++k, c /= 3)
+    if (k < domain.dim) s[k] = static_cast<Real>(c % 3 - 1) * domain.period(k);
+  return s;
+}
+
+void check_periodic_cloud(const PointCloud& cloud, Real radius) {
+  const Domain& d = cloud.domain;
+  for (int k = 0; k < cloud.dim; ++k) {
+    if (!d.periodic[static_cast<std::size_t>(k)]) continue;
+    check<InputError>(d.period(k) > 2 * radius, "periodic axis ", "xyz"[k], ": the period ", d.period(k),
+                      " must be larger than twice the support radius ", radius,
+                      " (else a particle meets two images of one neighbour); use a smaller h or a longer box");
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+      check<InputError>(x[k] >= d.lo[k] && x[k] < d.hi[k], "particle ", i, " at (", x[0], ", ", x[1], ", ", x[2],
+                        ") lies outside the periodic box [", d.lo[k], ", ", d.hi[k], ") along ", "xyz"[k],
+                        ": wrap the positions into the box (Domain::wrap)");
+    }
+  }
+}
+
+PeriodicImages periodic_images(const PointCloud& cloud, Real width) {
+  const Domain& d = cloud.domain;
+  for (int k = 0; k < cloud.dim; ++k)
+    check<ConfigError>(!d.periodic[static_cast<std::size_t>(k)] || width < d.period(k), "periodic axis ", "xyz"[k],
+                       ": rows read particles up to ", width, " away, beyond one period ", d.period(k),
+                       "; use a smaller h or a longer box");
+  PeriodicImages out;
+  out.cloud = cloud;
+  out.originals = cloud.size();
+  out.image_of.resize(static_cast<std::size_t>(cloud.size()));
+  std::iota(out.image_of.begin(), out.image_of.end(), 0);
+  out.shift.assign(static_cast<std::size_t>(cloud.size()), no_shift);
+  const bool normals = cloud.has_normals();
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Vec3& x = cloud.positions[si];
+    // Per axis: the shifts that bring an image within `width` of the box (0 always).
+    std::array<std::array<int, 3>, 3> options{};
+    std::array<std::size_t, 3> count{1, 1, 1};
+    for (int k = 0; k < 3; ++k) {
+      options[static_cast<std::size_t>(k)] = {0, 0, 0};
+      if (k >= cloud.dim || !d.periodic[static_cast<std::size_t>(k)]) continue;
+      if (x[k] - d.lo[k] < width) options[static_cast<std::size_t>(k)][count[static_cast<std::size_t>(k)]++] = 1;
+      if (d.hi[k] - x[k] <= width) options[static_cast<std::size_t>(k)][count[static_cast<std::size_t>(k)]++] = -1;
+    }
+    for (std::size_t a = 0; a < count[0]; ++a)
+      for (std::size_t b = 0; b < count[1]; ++b)
+        for (std::size_t c = 0; c < count[2]; ++c) {
+          const int sx = options[0][a], sy = options[1][b], sz = options[2][c];
+          if (sx == 0 && sy == 0 && sz == 0) continue;
+          const auto code = static_cast<std::uint8_t>((sx + 1) + 3 * (sy + 1) + 9 * (sz + 1));
+          out.cloud.positions.push_back(x + periodic_shift(d, code));
+          out.cloud.tags.push_back(cloud.tags[si]);
+          if (normals) out.cloud.normals.push_back(cloud.normals[si]);
+          out.image_of.push_back(i);
+          out.shift.push_back(code);
+        }
+  }
+  return out;
+}
+
+namespace detail {
+// Minimum-image search: the plain search over the cloud and its images within the largest
+// radius; each original's row then names the originals, with the shift of the image seen.
+NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& params) {
+  const std::vector<Real> radii = resolve_radii(cloud, params);
+  const Real width = *std::max_element(radii.begin(), radii.end());
+  check_periodic_cloud(cloud, width);
+  const PeriodicImages im = periodic_images(cloud, width);
+  SearchParams sp = params;
+  sp.wrap_periodic = false;
+  sp.min_neighbours = 0;  // an image's row is cut: only the originals' rows are checked
+  sp.radii.assign(static_cast<std::size_t>(im.cloud.size()), 0);
+  for (std::size_t k = 0; k < sp.radii.size(); ++k) sp.radii[k] = radii[static_cast<std::size_t>(im.image_of[k])];
+  const NeighbourList ext = find_neighbours(im.cloud, sp);
+  NeighbourList out;
+  const Index n = cloud.size();
+  out.offsets.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (Index i = 0; i < n; ++i) out.offsets[static_cast<std::size_t>(i) + 1] = out.offsets[static_cast<std::size_t>(i)] + ext.count(i);
+  const auto total = static_cast<std::size_t>(out.offsets.back());
+  out.indices.resize(total);
+  if (!ext.distances.empty()) out.distances.resize(total);
+  out.shifts.resize(total);
+  out.radii.assign(radii.begin(), radii.end());
+  std::vector<std::pair<Index, std::size_t>> row;
+  for (Index i = 0; i < n; ++i) {
+    const auto b = static_cast<std::size_t>(ext.offsets[static_cast<std::size_t>(i)]);
+    const auto nbr = ext.of(i);
+    row.clear();
+    for (std::size_t k = 0; k < nbr.size(); ++k) row.emplace_back(im.image_of[static_cast<std::size_t>(nbr[k])], b + k);
+    std::sort(row.begin(), row.end());  // by the original's index, as a plain search lists them
+    auto at = static_cast<std::size_t>(out.offsets[static_cast<std::size_t>(i)]);
+    for (const auto& [j, e] : row) {
+      out.indices[at] = j;
+      if (!ext.distances.empty()) out.distances[at] = ext.distances[e];
+      out.shifts[at] = im.shift[static_cast<std::size_t>(ext.indices[e])];
+      ++at;
+    }
+  }
+  check_min_neighbours(cloud, out, out.radii, params.min_neighbours, params.include_self);
+  return out;
+}
+}  // namespace detail
+
+}  // namespace vrsph
