@@ -72,7 +72,8 @@ CloudPtr from_arrays(const py::handle& points, const py::handle& tags, const py:
 }
 
 CloudPtr generated(const std::string& family, int dim, int n, const std::string& domain, const std::string& layout,
-                   double delta, std::uint64_t seed, bool perturb_boundary, double regular_layer) {
+                   double delta, std::uint64_t seed, bool perturb_boundary, double regular_layer,
+                   const std::string& periodic) {
   check<ConfigError>(dim >= 1 && dim <= 3, "dim must be 1, 2 or 3, got ", dim);
   check<ConfigError>(domain == "unit" || domain == "symmetric", "domain must be 'unit' ([0,1]^d) or 'symmetric' "
                      "([-1,1]^d), got '", domain, "'");
@@ -80,6 +81,7 @@ CloudPtr generated(const std::string& family, int dim, int n, const std::string&
   CloudSpec spec;
   spec.family = parse_cloud_family(family);
   spec.box = domain == "unit" ? Domain::unit_box(dim) : Domain::symmetric_box(dim, 1.0);
+  spec.box.set_periodic(periodic);
   spec.n = n;
   spec.layout = layout == "vertex" ? Layout::Vertex : Layout::CellCentred;
   spec.delta = delta;
@@ -136,7 +138,8 @@ void bind_clouds(py::module_& m) {
                               c.count(Tag::Ghost), " ghost>");
       });
   m.def("_generated", &generated, py::arg("family"), py::arg("dim"), py::arg("n"), py::arg("domain"), py::arg("layout"),
-        py::arg("delta"), py::arg("seed"), py::arg("perturb_boundary"), py::arg("regular_layer"));
+        py::arg("delta"), py::arg("seed"), py::arg("perturb_boundary"), py::arg("regular_layer"),
+        py::arg("periodic") = "");
   m.def("_from_arrays", &from_arrays, py::arg("points"), py::arg("tags"), py::arg("normals") = py::none());
   m.def("_read_cloud", [](const std::string& path, int dim) {
     CloudFile f = [&] {

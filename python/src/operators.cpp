@@ -8,6 +8,7 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/references.hpp>
 #include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/neighbours/user_list.hpp>
@@ -92,18 +93,27 @@ py::dict stencil(const py::object& self, const std::string& method_name, const s
     radius = h_factor * spacing;
     check_support_is_local(radius, cloud_extent(cloud), h_factor);
   }
+  const bool periodic = cloud.domain.any_periodic();
+  check<ConfigError>(!periodic || user_list.is_none(), "a neighbour list of your own is not taken on a periodic cloud "
+                     "yet (its pairs carry no periodic images): leave neighbours out");
   const std::shared_ptr<const NeighbourList> neighbours =
-      user_list.is_none() ? cached_neighbours(self, radius) : user_neighbours(cloud, user_list.cast<py::tuple>(), radius);
+      periodic ? nullptr
+               : user_list.is_none() ? cached_neighbours(self, radius) : user_neighbours(cloud, user_list.cast<py::tuple>(), radius);
   Built b = [&] {  // the C++ work without the GIL
     py::gil_scoped_release release;
     Built r;
     r.spacing = spacing;
     r.h = radius;
-    const NeighbourList& nl = *neighbours;
     StencilRequest req;
     req.kind = kind;
     if (kind == OperatorKind::DivAGrad) req.coefficient = &a;
-    r.s = method->build({cloud, nl, kt, r.spacing}, req);
+    if (periodic) {  // rows on the periodic images, columns folded back
+      SearchParams sp;
+      sp.radius = radius;
+      r.s = periodic_stencil(*method, cloud, sp, kt, r.spacing, req);
+    } else {
+      r.s = method->build({cloud, *neighbours, kt, r.spacing}, req);
+    }
     // Infeasible rows, as the studies count them: a failed local solve, or a relative local
     // residual above the tolerance; listed in row order.
     const std::vector<char> every_row(static_cast<std::size_t>(r.s.rows()), 1);

@@ -11,18 +11,23 @@ from ._vrsph import Cloud
 __all__ = ["Cloud", "lattice", "perturbed", "centroids", "disk", "from_arrays", "from_geometry"]
 
 
-def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vertex") -> Cloud:
+def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vertex", periodic: str = "") -> Cloud:
     """The uniform lattice of n intervals per direction on [0,1]^d (``domain="unit"``) or
     [-1,1]^d (``"symmetric"``); layout "vertex" ([QW] layout A, boundary particles on the
-    faces) or "cells" (layout B)."""
-    return _vrsph._generated("uniform", dim, n, domain, layout, 0.5, 1, False, 0.0)
+    faces) or "cells" (layout B). ``periodic="x,y"`` (or ``"all"``): the box wraps around
+    along those axes (n particles per period, no boundary particles there); every operator
+    and solve then sees across the faces."""
+    return _vrsph._generated("uniform", dim, n, domain, layout, 0.5, 1, False, 0.0, periodic)
 
 
 def perturbed(dim: int = 2, n: int = 20, delta: float = 0.5, seed: int = 1, domain: str = "unit",
-              layout: str = "vertex", perturb_boundary: bool = False, regular_layer: float = 0.0) -> Cloud:
+              layout: str = "vertex", perturb_boundary: bool = False, regular_layer: float = 0.0,
+              periodic: str = "") -> Cloud:
     """The lattice with interior particles moved by U(-delta dx, delta dx) per coordinate
-    ([QW]'s perturbed clouds; the same seed gives the CLI's cloud)."""
-    return _vrsph._generated("perturbed", dim, n, domain, layout, delta, seed, perturb_boundary, regular_layer)
+    ([QW]'s perturbed clouds; the same seed gives the CLI's cloud); ``periodic`` as for
+    :func:`lattice` (moves across a periodic face wrap)."""
+    return _vrsph._generated("perturbed", dim, n, domain, layout, delta, seed, perturb_boundary, regular_layer,
+                             periodic)
 
 
 def centroids(dim: int = 2, n: int = 20, seed: int = 1, domain: str = "unit") -> Cloud:

@@ -7,6 +7,7 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/operator_study.hpp>
+#include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
 #include <vrsph/core/stopwatch.hpp>
@@ -177,7 +178,7 @@ OperatorStudyRow study_level(const OperatorStudyParams& p, const Domain& box, co
   SearchParams sp;
   sp.radius = sm.h;
   sp.radii = std::move(sm.radii);
-  const NeighbourList nl = find_neighbours(cloud, sp);
+  const NeighbourList nl = find_neighbours(cloud, sp);  // (periodic: minimum image, for the statistics)
   row.seconds_neighbours = watch.seconds();
 
   watch.restart();
@@ -189,7 +190,8 @@ OperatorStudyRow study_level(const OperatorStudyParams& p, const Domain& box, co
     a_values = sample(*fn.a, cloud);
     req.coefficient = &a_values;
   }
-  const Stencil s = method.build(disc, req);
+  const Stencil s = cloud.domain.any_periodic() ? periodic_stencil(method, cloud, sp, p.kernel, cloud.spacing, req)
+                                                : method.build(disc, req);
   row.seconds_stencil = watch.seconds();
 
   watch.restart();
@@ -205,7 +207,10 @@ OperatorStudyRow study_level(const OperatorStudyParams& p, const Domain& box, co
 
 OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
   validate_params(p);
-  const Domain box = problem_domain(p.problem, p.dim);
+  Domain box = problem_domain(p.problem, p.dim);
+  box.set_periodic(p.periodic);
+  check<ConfigError>(!box.any_periodic() || p.h_mode == SmoothingMode::Fixed,
+                     "a periodic box takes --h-mode fixed (knn and covering radii are not computed across periodic faces yet)");
   const StudyFunctions fn = study_functions(p);
   OperatorStudyResult result;
   result.params = p;

@@ -154,6 +154,8 @@ std::vector<Real> measures_1d(const PointCloud& cloud) {
 std::vector<Real> voronoi_cell_measures(const PointCloud& cloud) {
   validate(cloud);
   const Domain& dom = cloud.domain;
+  check<ConfigError>(!dom.any_periodic(), "Voronoi cells are not computed across periodic faces yet (they would be "
+                                          "clipped at the faces): use another volume (uniform or vrsph)");
   const bool box = dom.shape == Domain::Shape::Box;
   check<InputError>(box || (dom.shape == Domain::Shape::Ball && cloud.dim == 2),
                     "Voronoi cells are clipped to box domains (1D-3D) and disks only; this cloud's domain is ",

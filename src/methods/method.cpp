@@ -15,6 +15,9 @@ void check_request(const MethodInfo& info, const Discretisation& disc, const Ste
                      to_string(request.kind));
   check<InputError>(disc.neighbours.size() == disc.cloud.size(), "neighbour list has ", disc.neighbours.size(),
                     " rows for ", disc.cloud.size(), " particles (size mismatch)");
+  check<ConfigError>(disc.neighbours.shifts.empty(), "method ", info.name, ": this neighbour list crosses periodic faces "
+                     "(NeighbourList::shifts) and the method reads positions: build the stencil with periodic_stencil(), "
+                     "which gives it the periodic images");
   check<InputError>(request.rows.empty() || static_cast<Index>(request.rows.size()) == disc.cloud.size(),
                     "row mask has ", request.rows.size(), " entries for ", disc.cloud.size(), " particles (size mismatch)");
   if (request.kind != OperatorKind::DivAGrad) return;

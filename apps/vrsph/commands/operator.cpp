@@ -27,7 +27,7 @@ namespace vrsph::cli {
 namespace {
 struct OperatorArgs {
   std::string problem = "qw-trunc", methods = "sph", op = "laplacian", cloud = "uniform", n = "8,16,32,64,128",
-              kernel = "cubic", u, exact, a;
+              kernel = "cubic", u, exact, a, periodic;
   int dim = 2;
   std::uint64_t seed = 1;
   double h_factor = 3, delta = 0.5;
@@ -235,6 +235,8 @@ void add_operator_options(CLI::App* cmd, OperatorArgs& a) {
       ->capture_default_str();
   a.ghosts_opt = cmd->add_flag("--no-ghosts", a.no_ghosts,
                                 "No ghost particles: layout A with boundary particles ([QW] Example 4; implied by aar-derivative)");
+  cmd->add_option("--periodic", a.periodic, "Comma-separated periodic axes x,y,z or all of the problem's box: no "
+                  "boundary or ghost particles along them, every row sees across the faces");
   cmd->add_option("--u", a.u, "Test function: catalogue name (cos-pi, sin-pi, exp-x, ...) or expression in x,y,z; default cos-pi");
   cmd->add_option("--exact", a.exact, "Expected operator value as expression(s), ';' between gradient components; default: exact derivatives of --u");
   cmd->add_option("--a", a.a, "Coefficient a(x) for div-a-grad: name or expression; default one-plus-r2");
@@ -282,6 +284,7 @@ void operator_study(const OperatorArgs& a) {
   p.u = a.u;
   p.exact = a.exact;
   p.a = a.a;
+  p.periodic = a.periodic;
   Progress progress;
   p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
   const OperatorStudyResult r = run_operator_study(p);
@@ -292,6 +295,8 @@ void operator_study(const OperatorArgs& a) {
 // Which mode the options ask for; each refuses the options of the others.
 void run_operator(OperatorArgs& a, const CLI::App& cmd) {
   validate_output(a.out);
+  check<ConfigError>(a.periodic.empty() || (a.at.empty() && a.problem != "im-table1" && a.problem != "spe-patch"),
+                     "--periodic applies to the refinement study of --problem qw-trunc, unit-box or aar-derivative");
   if (!a.at.empty()) return operator_at_points(a, cmd);
   if (a.problem == "im-table1") return operator_im_table1(a, cmd);
   for (const char* opt : {"--weight", "--m", "--levels", "--points", "--volumes"})
@@ -302,6 +307,8 @@ void run_operator(OperatorArgs& a, const CLI::App& cmd) {
   }
   for (const char* opt : {"--test", "--exponent", "--rotated", "--variant", "--profile"})
     check<ConfigError>(cmd.count(opt) == 0, opt, " applies to --problem spe-patch only");
+  check<ConfigError>(a.cloud_file.empty() || a.periodic.empty(), "--periodic applies to the generated clouds, not to "
+                     "--cloud-file");
   if (!a.cloud_file.empty()) return operator_on_cloud_file(a, cmd);
   operator_study(a);
 }

@@ -42,6 +42,9 @@ struct OperatorStudyParams {
   int h_knn = 0;
   Real delta = 0.5;
   bool ghosts = true;
+  /// Periodic axes of the problem's box ("x,y", "all"; empty: none): no boundary and no ghost
+  /// particles along them, the stencils built by periodic_stencil (h-mode fixed).
+  std::string periodic;
   bool evaluate_boundary = false;  ///< errors also at boundary particles (always for aar-derivative)
   Real regular_layer = 0;  ///< see PerturbOptions::regular_layer
   KernelType kernel = KernelType::CubicSpline;

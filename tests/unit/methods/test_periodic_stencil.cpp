@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// periodic_stencil: a method's rows on a periodic box are the rows it builds on the box
+// tiled with copies of itself (the middle copy's rows, columns taken modulo the copies),
+// and Method::build refuses a neighbour list that crosses periodic faces.
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/periodic_stencil.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/periodic.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+PointCloud periodic_cloud(int n) {
+  CloudSpec spec;
+  spec.family = CloudFamily::Perturbed;
+  spec.box = Domain::unit_box(2);
+  spec.box.set_periodic("all");
+  spec.n = n;
+  spec.delta = 0.4;
+  spec.seed = 5;
+  return make_study_cloud(spec).cloud;
+}
+
+// 3 x 3 copies, the original in the middle (copy 4), on a box that is not periodic.
+PointCloud tiled(const PointCloud& c) {
+  PointCloud t;
+  t.dim = 2;
+  t.spacing = c.spacing;
+  t.domain = Domain::box(2, Vec3(-1, -1, 0), Vec3(2, 2, 0));
+  for (int b = -1; b <= 1; ++b)
+    for (int a = -1; a <= 1; ++a)
+      for (const Vec3& x : c.positions) t.add(x + Vec3(a, b, 0), Tag::Interior);
+  return t;
+}
+}  // namespace
+
+TEST(PeriodicStencil, RowsAreThoseOfTheTiledBox) {
+  const PointCloud c = periodic_cloud(12);
+  const PointCloud t = tiled(c);
+  const Index n = c.size();
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList tnl = find_neighbours(t, sp);
+  // (VRSPH's NNLS has many solutions per row and may pick another in another column order:
+  // its rows are checked by their moment conditions below.)
+  for (const char* name : {"fpm", "cspm", "sph"})
+    for (OperatorKind kind : {OperatorKind::Laplacian, OperatorKind::Gradient}) {
+      const auto method = builtin_methods().create(name);
+      StencilRequest req;
+      req.kind = kind;
+      const Stencil p = periodic_stencil(*method, c, sp, KernelType::CubicSpline, c.spacing, req);
+      std::vector<char> middle(static_cast<std::size_t>(t.size()), 0);
+      std::fill(middle.begin() + 4 * n, middle.begin() + 5 * n, 1);
+      StencilRequest treq = req;
+      treq.rows = middle;
+      const Stencil ref = method->build({t, tnl, KernelType::CubicSpline, c.spacing, n}, treq);
+      ASSERT_EQ(p.rows(), n);
+      for (Index i = 0; i < n; ++i) {
+        // The reference row over the originals (modulo the copies), as a dense row.
+        std::vector<std::vector<Real>> want(p.values.size(), std::vector<Real>(static_cast<std::size_t>(n), 0.0));
+        for (Index k = ref.row_begin(4 * n + i); k < ref.row_end(4 * n + i); ++k)
+          for (std::size_t c2 = 0; c2 < ref.values.size(); ++c2)
+            want[c2][static_cast<std::size_t>(ref.col[static_cast<std::size_t>(k)] % n)] += ref.values[c2][static_cast<std::size_t>(k)];
+        for (Index k = p.row_begin(i); k < p.row_end(i); ++k)
+          for (std::size_t c2 = 0; c2 < p.values.size(); ++c2)
+            want[c2][static_cast<std::size_t>(p.col[static_cast<std::size_t>(k)])] -= p.values[c2][static_cast<std::size_t>(k)];
+        Real scale = 0, diff = 0;
+        for (Index k = ref.row_begin(4 * n + i); k < ref.row_end(4 * n + i); ++k)
+          scale = std::max(scale, std::abs(ref.values[0][static_cast<std::size_t>(k)]));
+        for (const auto& comp : want)
+          for (Real d : comp) diff = std::max(diff, std::abs(d));
+        ASSERT_LE(diff, 1e-9 * scale) << name << " " << to_string(kind) << " row " << i;
+        EXPECT_EQ(p.col[static_cast<std::size_t>(p.diag[static_cast<std::size_t>(i)])], i);
+      }
+    }
+}
+
+// VRSPH's Laplacian rows meet their moment conditions across the faces: with d_ij the
+// minimum-image vector, sum_j w_ij d_ij = 0 and sum_j w_ij d_ij d_ij^T = 2 I.
+TEST(PeriodicStencil, VrsphMomentConditionsAcrossTheFaces) {
+  const PointCloud c = periodic_cloud(12);
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const auto method = builtin_methods().create("vrsph");
+  const Stencil s = periodic_stencil(*method, c, sp, KernelType::CubicSpline, c.spacing, StencilRequest{});
+  Index across = 0;
+  for (Index i = 0; i < s.rows(); ++i) {
+    Eigen::Vector2d first = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d second = Eigen::Matrix2d::Zero();
+    Real scale = 0;
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+      const auto sk = static_cast<std::size_t>(k);
+      Vec3 d = c.positions[static_cast<std::size_t>(s.col[sk])] - c.positions[static_cast<std::size_t>(i)];
+      for (int a = 0; a < 2; ++a) d[a] -= std::round(d[a]);  // the minimum image (period 1)
+      across += std::abs(c.positions[static_cast<std::size_t>(s.col[sk])][0] - c.positions[static_cast<std::size_t>(i)][0]) > 0.5;
+      const Real w = s.values[0][sk];
+      first += w * d.head<2>();
+      second += w * d.head<2>() * d.head<2>().transpose();
+      scale = std::max(scale, std::abs(w) * d.squaredNorm());
+    }
+    EXPECT_LT(first.norm(), 1e-8 * scale / (3 * c.spacing)) << "row " << i;
+    EXPECT_LT((second - 2 * Eigen::Matrix2d::Identity()).norm(), 1e-8 * std::max(scale, 2.0)) << "row " << i;
+  }
+  EXPECT_GT(across, 0);
+}
+
+TEST(PeriodicStencil, BuildRefusesAListAcrossPeriodicFaces) {
+  const PointCloud c = periodic_cloud(10);
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList nl = find_neighbours(c, sp);
+  ASSERT_FALSE(nl.shifts.empty());
+  const auto method = builtin_methods().create("vrsph");
+  EXPECT_THROW_MSG(method->build({c, nl, KernelType::CubicSpline, c.spacing}, StencilRequest{}), ConfigError,
+                   "build the stencil with periodic_stencil()");
+}
