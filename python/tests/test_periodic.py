@@ -39,3 +39,18 @@ def test_bad_periodic_input():
     c = vrsph.cloud.perturbed(dim=2, n=16, periodic="all")
     with pytest.raises(vrsph.InputError, match="zero mean"):
         vrsph.solve(c, f="1", g="0")
+
+
+def test_vector_operators_from_the_gradient_and_laplacian_rows():
+    c = vrsph.cloud.perturbed(dim=2, n=32, periodic="all")
+    x = np.asarray(c.points)
+    s, k = np.sin(2 * np.pi * x), np.cos(2 * np.pi * x)
+    U = np.column_stack([s[:, 0] * k[:, 1], k[:, 0] * s[:, 1]])
+    D = vrsph.stencil(c, operator="divergence")
+    div = D[0] @ U[:, 0] + D[1] @ U[:, 1]
+    C = vrsph.stencil(c, operator="curl")
+    curl = C[0] @ U[:, 0] + C[1] @ U[:, 1]
+    assert np.max(np.abs(div - 4 * np.pi * k[:, 0] * k[:, 1])) < 0.05 * 4 * np.pi
+    assert np.max(np.abs(curl)) < 0.05 * 4 * np.pi  # this field's curl is 0
+    L = vrsph.stencil(c, operator="vector-laplacian")
+    assert np.max(np.abs(L @ U + 8 * np.pi ** 2 * U)) < 0.05 * 8 * np.pi ** 2

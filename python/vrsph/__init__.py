@@ -130,6 +130,12 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     div-a-grad) on every non-ghost particle, as ``scipy.sparse.csr_matrix`` (N x N); the
     gradient as a tuple of ``dim`` matrices sharing one pattern.
 
+    Vector fields U (N x dim), from the same rows: ``"divergence"`` gives the tuple D with
+    div U = sum_c D[c] @ U[:, c] (the gradient's matrices); ``"curl"`` in 2D the tuple C with
+    curl U = C[0] @ U[:, 0] + C[1] @ U[:, 1] (that is (-G_y, G_x)), in 3D the gradient's tuple
+    G (curl U = (G_y U_z - G_z U_y, G_z U_x - G_x U_z, G_x U_y - G_y U_x)); ``"vector-laplacian"``
+    the Laplacian L, applied to each component (L @ U).
+
     The support radius is ``h`` if given, else ``h_factor`` x the cloud's spacing.
     ``coefficient`` (div-a-grad only): a in div(a grad u), as values, a callable of the
     coordinates or an expression. ``diagnostics=True`` returns the :class:`Stencil` instead.
@@ -139,11 +145,23 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     (every listed pair closer than it, pairs within both particles' radii in both rows, given
     distances equal to the positions'), distances are computed where missing."""
     _check_cloud(cloud)
+    operator = _args.text(operator, "operator")
+    if operator in ("divergence", "curl", "vector-laplacian"):
+        if diagnostics:
+            raise ConfigError(f"diagnostics=True applies to the stencil itself: ask for operator "
+                              f"{'laplacian' if operator == 'vector-laplacian' else 'gradient'}")
+        base = stencil(cloud, method, "laplacian" if operator == "vector-laplacian" else "gradient", h, h_factor,
+                       kernel, options, coefficient, infeasible_tol, False, neighbours)
+        if operator == "curl":
+            if cloud.dim == 1:
+                raise ConfigError("the curl needs 2 or 3 dimensions, got 1")
+            return (-base[1], base[0]) if cloud.dim == 2 else base
+        return base
     user_list = _args.neighbour_list(neighbours, "neighbours", len(cloud))
     a = None
     if coefficient is not None:
         a = _values(cloud, coefficient, "coefficient")
-    raw = _vrsph._stencil(cloud, _args.text(method, "method"), _args.text(operator, "operator"),
+    raw = _vrsph._stencil(cloud, _args.text(method, "method"), operator,
                           _args.optional_length(h, "h"), _args.number(h_factor, "h_factor", positive=True),
                           _args.text(kernel, "kernel"), _args.options(options, "options"), a,
                           _args.number(infeasible_tol, "infeasible_tol", positive=True), user_list)

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -66,18 +67,43 @@ namespace {
 // user's exact values (--exact), parsed once.
 struct StudyFunctions {
   std::unique_ptr<ScalarFunction> u, a;
+  std::vector<std::unique_ptr<ScalarFunction>> components;  ///< a vector operator's field
   std::vector<Expression> expected;
 };
 
+// "f, g" at the commas outside parentheses (a function's arguments stay together).
+std::vector<std::string> split_components(const std::string& s) {
+  std::vector<std::string> out(1);
+  int depth = 0;
+  for (char ch : s) {
+    depth += ch == '(' ? 1 : ch == ')' ? -1 : 0;
+    if (ch == ',' && depth == 0) out.emplace_back();
+    else out.back() += ch;
+  }
+  return out;
+}
+
+int output_columns(const OperatorStudyParams& p) {
+  return p.vector_op ? output_components(*p.vector_op, p.dim) : components(p.op, p.dim);
+}
+
 StudyFunctions study_functions(const OperatorStudyParams& p) {
   StudyFunctions fn;
-  fn.u = make_function_or_expression(test_function_of(p), p.dim);
+  if (p.vector_op) {
+    const auto parts = split_components(p.u);
+    check<ConfigError>(static_cast<int>(parts.size()) == p.dim, "operator ", to_string(*p.vector_op), " acts on a vector "
+                       "field: give --u as ", p.dim, " comma-separated components, got ", parts.size(), " ('", p.u, "')");
+    for (const auto& part : parts) fn.components.push_back(make_function_or_expression(part, p.dim));
+  } else {
+    fn.u = make_function_or_expression(test_function_of(p), p.dim);
+  }
   if (p.op == OperatorKind::DivAGrad) fn.a = make_function_or_expression(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
   if (p.exact.empty()) return fn;
   for (const auto& e : split_semicolons(p.exact)) fn.expected.emplace_back(e);
-  check<InputError>(static_cast<int>(fn.expected.size()) == components(p.op, p.dim), "--exact gives ",
-                    fn.expected.size(), " expression(s) but operator ", to_string(p.op), " has ",
-                    components(p.op, p.dim), " component(s) in ", p.dim, "D (separate components with ';')");
+  check<InputError>(static_cast<int>(fn.expected.size()) == output_columns(p), "--exact gives ",
+                    fn.expected.size(), " expression(s) but operator ",
+                    p.vector_op ? to_string(*p.vector_op) : to_string(p.op), " has ", output_columns(p),
+                    " component(s) in ", p.dim, "D (separate components with ';')");
   return fn;
 }
 
@@ -106,10 +132,37 @@ StudyCloud level_cloud(const OperatorStudyParams& p, const Domain& box, const st
 }
 
 // The operator's exact values at the particles: from u (and a), or the user's --exact.
+// A vector operator of the components' derivatives (finite differences of the expressions).
+Eigen::MatrixXd vector_exact(VectorOperator op, const StudyFunctions& fn, const PointCloud& cloud) {
+  const int dim = cloud.dim;
+  Eigen::MatrixXd out(cloud.size(), output_components(op, dim));
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    if (op == VectorOperator::VectorLaplacian) {
+      for (int c = 0; c < dim; ++c) out(i, c) = fn.components[static_cast<std::size_t>(c)]->laplacian(x);
+      continue;
+    }
+    std::array<Vec3, 3> g{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // g[c] = grad u_c
+    for (int c = 0; c < dim; ++c) g[static_cast<std::size_t>(c)] = fn.components[static_cast<std::size_t>(c)]->gradient(x);
+    if (op == VectorOperator::Divergence) {
+      out(i, 0) = 0;
+      for (int c = 0; c < dim; ++c) out(i, 0) += g[static_cast<std::size_t>(c)][c];
+    } else if (dim == 2) {
+      out(i, 0) = g[1][0] - g[0][1];
+    } else {
+      out.row(i) << g[2][1] - g[1][2], g[0][2] - g[2][0], g[1][0] - g[0][1];
+    }
+  }
+  check<InputError>(out.allFinite(), "the exact ", to_string(op), " of --u is not finite at some particle");
+  return out;
+}
+
 Eigen::MatrixXd exact_values(const OperatorStudyParams& p, const StudyFunctions& fn, const PointCloud& cloud,
                              const Stencil& s) {
-  Eigen::MatrixXd exact(cloud.size(), components(p.op, p.dim));
-  if (fn.expected.empty()) {
+  Eigen::MatrixXd exact(cloud.size(), output_columns(p));
+  if (fn.expected.empty() && p.vector_op) {
+    exact = vector_exact(*p.vector_op, fn, cloud);
+  } else if (fn.expected.empty()) {
     exact = sample_exact(p.op, *fn.u, fn.a.get(), cloud);
   } else {
     for (Index i = 0; i < cloud.size(); ++i)
@@ -123,7 +176,10 @@ Eigen::MatrixXd exact_values(const OperatorStudyParams& p, const StudyFunctions&
   }
   // Compact rows (VRSPH rhs=compact) approximate the average Σ_k μ_ik (L u)(x_k) of the
   // operator over their stencil, not its value at x_i: that is what they are compared with.
-  if (!s.rhs.empty()) exact.col(0) = average_rhs(s, Field(exact.col(0)));
+  if (!s.rhs.empty()) {
+    check<ConfigError>(!p.vector_op || exact.cols() == 1, "compact rows (rhs=compact) apply to scalar operators");
+    exact.col(0) = average_rhs(s, Field(exact.col(0)));
+  }
   return exact;
 }
 
@@ -195,7 +251,14 @@ OperatorStudyRow study_level(const OperatorStudyParams& p, const Domain& box, co
   row.seconds_stencil = watch.seconds();
 
   watch.restart();
-  const Eigen::MatrixXd approx = apply(s, sample(*fn.u, cloud));
+  Eigen::MatrixXd approx;
+  if (p.vector_op) {
+    Eigen::MatrixXd U(cloud.size(), p.dim);
+    for (int c = 0; c < p.dim; ++c) U.col(c) = sample(*fn.components[static_cast<std::size_t>(c)], cloud);
+    approx = apply_vector(*p.vector_op, s, U);
+  } else {
+    approx = apply(s, sample(*fn.u, cloud));
+  }
   row.seconds_apply = watch.seconds();
   const Eigen::MatrixXd exact = exact_values(p, fn, cloud, s);
   const std::vector<char> rows_mask = evaluated_rows(p, cloud, nl, s, n, row);
@@ -278,7 +341,7 @@ std::string metadata_json(const OperatorStudyResult& r) {
   nlohmann::ordered_json j;
   j["problem"] = p.problem;
   j["dim"] = p.dim;
-  j["operator"] = std::string(to_string(p.op));
+  j["operator"] = std::string(p.vector_op ? to_string(*p.vector_op) : to_string(p.op));
   j["cloud"] = to_string(p.cloud);
   j["ghosts"] = p.ghosts;
   j["h_factor"] = p.h_factor;

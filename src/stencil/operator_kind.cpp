@@ -32,7 +32,7 @@ OperatorKind parse_operator(std::string_view name) {
     known += std::string(t.name) + ", ";
   }
   throw ConfigError("unknown operator '" + std::string(name) + "' (known: " + known +
-                    "first-derivative, second-derivative)");
+                    "first-derivative, second-derivative; on vector fields: divergence, curl, vector-laplacian)");
 }
 
 int components(OperatorKind kind, int dim) { return traits(kind).vector_valued ? dim : 1; }

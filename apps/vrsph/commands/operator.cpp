@@ -214,7 +214,8 @@ void add_operator_options(CLI::App* cmd, OperatorArgs& a) {
   a.dim_opt = cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (aar-derivative: 1)")->capture_default_str();
   cmd->add_option("--method", a.methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
   cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value for one method (repeatable)");
-  cmd->add_option("--operator", a.op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative")
+  cmd->add_option("--operator", a.op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative; "
+                  "on a vector field --u \"u_x,u_y[,u_z]\": divergence, curl, vector-laplacian")
       ->capture_default_str();
   cmd->add_option("--cloud", a.cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
   cmd->add_option("--n", a.n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();
@@ -269,7 +270,14 @@ void operator_study(const OperatorArgs& a) {
   p.methods = parse_name_list(a.methods, "--method");
   p.method_options = parse_method_options(a.method_opts, p.methods);
   note_row_forms(p.methods, p.method_options, StencilUse::Values);
-  p.op = parse_operator(a.op);
+  if (const auto v = parse_vector_operator(a.op)) {  // made from the gradient or Laplacian rows
+    p.vector_op = v;
+    p.op = base_operator(*v);
+    check<ConfigError>(!a.u.empty(), "--operator ", a.op, " needs the vector field --u as ", p.dim,
+                       " comma-separated components");
+  } else {
+    p.op = parse_operator(a.op);
+  }
   p.cloud = parse_cloud_family(a.cloud);
   p.n = parse_int_list(a.n, "--n");
   p.seed = a.seed;

@@ -18,6 +18,8 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <optional>
+#include <vrsph/stencil/vector_operators.hpp>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
@@ -45,6 +47,10 @@ struct OperatorStudyParams {
   /// Periodic axes of the problem's box ("x,y", "all"; empty: none): no boundary and no ghost
   /// particles along them, the stencils built by periodic_stencil (h-mode fixed).
   std::string periodic;
+  /// A vector operator (divergence, curl, vector Laplacian) in place of `op`: u is then d
+  /// comma-separated expressions (one per component) and op is the stencil it is made from
+  /// (base_operator); --exact has output_components expressions.
+  std::optional<VectorOperator> vector_op;
   bool evaluate_boundary = false;  ///< errors also at boundary particles (always for aar-derivative)
   Real regular_layer = 0;  ///< see PerturbOptions::regular_layer
   KernelType kernel = KernelType::CubicSpline;

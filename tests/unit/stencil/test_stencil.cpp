@@ -75,7 +75,7 @@ TEST(Stencil, OperatorNamesRoundTrip) {
   for (const auto& t : operator_catalogue()) EXPECT_EQ(parse_operator(t.name), t.kind);
   EXPECT_EQ(parse_operator("second-derivative"), OperatorKind::Laplacian);
   EXPECT_EQ(parse_operator("first-derivative"), OperatorKind::Dx);
-  EXPECT_THROW_MSG(parse_operator("curl"), ConfigError, "unknown operator 'curl'");
+  EXPECT_THROW_MSG(parse_operator("hessian"), ConfigError, "unknown operator 'hessian'");
   EXPECT_EQ(components(OperatorKind::Gradient, 3), 3);
   EXPECT_EQ(components(OperatorKind::Laplacian, 3), 1);
 }
