@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Clouds: the built-in families, clouds from numpy arrays and files, geometries, VTU output.
+#include <vrsph/parallel/communicator.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/cloud/geometry.hpp>
 #include <vrsph/core/error.hpp>
@@ -73,7 +74,7 @@ CloudPtr from_arrays(const py::handle& points, const py::handle& tags, const py:
 
 CloudPtr generated(const std::string& family, int dim, int n, const std::string& domain, const std::string& layout,
                    double delta, std::uint64_t seed, bool perturb_boundary, double regular_layer,
-                   const std::string& periodic) {
+                   const std::string& periodic, bool distributed) {
   check<ConfigError>(dim >= 1 && dim <= 3, "dim must be 1, 2 or 3, got ", dim);
   check<ConfigError>(domain == "unit" || domain == "symmetric", "domain must be 'unit' ([0,1]^d) or 'symmetric' "
                      "([-1,1]^d), got '", domain, "'");
@@ -88,6 +89,7 @@ CloudPtr generated(const std::string& family, int dim, int n, const std::string&
   spec.seed = seed;
   spec.perturb_boundary = perturb_boundary;
   spec.regular_layer = regular_layer;
+  if (distributed) spec.communicator = Communicator::world();  // this rank's part of the cloud
   py::gil_scoped_release release;
   return std::make_shared<PointCloud>(make_study_cloud(spec).cloud);
 }
@@ -139,7 +141,7 @@ void bind_clouds(py::module_& m) {
       });
   m.def("_generated", &generated, py::arg("family"), py::arg("dim"), py::arg("n"), py::arg("domain"), py::arg("layout"),
         py::arg("delta"), py::arg("seed"), py::arg("perturb_boundary"), py::arg("regular_layer"),
-        py::arg("periodic") = "");
+        py::arg("periodic") = "", py::arg("distributed") = false);
   m.def("_from_arrays", &from_arrays, py::arg("points"), py::arg("tags"), py::arg("normals") = py::none());
   m.def("_read_cloud", [](const std::string& path, int dim) {
     CloudFile f = [&] {

@@ -81,6 +81,8 @@ BvpSolveOptions solve_options(const py::dict& opt) {
   o.infeasible_tolerance = opt["infeasible_tol"].cast<double>();
   o.keep_matrices = opt.contains("return_system") && opt["return_system"].cast<bool>();
   check<ConfigError>(std::isfinite(o.h) && o.h >= 0, "h must be >= 0 (0: h_factor x spacing), got ", o.h);
+  // distributed=True: every rank of the mpirun launch passes its part of the cloud.
+  if (opt.contains("distributed") && opt["distributed"].cast<bool>()) o.communicator = Communicator::world();
   return o;
 }
 
@@ -121,12 +123,13 @@ SolvedProblem solve_expressions(const PointCloud& cloud, const ProblemExpression
     x.ep.problem.robin = robin;
   }
   x.s = solve(x.ep.problem, o);
-  if (x.ep.exact.size()) {
+  if (any_rank(o.communicator, x.ep.exact.size() > 0)) {  // (distributed: the norms over every rank's part)
     const PointCloud& c = x.ep.problem.cloud;
     Eigen::MatrixXd err(c.size(), 1);
     err.col(0) = x.s.u - x.ep.exact;
     const std::vector<Real> volumes(static_cast<std::size_t>(c.size()), std::pow(x.s.spacing, c.dim));
-    x.errors = error_norms(err, unknown_mask(c), c, x.s.h, volumes);
+    const auto first = static_cast<Index>(offset_over_ranks(o.communicator, c.size()));
+    x.errors = error_norms_over_ranks(err, unknown_mask(c), c, x.s.h, volumes, o.communicator, first);
   }
   return x;
 }
@@ -199,8 +202,12 @@ py::dict solve_problem(const py::object& self, const py::dict& expressions, cons
   take_values(values, n, given);
   BvpSolveOptions o = solve_options(opt);
   const bool fix_constant = opt["fix_constant"].cast<bool>();
-  validate(cloud);
-  o.spacing = cached_spacing(self);  // the cloud's, computed once
+  if (o.communicator.distributed()) {
+    o.spacing = cloud.spacing;  // a generated part knows it; 0: estimated over every rank's part
+  } else {
+    validate(cloud);
+    o.spacing = cached_spacing(self);  // the cloud's, computed once
+  }
   const Field robin = robin_field(values, n);
   SolvedProblem r;
   {

@@ -231,7 +231,7 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
           h: float | None = None, h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
           infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None, robin: Data = None,
-          return_system: bool = False) -> Solution:
+          return_system: bool = False, distributed: bool = False) -> Solution:
     """Solves div(a grad u) = f with u = g on Dirichlet particles and a du/dn = q on Neumann
     ones (outward normals from the cloud), one call into the library.
 
@@ -247,7 +247,13 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
     particles then carry a du/dn + beta u = q (with ``u`` given and no ``q``, q includes beta u).
     ``return_system=True`` adds ``system`` (the assembled ``matrix`` A as scipy CSR over the
     unknowns, ``rhs`` b and ``dofs``: the particle of each unknown) and ``operator_rows`` (the
-    div(a grad) rows over every particle); balance rows give ``wall_flux`` (c_i per particle)."""
+    div(a grad) rows over every particle); balance rows give ``wall_flux`` (c_i per particle).
+
+    ``distributed=True``: run under ``mpirun -np P python3 ...``, every rank passing its own
+    part of the cloud (e.g. ``cloud.perturbed(..., distributed=True)``; the parts in rank order
+    are the whole cloud) and its data; the solve runs over the ranks as ``vrsph solve`` does
+    under mpirun (PETSc; h-mode fixed), u comes back for this rank's particles and the errors
+    are those of the whole cloud."""
     if isinstance(cloud, Problem):
         if any(d is not None for d in (f, g, q, a, u)):
             raise ConfigError("give the data in the Problem or as arguments, not both")
@@ -273,7 +279,8 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
                 fix_constant=_args.flag(fix_constant, "fix_constant"),
                 on_infeasible=_args.text(on_infeasible, "on_infeasible"),
                 infeasible_tol=_args.number(infeasible_tol, "infeasible_tol", positive=True),
-                return_system=_args.flag(return_system, "return_system"))
+                return_system=_args.flag(return_system, "return_system"),
+                distributed=_args.flag(distributed, "distributed"))
     out = Solution(_vrsph._solve(cloud, expressions, values, opts))
     for key in ("system", "operator_rows"):
         if key in out:

@@ -106,7 +106,7 @@ def solve(cloud: Cloud | Problem, f: Data = None, g: Data = None, q: Data = None
           h_factor: float = 3.0, h_mode: str = "fixed", kernel: str = "cubic", solver: str = "auto",
           petsc_options: str = "", fix_constant: bool = False, on_infeasible: str = "warn",
           infeasible_tol: float = 1e-6, mobility: Sequence[str] | None = None, robin: Data = None,
-          return_system: bool = False) -> Solution: ...
+          return_system: bool = False, distributed: bool = False) -> Solution: ...
 
 def study(problem: str | None = None, methods: Sequence[str] = ..., cloud: str = "uniform", n: Sequence[int] = ...,
           seeds: Sequence[int] = ..., dim: int | None = None, method_options: Mapping[str, Mapping[str, Any]] | None = None,

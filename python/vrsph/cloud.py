@@ -22,12 +22,14 @@ def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vert
 
 def perturbed(dim: int = 2, n: int = 20, delta: float = 0.5, seed: int = 1, domain: str = "unit",
               layout: str = "vertex", perturb_boundary: bool = False, regular_layer: float = 0.0,
-              periodic: str = "") -> Cloud:
+              periodic: str = "", distributed: bool = False) -> Cloud:
     """The lattice with interior particles moved by U(-delta dx, delta dx) per coordinate
     ([QW]'s perturbed clouds; the same seed gives the CLI's cloud); ``periodic`` as for
-    :func:`lattice` (moves across a periodic face wrap)."""
+    :func:`lattice` (moves across a periodic face wrap). ``distributed=True`` (under mpirun):
+    this rank's part of the cloud, the parts in rank order being the whole cloud, for
+    ``solve(..., distributed=True)``."""
     return _vrsph._generated("perturbed", dim, n, domain, layout, delta, seed, perturb_boundary, regular_layer,
-                             periodic)
+                             periodic, bool(distributed))
 
 
 def centroids(dim: int = 2, n: int = 20, seed: int = 1, domain: str = "unit") -> Cloud:
