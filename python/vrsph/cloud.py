@@ -11,13 +11,15 @@ from ._vrsph import Cloud
 __all__ = ["Cloud", "lattice", "perturbed", "centroids", "disk", "from_arrays", "from_geometry"]
 
 
-def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vertex", periodic: str = "") -> Cloud:
+def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vertex", periodic: str = "",
+            distributed: bool = False) -> Cloud:
     """The uniform lattice of n intervals per direction on [0,1]^d (``domain="unit"``) or
     [-1,1]^d (``"symmetric"``); layout "vertex" ([QW] layout A, boundary particles on the
     faces) or "cells" (layout B). ``periodic="x,y"`` (or ``"all"``): the box wraps around
     along those axes (n particles per period, no boundary particles there); every operator
-    and solve then sees across the faces."""
-    return _vrsph._generated("uniform", dim, n, domain, layout, 0.5, 1, False, 0.0, periodic)
+    and solve then sees across the faces. ``distributed=True`` (under mpirun): this rank's part,
+    as for :func:`perturbed`."""
+    return _vrsph._generated("uniform", dim, n, domain, layout, 0.5, 1, False, 0.0, periodic, bool(distributed))
 
 
 def perturbed(dim: int = 2, n: int = 20, delta: float = 0.5, seed: int = 1, domain: str = "unit",
