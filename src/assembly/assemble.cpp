@@ -53,7 +53,7 @@ class Assembly {
       sys_.anchored = std::move(anchored_);
       return std::move(sys_);
     }
-    check_connected();
+    if (!bc_ || !bc_->unanchored_ok) check_connected();
     return std::move(sys_);
   }
 
@@ -113,7 +113,7 @@ class Assembly {
       return;
     }
     check<InputError>(!sys_.particle_of_dof.empty(), "the problem has no unknown (interior) particle");
-    check<InputError>(known_count > 0 || pinned_ >= 0 || robin_count > 0,
+    check<InputError>(known_count > 0 || pinned_ >= 0 || robin_count > 0 || (bc_ && bc_->unanchored_ok),
                       neumann_count_ > 0 ? "only Neumann data and no Dirichlet particle: the solution is determined only "
                                            "up to a constant (singular system); fix the constant (--fix-constant, or "
                                            "BoundaryValueProblem::pinned)"

@@ -143,7 +143,7 @@ LinearSystem assemble_over_ranks(const Partition& part, const Stencil& L, const 
   });
   const bool robin = bc.robin.size() > 0 && bc.robin.maxCoeff() > 0;
   const bool neumann = any_rank(part.comm(), bc.gradient != nullptr || !L.wall_flux.empty());
-  check_anchored_over_ranks(part, sys, neumann, robin, bc.pinned >= 0);
+  if (!bc.unanchored_ok) check_anchored_over_ranks(part, sys, neumann, robin, bc.pinned >= 0);
   return sys;
 }
 

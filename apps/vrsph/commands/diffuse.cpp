@@ -24,7 +24,7 @@ struct DiffuseArgs {
   std::string problem = "spe-plate", methods = "m-sph", scheme = "explicit", nu, report_times, history, vtu_series,
               kernel = "cubic-spe", solver = "auto", petsc_options;
   // --problem custom: [0,1]^d, n intervals, expressions in x, y, z, t.
-  std::string u, coef, mobility, s, g, q, u0, neumann, cloud = "uniform";
+  std::string u, coef, mobility, s, g, q, u0, neumann, periodic, cloud = "uniform";
   int dim = 2, n = 20;
   double delta = 0.5;
   std::uint64_t seed = 1;
@@ -80,6 +80,7 @@ DiffusionProblem custom_problem(const DiffuseArgs& a) {
   check<ConfigError>(spec.family == CloudFamily::Uniform || spec.family == CloudFamily::Perturbed,
                      "--cloud for diffuse is uniform or perturbed, got ", a.cloud);
   spec.box = Domain::unit_box(a.dim);
+  spec.box.set_periodic(a.periodic);
   spec.n = a.n;
   spec.delta = a.delta;
   spec.seed = a.seed;
@@ -252,6 +253,8 @@ void add_diffuse_command(CLI::App& app) {
   cmd->add_option("--q", a->q, "Neumann data q = n.a grad u (x,y,z,t) (default from u)")->group(custom);
   cmd->add_option("--u0", a->u0, "Initial values u0(x,y,z) (default u at t = 0)")->group(custom);
   cmd->add_option("--neumann", a->neumann, "Neumann faces x0,x1,y0,y1,z0,z1 or all (default none)")->group(custom);
+  cmd->add_option("--periodic", a->periodic, "Periodic axes x,y,z or all of [0,1]^d (no boundary particles there)")
+      ->group(custom);
   cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3")->group(custom)->capture_default_str();
   cmd->add_option("--n", a->n, "Intervals per direction of [0,1]^d (layout A, dx = 1/n)")->group(custom)->capture_default_str();
   cmd->add_option("--cloud", a->cloud, "uniform or perturbed")->group(custom)->capture_default_str();

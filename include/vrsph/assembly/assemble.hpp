@@ -45,6 +45,9 @@ struct BoundaryRows {
   /// Diagonal mobility (N x dim) instead of a: the flux row is n_i·M_i (G u)_i = q_i.
   const Eigen::MatrixXd* mobility = nullptr;
   Index pinned = -1;                  ///< unknown particle whose row becomes U = g (fixes a pure-Neumann constant)
+  /// The rows are a part of a nonsingular operator (diffusion: I - θ dt L): no data need to
+  /// anchor them, so the checks that every unknown reaches a Dirichlet/pinned/Robin row are skipped.
+  bool unanchored_ok = false;
   /// Robin coefficient β >= 0 at every particle (empty: none): a Neumann particle's flux row
   /// becomes a_i n_i·(G u)_i + β_i u_i = q_i. A row with β > 0 fixes the level of u, so
   /// Robin data alone make the problem well-posed.
