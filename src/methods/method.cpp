@@ -50,4 +50,9 @@ void check_request(const MethodInfo& info, const Discretisation& disc, const Ste
   }
 }
 
+int rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_given) {
+  const bool estimates = !coefficient_gradient_given && method.needs_coefficient_gradient(use);
+  return std::max(method.reach(), estimates ? method.estimated_gradient_reach() : 0);
+}
+
 }  // namespace vrsph

@@ -7,13 +7,6 @@
 namespace vrsph {
 
 namespace {
-// Row values over the extended cloud: each image takes its original's.
-Eigen::MatrixXd expand(const Eigen::MatrixXd& v, const PeriodicImages& im) {
-  Eigen::MatrixXd out(im.cloud.size(), v.cols());
-  for (Index i = 0; i < im.cloud.size(); ++i) out.row(i) = v.row(im.image_of[static_cast<std::size_t>(i)]);
-  return out;
-}
-
 // The first N rows, each image column replaced by its original (period > 2 h: no row sees
 // one particle twice), sorted by column as a stencil's rows are.
 Stencil fold(Stencil s, const PeriodicImages& im) {
@@ -65,23 +58,9 @@ Stencil periodic_stencil(const Method& method, const PointCloud& cloud, const Se
   const Index n = cloud.size();
   const Real h = search.radii.empty() ? search.radius : *std::max_element(search.radii.begin(), search.radii.end());
   check_periodic_cloud(cloud, h);
-  const int reach = std::max(method.reach(), request.coefficient_gradient == nullptr &&
-                                                     method.needs_coefficient_gradient(request.use)
-                                                 ? method.estimated_gradient_reach()
-                                                 : 0);
+  const int reach = rows_reach(method, request.use, request.coefficient_gradient != nullptr);
   const PeriodicImages im = periodic_images(cloud, reach * h * 1.05);
-  SearchParams sp = search;
-  sp.wrap_periodic = false;
-  sp.min_neighbours = 0;  // an image's row may be cut; the originals' rows are checked below
-  if (!search.radii.empty()) {
-    sp.radii.resize(static_cast<std::size_t>(im.cloud.size()));
-    for (std::size_t k = 0; k < sp.radii.size(); ++k) sp.radii[k] = search.radii[static_cast<std::size_t>(im.image_of[k])];
-  }
-  const NeighbourList nl = find_neighbours(im.cloud, sp);
-  for (Index i = 0; i < n; ++i)
-    check<GeometryError>(nl.count(i) >= search.min_neighbours || cloud.tags[static_cast<std::size_t>(i)] == Tag::Ghost,
-                         "particle ", i, " has ", nl.count(i), " neighbours (need at least ", search.min_neighbours,
-                         "); increase the smoothing radius");
+  const NeighbourList nl = im.search(search);
   std::vector<char> rows(static_cast<std::size_t>(im.cloud.size()), 0);
   for (Index i = 0; i < n; ++i) rows[static_cast<std::size_t>(i)] = request.rows.empty() || request.rows[static_cast<std::size_t>(i)];
   StencilRequest req = request;
@@ -89,15 +68,15 @@ Stencil periodic_stencil(const Method& method, const PointCloud& cloud, const Se
   Field a;
   Eigen::MatrixXd grad_a, mobility;
   if (request.coefficient) {
-    a = expand(*request.coefficient, im);
+    a = im.expand(*request.coefficient);
     req.coefficient = &a;
   }
   if (request.coefficient_gradient) {
-    grad_a = expand(*request.coefficient_gradient, im);
+    grad_a = im.expand(*request.coefficient_gradient);
     req.coefficient_gradient = &grad_a;
   }
   if (request.mobility) {
-    mobility = expand(*request.mobility, im);
+    mobility = im.expand(*request.mobility);
     req.mobility = &mobility;
   }
   const Discretisation disc{im.cloud, nl, kernel, spacing, n, length_scale(cloud)};

@@ -75,6 +75,33 @@ PeriodicImages periodic_images(const PointCloud& cloud, Real width) {
   return out;
 }
 
+Eigen::MatrixXd PeriodicImages::expand(const Eigen::MatrixXd& values) const {
+  Eigen::MatrixXd out(cloud.size(), values.cols());
+  for (Index i = 0; i < cloud.size(); ++i) out.row(i) = values.row(image_of[static_cast<std::size_t>(i)]);
+  return out;
+}
+
+Field PeriodicImages::expand(const Field& values) const {
+  Field out(cloud.size());
+  for (Index i = 0; i < cloud.size(); ++i) out[i] = values[image_of[static_cast<std::size_t>(i)]];
+  return out;
+}
+
+NeighbourList PeriodicImages::search(const SearchParams& search) const {
+  SearchParams sp = search;
+  sp.wrap_periodic = false;  // the images are here
+  sp.min_neighbours = 0;     // checked below, on the originals' rows only
+  if (!search.radii.empty()) {
+    sp.radii.resize(static_cast<std::size_t>(cloud.size()));
+    for (std::size_t k = 0; k < sp.radii.size(); ++k) sp.radii[k] = search.radii[static_cast<std::size_t>(image_of[k])];
+  }
+  NeighbourList nl = find_neighbours(cloud, sp);
+  std::vector<char> originals_only(static_cast<std::size_t>(cloud.size()), 0);
+  std::fill(originals_only.begin(), originals_only.begin() + originals, 1);
+  detail::check_min_neighbours(cloud, nl, nl.radii, search.min_neighbours, search.include_self, originals_only);
+  return nl;
+}
+
 namespace detail {
 // Minimum-image search: the plain search over the cloud and its images within the largest
 // radius; each original's row then names the originals, with the shift of the image seen.
@@ -84,11 +111,8 @@ NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& param
   check_periodic_cloud(cloud, width);
   const PeriodicImages im = periodic_images(cloud, width);
   SearchParams sp = params;
-  sp.wrap_periodic = false;
-  sp.min_neighbours = 0;  // an image's row is cut: only the originals' rows are checked
-  sp.radii.assign(static_cast<std::size_t>(im.cloud.size()), 0);
-  for (std::size_t k = 0; k < sp.radii.size(); ++k) sp.radii[k] = radii[static_cast<std::size_t>(im.image_of[k])];
-  const NeighbourList ext = find_neighbours(im.cloud, sp);
+  sp.radii = radii;
+  const NeighbourList ext = im.search(sp);
   NeighbourList out;
   const Index n = cloud.size();
   out.offsets.assign(static_cast<std::size_t>(n) + 1, 0);
@@ -113,7 +137,6 @@ NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& param
       ++at;
     }
   }
-  check_min_neighbours(cloud, out, out.radii, params.min_neighbours, params.include_self);
   return out;
 }
 }  // namespace detail

@@ -51,14 +51,10 @@ class PeriodicCloud final : public Partition {
     owned_.assign(static_cast<std::size_t>(images_.cloud.size()), 0);
     std::fill(owned_.begin(), owned_.begin() + chunk_.size(), 1);
   }
-  Field to_local(const Field& v) const override { return expand(v); }
-  Eigen::MatrixXd to_local(const Eigen::MatrixXd& v) const override {
-    Eigen::MatrixXd out(local_size(), v.cols());
-    for (Index i = 0; i < local_size(); ++i) out.row(i) = v.row(images_.image_of[static_cast<std::size_t>(i)]);
-    return out;
-  }
+  Field to_local(const Field& v) const override { return images_.expand(v); }
+  Eigen::MatrixXd to_local(const Eigen::MatrixXd& v) const override { return images_.expand(v); }
   Field to_chunk(Field v) const override { return v.head(chunk_.size()); }
-  void update_halo(Field& v) const override { v = expand(Field(v.head(chunk_.size()))); }
+  void update_halo(Field& v) const override { v = images_.expand(Field(v.head(chunk_.size()))); }
   void update_halo(std::vector<Index>& v) const override {
     for (Index i = chunk_.size(); i < local_size(); ++i)
       v[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(images_.image_of[static_cast<std::size_t>(i)])];
@@ -75,11 +71,6 @@ class PeriodicCloud final : public Partition {
   }
 
  private:
-  Field expand(const Field& v) const {
-    Field out(local_size());
-    for (Index i = 0; i < local_size(); ++i) out[i] = v[images_.image_of[static_cast<std::size_t>(i)]];
-    return out;
-  }
   const PointCloud& chunk_;
   PeriodicImages images_;
 };

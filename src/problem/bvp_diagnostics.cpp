@@ -82,22 +82,16 @@ void report_transmissibilities(const Partition& part, const Method& method, cons
 }
 
 // Rows: the owned unknown rows without flux rows; columns: every unknown, halo copies
-// included; the chains to a strictly dominant row followed over the ranks.
+// included; the chains to a strictly dominant row (or to `chain_anchor`) followed over the ranks.
 void report_m_matrix(const Partition& part, const OperatorRows& r, const RowMasks& masks, const LocalData& data,
-                     BvpSolution& s) {
+                     Index chain_anchor, BvpSolution& s) {
   const bool flux_rows_apart = s.neumann_particles > 0 && !r.balance;
   const std::vector<char>& rows = flux_rows_apart ? masks.interior : masks.unknown;
   const std::vector<char> columns = flux_rows_apart ? tag_mask(part.local(), {Tag::Interior}) : masks.unknown_columns;
   const std::optional<Stencil> robin_rows = with_robin_diagonal(r.L, masks.flux, data.robin);
-  // A fully periodic box without boundary particles: -L is singular (its rows sum to zero)
-  // and the solve pins one particle; the pinned system is an M-matrix when every row is
-  // chained to that particle.
-  const bool periodic = part.local().domain.fully_periodic() && s.neumann_particles == 0 &&
-                        !any_rank(part.comm(), part.local().count(Tag::Dirichlet) > 0);
-  const Index pinned = periodic ? centre_particle(part, masks.interior) : -1;
   const MMatrixReport mm = check_m_matrix(robin_rows ? *robin_rows : r.L, columns, 1e-12, rows,
                                           [&](std::span<const Index> off, std::span<const Index> tgt, std::vector<char> seeds) {
-                                            if (pinned >= 0) seeds[static_cast<std::size_t>(pinned)] = 1;
+                                            if (chain_anchor >= 0) seeds[static_cast<std::size_t>(chain_anchor)] = 1;
                                             return part.reach(off, tgt, std::move(seeds));
                                           });
   const Communicator& comm = part.comm();
@@ -119,7 +113,7 @@ void report_m_matrix(const Partition& part, const OperatorRows& r, const RowMask
 }  // namespace
 
 void diagnose_rows(const Partition& part, const Method& method, const OperatorRows& r, const RowMasks& masks,
-                   const LocalData& data, const BvpSolveOptions& o, BvpSolution& s) {
+                   const LocalData& data, Index chain_anchor, const BvpSolveOptions& o, BvpSolution& s) {
   const auto all = static_cast<std::size_t>(part.local_size());
   collective(part.comm(), [&] {
     report_infeasible(part, summarise_local_residuals(r.L, masks.interior, o.infeasible_tolerance, all), "interior", o, s);
@@ -135,7 +129,7 @@ void diagnose_rows(const Partition& part, const Method& method, const OperatorRo
   s.condition_max = max_over_ranks(part.comm(), condition);
   collective(part.comm(), [&] { check_finite_rows(part, r.L, r.rows(masks), o); });
   report_transmissibilities(part, method, r.L, r.rows(masks), o, s);
-  if (o.check_m_matrix) report_m_matrix(part, r, masks, data, s);
+  if (o.check_m_matrix) report_m_matrix(part, r, masks, data, chain_anchor, s);
 }
 
 }  // namespace vrsph::detail

@@ -17,9 +17,8 @@ namespace vrsph::detail {
 
 using vrsph::detail::concat;
 
-PinnedRow pinned_row(const Partition& part, const Stencil& L, const LocalData& data, const RowMasks& masks) {
+PinnedRow pinned_row(const Partition& part, const Stencil& L, const LocalData& data, Index p) {
   PinnedRow r;
-  const Index p = centre_particle(part, masks.interior);
   if (p < 0) return r;  // another rank's
   r.particle = p;
   const Field& f = data.f();

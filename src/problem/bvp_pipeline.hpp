@@ -27,11 +27,6 @@ struct ProblemFields {
   bool periodic_without_boundary = false;
 };
 
-/// Supports away from a row that its weights read (Method::reach), or further when the
-/// method estimates ∇a itself for this use (Method::estimated_gradient_reach): the halo's
-/// width in supports.
-int halo_reach(const Method& method, StencilUse use, bool coefficient_gradient_given);
-
 /// The support radius: h, per-particle radii (knn), the spacing it came from.
 struct Support {
   Real spacing = 0, h = 0, covering_radius = 0;
@@ -82,8 +77,10 @@ Discretisation local_discretisation(const Partition& part, const NeighbourList& 
 OperatorRows build_operator_rows(const Partition& part, const Method& method, const Discretisation& disc,
                                  const LocalData& data, const RowMasks& masks, bool neumann, const std::string& name,
                                  StencilUse use);
+/// chain_anchor: a particle that anchors the M-matrix's chains as a Dirichlet row would (the
+/// pin of a fully periodic problem, whose -L is otherwise singular); -1: none.
 void diagnose_rows(const Partition& part, const Method& method, const OperatorRows& rows, const RowMasks& masks,
-                   const LocalData& data, const BvpSolveOptions& o, BvpSolution& s);
+                   const LocalData& data, Index chain_anchor, const BvpSolveOptions& o, BvpSolution& s);
 /// assemble() over the partition: the whole system with assemble()'s own checks in serial;
 /// under MPI this rank's rows (local columns, AssemblyScope), the data anchoring every
 /// unknown checked over the ranks.
@@ -94,10 +91,13 @@ LinearSystem globalise(const Partition& part, LinearSystem local);
 /// The interior particle nearest the domain's centre (the one fix_constant pins), on the
 /// rank that owns it (-1 on the others).
 Index centre_particle(const Partition& part, const std::vector<char>& interior);
+/// The particle whose row becomes u = g (local; -1: none, or another rank's): the problem's
+/// own `pinned`, else the centre particle with fix_constant or a fully periodic problem.
+Index pinned_particle(const Partition& part, const RowMasks& masks, const BoundaryValueProblem& p,
+                      const ProblemFields& given);
 /// This rank's rows of the system, columns numbered over every rank (serial: the system).
 LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& rows, const RowMasks& masks,
-                                 const LocalData& data, const BoundaryValueProblem& p, const ProblemFields& given,
-                                 BvpSolution& s);
+                                 const LocalData& data, Index pinned, const ProblemFields& given, BvpSolution& s);
 Eigen::VectorXd solve_system(const Partition& part, const LinearSystem& sys, const BvpSolveOptions& o, BvpSolution& s);
 /// The operator rows a caller keeps (BvpSolveOptions::keep_matrices), rows and columns in
 /// the whole cloud's particle numbers: serial, every row; under MPI the rows this rank owns
@@ -110,7 +110,7 @@ struct PinnedRow {
   std::vector<std::pair<Index, Real>> entries; ///< (global particle, L_pj)
   Real rhs = 0;                                ///< f_p, or the compact row's average of f
 };
-PinnedRow pinned_row(const Partition& part, const Stencil& L, const LocalData& data, const RowMasks& masks);
+PinnedRow pinned_row(const Partition& part, const Stencil& L, const LocalData& data, Index pinned);
 void spread_periodic_defect(const Partition& part, LinearSystem& sys, const PinnedRow& row, const Field& f_owned,
                             const BvpSolveOptions& o, Eigen::VectorXd& x, BvpSolution& s);
 /// u and the local residuals back in the chunk's order; the Neumann solvability warning.

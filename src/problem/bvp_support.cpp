@@ -83,11 +83,6 @@ void check_local_support(const Partition& part, const BvpSolveOptions& o, const 
 }
 }  // namespace
 
-int halo_reach(const Method& method, StencilUse use, bool coefficient_gradient_given) {
-  const bool estimates = !coefficient_gradient_given && method.needs_coefficient_gradient(use);
-  return std::max(method.reach(), estimates ? method.estimated_gradient_reach() : 0);
-}
-
 std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolveOptions& o, int reach, Support& sup) {
   const Communicator& comm = o.communicator;
   sup.spacing = o.spacing > 0 ? o.spacing : spacing_over_ranks(chunk, comm);

@@ -147,9 +147,14 @@ LinearSystem assemble_over_ranks(const Partition& part, const Stencil& L, const 
   return sys;
 }
 
+Index pinned_particle(const Partition& part, const RowMasks& masks, const BoundaryValueProblem& p,
+                      const ProblemFields& given) {
+  if (p.pinned >= 0) return p.pinned;
+  return p.fix_constant || given.periodic_without_boundary ? centre_particle(part, masks.interior) : -1;
+}
+
 LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& r, const RowMasks& masks,
-                                 const LocalData& data, const BoundaryValueProblem& p, const ProblemFields& given,
-                                 BvpSolution& s) {
+                                 const LocalData& data, Index pinned, const ProblemFields& given, BvpSolution& s) {
   const bool tensor = given.tensor;
   BoundaryRows bc;
   if (s.neumann_particles > 0) {
@@ -159,8 +164,7 @@ LinearSystem assemble_owned_rows(const Partition& part, const OperatorRows& r, c
     bc.q = data.q;
     bc.robin = data.robin;
   }
-  const bool fix = p.fix_constant || given.periodic_without_boundary;
-  bc.pinned = p.pinned >= 0 ? p.pinned : fix ? centre_particle(part, masks.interior) : -1;
+  bc.pinned = pinned;
   LinearSystem sys = assemble_over_ranks(part, r.L, masks, data.f(), data.g(), bc);
   if (part.has_halo()) sys = globalise(part, std::move(sys));
   s.unknowns = static_cast<Index>(part.has_halo() ? sys.A.cols() : sys.size());

@@ -27,7 +27,7 @@ DiffusionOperator build_diffusion_operator(const DiffusionProblem& p, const Diff
   DiffusionOperator op;
   const auto method = builtin_methods().create(o.method, o.method_options);
   Support support;
-  op.part = choose_support(p.cloud, as_solve_options(o), halo_reach(*method, StencilUse::Values, false), support);
+  op.part = choose_support(p.cloud, as_solve_options(o), rows_reach(*method, StencilUse::Values, false), support);
   op.spacing = support.spacing;
   op.radius = support.h;
   const Partition& part = *op.part;

@@ -87,7 +87,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   // neighbours (all timed as the neighbour stage, the partition's share in `distribution`).
   Stopwatch watch;
   detail::Support support;
-  const auto part = detail::choose_support(p.cloud, o, detail::halo_reach(*method, StencilUse::System, given.grad_a), support);
+  const auto part = detail::choose_support(p.cloud, o, rows_reach(*method, StencilUse::System, given.grad_a), support);
   const detail::LocalData data = detail::local_data(*part, p, given);
   record_support(*part, support, s);
   const detail::RowMasks masks = detail::row_masks(*part);
@@ -108,10 +108,11 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   mark(&s.stage_peak_bytes.stencil);
   check_interrupt();
 
-  detail::diagnose_rows(*part, *method, rows, masks, data, o, s);
+  const Index pinned = detail::pinned_particle(*part, masks, p, given);
+  detail::diagnose_rows(*part, *method, rows, masks, data, given.periodic_without_boundary ? pinned : -1, o, s);
 
   watch.restart();
-  LinearSystem sys = detail::assemble_owned_rows(*part, rows, masks, data, p, given, s);
+  LinearSystem sys = detail::assemble_owned_rows(*part, rows, masks, data, pinned, given, s);
   // The stencils are in the system now: keep what the report needs and free them.
   if (o.keep_matrices) s.operator_rows = detail::kept_operator_rows(*part, rows.L);
   if (any_rank(o.communicator, !rows.L.wall_flux.empty()))  // balance rows (a rank may have no Neumann row)
@@ -119,15 +120,15 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
                                            : Field(Eigen::Map<const Field>(rows.L.wall_flux.data(), part->local_size()));
   s.local_residual = rows.L.residual.empty() ? Field::Zero(part->local_size())
                                              : Field(Eigen::Map<const Field>(rows.L.residual.data(), part->local_size()));
-  const detail::PinnedRow pinned =
-      given.periodic_without_boundary ? detail::pinned_row(*part, rows.L, data, masks) : detail::PinnedRow{};
+  const detail::PinnedRow dropped_row =
+      given.periodic_without_boundary ? detail::pinned_row(*part, rows.L, data, pinned) : detail::PinnedRow{};
   rows = detail::OperatorRows();
   s.seconds_assemble = max_over_ranks(o.communicator, watch.seconds());
   mark(&s.stage_peak_bytes.assemble);
   check_interrupt();
 
   Eigen::VectorXd x = detail::solve_system(*part, sys, o, s);
-  if (given.periodic_without_boundary) detail::spread_periodic_defect(*part, sys, pinned, p.f, o, x, s);
+  if (given.periodic_without_boundary) detail::spread_periodic_defect(*part, sys, dropped_row, p.f, o, x, s);
   mark(&s.stage_peak_bytes.solve);
   detail::report_solution(*part, sys, x, data, support.spacing, s);
   if (given.periodic_without_boundary) {  // u up to a constant: the one with zero mean

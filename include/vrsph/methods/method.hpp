@@ -117,6 +117,11 @@ class Method {
   virtual std::string row_forms(StencilUse /*use*/) const { return {}; }
 };
 
+/// Supports away from a row that its weights read for this use: Method::reach, or further
+/// when the method fits ∇a itself (no coefficient gradient given): estimated_gradient_reach.
+/// A halo (a rank's, or the periodic images) must be this many supports wide.
+int rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_given);
+
 /// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.
 void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request);
 

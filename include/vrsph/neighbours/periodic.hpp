@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 #include <vrsph/cloud/point_cloud.hpp>
+#include <vrsph/neighbours/neighbour_list.hpp>
 
 namespace vrsph {
 
@@ -18,6 +19,8 @@ inline constexpr std::uint8_t no_shift = 13;
 /// The displacement of an image with this code in this domain.
 Vec3 periodic_shift(const Domain& domain, std::uint8_t code);
 
+struct SearchParams;
+
 struct PeriodicImages {
   /// The originals (first, in their order) and the images of those within `width` of a
   /// periodic face (each combination of the periodic axes), with the originals' tags and
@@ -26,6 +29,14 @@ struct PeriodicImages {
   std::vector<Index> image_of;     ///< per particle of `cloud`: its original (originals: themselves)
   std::vector<std::uint8_t> shift; ///< per particle of `cloud`: its shift code (originals: no_shift)
   Index originals = 0;
+
+  /// Values over the originals (rows) at every particle of `cloud`: each image takes its original's.
+  Eigen::MatrixXd expand(const Eigen::MatrixXd& values) const;
+  Field expand(const Field& values) const;
+  /// The plain search of `cloud` with the originals' radii (`search.radius`, or `search.radii`
+  /// over the originals) at their images; only the originals' rows are held to
+  /// `search.min_neighbours` (an image's row is cut at the edge of the images).
+  NeighbourList search(const SearchParams& search) const;
 };
 
 /// Checks a periodic cloud for a search of this radius: each periodic axis's period larger
