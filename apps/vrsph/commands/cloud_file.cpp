@@ -267,6 +267,9 @@ void reject_column_options(const CLI::App& cmd, const std::string& file_option) 
   for (const auto& [opt, what] : column_options)
     check<ConfigError>(cmd.count(opt) == 0, opt, " needs ", file_option, " (", what, " from a column of the cloud file)");
   check<ConfigError>(cmd.count("--volume-column") == 0, "--volume-column needs ", file_option);
+  // (It was ignored without a cloud file: a generated cloud's support is --h-factor x dx.)
+  check<ConfigError>(cmd.count("--h") == 0, "--h needs ", file_option, " or --geometry (a generated cloud's support "
+                     "radius is --h-factor x its spacing)");
 }
 
 void solve_cloud_file(const StudyArgs& a, const CloudFileArgs& file, const CLI::App& cmd) {
