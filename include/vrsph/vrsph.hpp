@@ -50,7 +50,9 @@
 #include <vrsph/methods/vrsph/volumes.hpp>
 #include <vrsph/methods/vrsph/vrsph.hpp>
 #include <vrsph/neighbours/brute_force.hpp>
+#include <vrsph/moving/operators.hpp>
 #include <vrsph/neighbours/neighbour_list.hpp>
+#include <vrsph/neighbours/verlet.hpp>
 #include <vrsph/parallel/communicator.hpp>
 #include <vrsph/parallel/distributed_cloud.hpp>
 #include <vrsph/neighbours/search.hpp>

@@ -35,6 +35,14 @@ inline void check_min_neighbours(const PointCloud& cloud, const NeighbourList& l
   }
 }
 
+/// InputError naming the duplicate pair (a, b): the lowest pair within the duplicate tolerance.
+[[noreturn]] inline void throw_duplicate(const PointCloud& cloud, long long a, long long b) {
+  const Vec3& x = cloud.positions[static_cast<std::size_t>(a)];
+  throw InputError(concat("duplicate particles ", a, " and ", b, " at (", x[0], ", ", x[1], ", ", x[2], "): distance ",
+                          (cloud.positions[static_cast<std::size_t>(a)] - cloud.positions[static_cast<std::size_t>(b)]).norm(),
+                          " is below the duplicate tolerance"));
+}
+
 /// Bytes per stored pair: the neighbour index and, if cached, the distance.
 inline double neighbour_pair_bytes(const SearchParams& params) {
   return static_cast<double>(sizeof(Index) + (params.cache_distances ? sizeof(Real) : 0));
@@ -70,13 +78,8 @@ NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, 
     });
     list.offsets[static_cast<std::size_t>(i) + 1] = count;
   }
-  if (const long long code = duplicate.load(); code != std::numeric_limits<long long>::max()) {
-    const auto a = static_cast<std::size_t>(code / n), b = static_cast<std::size_t>(code % n);
-    const Vec3& x = cloud.positions[a];
-    throw InputError(concat("duplicate particles ", a, " and ", b, " at (", x[0], ", ", x[1], ", ", x[2],
-                            "): distance ", (cloud.positions[a] - cloud.positions[b]).norm(),
-                            " is below the duplicate tolerance"));
-  }
+  if (const long long code = duplicate.load(); code != std::numeric_limits<long long>::max())
+    throw_duplicate(cloud, code / n, code % n);
   long long total = 0;
   for (Index i = 0; i < n; ++i) {
     total += list.offsets[static_cast<std::size_t>(i) + 1];

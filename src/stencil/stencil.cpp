@@ -11,6 +11,11 @@ namespace vrsph {
 
 Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, std::string method) {
   Stencil s;
+  fill_stencil_pattern(nl, kind, dim, std::move(method), s);
+  return s;
+}
+
+void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, std::string method, Stencil& s) {
   s.kind = kind;
   s.dim = dim;
   s.method = std::move(method);
@@ -57,11 +62,15 @@ Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim
     reserve_huge(v, s.col.size());
     v.assign(s.col.size(), 0.0);
   }
-  return s;
+  // The per-row outputs of a previous build in `s` do not describe this one.
+  for (auto* v : {&s.residual, &s.condition, &s.xi, &s.wall_flux, &s.rhs}) v->clear();
+  s.local_failure.clear();
+  s.negative_volumes.clear();
 }
 
 void set_difference_diagonal(Stencil& s) {
   for (auto& v : s.values)
+#pragma omp parallel for schedule(static)
     for (Index i = 0; i < s.rows(); ++i) {
       Real sum = 0;
       const Index d = s.diag[static_cast<std::size_t>(i)];

@@ -85,6 +85,13 @@ struct StencilRequest {
   StencilUse use = StencilUse::Values;
 };
 
+/// What a method keeps from one build of a request to the next on particles that have moved
+/// (Method::rebuild): VRSPH's NNLS active sets and volume arrays. Opaque to callers.
+class BuildState {
+ public:
+  virtual ~BuildState() = default;
+};
+
 class Method {
  public:
   virtual ~Method() = default;
@@ -92,6 +99,19 @@ class Method {
   /// Rows of ghost particles are left empty (zero). Throws ConfigError for an
   /// unsupported operator, InputError for bad coefficients.
   virtual Stencil build(const Discretisation& disc, const StencilRequest& request) const = 0;
+  /// The same stencil after the particles moved: `out` holds the previous build of this request
+  /// (its storage is reused) and `state` what the method kept from it (null at the first call:
+  /// the method creates its own; keep one state per request). The default builds afresh, equal
+  /// to build(). With `warm_start`, VRSPH starts each row's NNLS from the neighbours it used at
+  /// the previous build: the same moment conditions to the NNLS tolerance, possibly at another
+  /// optimal vertex than a fresh build (docs/moving.md); without, its rebuild equals build().
+  virtual void rebuild(const Discretisation& disc, const StencilRequest& request, Stencil& out,
+                       std::unique_ptr<BuildState>& /*state*/, bool /*warm_start*/) const {
+    out = build(disc, request);
+  }
+  /// Rows of the last rebuild whose NNLS started warm, and those the guess solved as it stood
+  /// (0, 0 for methods without a warm start).
+  virtual std::pair<Index, Index> warm_start_counts(const BuildState* /*state*/) const { return {0, 0}; }
   /// How many supports away from a row's particle its weights read the cloud: 1 when row i
   /// uses only its own neighbours; 2 when it also uses quantities built from each neighbour's
   /// own neighbour list (D2 = D D, Shepard or Voronoi volumes of the neighbours); 3 for VRSPH

@@ -172,7 +172,8 @@ void NnlsSolver::reserve(int m, int n) {
 // functions the state would travel through arguments on the hottest path of the library.
 template <int FixedRows>
 VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x,
-                                                     const NnlsOptions& options, MatrixOrder order) {
+                                                     const NnlsOptions& options, MatrixOrder order,
+                                                     std::span<const int> initial_passive) {
   // With FixedRows > 0 the row count is a compile-time constant: the short loops over
   // rows unroll and vectorise (the row counts VRSPH uses are instantiated below).
   const int m = FixedRows > 0 ? FixedRows : m_runtime;
@@ -396,6 +397,26 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
     return true;
   };
 
+  // Warm start: the guessed columns enter, then those with non-positive least-squares values
+  // leave (all at once, and again until none is left), which ends at a feasible x_P > 0 that
+  // is the least-squares solution on P: the invariant the iteration below starts from (the
+  // cold start's P is empty). No step-back is possible here: x is 0 outside P.
+  if (!initial_passive.empty()) {
+    for (const int t : initial_passive)
+      if (k < m && t >= 0 && t < n && !in_passive_[static_cast<std::size_t>(t)]) add_column(t);
+    for (;;) {
+      back_substitute();
+      bool dropped = false;
+      for (int p = k - 1; p >= 0; --p)
+        if (!(z_[static_cast<std::size_t>(p)] > xtol)) {
+          remove_position(p);
+          dropped = true;
+        }
+      if (!dropped) break;
+    }
+    for (int p = 0; p < k; ++p) xp_[static_cast<std::size_t>(p)] = z_[static_cast<std::size_t>(p)];
+    res.warm_kept = k;
+  }
   gradient();
   while (k < m && res.status == NnlsStatus::Converged) {
     // Entering column: largest multiplier among the zero set (first index on ties; passive
@@ -430,21 +451,27 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
 
 NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
                              MatrixOrder order) {
+  return solve(A, m, n, b, x, options, order, {});
+}
+
+NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
+                             MatrixOrder order, std::span<const int> initial_passive) {
   check<InputError>(m >= 1 && n >= 0, "NNLS: invalid problem size ", m, " x ", n);
   reserve(m, n);
+  const std::span<const int> init = initial_passive;
   switch (m) {
-    case 2: return solve_impl<2>(A, m, n, b, x, options, order);
-    case 3: return solve_impl<3>(A, m, n, b, x, options, order);
-    case 7: return solve_impl<7>(A, m, n, b, x, options, order);
-    case 9: return solve_impl<9>(A, m, n, b, x, options, order);
-    case 10: return solve_impl<10>(A, m, n, b, x, options, order);
-    case 12: return solve_impl<12>(A, m, n, b, x, options, order);
-    case 15: return solve_impl<15>(A, m, n, b, x, options, order);  // 2D compact rows (rhs=compact)
-    case 16: return solve_impl<16>(A, m, n, b, x, options, order);
-    case 19: return solve_impl<19>(A, m, n, b, x, options, order);
-    case 27: return solve_impl<27>(A, m, n, b, x, options, order);
-    case 30: return solve_impl<30>(A, m, n, b, x, options, order);
-    default: return solve_impl<0>(A, m, n, b, x, options, order);
+    case 2: return solve_impl<2>(A, m, n, b, x, options, order, init);
+    case 3: return solve_impl<3>(A, m, n, b, x, options, order, init);
+    case 7: return solve_impl<7>(A, m, n, b, x, options, order, init);
+    case 9: return solve_impl<9>(A, m, n, b, x, options, order, init);
+    case 10: return solve_impl<10>(A, m, n, b, x, options, order, init);
+    case 12: return solve_impl<12>(A, m, n, b, x, options, order, init);
+    case 15: return solve_impl<15>(A, m, n, b, x, options, order, init);  // 2D compact rows (rhs=compact)
+    case 16: return solve_impl<16>(A, m, n, b, x, options, order, init);
+    case 19: return solve_impl<19>(A, m, n, b, x, options, order, init);
+    case 27: return solve_impl<27>(A, m, n, b, x, options, order, init);
+    case 30: return solve_impl<30>(A, m, n, b, x, options, order, init);
+    default: return solve_impl<0>(A, m, n, b, x, options, order, init);
   }
 }
 

@@ -76,6 +76,9 @@ class VolumeRows {
     for (Index j = 0; j < nl_.count(i); ++j) v[j] *= volume_unit_;
     if (wall) out_.wall_flux[si] /= length_;
   }
+  // This thread's warm-started rows and those the guess solved as it stood.
+  Index warm_rows() const { return warm_rows_; }
+  Index warm_hits() const { return warm_hits_; }
 
  private:
   void targets_in_units(MomentConditions c, Real* rhs) const {
@@ -102,10 +105,33 @@ class VolumeRows {
       targets_in_units(conditions_, b_.data());
     }
     if (opt_.prefer_near) prefer_near(nl_.distances_of(i), A_.data(), static_cast<std::size_t>(m_), MatrixOrder::RowMajor, near_);
-    const NnlsResult r = solver_.solve(A_.data(), m_, cnt, b_.data(), v, opt_.nnls, MatrixOrder::RowMajor);
+    const bool warm = guess(i);
+    const NnlsResult r = solver_.solve(A_.data(), m_, cnt, b_.data(), v, opt_.nnls, MatrixOrder::RowMajor, guess_);
+    if (warm) {
+      ++warm_rows_;
+      warm_hits_ += r.iterations == 0 && r.warm_kept == static_cast<int>(guess_.size()) ? 1 : 0;
+    }
     if (opt_.prefer_near)
       for (int j = 0; j < cnt; ++j) v[j] *= near_[static_cast<std::size_t>(j)];
     record(i, r);
+  }
+
+  // Row i's warm-start guess as column numbers of its current neighbour row (both sorted by
+  // particle index: one merge). False (guess_ empty) when there is none.
+  bool guess(Index i) {
+    guess_.clear();
+    const ActiveSets* w = opt_.warm_start;
+    if (!w || w->empty()) return false;
+    const auto si = static_cast<std::size_t>(i);
+    const auto row = nl_.of(i);
+    std::size_t k = 0;
+    for (Index p = w->offsets[si]; p < w->offsets[si + 1]; ++p) {
+      const Index j = w->particles[static_cast<std::size_t>(p)];
+      while (k < row.size() && row[k] < j) ++k;
+      if (k == row.size()) break;
+      if (row[k] == j) guess_.push_back(static_cast<int>(k));
+    }
+    return true;
   }
 
   // Columns: the neighbours, then the wall flux along the conormal in the first-moment rows,
@@ -184,6 +210,8 @@ class VolumeRows {
   NnlsSolver solver_;
   std::vector<Real> A_, b_, half_y_, Aw_, xw_, near_;
   std::vector<Vec3> xji_;
+  std::vector<int> guess_;    ///< the current row's warm-start columns
+  Index warm_rows_ = 0, warm_hits_ = 0;
   std::optional<Kernel> ker_;
   std::optional<SignedVolumeSolver> signed_solver_;
   std::optional<NnlsSolver> wall_solver_;
@@ -191,8 +219,8 @@ class VolumeRows {
   Real kappa_ = 0;   ///< the wall column's scale of the current balance row
 };
 
-ReconstructedVolumes empty_volumes(MomentConditions conditions, Index n, Index pairs, bool walls) {
-  ReconstructedVolumes out;
+// The output arrays sized for this reconstruction, their storage reused.
+void reset_volumes(MomentConditions conditions, Index n, Index pairs, bool walls, ReconstructedVolumes& out) {
   out.conditions = conditions;
   out.v.resize(static_cast<std::size_t>(pairs));
   out.residual.assign(static_cast<std::size_t>(n), 0.0);
@@ -201,20 +229,32 @@ ReconstructedVolumes empty_volumes(MomentConditions conditions, Index n, Index p
   out.positive.assign(static_cast<std::size_t>(n), 0);
   out.signed_row.assign(static_cast<std::size_t>(n), 0);
   out.negative.assign(static_cast<std::size_t>(n), 0);
+  out.wall_flux.clear();
   if (walls) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
-  return out;
+  out.warm_rows = out.warm_hits = 0;
 }
 }  // namespace
 
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
                                          std::span<const char> rows, const VolumeOptions& opt,
                                          std::span<const MomentTarget> targets) {
+  ReconstructedVolumes out;
+  reconstruct_volumes(disc, conditions, rows, opt, targets, out);
+  return out;
+}
+
+void reconstruct_volumes(const Discretisation& disc, MomentConditions conditions, std::span<const char> rows,
+                         const VolumeOptions& opt, std::span<const MomentTarget> targets, ReconstructedVolumes& out) {
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const Index n = cloud.size();
   check<InputError>(rows.empty() || static_cast<Index>(rows.size()) == n, "volume reconstruction: row mask has ",
                     rows.size(), " entries for ", n, " particles");
   check<InputError>(nl.distances.size() == nl.indices.size(), "VRSPH needs neighbour lists with cached distances");
+  check<InputError>(!opt.warm_start || opt.warm_start->empty() || opt.warm_start->offsets.size() == static_cast<std::size_t>(n) + 1,
+                    "volume reconstruction: warm-start sets for ",
+                    opt.warm_start && !opt.warm_start->empty() ? opt.warm_start->offsets.size() - 1 : 0,
+                    " particles, the cloud has ", n, " (a rebuild on another cloud?)");
   check<InputError>(targets.empty() || (conditions == MomentConditions::Laplace && static_cast<Index>(targets.size()) == n),
                     "volume reconstruction: ", targets.size(), " moment targets for ", n, " particles (Laplace only)");
   const bool walls = !opt.wall.rows.empty();
@@ -224,7 +264,7 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
                     "particle (", opt.wall.rows.size(), " and ", opt.wall.conormal.size(), " for ", n, ")");
   const int m = moment_rows(conditions, cloud.dim, opt.layout);
   const int mw = walls ? moment_rows(MomentConditions::WallLaplace, cloud.dim, opt.layout) : 0;
-  ReconstructedVolumes out = empty_volumes(conditions, n, nl.total(), walls);
+  reset_volumes(conditions, n, nl.total(), walls, out);
   Index max_count = 0;
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
 #pragma omp parallel
@@ -241,9 +281,34 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
       }
       thread_rows.solve(i, v);
     }
+#pragma omp critical(vrsph_warm_counts)
+    {
+      out.warm_rows += thread_rows.warm_rows();
+      out.warm_hits += thread_rows.warm_hits();
+    }
   }
   check_interrupt();  // rows skipped after a stop request: the volumes are incomplete
-  return out;
+}
+
+void record_active_sets(const ReconstructedVolumes& volumes, const NeighbourList& nl, ActiveSets& out) {
+  const Index n = nl.size();
+  out.offsets.resize(static_cast<std::size_t>(n) + 1);
+  out.offsets[0] = 0;
+  for (Index i = 0; i < n; ++i) {
+    const Real* v = volumes.v.data() + nl.offsets[static_cast<std::size_t>(i)];
+    Index c = 0;
+    for (Index k = 0; k < nl.count(i); ++k) c += v[k] > 0 ? 1 : 0;
+    out.offsets[static_cast<std::size_t>(i) + 1] = out.offsets[static_cast<std::size_t>(i)] + c;
+  }
+  out.particles.resize(static_cast<std::size_t>(out.offsets.back()));
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    const Real* v = volumes.v.data() + nl.offsets[static_cast<std::size_t>(i)];
+    const auto row = nl.of(i);
+    auto p = static_cast<std::size_t>(out.offsets[static_cast<std::size_t>(i)]);
+    for (std::size_t k = 0; k < row.size(); ++k)
+      if (v[k] > 0) out.particles[p++] = row[k];
+  }
 }
 
 }  // namespace vrsph

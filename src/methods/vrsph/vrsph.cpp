@@ -135,6 +135,36 @@ class Vrsph final : public Method {
   }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
+    Stencil s;
+    build_into(disc, req, s, nullptr);
+    return s;
+  }
+
+  void rebuild(const Discretisation& disc, const StencilRequest& req, Stencil& out, std::unique_ptr<BuildState>& state,
+               bool warm_start) const override {
+    if (!dynamic_cast<VrsphBuildState*>(state.get())) state = std::make_unique<VrsphBuildState>();
+    auto& st = static_cast<VrsphBuildState&>(*state);
+    st.warm = warm_start;
+    build_into(disc, req, out, &st);
+  }
+
+  std::pair<Index, Index> warm_start_counts(const BuildState* state) const override {
+    const auto* st = dynamic_cast<const VrsphBuildState*>(state);
+    return st ? std::pair{st->volumes.warm_rows, st->volumes.warm_hits} : std::pair<Index, Index>{0, 0};
+  }
+
+ private:
+  // What a rebuild keeps: the volume arrays (their storage) and each row's NNLS passive set,
+  // the next rebuild's warm start.
+  struct VrsphBuildState final : BuildState {
+    ReconstructedVolumes volumes;
+    ActiveSets active;
+    bool warm = true;
+  };
+
+  // build() and rebuild(): with a state, its arrays are reused and (warm) its active sets start
+  // the NNLS and are replaced by this build's.
+  void build_into(const Discretisation& disc, const StencilRequest& req, Stencil& s, VrsphBuildState* state) const {
     check_request(info_, disc, req);
     const bool laplace = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
     const bool tensor = req.kind == OperatorKind::DivAGrad && req.mobility != nullptr;
@@ -157,7 +187,7 @@ class Vrsph final : public Method {
     // Compact rows first, written into the pattern; the point rows (their NNLS volumes) only
     // where no compact row exists: the point NNLS of a row that then takes the compact form
     // would be thrown away.
-    Stencil s = make_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name);
+    fill_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name, s);
     std::optional<CompactRows> compact_form;
     std::vector<char> point_rows;  // empty: every requested row
     if (compact && laplace && !tensor) {
@@ -169,8 +199,12 @@ class Vrsph final : public Method {
         point_rows[static_cast<std::size_t>(i)] = row_requested(cloud, req, i) && !compact_form->ok[static_cast<std::size_t>(i)];
     }
     const std::span<const char> volume_rows = compact_form ? std::span<const char>(point_rows) : req.rows;
-    ReconstructedVolumes vol = reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
-                                                   volume_rows, vo, targets);
+    ReconstructedVolumes fresh;
+    ReconstructedVolumes& vol = state ? state->volumes : fresh;
+    if (state && state->warm) vo.warm_start = &state->active;
+    reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient, volume_rows, vo,
+                        targets, vol);
+    if (state && state->warm) record_active_sets(vol, disc.neighbours, state->active);
     if (tensor)  // residuals relative to |b| as for the Laplacian (|b| = sqrt(d)), so one tolerance serves both
       for (std::size_t i = 0; i < targets.size(); ++i) {
         const MomentTarget& t = targets[i];
@@ -184,10 +218,8 @@ class Vrsph final : public Method {
     if (signed_) s.negative_volumes = std::move(vol.negative);
     if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
     set_difference_diagonal(s);
-    return s;
   }
 
- private:
   // The Neumann particles that take balance rows (wall) and their conormals (the unit
   // normal, times the mobility for a tensor). False when the request has none.
   static bool balance_walls(const PointCloud& cloud, const StencilRequest& req, bool tensor, std::vector<char>& wall,

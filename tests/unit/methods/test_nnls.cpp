@@ -154,3 +154,40 @@ TEST(Nnls, TieToleranceMakesTheEnteringColumnReproducible) {
     EXPECT_EQ(x[0] > 0.5, bump < 0) << "bump " << bump;  // the larger multiplier (round-off) decides
   }
 }
+
+// Warm start: from the optimal passive set the solver stops at once with the same x; from a
+// wrong guess (columns that must leave, repeated and out-of-range ones) it still ends at an
+// optimum (the residual of the cold start, KKT: w = A^T r <= tol off the passive set).
+TEST(NnlsWarmStart, FromTheOptimalSetAtOnceFromAWrongOneAtAnOptimum) {
+  std::mt19937 rng(3u);
+  std::normal_distribution<double> g(0, 1);
+  for (int trial = 0; trial < 50; ++trial) {
+    const int m = 5 + trial % 4, n = 12 + trial % 20;
+    Eigen::MatrixXd A(m, n);
+    Eigen::VectorXd b(m);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < m; ++i) A(i, j) = g(rng);
+    for (int i = 0; i < m; ++i) b[i] = g(rng);
+    if (trial % 2 == 0) b = A * Eigen::VectorXd::Random(n).cwiseAbs();  // consistent: residual 0
+    NnlsSolver solver;
+    Eigen::VectorXd cold(n), warm(n), wrong(n);
+    const NnlsResult rc = solver.solve(A.data(), m, n, b.data(), cold.data());
+    std::vector<int> passive;
+    for (int j = 0; j < n; ++j)
+      if (cold[j] > 0) passive.push_back(j);
+    const NnlsResult rw = solver.solve(A.data(), m, n, b.data(), warm.data(), {}, MatrixOrder::ColumnMajor, passive);
+    EXPECT_EQ(rw.iterations, 0) << trial;
+    EXPECT_EQ(rw.warm_kept, static_cast<int>(passive.size())) << trial;
+    EXPECT_LT((warm - cold).norm(), 1e-9 * (1 + cold.norm())) << trial;
+    std::vector<int> guess{0, 1, 2, 2, n + 3, -1, n - 1, 3, 4, 5};
+    const NnlsResult rg = solver.solve(A.data(), m, n, b.data(), wrong.data(), {}, MatrixOrder::ColumnMajor, guess);
+    EXPECT_EQ(rg.status, NnlsStatus::Converged);
+    EXPECT_NEAR(rg.residual, rc.residual, 1e-9 * (1 + b.norm())) << trial;
+    EXPECT_GE(wrong.minCoeff(), 0.0);
+    const Eigen::VectorXd w = A.transpose() * (b - A * wrong);
+    for (int j = 0; j < n; ++j)
+      if (wrong[j] == 0) {
+        EXPECT_LE(w[j], 1e-9 * A.cwiseAbs().maxCoeff() * (1 + b.norm())) << trial << " " << j;
+      }
+  }
+}

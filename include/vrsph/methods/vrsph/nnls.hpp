@@ -17,6 +17,7 @@
 // VRSPH volumes at fine resolution (||A||_1 ~ h^-3 against volumes ~ dx^d) and cycled.
 // Safeguards (Lawson & Hanson 1974, ch. 23): a column that is numerically dependent
 // on the passive set, or whose trial coefficient is not positive, is not admitted.
+#include <span>
 #include <vector>
 #include <vrsph/core/types.hpp>
 
@@ -41,6 +42,9 @@ struct NnlsResult {
   int iterations = 0;
   int passive = 0;          ///< number of positive entries of x
   Real residual = 0;        ///< ||A x - b||_2
+  /// Warm start: columns of the initial passive set kept (their least-squares values positive);
+  /// the start was right when warm_kept is the set's size and iterations is 0.
+  int warm_kept = 0;
 };
 
 class NnlsSolver {
@@ -51,12 +55,20 @@ class NnlsSolver {
   /// solver works on: no copy); x receives n values.
   NnlsResult solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options = {},
                    MatrixOrder order = MatrixOrder::ColumnMajor);
+  /// The same from a guessed passive set (warm start, e.g. the columns a moved particle used at
+  /// the previous time step): its columns enter first (dependent or repeated ones are skipped),
+  /// those whose least-squares values are not positive leave until the rest are (each solve
+  /// on a smaller set), and Lawson–Hanson goes on from that feasible point. The answer is an
+  /// optimum like the cold start's; where the optimum is not unique (VRSPH's moment systems
+  /// have many optimal vertices) it may be another one. Columns out of [0, n) are ignored.
+  NnlsResult solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
+                   MatrixOrder order, std::span<const int> initial_passive);
 
  private:
   void reserve(int m, int n);
   template <int FixedRows>
   NnlsResult solve_impl(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
-                        MatrixOrder order);
+                        MatrixOrder order, std::span<const int> initial_passive);
   std::vector<Real> Q_, R_, qtb_, z_, w_, r_, xp_, Rinv_, at_, gs_;  // at_: A row-major (m x n)
   std::vector<int> passive_;  // column index per passive position
   std::vector<char> in_passive_;

@@ -21,7 +21,22 @@ struct ReconstructedVolumes {
   std::vector<char> signed_row;    ///< 1 where InfeasibleRowPolicy::Signed replaced the NNLS volumes
   std::vector<int> negative;       ///< number of v_j < 0 per row (signed rows only)
   std::vector<Real> wall_flux;     ///< balance rows: c_i >= 0 of Σ w x_ji = first - c_i conormal_i; else empty
+  Index warm_rows = 0;             ///< rows whose NNLS started from VolumeOptions::warm_start
+  Index warm_hits = 0;             ///< of those, rows where the guess was optimal as it stood (no iteration)
 };
+
+/// Each row's positive-volume neighbours, as particle indices in CSR form over the particles:
+/// the NNLS passive sets of a build, and the guess a rebuild on particles that have moved starts
+/// from (VolumeOptions::warm_start). Particle indices, not slots: the neighbour lists change.
+struct ActiveSets {
+  std::vector<Index> offsets;    ///< N + 1 (empty: no sets)
+  std::vector<Index> particles;
+  bool empty() const { return offsets.empty(); }
+};
+
+/// The positive-volume neighbours of every row of `volumes` (built on `neighbours`), into
+/// `out` (its storage reused).
+void record_active_sets(const ReconstructedVolumes& volumes, const NeighbourList& neighbours, ActiveSets& out);
 
 /// What a row whose NNLS volumes leave the moment conditions unmet (relative residual
 /// above VolumeOptions::signed_threshold) gets.
@@ -50,6 +65,9 @@ struct VolumeOptions {
   /// (same feasible set, another vertex; balance rows always do).
   bool prefer_near = false;
   WallRows wall;
+  /// Interior rows start their NNLS from these sets (neighbours no longer in the row are
+  /// dropped); null or empty: cold starts. Balance rows always start cold.
+  const ActiveSets* warm_start = nullptr;
 };
 
 /// The neighbour geometry of particle i that its moment system is built from:
@@ -72,5 +90,8 @@ ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentCondi
 ReconstructedVolumes reconstruct_volumes(const Discretisation& disc, MomentConditions conditions,
                                          std::span<const char> rows, const VolumeOptions& options,
                                          std::span<const MomentTarget> targets = {});
+/// The same into `out`, its storage reused (rebuilds on particles that moved).
+void reconstruct_volumes(const Discretisation& disc, MomentConditions conditions, std::span<const char> rows,
+                         const VolumeOptions& options, std::span<const MomentTarget> targets, ReconstructedVolumes& out);
 
 }  // namespace vrsph

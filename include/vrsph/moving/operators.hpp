@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// Operators: one method's stencils on a cloud whose particles move, built once and then
+// update()d every time step at a fraction of the cost of a fresh build:
+//  - the neighbour list is kept with a Verlet skin (neighbours/verlet.hpp): a search only
+//    when particles have moved far enough, otherwise the stored candidates re-filtered;
+//  - every stencil is rebuilt into its previous storage (Method::rebuild), and VRSPH starts
+//    each row's NNLS from the neighbours that row used at the previous step (warm start);
+//  - vector operators (divergence, curl, vector Laplacian) come from the gradient and
+//    Laplacian stencils (stencil/vector_operators.hpp).
+// On a periodic box each update builds the stencils afresh on the periodic images
+// (periodic_stencil): no skin and no warm start there yet (docs/moving.md).
+#include <memory>
+#include <span>
+#include <vrsph/methods/method.hpp>
+#include <vrsph/neighbours/verlet.hpp>
+#include <vrsph/stencil/vector_operators.hpp>
+
+namespace vrsph {
+
+struct OperatorsOptions {
+  std::string method = "vrsph";
+  MethodOptions method_options;
+  KernelType kernel = KernelType::CubicSpline;
+  Real h_factor = 3;  ///< support radius = h_factor x spacing (the cloud's, else its mean nearest distance)
+  Real radius = 0;    ///< > 0: this support radius instead
+  /// The stencils kept: Laplacian, Gradient, Dx/Dy/Dz (operators without a coefficient).
+  std::vector<OperatorKind> operators = {OperatorKind::Laplacian, OperatorKind::Gradient};
+  StencilUse use = StencilUse::Values;
+  Real skin = 0.2;         ///< Verlet skin as a fraction of the support radius (0: search every update)
+  bool warm_start = true;  ///< VRSPH: start each row's NNLS from its previous active set
+  SearchBackend backend = SearchBackend::CellList;
+};
+
+/// What the last update did and cost.
+struct UpdateStats {
+  Index updates = 0;            ///< update() calls so far (the construction not counted)
+  Index searches = 0;           ///< neighbour searches so far (the construction's included)
+  bool searched = false;        ///< whether the last build searched
+  Index warm_rows = 0;          ///< rows of the last build whose NNLS started warm (all stencils)
+  Index warm_hits = 0;          ///< of those, rows whose guess was optimal as it stood
+  double seconds_neighbours = 0;  ///< the last build's neighbour list
+  double seconds_stencils = 0;    ///< the last build's stencils
+};
+
+class Operators {
+ public:
+  /// Builds the stencils on the cloud as given. ConfigError for an operator that needs a
+  /// coefficient or that the method lacks, bad options; InputError/GeometryError as a search
+  /// and the method raise them.
+  Operators(PointCloud cloud, OperatorsOptions options);
+  ~Operators();
+  Operators(Operators&&) noexcept;
+  Operators& operator=(Operators&&) noexcept;
+
+  /// The particles moved to `positions` (same count; components beyond the dimension 0):
+  /// the neighbour list and every stencil rebuilt. InputError for another count, non-finite
+  /// or out-of-dimension coordinates, a particle outside a periodic box; the previous state
+  /// is kept when it throws.
+  void update(std::span<const Vec3> positions);
+
+  const PointCloud& cloud() const { return cloud_; }
+  Real radius() const { return radius_; }
+  Real spacing() const { return spacing_; }
+  const NeighbourList& neighbours() const;
+  /// ConfigError if `kind` is not kept.
+  const Stencil& stencil(OperatorKind kind) const;
+  /// The operator applied to a scalar field (N values): N x components.
+  Eigen::MatrixXd apply(OperatorKind kind, const Field& u) const;
+  /// Divergence, curl or vector Laplacian of U (N x dim), from the gradient / Laplacian stencil.
+  Eigen::MatrixXd apply(VectorOperator op, const Eigen::MatrixXd& U) const;
+  const UpdateStats& stats() const { return stats_; }
+  const OperatorsOptions& options() const { return options_; }
+
+ private:
+  SearchParams search_params() const;
+  const NeighbourList& update_neighbours();
+  void update_stencils(const NeighbourList& neighbours);
+
+  struct Kept {
+    OperatorKind kind;
+    Stencil stencil;
+    std::unique_ptr<BuildState> state;
+  };
+  PointCloud cloud_;
+  OperatorsOptions options_;
+  std::unique_ptr<Method> method_;
+  Real spacing_ = 0, radius_ = 0;
+  std::unique_ptr<VerletNeighbours> verlet_;
+  NeighbourList periodic_list_;  ///< periodic boxes: the minimum-image list of the last build
+  std::vector<Vec3> previous_;   ///< the positions before the update under way
+  std::vector<Kept> kept_;
+  UpdateStats stats_;
+};
+
+}  // namespace vrsph

@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Operators on moving particles (operators.hpp).
+#include <algorithm>
+#include <cmath>
+#include <vrsph/analysis/smoothing.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/methods/periodic_stencil.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/moving/operators.hpp>
+#include <vrsph/stencil/apply.hpp>
+
+namespace vrsph {
+
+Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::move(cloud)), options_(std::move(options)) {
+  validate(cloud_);
+  method_ = builtin_methods().create(options_.method, options_.method_options);
+  check<ConfigError>(!options_.operators.empty(), "operators: no operator asked for");
+  for (const OperatorKind k : options_.operators) {
+    check<ConfigError>(k != OperatorKind::DivAGrad, "operators: div-a-grad needs a coefficient at the moving particles, "
+                       "which Operators does not take yet; keep the laplacian (and the gradient)");
+    check<ConfigError>(method_->info().supports(k), "operators: method ", options_.method, " has no ", to_string(k), " operator");
+    const bool repeated = std::count(options_.operators.begin(), options_.operators.end(), k) > 1;
+    check<ConfigError>(!repeated, "operators: ", to_string(k), " asked for twice");
+    kept_.push_back({k, Stencil{}, nullptr});
+  }
+  check<ConfigError>(std::isfinite(options_.skin) && options_.skin >= 0, "operators: the Verlet skin (a fraction of the "
+                     "support radius) must be finite and >= 0, got ", options_.skin);
+  spacing_ = cloud_.spacing > 0 ? cloud_.spacing : mean_nearest_neighbour_distance(cloud_);
+  if (options_.radius > 0) {
+    check<ConfigError>(std::isfinite(options_.radius), "operators: the support radius must be finite");
+    radius_ = options_.radius;
+  } else {
+    check<ConfigError>(std::isfinite(options_.h_factor) && options_.h_factor > 0, "operators: h_factor must be positive, got ",
+                       options_.h_factor);
+    radius_ = options_.h_factor * spacing_;
+  }
+  check_support_is_local(radius_, cloud_extent(cloud_), options_.radius > 0 ? 0 : options_.h_factor);
+  if (!cloud_.domain.any_periodic()) verlet_ = std::make_unique<VerletNeighbours>(search_params(), options_.skin * radius_);
+  update_stencils(update_neighbours());
+}
+
+Operators::~Operators() = default;
+Operators::Operators(Operators&&) noexcept = default;
+Operators& Operators::operator=(Operators&&) noexcept = default;
+
+void Operators::update(std::span<const Vec3> positions) {
+  check<InputError>(static_cast<Index>(positions.size()) == cloud_.size(), "operators update: ", positions.size(),
+                    " positions for ", cloud_.size(), " particles (particles cannot be added or removed: build new "
+                    "Operators)");
+  // The old positions are kept (swapped: no allocation after the first step) so that a failed
+  // update leaves the operators as they were: the neighbour phase changes nothing when it
+  // throws; a stencil phase that throws half-way is redone on the old positions.
+  previous_.swap(cloud_.positions);
+  cloud_.positions.assign(positions.begin(), positions.end());
+  const NeighbourList* nl = nullptr;
+  try {
+    nl = &update_neighbours();
+  } catch (...) {
+    cloud_.positions.swap(previous_);
+    throw;
+  }
+  try {
+    update_stencils(*nl);
+  } catch (...) {
+    cloud_.positions.swap(previous_);
+    update_stencils(update_neighbours());
+    throw;
+  }
+  ++stats_.updates;
+}
+
+SearchParams Operators::search_params() const {
+  SearchParams sp;
+  sp.radius = radius_;
+  sp.backend = options_.backend;
+  return sp;
+}
+
+const NeighbourList& Operators::update_neighbours() {
+  validate(cloud_);
+  const Stopwatch watch;
+  if (verlet_) {
+    const NeighbourList& nl = verlet_->update(cloud_);
+    stats_.searches = verlet_->searches();
+    stats_.searched = verlet_->last_searched();
+    stats_.seconds_neighbours = watch.seconds();
+    return nl;
+  }
+  periodic_list_ = find_neighbours(cloud_, search_params());
+  ++stats_.searches;
+  stats_.searched = true;
+  stats_.seconds_neighbours = watch.seconds();
+  return periodic_list_;
+}
+
+void Operators::update_stencils(const NeighbourList& nl) {
+  const Stopwatch watch;
+  stats_.warm_rows = stats_.warm_hits = 0;
+  const Discretisation disc{cloud_, nl, options_.kernel, spacing_};
+  for (Kept& k : kept_) {
+    StencilRequest req;
+    req.kind = k.kind;
+    req.use = options_.use;
+    if (!verlet_) {  // a periodic box: rows on the periodic images, columns folded back, built afresh
+      k.stencil = periodic_stencil(*method_, cloud_, search_params(), options_.kernel, spacing_, req);
+      continue;
+    }
+    method_->rebuild(disc, req, k.stencil, k.state, options_.warm_start);
+    const auto [rows, hits] = method_->warm_start_counts(k.state.get());
+    stats_.warm_rows += rows;
+    stats_.warm_hits += hits;
+  }
+  stats_.seconds_stencils = watch.seconds();
+}
+
+const NeighbourList& Operators::neighbours() const { return verlet_ ? verlet_->list() : periodic_list_; }
+
+const Stencil& Operators::stencil(OperatorKind kind) const {
+  for (const Kept& k : kept_)
+    if (k.kind == kind) return k.stencil;
+  throw ConfigError(detail::concat("operators: no ", to_string(kind), " stencil kept (ask for it in the operators)"));
+}
+
+Eigen::MatrixXd Operators::apply(OperatorKind kind, const Field& u) const { return vrsph::apply(stencil(kind), u); }
+
+Eigen::MatrixXd Operators::apply(VectorOperator op, const Eigen::MatrixXd& U) const {
+  return apply_vector(op, stencil(base_operator(op)), U);
+}
+
+}  // namespace vrsph
