@@ -140,4 +140,5 @@ PYBIND11_MODULE(_vrsph, m) {
   vp::bind_clouds(m);
   vp::bind_operators(m);
   vp::bind_problems(m);
+  vp::bind_moving(m);
 }

@@ -68,7 +68,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 )
 
 __all__ = [
-    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Problem", "solve", "Solution", "study",
+    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "ArgumentTypeError", "GeometryError", "NumericalError", "FeatureUnavailable", "parts", "__version__", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
@@ -172,6 +172,94 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
         raise ConfigError("these rows (vrsph rhs=compact) come with right-hand-side weights: L u = M f, not f; "
                           "call stencil(..., diagnostics=True) and use .matrix and .rhs")
     return s.matrices if operator == "gradient" else s.matrices[0]
+
+
+_VECTOR_BASE = {"divergence": "gradient", "curl": "gradient", "vector-laplacian": "laplacian"}
+
+
+class Operators:
+    """A method's stencils on particles that move: built once, then ``update(positions)`` every
+    time step at a fraction of the cost of new stencils (the neighbour list kept with a Verlet
+    skin, storage reused, VRSPH's NNLS started from each row's previous volumes).
+
+    ``operators``: the stencils kept — "laplacian", "gradient", "dx"/"dy"/"dz", and the vector
+    operators "divergence", "curl" (from the gradient) and "vector-laplacian" (from the
+    Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
+    Verlet skin as a fraction of the support radius; ``warm_start=False`` makes every update
+    equal a fresh build bit for bit (with it VRSPH's rows meet the same moment conditions but may
+    pick other volumes). A periodic cloud is rebuilt on its images at every update.
+
+    ``update(positions)`` takes an (N, dim) array (the same particles; InputError otherwise, and
+    the operators stay as they were). ``stencil(op)`` returns what :func:`stencil` returns (a
+    CSR matrix, or a tuple of them); ``apply(op, values)`` applies it to (N,) or (N, dim) values;
+    ``stats`` reports the last update (searches, warm-start rows and hits, seconds)."""
+
+    def __init__(self, cloud: Cloud, method: str = "vrsph", operators: Sequence[str] = ("laplacian", "gradient"),
+                 h: float | None = None, h_factor: float = 3.0, kernel: str = "cubic",
+                 options: Mapping[str, Any] | None = None, skin: float = 0.2, warm_start: bool = True):
+        _check_cloud(cloud)
+        wanted = _args.names(operators, "operators")
+        base: list[str] = []
+        for name in wanted:
+            b = _VECTOR_BASE.get(name, name)
+            if b not in base:
+                base.append(b)
+        self._names = wanted
+        self._ops = _vrsph._Operators(cloud, _args.text(method, "method"), base, _args.optional_length(h, "h"),
+                                      _args.number(h_factor, "h_factor", positive=True), _args.text(kernel, "kernel"),
+                                      _args.options(options, "options"), _args.number(skin, "skin", minimum=0.0),
+                                      _args.flag(warm_start, "warm_start"))
+
+    def update(self, positions: Any) -> None:
+        self._ops.update(np.asarray(positions, dtype=float))
+
+    @property
+    def positions(self) -> np.ndarray:
+        return self._ops.positions
+
+    @property
+    def radius(self) -> float:
+        return self._ops.radius
+
+    @property
+    def stats(self) -> dict:
+        return self._ops.stats()
+
+    def _matrices(self, name: str) -> tuple:
+        raw = self._ops.stencil(name)
+        n = self._ops.n
+        return tuple(scipy.sparse.csr_matrix((d, raw["indices"], raw["indptr"]), shape=(n, n)) for d in raw["data"])
+
+    def stencil(self, operator: str = "laplacian"):
+        operator = _args.text(operator, "operator")
+        base = _VECTOR_BASE.get(operator, operator)
+        m = self._matrices(base)  # ConfigError when `base` is not kept
+        if operator == "curl":
+            if self._ops.dim == 1:
+                raise ConfigError("the curl needs 2 or 3 dimensions, got 1")
+            return (-m[1], m[0]) if self._ops.dim == 2 else m
+        return m if base == "gradient" else m[0]
+
+    def apply(self, operator: str, values: Any) -> np.ndarray:
+        operator = _args.text(operator, "operator")
+        u = np.asarray(values, dtype=float)
+        s = self.stencil(operator)
+        dim, n = self._ops.dim, self._ops.n
+        if operator in ("divergence", "curl", "vector-laplacian"):
+            if u.shape != (n, dim):
+                raise InputError(f"{operator}: values of shape {u.shape} for an ({n}, {dim}) vector field")
+            if operator == "divergence":
+                return sum(s[c] @ u[:, c] for c in range(dim))
+            if operator == "vector-laplacian":
+                return s @ u
+            if dim == 2:
+                return s[0] @ u[:, 0] + s[1] @ u[:, 1]
+            g = s
+            return np.column_stack([g[1] @ u[:, 2] - g[2] @ u[:, 1], g[2] @ u[:, 0] - g[0] @ u[:, 2],
+                                    g[0] @ u[:, 1] - g[1] @ u[:, 0]])
+        if u.shape != (n,):
+            raise InputError(f"{operator}: values of shape {u.shape} for {n} particles")
+        return np.column_stack([m @ u for m in s]) if isinstance(s, tuple) else s @ u
 
 
 class Solution(dict):

@@ -76,6 +76,7 @@ Kernel::Kernel(KernelType type, int dim, Real support_radius) : type_(type), dim
                     "kernel support radius h must be positive and finite, got h = ", support_radius);
   sigma_ = detail::kernel_normalisation(type, dim);
   inv_h_d_ = std::pow(h_, -dim);
+  ratio_scale_ = sigma_ * inv_h_d_ / (h_ * h_);
 }
 
 Kernel Kernel::from_smoothing_length(KernelType type, int dim, Real smoothing_length) {
@@ -111,12 +112,12 @@ void Kernel::dW_over_r(const Real* r, Real* out, int n) const {
   }
 }
 
-Real Kernel::dW_over_r(Real r) const {
+Real Kernel::dW_over_r_profile(Real r) const {
   const Real R = r / h_;
   const auto p = detail::kernel_profile(type_, dim_, R);
   // All profiles have w'(0) = 0, so w'(R)/R -> w''(0) as R -> 0.
   const Real ratio = R > 1e-8 ? p.dw / R : p.d2w;
-  return sigma_ * inv_h_d_ / (h_ * h_) * ratio;
+  return ratio_scale_ * ratio;
 }
 
 }  // namespace vrsph

@@ -26,7 +26,7 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
   }
   check<ConfigError>(std::isfinite(options_.skin) && options_.skin >= 0, "operators: the Verlet skin (a fraction of the "
                      "support radius) must be finite and >= 0, got ", options_.skin);
-  spacing_ = cloud_.spacing > 0 ? cloud_.spacing : mean_nearest_neighbour_distance(cloud_);
+  spacing_ = estimate_spacing(cloud_);  // as vrsph.stencil and the CLI
   if (options_.radius > 0) {
     check<ConfigError>(std::isfinite(options_.radius), "operators: the support radius must be finite");
     radius_ = options_.radius;

@@ -15,7 +15,8 @@ Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim
   return s;
 }
 
-void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, std::string method, Stencil& s) {
+void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, std::string method, Stencil& s,
+                          bool zero_values) {
   s.kind = kind;
   s.dim = dim;
   s.method = std::move(method);
@@ -60,7 +61,8 @@ void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, s
   s.values.resize(static_cast<std::size_t>(components(kind, dim)));
   for (auto& v : s.values) {
     reserve_huge(v, s.col.size());
-    v.assign(s.col.size(), 0.0);
+    if (zero_values) v.assign(s.col.size(), 0.0);
+    else v.resize(s.col.size());  // every entry is written by the caller
   }
   // The per-row outputs of a previous build in `s` do not describe this one.
   for (auto* v : {&s.residual, &s.condition, &s.xi, &s.wall_flux, &s.rhs}) v->clear();

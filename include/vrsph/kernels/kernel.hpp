@@ -54,7 +54,16 @@ class Kernel {
   Real dW(Real r) const;   ///< dW/dr
   Real d2W(Real r) const;  ///< d^2W/dr^2
   /// W'(r)/r, with its finite limit W''(0) at r = 0. This is [QW]'s -Y/2 = F_ij.
-  Real dW_over_r(Real r) const;
+  Real dW_over_r(Real r) const {
+    if (type_ != KernelType::CubicSpline) return dW_over_r_profile(r);
+    // The cubic spline inline (every stencil builder's inner loop), the same arithmetic as its
+    // profile's: [QW](2.4) w'(R) = -12 R + 18 R^2 (R < 1/2), -6 (1 - R)^2 (R < 1), w''(0) = -12.
+    const Real R = r / h_;
+    Real ratio = 0;
+    if (R < 0.5) ratio = R > 1e-8 ? (-12 * R + 18 * R * R) / R : -12 + 36 * R;
+    else if (R < 1) ratio = -6 * (1 - R) * (1 - R) / R;
+    return ratio_scale_ * ratio;
+  }
   /// out[k] = W'(r[k])/r[k] for k < n: the per-neighbour loop of the stencil builders,
   /// with the kernel type dispatched once (the cubic spline inline) instead of per call.
   void dW_over_r(const Real* r, Real* out, int n) const;
@@ -65,6 +74,8 @@ class Kernel {
   Real h_;
   Real sigma_;
   Real inv_h_d_;  // h^-d
+  Real ratio_scale_;  // sigma h^-d / h^2: W'/r = ratio_scale_ w'(R)/R
+  Real dW_over_r_profile(Real r) const;
 };
 
 namespace detail {

@@ -22,7 +22,7 @@ struct OperatorsOptions {
   std::string method = "vrsph";
   MethodOptions method_options;
   KernelType kernel = KernelType::CubicSpline;
-  Real h_factor = 3;  ///< support radius = h_factor x spacing (the cloud's, else its mean nearest distance)
+  Real h_factor = 3;  ///< support radius = h_factor x spacing (estimate_spacing: the cloud's, else from its nearest distances)
   Real radius = 0;    ///< > 0: this support radius instead
   /// The stencils kept: Laplacian, Gradient, Dx/Dy/Dz (operators without a coefficient).
   std::vector<OperatorKind> operators = {OperatorKind::Laplacian, OperatorKind::Gradient};

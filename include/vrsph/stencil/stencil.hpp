@@ -64,8 +64,10 @@ struct Stencil {
 /// Pattern {i} ∪ N_i for every row (sorted, diagonal included), all values zero.
 Stencil make_stencil_pattern(const NeighbourList& neighbours, OperatorKind kind, int dim, std::string method);
 /// The same into `s`, whose storage is reused (a rebuild on particles that moved); its other
-/// per-row outputs (residual, rhs, ...) are cleared.
-void fill_stencil_pattern(const NeighbourList& neighbours, OperatorKind kind, int dim, std::string method, Stencil& s);
+/// per-row outputs (residual, rhs, ...) are cleared. zero_values = false leaves the values as
+/// they were (resized): for a caller that writes every entry.
+void fill_stencil_pattern(const NeighbourList& neighbours, OperatorKind kind, int dim, std::string method, Stencil& s,
+                          bool zero_values = true);
 
 /// Slot in the stencil row of i that holds neighbour number k of the neighbour list
 /// (the neighbour row skips the diagonal, the stencil row does not).

@@ -26,7 +26,7 @@ void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, 
   ker.dW_over_r(dist.data(), half_y, cnt);
   const Vec3& xi = disc.cloud.positions[static_cast<std::size_t>(i)];
   // Y = -2 W'/r has the units of length^-(d+2): in units of `length` it is Y length^(d+2).
-  const Real y_scale = -std::pow(length, disc.cloud.dim + 2);
+  const Real y_scale = length == 1 ? -1.0 : -std::pow(length, disc.cloud.dim + 2);  // (a pow per row was 1% of a rebuild)
   for (int k = 0; k < cnt; ++k) {
     xji[k] = (disc.cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - xi) / length;
     half_y[k] *= y_scale;
@@ -67,11 +67,18 @@ class VolumeRows {
     // The kernel changes only with the support radius (the same for every particle unless
     // h varies): rebuilding it per particle (a pow and checks) was ~2% of the volumes.
     if (!ker_ || nl_.radius(i) != ker_->support()) ker_ = disc_.kernel_at(i);
-    neighbour_geometry(disc_, i, *ker_, xji_.data(), half_y_.data(), length_);
     const bool wall = !opt_.wall.rows.empty() && opt_.wall.rows[si];
-    if (wall) wall_row(i, v);
-    else interior_row(i, v);
-    signed_fallback(i, v, wall);
+    const bool warm = !wall && guess(i);
+    if (warm) ++warm_rows_;
+    if (warm && square_row(i, v)) {
+      ++warm_hits_;
+    } else {
+      neighbour_geometry(disc_, i, *ker_, xji_.data(), half_y_.data(), length_);
+      if (wall) wall_row(i, v);
+      else interior_row(i, v, warm);
+      signed_fallback(i, v, wall);
+    }
+    if (opt_.record_active) record_active(i, v);
     if (length_ == 1) return;
     for (Index j = 0; j < nl_.count(i); ++j) v[j] *= volume_unit_;
     if (wall) out_.wall_flux[si] /= length_;
@@ -94,7 +101,55 @@ class VolumeRows {
     out_.positive[si] = r.passive;
   }
 
-  void interior_row(Index i, Real* v) {
+  // The warm start's fast path: a guess of m columns (the previous vertex) whose square moment
+  // system still has a positive solution is this row's optimum (residual zero), found from the
+  // m guessed neighbours alone: no kernel values, moment columns or NNLS for the others. False
+  // (nothing written) when the guess has another size, is singular or is no longer positive.
+  bool square_row(Index i, Real* v) {
+    if (static_cast<int>(guess_.size()) != m_) return false;
+    const int dim = disc_.cloud.dim, cnt = static_cast<int>(nl_.count(i));
+    const auto M = static_cast<std::size_t>(m_);
+    const auto nbr = nl_.of(i);
+    const auto dist = nl_.distances_of(i);
+    const Vec3& xi = disc_.cloud.positions[static_cast<std::size_t>(i)];
+    const Real y_scale = length_ == 1 ? -1.0 : -std::pow(length_, dim + 2);  // as neighbour_geometry
+    for (std::size_t c = 0; c < M; ++c) {
+      const auto k = static_cast<std::size_t>(guess_[c]);
+      xji_[c] = (disc_.cloud.positions[static_cast<std::size_t>(nbr[k])] - xi) / length_;
+      half_y_[c] = ker_->dW_over_r(dist[k]) * y_scale;
+    }
+    build_moment_system(conditions_, dim, xji_.data(), half_y_.data(), m_, A_.data(), b_.data(), opt_.layout,
+                        MatrixOrder::ColumnMajor);
+    if (!targets_.empty()) {
+      moment_targets(conditions_, dim, opt_.layout, targets_[static_cast<std::size_t>(i)], b_.data());
+      targets_in_units(conditions_, b_.data());
+    }
+    Real a_norm1 = 0;
+    for (std::size_t c = 0; c < M; ++c) {
+      Real sum = 0;
+      for (std::size_t r = 0; r < M; ++r) sum += std::abs(A_[c * M + r]);
+      a_norm1 = std::max(a_norm1, sum);
+    }
+    lu_.assign(A_.begin(), A_.begin() + static_cast<std::ptrdiff_t>(M * M));
+    z_.assign(b_.begin(), b_.begin() + static_cast<std::ptrdiff_t>(M));
+    if (!solve_square_positive(lu_.data(), m_, z_.data(), nnls_value_tolerance(a_norm1, m_, cnt))) return false;
+    std::fill(v, v + cnt, 0.0);
+    Real r2 = 0;
+    for (std::size_t r = 0; r < M; ++r) {
+      Real ar = -b_[r];
+      for (std::size_t c = 0; c < M; ++c) ar += A_[c * M + r] * z_[c];
+      r2 += ar * ar;
+    }
+    for (std::size_t c = 0; c < M; ++c) v[guess_[c]] = z_[c];
+    NnlsResult res;
+    res.passive = m_;
+    res.residual = std::sqrt(r2);
+    res.warm_kept = m_;
+    record(i, res);
+    return true;
+  }
+
+  void interior_row(Index i, Real* v, bool warm) {
     const int dim = disc_.cloud.dim, cnt = static_cast<int>(nl_.count(i));
     rows_ = m_;
     // Row-major: the layout the solver works on, so it copies nothing.
@@ -105,15 +160,22 @@ class VolumeRows {
       targets_in_units(conditions_, b_.data());
     }
     if (opt_.prefer_near) prefer_near(nl_.distances_of(i), A_.data(), static_cast<std::size_t>(m_), MatrixOrder::RowMajor, near_);
-    const bool warm = guess(i);
-    const NnlsResult r = solver_.solve(A_.data(), m_, cnt, b_.data(), v, opt_.nnls, MatrixOrder::RowMajor, guess_);
-    if (warm) {
-      ++warm_rows_;
-      warm_hits_ += r.iterations == 0 && r.warm_kept == static_cast<int>(guess_.size()) ? 1 : 0;
-    }
+    const NnlsResult r = solver_.solve(A_.data(), m_, cnt, b_.data(), v, opt_.nnls, MatrixOrder::RowMajor,
+                                       warm ? std::span<const int>(guess_) : std::span<const int>());
+    if (warm && r.iterations == 0 && r.warm_kept == static_cast<int>(guess_.size())) ++warm_hits_;  // held, off the fast path
     if (opt_.prefer_near)
       for (int j = 0; j < cnt; ++j) v[j] *= near_[static_cast<std::size_t>(j)];
     record(i, r);
+  }
+
+  void record_active(Index i, const Real* v) {
+    ActiveSets& a = out_.active;
+    const auto si = static_cast<std::size_t>(i), stride = static_cast<std::size_t>(a.stride);
+    const auto row = nl_.of(i);
+    std::size_t c = 0;
+    for (std::size_t k = 0; k < row.size() && c < stride; ++k)
+      if (v[k] > 0) a.particles[si * stride + c++] = row[k];
+    a.count[si] = static_cast<std::uint8_t>(c);
   }
 
   // Row i's warm-start guess as column numbers of its current neighbour row (both sorted by
@@ -122,11 +184,11 @@ class VolumeRows {
     guess_.clear();
     const ActiveSets* w = opt_.warm_start;
     if (!w || w->empty()) return false;
-    const auto si = static_cast<std::size_t>(i);
+    const auto si = static_cast<std::size_t>(i), stride = static_cast<std::size_t>(w->stride);
     const auto row = nl_.of(i);
     std::size_t k = 0;
-    for (Index p = w->offsets[si]; p < w->offsets[si + 1]; ++p) {
-      const Index j = w->particles[static_cast<std::size_t>(p)];
+    for (std::size_t p = 0; p < w->count[si]; ++p) {
+      const Index j = w->particles[si * stride + p];
       while (k < row.size() && row[k] < j) ++k;
       if (k == row.size()) break;
       if (row[k] == j) guess_.push_back(static_cast<int>(k));
@@ -211,6 +273,7 @@ class VolumeRows {
   std::vector<Real> A_, b_, half_y_, Aw_, xw_, near_;
   std::vector<Vec3> xji_;
   std::vector<int> guess_;    ///< the current row's warm-start columns
+  std::vector<Real> lu_, z_;  ///< square_row's LU factors and solution
   Index warm_rows_ = 0, warm_hits_ = 0;
   std::optional<Kernel> ker_;
   std::optional<SignedVolumeSolver> signed_solver_;
@@ -251,9 +314,8 @@ void reconstruct_volumes(const Discretisation& disc, MomentConditions conditions
   check<InputError>(rows.empty() || static_cast<Index>(rows.size()) == n, "volume reconstruction: row mask has ",
                     rows.size(), " entries for ", n, " particles");
   check<InputError>(nl.distances.size() == nl.indices.size(), "VRSPH needs neighbour lists with cached distances");
-  check<InputError>(!opt.warm_start || opt.warm_start->empty() || opt.warm_start->offsets.size() == static_cast<std::size_t>(n) + 1,
-                    "volume reconstruction: warm-start sets for ",
-                    opt.warm_start && !opt.warm_start->empty() ? opt.warm_start->offsets.size() - 1 : 0,
+  check<InputError>(!opt.warm_start || opt.warm_start->empty() || opt.warm_start->count.size() == static_cast<std::size_t>(n),
+                    "volume reconstruction: warm-start sets for ", opt.warm_start ? opt.warm_start->count.size() : 0,
                     " particles, the cloud has ", n, " (a rebuild on another cloud?)");
   check<InputError>(targets.empty() || (conditions == MomentConditions::Laplace && static_cast<Index>(targets.size()) == n),
                     "volume reconstruction: ", targets.size(), " moment targets for ", n, " particles (Laplace only)");
@@ -265,6 +327,11 @@ void reconstruct_volumes(const Discretisation& disc, MomentConditions conditions
   const int m = moment_rows(conditions, cloud.dim, opt.layout);
   const int mw = walls ? moment_rows(MomentConditions::WallLaplace, cloud.dim, opt.layout) : 0;
   reset_volumes(conditions, n, nl.total(), walls, out);
+  if (opt.record_active) {
+    out.active.stride = std::max(m, mw);
+    out.active.particles.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(out.active.stride));
+    out.active.count.assign(static_cast<std::size_t>(n), 0);
+  }
   Index max_count = 0;
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
 #pragma omp parallel
@@ -288,27 +355,6 @@ void reconstruct_volumes(const Discretisation& disc, MomentConditions conditions
     }
   }
   check_interrupt();  // rows skipped after a stop request: the volumes are incomplete
-}
-
-void record_active_sets(const ReconstructedVolumes& volumes, const NeighbourList& nl, ActiveSets& out) {
-  const Index n = nl.size();
-  out.offsets.resize(static_cast<std::size_t>(n) + 1);
-  out.offsets[0] = 0;
-  for (Index i = 0; i < n; ++i) {
-    const Real* v = volumes.v.data() + nl.offsets[static_cast<std::size_t>(i)];
-    Index c = 0;
-    for (Index k = 0; k < nl.count(i); ++k) c += v[k] > 0 ? 1 : 0;
-    out.offsets[static_cast<std::size_t>(i) + 1] = out.offsets[static_cast<std::size_t>(i)] + c;
-  }
-  out.particles.resize(static_cast<std::size_t>(out.offsets.back()));
-#pragma omp parallel for schedule(static)
-  for (Index i = 0; i < n; ++i) {
-    const Real* v = volumes.v.data() + nl.offsets[static_cast<std::size_t>(i)];
-    const auto row = nl.of(i);
-    auto p = static_cast<std::size_t>(out.offsets[static_cast<std::size_t>(i)]);
-    for (std::size_t k = 0; k < row.size(); ++k)
-      if (v[k] > 0) out.particles[p++] = row[k];
-  }
 }
 
 }  // namespace vrsph

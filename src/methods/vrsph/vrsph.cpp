@@ -1,3 +1,4 @@
+#include <array>
 // SPDX-License-Identifier: BSD-3-Clause
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/uninitialized.hpp>
@@ -187,7 +188,16 @@ class Vrsph final : public Method {
     // Compact rows first, written into the pattern; the point rows (their NNLS volumes) only
     // where no compact row exists: the point NNLS of a row that then takes the compact form
     // would be thrown away.
-    fill_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name, s);
+    // Without compact rows every row is written whole by point_weights (its zeros and its
+    // diagonal included): the pattern's zero fill and the diagonal pass are saved (a sixth of a
+    // rebuild on moving particles).
+    const bool whole_rows = !(compact && laplace && !tensor);
+    // A rebuild (moving particles) stores only the entries with a volume and the diagonal (about
+    // a third of the pattern {i} ∪ N_i: NNLS keeps about one neighbour per moment row), so the
+    // weights, their memory and every product with the stencil shrink alike. A fresh build keeps
+    // the neighbour-list pattern that the rest of the library (rhs weights, studies) shares.
+    const bool sparse = state && whole_rows;
+    if (!sparse) fill_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name, s, !whole_rows);
     std::optional<CompactRows> compact_form;
     std::vector<char> point_rows;  // empty: every requested row
     if (compact && laplace && !tensor) {
@@ -201,23 +211,27 @@ class Vrsph final : public Method {
     const std::span<const char> volume_rows = compact_form ? std::span<const char>(point_rows) : req.rows;
     ReconstructedVolumes fresh;
     ReconstructedVolumes& vol = state ? state->volumes : fresh;
-    if (state && state->warm) vo.warm_start = &state->active;
+    if (state && state->warm) {
+      vo.warm_start = &state->active;
+      vo.record_active = true;
+    }
     reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient, volume_rows, vo,
                         targets, vol);
-    if (state && state->warm) record_active_sets(vol, disc.neighbours, state->active);
+    if (state && state->warm) std::swap(state->active, vol.active);  // this build's sets start the next
     if (tensor)  // residuals relative to |b| as for the Laplacian (|b| = sqrt(d)), so one tolerance serves both
       for (std::size_t i = 0; i < targets.size(); ++i) {
         const MomentTarget& t = targets[i];
         const Real bnorm = std::sqrt((0.5 * t.first).squaredNorm() + t.second.squaredNorm());
         if (bnorm > 0) vol.residual[i] *= std::sqrt(static_cast<Real>(disc.cloud.dim)) / bnorm;
       }
-    point_weights(disc, req, vol, compact_form ? &point_rows : nullptr, tensor, s);
+    if (sparse) sparse_pattern(disc, req, vol, s);
+    point_weights(disc, req, vol, compact_form ? &point_rows : nullptr, tensor, whole_rows, sparse, s);
     s.residual = vol.residual;
     s.local_failure = vol.failed;
     s.wall_flux = std::move(vol.wall_flux);
     if (signed_) s.negative_volumes = std::move(vol.negative);
     if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
-    set_difference_diagonal(s);
+    if (!whole_rows) set_difference_diagonal(s);
   }
 
   // The Neumann particles that take balance rows (wall) and their conormals (the unit
@@ -250,38 +264,151 @@ class Vrsph final : public Method {
   // The point rows' weights from their reconstructed volumes: w_ij = v_j Y_ij for the
   // Laplacian (times the pair coefficient for div(a grad)), v_j grad_i W_ij for gradients.
   // point_rows: the rows without a compact form (null: every requested row).
+  // The pattern of a sparse rebuild: per row the requested row's neighbours with a volume and
+  // the diagonal (rows not computed: the diagonal alone), values sized, not filled.
+  void sparse_pattern(const Discretisation& disc, const StencilRequest& req, const ReconstructedVolumes& vol, Stencil& s) const {
+    const PointCloud& cloud = disc.cloud;
+    const NeighbourList& nl = disc.neighbours;
+    const Index n = cloud.size();
+    Stencil kept;  // the arrays' storage kept, every other output of the last build cleared
+    kept.kind = req.kind;
+    kept.dim = cloud.dim;
+    kept.method = info_.name;
+    kept.row_ptr = std::move(s.row_ptr);
+    kept.col = std::move(s.col);
+    kept.diag = std::move(s.diag);
+    kept.values = std::move(s.values);
+    s = std::move(kept);
+    s.row_ptr.resize(static_cast<std::size_t>(n) + 1);
+    s.diag.resize(static_cast<std::size_t>(n));
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      Index c = 1;
+      if (row_requested(cloud, req, i)) {
+        const Real* v = vol.v.data() + nl.offsets[static_cast<std::size_t>(i)];
+        for (Index k = 0; k < nl.count(i); ++k) c += v[k] != 0 ? 1 : 0;
+      }
+      s.row_ptr[static_cast<std::size_t>(i) + 1] = c;
+    }
+    s.row_ptr[0] = 0;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) s.row_ptr[i + 1] += s.row_ptr[i];
+    s.col.resize(static_cast<std::size_t>(s.nnz()));
+    s.values.resize(static_cast<std::size_t>(components(req.kind, cloud.dim)));
+    for (auto& v : s.values) v.resize(s.col.size());
+  }
+
+  // whole_rows: every row is written whole, zeros and the difference-form diagonal included (the
+  // pattern was not zero-filled); rows not computed get zeros and the diagonal -0 that
+  // set_difference_diagonal gives them. Otherwise the zero slots are the pattern's. sparse: the
+  // rows of sparse_pattern (columns written here).
   void point_weights(const Discretisation& disc, const StencilRequest& req, const ReconstructedVolumes& vol,
-                     const std::vector<char>* point_rows, bool tensor, Stencil& s) const {
+                     const std::vector<char>* point_rows, bool tensor, bool whole_rows, bool sparse, Stencil& s) const {
     const auto& cloud = disc.cloud;
-    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
-#pragma omp parallel for schedule(dynamic, 256)
-    for (Index i = 0; i < cloud.size(); ++i) {
-      const auto si = static_cast<std::size_t>(i);
-      if (point_rows ? !(*point_rows)[si] : !row_requested(cloud, req, i)) continue;
-      const Kernel ker = disc.kernel_at(i);
-      const auto nbr = disc.neighbours.of(i);
-      const auto dist = disc.neighbours.distances_of(i);
-      const Real* v = vol.v.data() + disc.neighbours.offsets[si];
-      for (std::size_t k = 0; k < nbr.size(); ++k) {
-        const auto j = static_cast<std::size_t>(nbr[k]);
-        const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
-        const Real f = ker.dW_over_r(dist[k]);  // F_ij = W'/r = -Y/2
-        switch (req.kind) {
-          case OperatorKind::Laplacian: s.values[0][slot] = -2 * v[k] * f; break;
-          case OperatorKind::DivAGrad:
-            s.values[0][slot] = tensor ? -2 * v[k] * f  // w = v Y with the anisotropic moment targets
-                                       : -v[k] * pair_sum(mean_, (*req.coefficient)[i], (*req.coefficient)[static_cast<Eigen::Index>(j)]) * f;
-            break;
-          default: {
-            const Vec3 g = v[k] * f * (cloud.positions[si] - cloud.positions[j]);  // v_j grad_i W_ij
-            if (req.kind == OperatorKind::Gradient)
-              for (int c = 0; c < cloud.dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
-            else
-              s.values[0][slot] = g[axis];
+#pragma omp parallel
+    {
+      std::optional<Kernel> ker;  // rebuilt only when the support radius changes (a pow per row otherwise)
+#pragma omp for schedule(dynamic, 256)
+      for (Index i = 0; i < cloud.size(); ++i) {
+        const auto si = static_cast<std::size_t>(i);
+        if (point_rows ? !(*point_rows)[si] : !row_requested(cloud, req, i)) {
+          if (sparse) {
+            s.col[static_cast<std::size_t>(s.row_begin(i))] = i;
+            s.diag[si] = s.row_begin(i);
           }
+          if (whole_rows) zero_row(s, i);
+          continue;
         }
+        if (!ker || ker->support() != disc.neighbours.radius(i)) ker = disc.kernel_at(i);
+        const Real* v = vol.v.data() + disc.neighbours.offsets[si];
+        if (sparse) sparse_row(disc, req, v, tensor, *ker, i, s);
+        else point_row(disc, req, v, tensor, *ker, i, whole_rows, s);
       }
     }
+  }
+
+  static void zero_row(Stencil& s, Index i) {
+    for (auto& v : s.values) {
+      std::fill(v.begin() + s.row_begin(i), v.begin() + s.row_end(i), 0.0);
+      v[static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])] = -0.0;
+    }
+  }
+
+  // The weight of pair (i, j) with volume vk and F_ij = W'/r into `slot` of every component.
+  void write_pair(const Discretisation& disc, const StencilRequest& req, bool tensor, Index i, Index j, Real vk, Real f,
+                  std::size_t slot, Stencil& s) const {
+    switch (req.kind) {
+      case OperatorKind::Laplacian: s.values[0][slot] = -2 * vk * f; break;
+      case OperatorKind::DivAGrad:
+        s.values[0][slot] = tensor ? -2 * vk * f  // w = v Y with the anisotropic moment targets
+                                   : -vk * pair_sum(mean_, (*req.coefficient)[i], (*req.coefficient)[j]) * f;
+        break;
+      default: {
+        const auto& x = disc.cloud.positions;
+        const Vec3 g = vk * f * (x[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(j)]);  // v_j grad_i W_ij
+        if (req.kind == OperatorKind::Gradient)
+          for (int c = 0; c < disc.cloud.dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
+        else
+          s.values[0][slot] = g[req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0];
+      }
+    }
+  }
+
+  // Row i's weights from its volumes v (aligned with its neighbours). A neighbour without volume
+  // (most of them: NNLS keeps about one per moment row) gets 0 (whole_rows) or keeps the
+  // pattern's. whole_rows: the diagonal too, -Σ of the row in slot order as set_difference_diagonal sums.
+  void point_row(const Discretisation& disc, const StencilRequest& req, const Real* v, bool tensor, const Kernel& ker,
+                 Index i, bool whole_rows, Stencil& s) const {
+    const auto si = static_cast<std::size_t>(i);
+    const std::size_t comps = s.values.size();
+    const auto nbr = disc.neighbours.of(i);
+    const auto dist = disc.neighbours.distances_of(i);
+    std::array<Real, 3> sum{0, 0, 0};
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
+      if (v[k] == 0) {
+        if (!whole_rows) continue;
+        for (std::size_t c = 0; c < comps; ++c) {
+          s.values[c][slot] = 0;
+          sum[c] += 0.0;
+        }
+        continue;
+      }
+      write_pair(disc, req, tensor, i, nbr[k], v[k], ker.dW_over_r(dist[k]), slot, s);
+      if (whole_rows)
+        for (std::size_t c = 0; c < comps; ++c) sum[c] += s.values[c][slot];
+    }
+    if (whole_rows)
+      for (std::size_t c = 0; c < comps; ++c) s.values[c][static_cast<std::size_t>(s.diag[si])] = -sum[c];
+  }
+
+  // The same into sparse_pattern's row: the neighbours with a volume, in column order with the
+  // diagonal in its place (the neighbour rows are sorted), the diagonal -Σ of the others.
+  void sparse_row(const Discretisation& disc, const StencilRequest& req, const Real* v, bool tensor, const Kernel& ker,
+                  Index i, Stencil& s) const {
+    const auto si = static_cast<std::size_t>(i);
+    const std::size_t comps = s.values.size();
+    const auto nbr = disc.neighbours.of(i);
+    const auto dist = disc.neighbours.distances_of(i);
+    std::array<Real, 3> sum{0, 0, 0};
+    auto p = static_cast<std::size_t>(s.row_begin(i));
+    bool diag_placed = false;
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      if (v[k] == 0) continue;
+      if (!diag_placed && nbr[k] > i) {
+        s.diag[si] = static_cast<Index>(p);
+        s.col[p++] = i;
+        diag_placed = true;
+      }
+      s.col[p] = nbr[k];
+      write_pair(disc, req, tensor, i, nbr[k], v[k], ker.dW_over_r(dist[k]), p, s);
+      for (std::size_t c = 0; c < comps; ++c) sum[c] += s.values[c][p];
+      ++p;
+    }
+    if (!diag_placed) {
+      s.diag[si] = static_cast<Index>(p);
+      s.col[p] = i;
+    }
+    for (std::size_t c = 0; c < comps; ++c) s.values[c][static_cast<std::size_t>(s.diag[si])] = -sum[c];
   }
 
   MethodInfo info_;

@@ -66,6 +66,7 @@ class NnlsSolver {
 
  private:
   void reserve(int m, int n);
+  bool square_guess(const Real* At, std::size_t M, std::size_t N, const Real* b, std::span<const int> guess, Real xtol);
   template <int FixedRows>
   NnlsResult solve_impl(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
                         MatrixOrder order, std::span<const int> initial_passive);
@@ -74,6 +75,15 @@ class NnlsSolver {
   std::vector<char> in_passive_;
   int cap_m_ = 0, cap_n_ = 0;
 };
+
+/// The square system S z = b (S column-major m x m, overwritten by its LU factors; z holds b on
+/// entry) by LU with partial pivoting. True when S is not (nearly) singular and every z_j >
+/// xtol: then z is an NNLS optimum of any problem whose columns include S's (residual zero).
+/// The warm start's fast path (a guessed passive set of m columns).
+bool solve_square_positive(Real* S, int m, Real* z, Real xtol);
+/// The value threshold below which NnlsSolver drops a variable (m x n problem, ||A||_1 given,
+/// default tolerance).
+Real nnls_value_tolerance(Real a_norm1, int m, int n);
 
 /// Textbook Lawson–Hanson (a direct transcription of lsqnonneg with a fresh QR of the
 /// passive columns at every step and Eigen's dynamic matrices). The reference for

@@ -3,6 +3,7 @@
 // Volume reconstruction (VRSPH, [QW] §4): for every centre i separately, non-negative
 // quadrature weights v^(i)_j on its neighbours that satisfy the moment conditions,
 // by NNLS. Weights are stored aligned with the neighbour list (slot k of row i).
+#include <cstdint>
 #include <span>
 #include <vrsph/core/uninitialized.hpp>
 #include <vrsph/methods/method.hpp>
@@ -10,6 +11,16 @@
 #include <vrsph/methods/vrsph/nnls.hpp>
 
 namespace vrsph {
+
+/// Each row's positive-volume neighbours as particle indices (at most `stride` per row): the NNLS
+/// passive sets of a build, and the guess a rebuild on particles that have moved starts from
+/// (VolumeOptions::warm_start). Particle indices, not slots: the neighbour lists change.
+struct ActiveSets {
+  int stride = 0;                    ///< entries kept per row (the moment rows: a passive set is no larger)
+  std::vector<Index> particles;      ///< row i: particles[i * stride + 0 .. count[i])
+  std::vector<std::uint8_t> count;   ///< per row (empty: no sets)
+  bool empty() const { return count.empty(); }
+};
 
 struct ReconstructedVolumes {
   MomentConditions conditions = MomentConditions::Laplace;
@@ -23,20 +34,10 @@ struct ReconstructedVolumes {
   std::vector<Real> wall_flux;     ///< balance rows: c_i >= 0 of Σ w x_ji = first - c_i conormal_i; else empty
   Index warm_rows = 0;             ///< rows whose NNLS started from VolumeOptions::warm_start
   Index warm_hits = 0;             ///< of those, rows where the guess was optimal as it stood (no iteration)
+  ActiveSets active;               ///< VolumeOptions::record_active: each row's positive volumes
 };
 
-/// Each row's positive-volume neighbours, as particle indices in CSR form over the particles:
-/// the NNLS passive sets of a build, and the guess a rebuild on particles that have moved starts
-/// from (VolumeOptions::warm_start). Particle indices, not slots: the neighbour lists change.
-struct ActiveSets {
-  std::vector<Index> offsets;    ///< N + 1 (empty: no sets)
-  std::vector<Index> particles;
-  bool empty() const { return offsets.empty(); }
-};
 
-/// The positive-volume neighbours of every row of `volumes` (built on `neighbours`), into
-/// `out` (its storage reused).
-void record_active_sets(const ReconstructedVolumes& volumes, const NeighbourList& neighbours, ActiveSets& out);
 
 /// What a row whose NNLS volumes leave the moment conditions unmet (relative residual
 /// above VolumeOptions::signed_threshold) gets.
@@ -68,6 +69,9 @@ struct VolumeOptions {
   /// Interior rows start their NNLS from these sets (neighbours no longer in the row are
   /// dropped); null or empty: cold starts. Balance rows always start cold.
   const ActiveSets* warm_start = nullptr;
+  /// Record each row's positive-volume neighbours in ReconstructedVolumes::active (the next
+  /// rebuild's warm start).
+  bool record_active = false;
 };
 
 /// The neighbour geometry of particle i that its moment system is built from:

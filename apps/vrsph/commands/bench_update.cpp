@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// `vrsph bench update`: particles advected by a divergence-free cellular flow for K steps; per
+// step the update path (vrsph::Operators: Verlet skin, storage reused, VRSPH's NNLS warm start)
+// against a fresh build (search + stencils from nothing) on the same positions, in the same
+// run: seconds per step for the neighbours, the stencils (Laplacian and gradient) and the
+// divergence of the velocity (applied from the gradient stencil in both), their ratio, the
+// warm-start hit rate, and the operators' errors of both paths on the same fields.
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/moving/operators.hpp>
+#include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include "../cli_common.hpp"
+#include "../commands.hpp"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace vrsph::cli {
+
+namespace {
+constexpr double pi = 3.14159265358979323846;
+
+struct UpdateArgs {
+  int dim = 2, n = 1000, steps = 10, threads = 0;
+  double h_factor = 3, move = 0.1, skin = 0.2;
+  std::string method = "vrsph";
+  bool warm_start = true;
+  std::uint64_t seed = 1;
+  OutputOptions out;
+};
+
+// The cellular flow of the unit box: divergence-free, its normal component zero on every face
+// (particles stay inside), |u| <= 1 in 2D and <= 2 in 3D.
+Vec3 cellular_velocity(const Vec3& x, int dim) {
+  const Real sx = std::sin(pi * x[0]), cx = std::cos(pi * x[0]), sy = std::sin(pi * x[1]), cy = std::cos(pi * x[1]);
+  if (dim == 1) return {0.3 * sx, 0, 0};  // 1D: not divergence-free (nothing is but a constant)
+  if (dim == 2) return {sx * cy, -cx * sy, 0};
+  const Real sz = std::sin(pi * x[2]), cz = std::cos(pi * x[2]);
+  return {2 * sx * cy * cz, -cx * sy * cz, -cx * cy * sz};
+}
+
+// Midpoint (RK2) step of the interior particles; boundary particles stay.
+void advect(std::vector<Vec3>& x, const PointCloud& c, Real dt) {
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Interior) continue;
+    const Vec3 mid = x[si] + 0.5 * dt * cellular_velocity(x[si], c.dim);
+    x[si] += dt * cellular_velocity(mid, c.dim);
+  }
+}
+
+struct Errors {
+  double laplacian = 0, divergence = 0;
+};
+
+// Max errors over the interior rows whose moment conditions hold: the Laplacian of
+// prod sin(pi x_k) and the divergence of the flow (0).
+Errors operator_errors(const PointCloud& c, const Stencil& lap, const Stencil& grad) {
+  Field f(c.size());
+  Eigen::MatrixXd U(c.size(), c.dim);
+  for (Index i = 0; i < c.size(); ++i) {
+    const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+    f[i] = 1;
+    for (int k = 0; k < c.dim; ++k) f[i] *= std::sin(pi * x[k]);
+    const Vec3 u = cellular_velocity(x, c.dim);
+    for (int k = 0; k < c.dim; ++k) U(i, k) = u[k];
+  }
+  const Eigen::MatrixXd L = apply(lap, f), D = apply_vector(VectorOperator::Divergence, grad, U);
+  Errors e;
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Interior || (!lap.residual.empty() && lap.residual[si] > 1e-8)) continue;
+    e.laplacian = std::max(e.laplacian, std::abs(L(i, 0) + c.dim * pi * pi * f[i]));
+    if (c.dim > 1 && (grad.residual.empty() || grad.residual[si] <= 1e-8)) e.divergence = std::max(e.divergence, std::abs(D(i, 0)));
+  }
+  return e;
+}
+
+long long threads_in_use() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+struct PathTimes {
+  double neighbours = 0, stencils = 0, divergence = 0;
+  double total() const { return neighbours + stencils + divergence; }
+};
+
+void run_update_bench(const UpdateArgs& a) {
+  check<ConfigError>(a.dim >= 1 && a.dim <= 3, "--dim must be 1, 2 or 3");
+  check<ConfigError>(a.n >= 4 && a.n <= 100000, "--n must be in [4, 100000]");
+  check<ConfigError>(a.steps >= 1 && a.steps <= 100000, "--steps must be in [1, 100000]");
+  check<ConfigError>(std::isfinite(a.move) && a.move > 0 && a.move <= 1, "--move (the largest displacement per step in dx) must be in (0, 1]");
+  check<ConfigError>(std::pow(a.n + 1.0, a.dim) * a.steps <= 1e10, "--n ", a.n, " and --steps ", a.steps, ": over 1e10 particle updates (hours)");
+  set_thread_count(a.threads);
+  CloudSpec spec;
+  spec.family = CloudFamily::Perturbed;
+  spec.box = Domain::unit_box(a.dim);
+  spec.n = a.n;
+  spec.seed = a.seed;
+  const StudyCloud sc = make_study_cloud(spec);
+  const Real dt = a.move * sc.dx / (a.dim == 3 ? 2.0 : 1.0);  // the largest speed is 1 (2 in 3D)
+  OperatorsOptions o;
+  o.method = a.method;
+  o.h_factor = a.h_factor;
+  o.skin = a.skin;
+  o.warm_start = a.warm_start;
+  Stopwatch build_watch;
+  Operators ops(sc.cloud, o);
+  const double first_build = build_watch.seconds();
+  const auto method = builtin_methods().create(a.method);
+  PointCloud fresh_cloud = sc.cloud;
+  std::vector<Vec3> x = sc.cloud.positions;
+  PathTimes upd, fresh;
+  Index hits = 0, warm_rows = 0;
+  Errors e_upd, e_fresh;
+  Progress progress;
+  for (int step = 0; step < a.steps; ++step) {
+    progress.update("step " + std::to_string(step + 1) + "/" + std::to_string(a.steps), static_cast<double>(step) / a.steps);
+    advect(x, sc.cloud, dt);
+    ops.update(x);
+    upd.neighbours += ops.stats().seconds_neighbours;
+    upd.stencils += ops.stats().seconds_stencils;
+    hits += ops.stats().warm_hits;
+    warm_rows += ops.stats().warm_rows;
+    Eigen::MatrixXd U(sc.cloud.size(), a.dim);
+    for (Index i = 0; i < sc.cloud.size(); ++i) U.row(i) = cellular_velocity(x[static_cast<std::size_t>(i)], a.dim).head(a.dim).transpose();
+    Stopwatch w;
+    if (a.dim > 1) (void)ops.apply(VectorOperator::Divergence, U);
+    upd.divergence += w.seconds();
+    // The fresh build on the same positions.
+    fresh_cloud.positions = x;
+    w.restart();
+    SearchParams sp;
+    sp.radius = ops.radius();
+    const NeighbourList nl = find_neighbours(fresh_cloud, sp);
+    fresh.neighbours += w.seconds();
+    w.restart();
+    const Discretisation disc{fresh_cloud, nl, KernelType::CubicSpline, ops.spacing()};
+    const Stencil lap = method->build(disc, {OperatorKind::Laplacian});
+    const Stencil grad = method->build(disc, {OperatorKind::Gradient});
+    fresh.stencils += w.seconds();
+    w.restart();
+    if (a.dim > 1) (void)apply_vector(VectorOperator::Divergence, grad, U);
+    fresh.divergence += w.seconds();
+    if (step + 1 == a.steps) {
+      e_upd = operator_errors(ops.cloud(), ops.stencil(OperatorKind::Laplacian), ops.stencil(OperatorKind::Gradient));
+      e_fresh = operator_errors(fresh_cloud, lap, grad);
+    }
+  }
+  Table t;
+  t.columns = {"stage", "dim", "particles", "threads", "steps", "seconds_per_step", "seconds_fresh_per_step",
+               "ratio_to_fresh", "searches", "warm_start_hit_rate", "laplacian_error", "laplacian_error_fresh",
+               "divergence_error", "divergence_error_fresh"};
+  const double hit_rate = warm_rows > 0 ? static_cast<double>(hits) / static_cast<double>(warm_rows) : 0.0;
+  auto row = [&](const std::string& stage, double u, double f) {
+    t.add_row({{"stage", stage}, {"dim", static_cast<long long>(a.dim)}, {"particles", static_cast<long long>(sc.cloud.size())},
+               {"threads", threads_in_use()}, {"steps", static_cast<long long>(a.steps)},
+               {"seconds_per_step", u / a.steps}, {"seconds_fresh_per_step", f / a.steps}, {"ratio_to_fresh", u / f},
+               {"searches", static_cast<long long>(ops.stats().searches - 1)}, {"warm_start_hit_rate", hit_rate},
+               {"laplacian_error", e_upd.laplacian}, {"laplacian_error_fresh", e_fresh.laplacian},
+               {"divergence_error", e_upd.divergence}, {"divergence_error_fresh", e_fresh.divergence}});
+  };
+  row("neighbours", upd.neighbours, fresh.neighbours);
+  row("stencils (laplacian + gradient)", upd.stencils, fresh.stencils);
+  row("divergence (apply)", upd.divergence, fresh.divergence);
+  row("total", upd.total(), fresh.total());
+  nlohmann::ordered_json extra;
+  extra["benchmark"] = "update";
+  extra["method"] = a.method;
+  extra["h_factor"] = a.h_factor;
+  extra["move_per_step_dx"] = a.move;
+  extra["skin_fraction"] = a.skin;
+  extra["warm_start"] = a.warm_start;
+  extra["first_build_seconds"] = first_build;
+  extra["peak_memory_mib"] = peak_memory_mib();
+  emit(t, a.out, extra.dump(), "", "", "", "");
+}
+}  // namespace
+
+void add_update_bench(CLI::App& bench) {
+  auto a = std::make_shared<UpdateArgs>();
+  auto* cmd = bench.add_subcommand("update", "Moving particles: per-step update of the Laplacian, gradient and divergence "
+                                             "(Verlet skin, warm-started NNLS) against a fresh build in the same run");
+  cmd->add_option("--dim", a->dim, "Dimension 1, 2 or 3")->capture_default_str();
+  cmd->add_option("--n", a->n, "Intervals per direction of the perturbed unit lattice ((n+1)^d particles)")->capture_default_str();
+  cmd->add_option("--steps", a->steps, "Time steps")->capture_default_str();
+  cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--move", a->move, "Largest displacement per step, in dx (sets the time step)")->capture_default_str();
+  cmd->add_option("--skin", a->skin, "Verlet skin as a fraction of the support radius")->capture_default_str();
+  cmd->add_option("--method", a->method, "Method (any with a Laplacian and a gradient)")->capture_default_str();
+  cmd->add_option("--warm-start", a->warm_start, "Start VRSPH's NNLS from each row's previous active set")->capture_default_str();
+  cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->callback([a] { run_update_bench(*a); });
+}
+
+}  // namespace vrsph::cli

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Operators on moving particles (vrsph::Operators): built once from a cloud, update()d with new
+// positions; the stencils handed out as CSR arrays (copies: the object keeps its own for the
+// next update).
+#include <vrsph/core/error.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include <vrsph/moving/operators.hpp>
+#include <vrsph/stencil/operator_kind.hpp>
+#include "bindings.hpp"
+#include "cloud_cache.hpp"
+
+namespace vrsph::python {
+
+namespace {
+template <class T>
+py::array_t<T> copy_array(const std::vector<T>& v) {
+  return py::array_t<T>(static_cast<py::ssize_t>(v.size()), v.data());
+}
+
+std::unique_ptr<Operators> make_operators(const py::object& self, const std::string& method, const std::vector<std::string>& ops,
+                                          double h, double h_factor, const std::string& kernel, const py::dict& options,
+                                          double skin, bool warm_start) {
+  const PointCloud& cloud = as_cloud(self);
+  OperatorsOptions o;
+  o.method = method;
+  o.method_options = method_options_from(options);
+  o.kernel = parse_kernel(kernel);
+  check<ConfigError>(std::isfinite(h_factor) && h_factor > 0, "h_factor must be positive, got ", h_factor);
+  o.radius = h > 0 ? h : h_factor * cached_spacing(self);  // the radius vrsph.stencil() takes
+  o.h_factor = h_factor;
+  o.skin = skin;
+  o.warm_start = warm_start;
+  o.operators.clear();
+  for (const auto& name : ops) o.operators.push_back(parse_operator(name));
+  py::gil_scoped_release release;
+  return std::make_unique<Operators>(cloud, std::move(o));
+}
+
+void update(Operators& ops, const py::handle& positions) {
+  const auto x = py::array_t<Real, py::array::c_style | py::array::forcecast>::ensure(positions);
+  check<InputError>(static_cast<bool>(x), "update: positions must be an (N, dim) array of numbers");
+  const Index n = ops.cloud().size();
+  const int dim = ops.cloud().dim;
+  check<InputError>(x.ndim() == 2 && x.shape(0) == n && x.shape(1) == dim, "update: positions of shape (",
+                    x.ndim() >= 1 ? x.shape(0) : 0, ", ", x.ndim() >= 2 ? x.shape(1) : 0, ") for ", n,
+                    " particles in ", dim, "D: give an (N, dim) = (", n, ", ", dim,
+                    ") array (particles cannot be added or removed: build new Operators)");
+  std::vector<Vec3> p(static_cast<std::size_t>(n), Vec3::Zero());
+  const Real* data = x.data();
+  for (Index i = 0; i < n; ++i)
+    for (int k = 0; k < dim; ++k) p[static_cast<std::size_t>(i)][k] = data[i * dim + k];
+  py::gil_scoped_release release;
+  ops.update(p);
+}
+
+py::dict raw_stencil(const Operators& ops, const std::string& name) {
+  const Stencil& s = ops.stencil(parse_operator(name));
+  py::dict out;
+  out["indptr"] = copy_array(s.row_ptr);
+  out["indices"] = copy_array(s.col);
+  py::list data;
+  for (const auto& v : s.values) data.append(copy_array(v));
+  out["data"] = data;
+  out["residual"] = s.residual.empty() ? py::object(py::none()) : py::object(copy_array(s.residual));
+  return out;
+}
+
+py::dict stats(const Operators& ops) {
+  const UpdateStats& s = ops.stats();
+  py::dict d;
+  d["updates"] = s.updates;
+  d["searches"] = s.searches;
+  d["searched"] = s.searched;
+  d["warm_rows"] = s.warm_rows;
+  d["warm_hits"] = s.warm_hits;
+  d["seconds_neighbours"] = s.seconds_neighbours;
+  d["seconds_stencils"] = s.seconds_stencils;
+  return d;
+}
+}  // namespace
+
+void bind_moving(py::module_& m) {
+  py::class_<Operators>(m, "_Operators")
+      .def(py::init(&make_operators), py::arg("cloud"), py::arg("method"), py::arg("operators"), py::arg("h"),
+           py::arg("h_factor"), py::arg("kernel"), py::arg("options"), py::arg("skin"), py::arg("warm_start"))
+      .def("update", &update, py::arg("positions"))
+      .def("stencil", &raw_stencil, py::arg("operator"))
+      .def("stats", &stats)
+      .def_property_readonly("radius", &Operators::radius)
+      .def_property_readonly("n", [](const Operators& o) { return o.cloud().size(); })
+      .def_property_readonly("dim", [](const Operators& o) { return o.cloud().dim; })
+      .def_property_readonly("positions", [](const Operators& o) {
+        const PointCloud& c = o.cloud();
+        py::array_t<Real> out({static_cast<py::ssize_t>(c.size()), static_cast<py::ssize_t>(c.dim)});
+        auto w = out.mutable_unchecked<2>();
+        for (Index i = 0; i < c.size(); ++i)
+          for (int k = 0; k < c.dim; ++k) w(i, k) = c.positions[static_cast<std::size_t>(i)][k];
+        return out;
+      });
+}
+
+}  // namespace vrsph::python
