@@ -57,6 +57,11 @@ def test_warm_updates_stay_exact_on_quadratics_and_linear_fields():
     U = np.column_stack([2 * p[:, 0] + p[:, 1], 3 * p[:, 0] - p[:, 1]])  # div 1, curl 3 - 1 = 2
     assert np.max(np.abs(ops.apply("divergence", U)[interior] - 1)) < 1e-7
     assert np.max(np.abs(ops.apply("curl", U)[interior] - 2)) < 1e-7
+    gd = ops.apply("grad-div", U)  # div U = 1: its gradient 0 where the rows read only exact values
+    deep = (p > 0.35).all(axis=1) & (p < 0.65).all(axis=1)
+    assert gd.shape == (len(p), 2) and np.max(np.abs(gd[deep])) < 1e-6
+    M = vrsph.stencil(vrsph.cloud.from_arrays(p, np.asarray(c.tags), c.normals), operator="grad-div", h=ops.radius)
+    assert len(M) == 2 and len(M[0]) == 2
 
 
 def test_bad_updates_are_refused_and_change_nothing():

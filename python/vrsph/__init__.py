@@ -134,7 +134,8 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     div U = sum_c D[c] @ U[:, c] (the gradient's matrices); ``"curl"`` in 2D the tuple C with
     curl U = C[0] @ U[:, 0] + C[1] @ U[:, 1] (that is (-G_y, G_x)), in 3D the gradient's tuple
     G (curl U = (G_y U_z - G_z U_y, G_z U_x - G_x U_z, G_x U_y - G_y U_x)); ``"vector-laplacian"``
-    the Laplacian L, applied to each component (L @ U).
+    the Laplacian L, applied to each component (L @ U); ``"grad-div"`` the tuple of tuples M with
+    (grad div U)_b = sum_c M[b][c] @ U[:, c], M[b][c] = G_b @ G_c (the gradient rows twice).
 
     The support radius is ``h`` if given, else ``h_factor`` x the cloud's spacing.
     ``coefficient`` (div-a-grad only): a in div(a grad u), as values, a callable of the
@@ -146,7 +147,7 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     distances equal to the positions'), distances are computed where missing."""
     _check_cloud(cloud)
     operator = _args.text(operator, "operator")
-    if operator in ("divergence", "curl", "vector-laplacian"):
+    if operator in ("divergence", "curl", "vector-laplacian", "grad-div"):
         if diagnostics:
             raise ConfigError(f"diagnostics=True applies to the stencil itself: ask for operator "
                               f"{'laplacian' if operator == 'vector-laplacian' else 'gradient'}")
@@ -156,6 +157,8 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
             if cloud.dim == 1:
                 raise ConfigError("the curl needs 2 or 3 dimensions, got 1")
             return (-base[1], base[0]) if cloud.dim == 2 else base
+        if operator == "grad-div":
+            return tuple(tuple((gb @ gc).tocsr() for gc in base) for gb in base)
         return base
     user_list = _args.neighbour_list(neighbours, "neighbours", len(cloud))
     a = None
@@ -174,7 +177,7 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     return s.matrices if operator == "gradient" else s.matrices[0]
 
 
-_VECTOR_BASE = {"divergence": "gradient", "curl": "gradient", "vector-laplacian": "laplacian"}
+_VECTOR_BASE = {"divergence": "gradient", "curl": "gradient", "vector-laplacian": "laplacian", "grad-div": "gradient"}
 
 
 class Operators:
@@ -183,8 +186,8 @@ class Operators:
     skin, storage reused, VRSPH's NNLS started from each row's previous volumes).
 
     ``operators``: the stencils kept — "laplacian", "gradient", "dx"/"dy"/"dz", and the vector
-    operators "divergence", "curl" (from the gradient) and "vector-laplacian" (from the
-    Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
+    operators "divergence", "curl", "grad-div" (from the gradient) and "vector-laplacian" (from
+    the Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
     Verlet skin as a fraction of the support radius; ``warm_start=False`` makes every update
     equal a fresh build bit for bit (with it VRSPH's rows meet the same moment conditions but may
     pick other volumes). A periodic cloud is rebuilt on its images at every update.
@@ -245,11 +248,12 @@ class Operators:
         u = np.asarray(values, dtype=float)
         s = self.stencil(operator)
         dim, n = self._ops.dim, self._ops.n
-        if operator in ("divergence", "curl", "vector-laplacian"):
+        if operator in ("divergence", "curl", "vector-laplacian", "grad-div"):
             if u.shape != (n, dim):
                 raise InputError(f"{operator}: values of shape {u.shape} for an ({n}, {dim}) vector field")
-            if operator == "divergence":
-                return sum(s[c] @ u[:, c] for c in range(dim))
+            if operator in ("divergence", "grad-div"):
+                d = sum(s[c] @ u[:, c] for c in range(dim))
+                return d if operator == "divergence" else np.column_stack([g @ d for g in s])
             if operator == "vector-laplacian":
                 return s @ u
             if dim == 2:

@@ -131,6 +131,20 @@ StudyCloud level_cloud(const OperatorStudyParams& p, const Domain& box, const st
   return make_study_cloud(spec);
 }
 
+// ∂_b (div u) at x: fourth-order central differences of the components' gradients (step
+// 1e-3 max(1, |x_b|): truncation ~1e-12 |u^(5)|, round-off ~1e-7 of the gradients' own).
+Real grad_div_component(const StudyFunctions& fn, const Vec3& x, int dim, int b) {
+  const Real e = 1e-3 * std::max<Real>(1, std::abs(x[b]));
+  auto div = [&](Real t) {
+    Vec3 y = x;
+    y[b] += t;
+    Real d = 0;
+    for (int c = 0; c < dim; ++c) d += fn.components[static_cast<std::size_t>(c)]->gradient(y)[c];
+    return d;
+  };
+  return (-div(2 * e) + 8 * div(e) - 8 * div(-e) + div(-2 * e)) / (12 * e);
+}
+
 // The operator's exact values at the particles: from u (and a), or the user's --exact.
 // A vector operator of the components' derivatives (finite differences of the expressions).
 Eigen::MatrixXd vector_exact(VectorOperator op, const StudyFunctions& fn, const PointCloud& cloud) {
@@ -140,6 +154,10 @@ Eigen::MatrixXd vector_exact(VectorOperator op, const StudyFunctions& fn, const 
     const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
     if (op == VectorOperator::VectorLaplacian) {
       for (int c = 0; c < dim; ++c) out(i, c) = fn.components[static_cast<std::size_t>(c)]->laplacian(x);
+      continue;
+    }
+    if (op == VectorOperator::GradDiv) {
+      for (int b = 0; b < dim; ++b) out(i, b) = grad_div_component(fn, x, dim, b);
       continue;
     }
     std::array<Vec3, 3> g{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // g[c] = grad u_c

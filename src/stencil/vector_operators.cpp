@@ -10,11 +10,18 @@ std::optional<VectorOperator> parse_vector_operator(std::string_view name) {
   if (name == "divergence") return VectorOperator::Divergence;
   if (name == "curl") return VectorOperator::Curl;
   if (name == "vector-laplacian") return VectorOperator::VectorLaplacian;
+  if (name == "grad-div") return VectorOperator::GradDiv;
   return std::nullopt;
 }
 
 std::string_view to_string(VectorOperator op) {
-  return op == VectorOperator::Divergence ? "divergence" : op == VectorOperator::Curl ? "curl" : "vector-laplacian";
+  switch (op) {
+    case VectorOperator::Divergence: return "divergence";
+    case VectorOperator::Curl: return "curl";
+    case VectorOperator::VectorLaplacian: return "vector-laplacian";
+    case VectorOperator::GradDiv: return "grad-div";
+  }
+  return "?";
 }
 
 OperatorKind base_operator(VectorOperator op) {
@@ -23,7 +30,7 @@ OperatorKind base_operator(VectorOperator op) {
 
 int output_components(VectorOperator op, int dim) {
   if (op == VectorOperator::Divergence) return 1;
-  if (op == VectorOperator::VectorLaplacian) return dim;
+  if (op == VectorOperator::VectorLaplacian || op == VectorOperator::GradDiv) return dim;
   check<ConfigError>(dim >= 2, "the curl needs 2 or 3 dimensions, got ", dim);
   return dim == 2 ? 1 : 3;
 }
@@ -42,8 +49,9 @@ Eigen::MatrixXd apply_vector(VectorOperator op, const Stencil& base, const Eigen
   // d[c](:, b) = G_b U_c: every first derivative of every component.
   std::array<Eigen::MatrixXd, 3> d;
   for (int c = 0; c < dim; ++c) d[static_cast<std::size_t>(c)] = apply(base, Field(U.col(c)));
-  if (op == VectorOperator::Divergence) {
+  if (op == VectorOperator::Divergence || op == VectorOperator::GradDiv) {
     for (int c = 0; c < dim; ++c) out.col(0) += d[static_cast<std::size_t>(c)].col(c);
+    if (op == VectorOperator::GradDiv) out = apply(base, Field(out.col(0)));  // G (div U)
   } else if (dim == 2) {
     out.col(0) = d[1].col(0) - d[0].col(1);
   } else {

@@ -73,6 +73,7 @@ Errors operator_errors(const PointCloud& c, const Stencil& lap, const Stencil& g
   }
   const Eigen::MatrixXd L = apply(lap, f), D = apply_vector(VectorOperator::Divergence, grad, U);
   Errors e;
+  if (c.dim == 1) e.divergence = std::nan("");  // no divergence-free flow in 1D: not measured
   for (Index i = 0; i < c.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (c.tags[si] != Tag::Interior || (!lap.residual.empty() && lap.residual[si] > 1e-8)) continue;
@@ -95,13 +96,25 @@ struct PathTimes {
   double total() const { return neighbours + stencils + divergence; }
 };
 
-void run_update_bench(const UpdateArgs& a) {
+// What the K steps measured: per-path seconds, warm-start counts, the last step's errors.
+struct UpdateRun {
+  PathTimes update, fresh;
+  Index hits = 0, warm_rows = 0, searches = 0, particles = 0;
+  Errors e_update, e_fresh;
+  double first_build = 0;
+};
+
+void check_update_args(const UpdateArgs& a) {
   check<ConfigError>(a.dim >= 1 && a.dim <= 3, "--dim must be 1, 2 or 3");
   check<ConfigError>(a.n >= 4 && a.n <= 100000, "--n must be in [4, 100000]");
   check<ConfigError>(a.steps >= 1 && a.steps <= 100000, "--steps must be in [1, 100000]");
   check<ConfigError>(std::isfinite(a.move) && a.move > 0 && a.move <= 1, "--move (the largest displacement per step in dx) must be in (0, 1]");
   check<ConfigError>(std::pow(a.n + 1.0, a.dim) * a.steps <= 1e10, "--n ", a.n, " and --steps ", a.steps, ": over 1e10 particle updates (hours)");
-  set_thread_count(a.threads);
+}
+
+// Each step: the particles advected, the update path (Operators::update), then a fresh build
+// (search + stencils) on the same positions; the divergence of the flow applied in both.
+UpdateRun run_steps(const UpdateArgs& a) {
   CloudSpec spec;
   spec.family = CloudFamily::Perturbed;
   spec.box = Domain::unit_box(a.dim);
@@ -114,66 +127,72 @@ void run_update_bench(const UpdateArgs& a) {
   o.h_factor = a.h_factor;
   o.skin = a.skin;
   o.warm_start = a.warm_start;
+  UpdateRun run;
+  run.particles = sc.cloud.size();
   Stopwatch build_watch;
   Operators ops(sc.cloud, o);
-  const double first_build = build_watch.seconds();
+  run.first_build = build_watch.seconds();
   const auto method = builtin_methods().create(a.method);
   PointCloud fresh_cloud = sc.cloud;
   std::vector<Vec3> x = sc.cloud.positions;
-  PathTimes upd, fresh;
-  Index hits = 0, warm_rows = 0;
-  Errors e_upd, e_fresh;
   Progress progress;
   for (int step = 0; step < a.steps; ++step) {
     progress.update("step " + std::to_string(step + 1) + "/" + std::to_string(a.steps), static_cast<double>(step) / a.steps);
     advect(x, sc.cloud, dt);
     ops.update(x);
-    upd.neighbours += ops.stats().seconds_neighbours;
-    upd.stencils += ops.stats().seconds_stencils;
-    hits += ops.stats().warm_hits;
-    warm_rows += ops.stats().warm_rows;
+    run.update.neighbours += ops.stats().seconds_neighbours;
+    run.update.stencils += ops.stats().seconds_stencils;
+    run.hits += ops.stats().warm_hits;
+    run.warm_rows += ops.stats().warm_rows;
     Eigen::MatrixXd U(sc.cloud.size(), a.dim);
     for (Index i = 0; i < sc.cloud.size(); ++i) U.row(i) = cellular_velocity(x[static_cast<std::size_t>(i)], a.dim).head(a.dim).transpose();
     Stopwatch w;
     if (a.dim > 1) (void)ops.apply(VectorOperator::Divergence, U);
-    upd.divergence += w.seconds();
-    // The fresh build on the same positions.
+    run.update.divergence += w.seconds();
     fresh_cloud.positions = x;
     w.restart();
     SearchParams sp;
     sp.radius = ops.radius();
     const NeighbourList nl = find_neighbours(fresh_cloud, sp);
-    fresh.neighbours += w.seconds();
+    run.fresh.neighbours += w.seconds();
     w.restart();
     const Discretisation disc{fresh_cloud, nl, KernelType::CubicSpline, ops.spacing()};
     const Stencil lap = method->build(disc, {OperatorKind::Laplacian});
     const Stencil grad = method->build(disc, {OperatorKind::Gradient});
-    fresh.stencils += w.seconds();
+    run.fresh.stencils += w.seconds();
     w.restart();
     if (a.dim > 1) (void)apply_vector(VectorOperator::Divergence, grad, U);
-    fresh.divergence += w.seconds();
+    run.fresh.divergence += w.seconds();
     if (step + 1 == a.steps) {
-      e_upd = operator_errors(ops.cloud(), ops.stencil(OperatorKind::Laplacian), ops.stencil(OperatorKind::Gradient));
-      e_fresh = operator_errors(fresh_cloud, lap, grad);
+      run.e_update = operator_errors(ops.cloud(), ops.stencil(OperatorKind::Laplacian), ops.stencil(OperatorKind::Gradient));
+      run.e_fresh = operator_errors(fresh_cloud, lap, grad);
     }
   }
+  run.searches = ops.stats().searches - 1;  // the construction's not counted
+  return run;
+}
+
+void run_update_bench(const UpdateArgs& a) {
+  check_update_args(a);
+  set_thread_count(a.threads);
+  const UpdateRun run = run_steps(a);
   Table t;
   t.columns = {"stage", "dim", "particles", "threads", "steps", "seconds_per_step", "seconds_fresh_per_step",
                "ratio_to_fresh", "searches", "warm_start_hit_rate", "laplacian_error", "laplacian_error_fresh",
                "divergence_error", "divergence_error_fresh"};
-  const double hit_rate = warm_rows > 0 ? static_cast<double>(hits) / static_cast<double>(warm_rows) : 0.0;
+  const double hit_rate = run.warm_rows > 0 ? static_cast<double>(run.hits) / static_cast<double>(run.warm_rows) : 0.0;
   auto row = [&](const std::string& stage, double u, double f) {
-    t.add_row({{"stage", stage}, {"dim", static_cast<long long>(a.dim)}, {"particles", static_cast<long long>(sc.cloud.size())},
+    t.add_row({{"stage", stage}, {"dim", static_cast<long long>(a.dim)}, {"particles", static_cast<long long>(run.particles)},
                {"threads", threads_in_use()}, {"steps", static_cast<long long>(a.steps)},
                {"seconds_per_step", u / a.steps}, {"seconds_fresh_per_step", f / a.steps}, {"ratio_to_fresh", u / f},
-               {"searches", static_cast<long long>(ops.stats().searches - 1)}, {"warm_start_hit_rate", hit_rate},
-               {"laplacian_error", e_upd.laplacian}, {"laplacian_error_fresh", e_fresh.laplacian},
-               {"divergence_error", e_upd.divergence}, {"divergence_error_fresh", e_fresh.divergence}});
+               {"searches", static_cast<long long>(run.searches)}, {"warm_start_hit_rate", hit_rate},
+               {"laplacian_error", run.e_update.laplacian}, {"laplacian_error_fresh", run.e_fresh.laplacian},
+               {"divergence_error", run.e_update.divergence}, {"divergence_error_fresh", run.e_fresh.divergence}});
   };
-  row("neighbours", upd.neighbours, fresh.neighbours);
-  row("stencils (laplacian + gradient)", upd.stencils, fresh.stencils);
-  row("divergence (apply)", upd.divergence, fresh.divergence);
-  row("total", upd.total(), fresh.total());
+  row("neighbours", run.update.neighbours, run.fresh.neighbours);
+  row("stencils (laplacian + gradient)", run.update.stencils, run.fresh.stencils);
+  row("divergence (apply)", run.update.divergence, run.fresh.divergence);
+  row("total", run.update.total(), run.fresh.total());
   nlohmann::ordered_json extra;
   extra["benchmark"] = "update";
   extra["method"] = a.method;
@@ -181,7 +200,7 @@ void run_update_bench(const UpdateArgs& a) {
   extra["move_per_step_dx"] = a.move;
   extra["skin_fraction"] = a.skin;
   extra["warm_start"] = a.warm_start;
-  extra["first_build_seconds"] = first_build;
+  extra["first_build_seconds"] = run.first_build;
   extra["peak_memory_mib"] = peak_memory_mib();
   emit(t, a.out, extra.dump(), "", "", "", "");
 }

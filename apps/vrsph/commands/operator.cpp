@@ -215,7 +215,7 @@ void add_operator_options(CLI::App* cmd, OperatorArgs& a) {
   cmd->add_option("--method", a.methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
   cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value for one method (repeatable)");
   cmd->add_option("--operator", a.op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative; "
-                  "on a vector field --u \"u_x,u_y[,u_z]\": divergence, curl, vector-laplacian")
+                  "on a vector field --u \"u_x,u_y[,u_z]\": divergence, curl, vector-laplacian, grad-div (the gradient rows twice)")
       ->capture_default_str();
   cmd->add_option("--cloud", a.cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
   cmd->add_option("--n", a.n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();

@@ -9,6 +9,9 @@
 //   curl U  = G_x U_y - G_y U_x                       (2D: a scalar)
 //           = (G_y U_z - G_z U_y, G_z U_x - G_x U_z, G_x U_y - G_y U_x)   (3D)
 //   lap U   = (L U_1, ..., L U_d)
+//   grad div U = G (sum_c G_c U_c)                     (the gradient rows applied twice: each row
+//                reads its neighbours' neighbours; consistent where G is, its order measured in
+//                docs/periodic.md)
 #include <optional>
 #include <string_view>
 #include <vrsph/stencil/operator_kind.hpp>
@@ -16,14 +19,14 @@
 
 namespace vrsph {
 
-enum class VectorOperator { Divergence, Curl, VectorLaplacian };
+enum class VectorOperator { Divergence, Curl, VectorLaplacian, GradDiv };
 
-/// "divergence", "curl", "vector-laplacian"; nullopt for any other name.
+/// "divergence", "curl", "vector-laplacian", "grad-div"; nullopt for any other name.
 std::optional<VectorOperator> parse_vector_operator(std::string_view name);
 std::string_view to_string(VectorOperator op);
-/// The stencil the operator is made from: Gradient (divergence, curl) or Laplacian.
+/// The stencil the operator is made from: Gradient (divergence, curl, grad-div) or Laplacian.
 OperatorKind base_operator(VectorOperator op);
-/// Columns of the result: 1 (divergence; curl in 2D), 3 (curl in 3D), d (vector Laplacian).
+/// Columns of the result: 1 (divergence; curl in 2D), 3 (curl in 3D), d (vector Laplacian, grad-div).
 /// ConfigError for a curl in 1D.
 int output_components(VectorOperator op, int dim);
 /// The operator applied to U (N x dim) with `base` = the method's base_operator stencil.
