@@ -161,12 +161,18 @@ VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
       for (std::size_t j = 0; j < M; ++j) std::swap(S[j * M + c], S[j * M + piv]);
       std::swap(z[c], z[piv]);
     }
+    // The multipliers into column c, then each later column updated along its contiguous rows
+    // (the row-by-row form ran across columns with stride M and did not vectorise).
     const Real inv = 1 / S[c * M + c];
+    Real* lc = S + c * M;
     for (std::size_t r = c + 1; r < M; ++r) {
-      const Real f = S[c * M + r] * inv;
-      if (f == 0) continue;
-      for (std::size_t j = c + 1; j < M; ++j) S[j * M + r] -= f * S[j * M + c];
-      z[r] -= f * z[c];
+      lc[r] *= inv;
+      z[r] -= lc[r] * z[c];
+    }
+    for (std::size_t j = c + 1; j < M; ++j) {
+      Real* sj = S + j * M;
+      const Real scj = sj[c];
+      for (std::size_t r = c + 1; r < M; ++r) sj[r] -= lc[r] * scj;
     }
   }
   for (std::size_t c = M; c-- > 0;) {
