@@ -73,6 +73,8 @@ def test_bad_updates_are_refused_and_change_nothing():
         ops.update(x[:-1])
     with pytest.raises(vrsph.InputError, match="shape"):
         ops.update(x[:, :1])
+    with pytest.raises(vrsph.ArgumentTypeError, match="positions"):
+        ops.update("abc")
     bad = x.copy()
     bad[3, 0] = np.nan
     with pytest.raises(vrsph.InputError, match="non-finite"):

@@ -214,7 +214,11 @@ class Operators:
                                       _args.flag(warm_start, "warm_start"))
 
     def update(self, positions: Any) -> None:
-        self._ops.update(np.asarray(positions, dtype=float))
+        try:
+            x = np.asarray(positions, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise ArgumentTypeError(f"the parameter positions must be an (N, dim) array of numbers: {e}") from None
+        self._ops.update(x)
 
     @property
     def positions(self) -> np.ndarray:
