@@ -37,8 +37,6 @@ struct ReconstructedVolumes {
   ActiveSets active;               ///< VolumeOptions::record_active: each row's positive volumes
 };
 
-
-
 /// What a row whose NNLS volumes leave the moment conditions unmet (relative residual
 /// above VolumeOptions::signed_threshold) gets.
 ///  Keep:   the NNLS best fit (the paper's VRSPH; the row is reported infeasible).
