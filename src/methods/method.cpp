@@ -10,12 +10,12 @@ bool MethodInfo::supports(OperatorKind k) const {
   return std::find(operators.begin(), operators.end(), k) != operators.end();
 }
 
-void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request) {
+void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request, bool periodic_pairs) {
   check<ConfigError>(info.supports(request.kind), "method ", info.name, " does not provide operator ",
                      to_string(request.kind));
   check<InputError>(disc.neighbours.size() == disc.cloud.size(), "neighbour list has ", disc.neighbours.size(),
                     " rows for ", disc.cloud.size(), " particles (size mismatch)");
-  check<ConfigError>(disc.neighbours.shifts.empty(), "method ", info.name, ": this neighbour list crosses periodic faces "
+  check<ConfigError>(periodic_pairs || disc.neighbours.shifts.empty(), "method ", info.name, ": this neighbour list crosses periodic faces "
                      "(NeighbourList::shifts) and the method reads positions: build the stencil with periodic_stencil(), "
                      "which gives it the periodic images");
   check<InputError>(request.rows.empty() || static_cast<Index>(request.rows.size()) == disc.cloud.size(),

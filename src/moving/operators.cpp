@@ -36,7 +36,7 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
     radius_ = options_.h_factor * spacing_;
   }
   check_support_is_local(radius_, cloud_extent(cloud_), options_.radius > 0 ? 0 : options_.h_factor);
-  if (!cloud_.domain.any_periodic()) verlet_ = std::make_unique<VerletNeighbours>(search_params(), options_.skin * radius_);
+  verlet_ = std::make_unique<VerletNeighbours>(search_params(), options_.skin * radius_);
   update_stencils(update_neighbours());
 }
 
@@ -80,18 +80,11 @@ SearchParams Operators::search_params() const {
 const NeighbourList& Operators::update_neighbours() {
   validate(cloud_);
   const Stopwatch watch;
-  if (verlet_) {
-    const NeighbourList& nl = verlet_->update(cloud_);
-    stats_.searches = verlet_->searches();
-    stats_.searched = verlet_->last_searched();
-    stats_.seconds_neighbours = watch.seconds();
-    return nl;
-  }
-  periodic_list_ = find_neighbours(cloud_, search_params());
-  ++stats_.searches;
-  stats_.searched = true;
+  const NeighbourList& nl = verlet_->update(cloud_);  // on a periodic box: minimum images, with shifts
+  stats_.searches = verlet_->searches();
+  stats_.searched = verlet_->last_searched();
   stats_.seconds_neighbours = watch.seconds();
-  return periodic_list_;
+  return nl;
 }
 
 void Operators::update_stencils(const NeighbourList& nl) {
@@ -102,7 +95,9 @@ void Operators::update_stencils(const NeighbourList& nl) {
     StencilRequest req;
     req.kind = k.kind;
     req.use = options_.use;
-    if (!verlet_) {  // a periodic box: rows on the periodic images, columns folded back, built afresh
+    // A periodic box whose rows need more than pair vectors: built afresh on the periodic images,
+    // columns folded back. Otherwise (VRSPH's point rows) the minimum-image list serves directly.
+    if (!nl.shifts.empty() && !method_->reads_periodic_pairs(req)) {
       k.stencil = periodic_stencil(*method_, cloud_, search_params(), options_.kernel, spacing_, req);
       continue;
     }
@@ -114,7 +109,7 @@ void Operators::update_stencils(const NeighbourList& nl) {
   stats_.seconds_stencils = watch.seconds();
 }
 
-const NeighbourList& Operators::neighbours() const { return verlet_ ? verlet_->list() : periodic_list_; }
+const NeighbourList& Operators::neighbours() const { return verlet_->list(); }
 
 const Stencil& Operators::stencil(OperatorKind kind) const {
   for (const Kept& k : kept_)

@@ -12,6 +12,7 @@
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/options.hpp>
 #include <vrsph/neighbours/neighbour_list.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/stencil/stencil.hpp>
 
 namespace vrsph {
@@ -56,6 +57,13 @@ struct Discretisation {
   /// `cloud`), so that every rank writes its local systems in the serial run's unit.
   Real length = 0;
   Kernel kernel_at(Index i) const { return Kernel(kernel, cloud.dim, neighbours.radius(i)); }
+  /// Where row i sees its k-th neighbour: x_j, or its periodic image when the list crosses
+  /// periodic faces (NeighbourList::shifts; only methods that read_periodic_pairs take such lists).
+  Vec3 neighbour_position(Index i, Index k) const {
+    const auto e = static_cast<std::size_t>(neighbours.offsets[static_cast<std::size_t>(i)] + k);
+    const Vec3& xj = cloud.positions[static_cast<std::size_t>(neighbours.indices[e])];
+    return neighbours.shifts.empty() ? xj : Vec3(xj + periodic_shift(cloud.domain, neighbours.shifts[e]));
+  }
   Real length_unit() const { return length > 0 ? length : length_scale(cloud); }
 };
 
@@ -109,6 +117,11 @@ class Method {
                        std::unique_ptr<BuildState>& /*state*/, bool /*warm_start*/) const {
     out = build(disc, request);
   }
+  /// True when this request's rows read their neighbours only through pair vectors and distances
+  /// (Discretisation::neighbour_position), so that a minimum-image list with periodic shifts can be
+  /// given directly (Operators on a periodic box: Verlet list and warm start). False: such a list
+  /// is refused and periodic boxes go through periodic_stencil's images.
+  virtual bool reads_periodic_pairs(const StencilRequest& /*request*/) const { return false; }
   /// Rows of the last rebuild whose NNLS started warm, and those the guess solved as it stood
   /// (0, 0 for methods without a warm start).
   virtual std::pair<Index, Index> warm_start_counts(const BuildState* /*state*/) const { return {0, 0}; }
@@ -142,8 +155,10 @@ class Method {
 /// A halo (a rank's, or the periodic images) must be this many supports wide.
 int rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_given);
 
-/// Shared checks for every method: operator supported, sizes agree, a > 0 and finite.
-void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request);
+/// Shared checks for every method: operator supported, sizes agree, a > 0 and finite, and no
+/// periodic shifts in the list unless `periodic_pairs` (the method reads them).
+void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request,
+                   bool periodic_pairs = false);
 
 /// Whether row i is to be built: the requested rows, or every non-ghost particle.
 inline bool row_requested(const PointCloud& cloud, const StencilRequest& req, Index i) {

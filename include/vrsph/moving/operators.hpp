@@ -8,8 +8,9 @@
 //    each row's NNLS from the neighbours that row used at the previous step (warm start);
 //  - vector operators (divergence, curl, vector Laplacian) come from the gradient and
 //    Laplacian stencils (stencil/vector_operators.hpp).
-// On a periodic box each update builds the stencils afresh on the periodic images
-// (periodic_stencil): no skin and no warm start there yet (docs/moving.md).
+// On a periodic box the list holds minimum images (periodic shifts): VRSPH's point rows read it
+// directly, with the skin and the warm start; other methods' rows are built afresh on the
+// periodic images at each update (periodic_stencil; docs/moving.md).
 #include <memory>
 #include <span>
 #include <vrsph/methods/method.hpp>
@@ -87,7 +88,6 @@ class Operators {
   std::unique_ptr<Method> method_;
   Real spacing_ = 0, radius_ = 0;
   std::unique_ptr<VerletNeighbours> verlet_;
-  NeighbourList periodic_list_;  ///< periodic boxes: the minimum-image list of the last build
   std::vector<Vec3> previous_;   ///< the positions before the update under way
   std::vector<Kept> kept_;
   UpdateStats stats_;

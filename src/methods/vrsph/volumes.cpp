@@ -28,7 +28,7 @@ void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, 
   // Y = -2 W'/r has the units of length^-(d+2): in units of `length` it is Y length^(d+2).
   const Real y_scale = length == 1 ? -1.0 : -std::pow(length, disc.cloud.dim + 2);  // (a pow per row was 1% of a rebuild)
   for (int k = 0; k < cnt; ++k) {
-    xji[k] = (disc.cloud.positions[static_cast<std::size_t>(nbr[static_cast<std::size_t>(k)])] - xi) / length;
+    xji[k] = (disc.neighbour_position(i, k) - xi) / length;
     half_y[k] *= y_scale;
   }
 }
@@ -115,7 +115,7 @@ class VolumeRows {
     const Real y_scale = length_ == 1 ? -1.0 : -std::pow(length_, dim + 2);  // as neighbour_geometry
     for (std::size_t c = 0; c < M; ++c) {
       const auto k = static_cast<std::size_t>(guess_[c]);
-      xji_[c] = (disc_.cloud.positions[static_cast<std::size_t>(nbr[k])] - xi) / length_;
+      xji_[c] = (disc_.neighbour_position(i, static_cast<Index>(k)) - xi) / length_;
       half_y_[c] = ker_->dW_over_r(dist[k]) * y_scale;
     }
     build_moment_system(conditions_, dim, xji_.data(), half_y_.data(), m_, A_.data(), b_.data(), opt_.layout,

@@ -124,6 +124,12 @@ class Vrsph final : public Method {
   // Compact rows use grad a: better than the fit they fall back on.
   bool needs_coefficient_gradient(StencilUse use) const override { return compact_rows_for(use); }
   int estimated_gradient_reach() const override { return 2; }  // compact_system: ∇a at the neighbours
+  // Point rows read pair vectors and distances only (moment systems, weights); compact rows,
+  // balance rows and mobility targets read more of the cloud.
+  bool reads_periodic_pairs(const StencilRequest& req) const override {
+    const bool laplace = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
+    return req.mobility == nullptr && !(laplace && (compact_rows_for(req.use) || resolve(flux_, req.use)));
+  }
   std::string row_forms(StencilUse use) const override {
     if (flux_ != Choice::Auto && rhs_ != Choice::Auto) return {};
     const bool system = use == StencilUse::System;
@@ -166,7 +172,11 @@ class Vrsph final : public Method {
   // build() and rebuild(): with a state, its arrays are reused and (warm) its active sets start
   // the NNLS and are replaced by this build's.
   void build_into(const Discretisation& disc, const StencilRequest& req, Stencil& s, VrsphBuildState* state) const {
-    check_request(info_, disc, req);
+    check_request(info_, disc, req, /*periodic_pairs=*/true);
+    check<ConfigError>(disc.neighbours.shifts.empty() || reads_periodic_pairs(req), "vrsph: these rows (", 
+                       req.mobility ? "a tensor mobility" : "compact or balance rows",
+                       ") read positions beyond their pair vectors: on a periodic box build them with periodic_stencil(), "
+                       "which gives them the periodic images");
     const bool laplace = req.kind == OperatorKind::Laplacian || req.kind == OperatorKind::DivAGrad;
     const bool tensor = req.kind == OperatorKind::DivAGrad && req.mobility != nullptr;
     check<ConfigError>(!tensor || mean_ == PairMean::Arithmetic,
@@ -334,8 +344,9 @@ class Vrsph final : public Method {
   }
 
   // The weight of pair (i, j) with volume vk and F_ij = W'/r into `slot` of every component.
-  void write_pair(const Discretisation& disc, const StencilRequest& req, bool tensor, Index i, Index j, Real vk, Real f,
+  void write_pair(const Discretisation& disc, const StencilRequest& req, bool tensor, Index i, Index k, Real vk, Real f,
                   std::size_t slot, Stencil& s) const {
+    const Index j = disc.neighbours.of(i)[static_cast<std::size_t>(k)];
     switch (req.kind) {
       case OperatorKind::Laplacian: s.values[0][slot] = -2 * vk * f; break;
       case OperatorKind::DivAGrad:
@@ -343,8 +354,7 @@ class Vrsph final : public Method {
                                    : -vk * pair_sum(mean_, (*req.coefficient)[i], (*req.coefficient)[j]) * f;
         break;
       default: {
-        const auto& x = disc.cloud.positions;
-        const Vec3 g = vk * f * (x[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(j)]);  // v_j grad_i W_ij
+        const Vec3 g = vk * f * (disc.cloud.positions[static_cast<std::size_t>(i)] - disc.neighbour_position(i, k));  // v_j grad_i W_ij
         if (req.kind == OperatorKind::Gradient)
           for (int c = 0; c < disc.cloud.dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
         else
@@ -373,7 +383,7 @@ class Vrsph final : public Method {
         }
         continue;
       }
-      write_pair(disc, req, tensor, i, nbr[k], v[k], ker.dW_over_r(dist[k]), slot, s);
+      write_pair(disc, req, tensor, i, static_cast<Index>(k), v[k], ker.dW_over_r(dist[k]), slot, s);
       if (whole_rows)
         for (std::size_t c = 0; c < comps; ++c) sum[c] += s.values[c][slot];
     }
@@ -400,7 +410,7 @@ class Vrsph final : public Method {
         diag_placed = true;
       }
       s.col[p] = nbr[k];
-      write_pair(disc, req, tensor, i, nbr[k], v[k], ker.dW_over_r(dist[k]), p, s);
+      write_pair(disc, req, tensor, i, static_cast<Index>(k), v[k], ker.dW_over_r(dist[k]), p, s);
       for (std::size_t c = 0; c < comps; ++c) sum[c] += s.values[c][p];
       ++p;
     }

@@ -106,13 +106,25 @@ TEST(PeriodicStencil, VrsphMomentConditionsAcrossTheFaces) {
   EXPECT_GT(across, 0);
 }
 
-TEST(PeriodicStencil, BuildRefusesAListAcrossPeriodicFaces) {
+TEST(PeriodicStencil, ListsAcrossPeriodicFacesOnlyWhereAMethodReadsPairVectors) {
   const PointCloud c = periodic_cloud(10);
   SearchParams sp;
   sp.radius = 3 * c.spacing;
   const NeighbourList nl = find_neighbours(c, sp);
   ASSERT_FALSE(nl.shifts.empty());
-  const auto method = builtin_methods().create("vrsph");
-  EXPECT_THROW_MSG(method->build({c, nl, KernelType::CubicSpline, c.spacing}, StencilRequest{}), ConfigError,
+  const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
+  EXPECT_THROW_MSG(builtin_methods().create("fpm")->build(disc, StencilRequest{}), ConfigError,
                    "build the stencil with periodic_stencil()");
+  // VRSPH's point rows read pair vectors only and take the list (Operators on periodic boxes);
+  // its compact rows (a boundary value problem's) do not.
+  const auto vrsph = builtin_methods().create("vrsph");
+  StencilRequest system;
+  system.use = StencilUse::System;
+  EXPECT_FALSE(vrsph->reads_periodic_pairs(system));
+  EXPECT_THROW_MSG(vrsph->build(disc, system), ConfigError, "build them with periodic_stencil()");
+  ASSERT_TRUE(vrsph->reads_periodic_pairs(StencilRequest{}));
+  const Stencil direct = vrsph->build(disc, StencilRequest{});
+  const Stencil images = periodic_stencil(*vrsph, c, sp, KernelType::CubicSpline, c.spacing, StencilRequest{});
+  for (Index i = 0; i < c.size(); ++i)
+    EXPECT_NEAR(direct.residual[static_cast<std::size_t>(i)], images.residual[static_cast<std::size_t>(i)], 1e-9);
 }

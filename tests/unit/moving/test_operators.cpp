@@ -167,6 +167,60 @@ TEST(MovingOperators, PeriodicBoxesBuildOnTheImagesEachUpdate) {
   }
 }
 
+// A periodic box moved by a flow that crosses its faces (u = (0.5 + sin 2πy, cos 2πx)): VRSPH's
+// point rows read the minimum-image list directly (skin, warm start). Each row meets its moment
+// conditions across the faces — Σ_j w_ij d_ij = 0 and Σ_j w_ij d_ij d_ijᵀ = 2 I for the Laplacian,
+// Σ_j g_ij d_ijᵀ = I for the gradient, d_ij the minimum-image vector — with residuals equal to
+// those of periodic_stencil's image-cloud build on the same positions.
+TEST(MovingOperators, VrsphOnAPeriodicBoxMeetsItsMomentsAcrossTheFaces) {
+  const StudyCloud sc = operators_cloud(2, "x,y");
+  Operators ops(sc.cloud, {});
+  const auto method = builtin_methods().create("vrsph");
+  Index rows = 0, hits = 0;
+  for (int step = 0; step < 4; ++step) {
+    std::vector<Vec3> x = ops.cloud().positions;
+    for (Vec3& p : x) p = ops.cloud().domain.wrap(p + 0.004 * Vec3(0.5 + std::sin(2 * pi * p[1]), std::cos(2 * pi * p[0]), 0));
+    ops.update(x);
+    rows += ops.stats().warm_rows;
+    hits += ops.stats().warm_hits;
+    const PointCloud& c = ops.cloud();
+    SearchParams sp;
+    sp.radius = ops.radius();
+    const Stencil images = periodic_stencil(*method, c, sp, KernelType::CubicSpline, ops.spacing(), {OperatorKind::Laplacian});
+    const Stencil& lap = ops.stencil(OperatorKind::Laplacian);
+    const Stencil& grad = ops.stencil(OperatorKind::Gradient);
+    auto image_vector = [&](Index i, Index j) {
+      Vec3 d = c.positions[static_cast<std::size_t>(j)] - c.positions[static_cast<std::size_t>(i)];
+      for (int k = 0; k < 2; ++k) d[k] -= std::round(d[k]);  // period 1
+      return d;
+    };
+    for (Index i = 0; i < c.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      EXPECT_NEAR(lap.residual[si], images.residual[si], 1e-9) << "row " << i;
+      Eigen::Matrix2d second = Eigen::Matrix2d::Zero(), g = Eigen::Matrix2d::Zero();
+      Eigen::Vector2d first = Eigen::Vector2d::Zero();
+      for (Index k = lap.row_begin(i); k < lap.row_end(i); ++k) {
+        const Eigen::Vector2d d = image_vector(i, lap.col[static_cast<std::size_t>(k)]).head<2>();
+        first += lap.values[0][static_cast<std::size_t>(k)] * d;
+        second += lap.values[0][static_cast<std::size_t>(k)] * d * d.transpose();
+      }
+      for (Index k = grad.row_begin(i); k < grad.row_end(i); ++k) {
+        const Eigen::Vector2d d = image_vector(i, grad.col[static_cast<std::size_t>(k)]).head<2>();
+        const Eigen::Vector2d w(grad.values[0][static_cast<std::size_t>(k)], grad.values[1][static_cast<std::size_t>(k)]);
+        g += w * d.transpose();
+      }
+      if (lap.residual[si] < 1e-10) {
+        EXPECT_LT(first.norm(), 1e-8) << "row " << i;
+        EXPECT_LT((second - 2 * Eigen::Matrix2d::Identity()).norm(), 1e-8) << "row " << i;
+      }
+      if (grad.residual[si] < 1e-10) {
+        EXPECT_LT((g - Eigen::Matrix2d::Identity()).norm(), 1e-8) << "row " << i;
+      }
+    }
+  }
+  EXPECT_GT(hits, rows / 2) << hits << " of " << rows;
+}
+
 TEST(MovingOperators, AFailedUpdateLeavesTheOperatorsAsTheyWere) {
   const StudyCloud sc = operators_cloud(2);
   Operators ops(sc.cloud, {});
