@@ -109,20 +109,28 @@ TEST(PeriodicBvp, BadInputIsRefused) {
 // quadratic gradient fit in the divergence and curl (FPM's Laplacian is first order on
 // perturbed particles, as [QW] Fig. 4 shows: its vector Laplacian measured 1.2); in the max norm the single worst particle of a random cloud makes
 // the order noisy (measured 1.5-2.1 per level), so the band there is the fitted order >= 1.6.
+namespace {
+// `op` of the trigonometric field on perturbed fully periodic clouds, n = 32, 64, 128, with VRSPH
+// and (where its gradient serves) FPM's quadratic gradient fit.
+OperatorStudyResult periodic_vector_study(VectorOperator op) {
+  OperatorStudyParams p;
+  p.problem = "unit-box";
+  p.periodic = "all";
+  p.vector_op = op;
+  p.op = base_operator(op);
+  p.u = "sin(2*pi*x)*cos(2*pi*y),cos(2*pi*x)*sin(2*pi*y)";
+  p.methods = {"vrsph"};
+  if (op != VectorOperator::VectorLaplacian) p.methods.push_back("fpm");
+  p.method_options["fpm"] = MethodOptions::parse({"gradient_order=2"});
+  p.cloud = CloudFamily::Perturbed;
+  p.n = {32, 64, 128};
+  return run_operator_study(p);
+}
+}  // namespace
+
 TEST(PeriodicOperators, VectorOperatorsSecondOrder) {
   for (VectorOperator op : {VectorOperator::Divergence, VectorOperator::Curl, VectorOperator::VectorLaplacian}) {
-    OperatorStudyParams p;
-    p.problem = "unit-box";
-    p.periodic = "all";
-    p.vector_op = op;
-    p.op = base_operator(op);
-    p.u = "sin(2*pi*x)*cos(2*pi*y),cos(2*pi*x)*sin(2*pi*y)";
-    p.methods = {"vrsph"};
-    if (op != VectorOperator::VectorLaplacian) p.methods.push_back("fpm");
-    p.method_options["fpm"] = MethodOptions::parse({"gradient_order=2"});
-    p.cloud = CloudFamily::Perturbed;
-    p.n = {32, 64, 128};
-    const OperatorStudyResult r = run_operator_study(p);
+    const OperatorStudyResult r = periodic_vector_study(op);
     std::cout << to_markdown(to_table(r));
     for (const auto& row : r.rows)
       if (row.n == 128) {
@@ -139,17 +147,7 @@ TEST(PeriodicOperators, VectorOperatorsSecondOrder) {
 // change from one particle's vertex to the next's), and differentiating it costs an order in the
 // max norm: VRSPH's composed grad-div is first order there, FPM's second.
 TEST(PeriodicOperators, GradDivByComposition) {
-  OperatorStudyParams p;
-  p.problem = "unit-box";
-  p.periodic = "all";
-  p.vector_op = VectorOperator::GradDiv;
-  p.op = OperatorKind::Gradient;
-  p.u = "sin(2*pi*x)*cos(2*pi*y),cos(2*pi*x)*sin(2*pi*y)";
-  p.methods = {"vrsph", "fpm"};
-  p.method_options["fpm"] = MethodOptions::parse({"gradient_order=2"});
-  p.cloud = CloudFamily::Perturbed;
-  p.n = {32, 64, 128};
-  const OperatorStudyResult r = run_operator_study(p);
+  const OperatorStudyResult r = periodic_vector_study(VectorOperator::GradDiv);
   std::cout << to_markdown(to_table(r));
   for (const auto& row : r.rows)
     if (row.n >= 64) {

@@ -6,6 +6,7 @@
 // (Laplacian) and linears (gradient, divergence) with -L's sign structure, while most rows'
 // guesses hold. A failed update leaves the operators as they were.
 #include <cmath>
+#include <numbers>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/periodic_stencil.hpp>
@@ -17,7 +18,6 @@
 using namespace vrsph;
 
 namespace {
-constexpr double pi = 3.14159265358979323846;
 
 StudyCloud operators_cloud(int dim, const std::string& periodic = "") {
   CloudSpec spec;
@@ -36,9 +36,9 @@ std::vector<Vec3> advect(const PointCloud& c, Real dt) {
   for (Index i = 0; i < c.size(); ++i) {
     if (c.tags[static_cast<std::size_t>(i)] != Tag::Interior) continue;
     Vec3& p = x[static_cast<std::size_t>(i)];
-    const Vec3 u(std::sin(pi * p[0]) * std::cos(pi * p[1]), -std::cos(pi * p[0]) * std::sin(pi * p[1]), 0);
+    const Vec3 u(std::sin(std::numbers::pi * p[0]) * std::cos(std::numbers::pi * p[1]), -std::cos(std::numbers::pi * p[0]) * std::sin(std::numbers::pi * p[1]), 0);
     p += dt * u;
-    if (c.dim == 3) p[2] += dt * 0.3 * std::sin(pi * p[2]);
+    if (c.dim == 3) p[2] += dt * 0.3 * std::sin(std::numbers::pi * p[2]);
     p = c.domain.wrap(p);
   }
   return x;
@@ -179,7 +179,7 @@ TEST(MovingOperators, VrsphOnAPeriodicBoxMeetsItsMomentsAcrossTheFaces) {
   Index rows = 0, hits = 0;
   for (int step = 0; step < 4; ++step) {
     std::vector<Vec3> x = ops.cloud().positions;
-    for (Vec3& p : x) p = ops.cloud().domain.wrap(p + 0.004 * Vec3(0.5 + std::sin(2 * pi * p[1]), std::cos(2 * pi * p[0]), 0));
+    for (Vec3& p : x) p = ops.cloud().domain.wrap(p + 0.004 * Vec3(0.5 + std::sin(2 * std::numbers::pi * p[1]), std::cos(2 * std::numbers::pi * p[0]), 0));
     ops.update(x);
     rows += ops.stats().warm_rows;
     hits += ops.stats().warm_hits;
