@@ -79,30 +79,28 @@ void VerletNeighbours::search(const PointCloud& cloud) {
 
 bool VerletNeighbours::moved_too_far(const PointCloud& cloud) const {
   const bool periodic = params_.wrap_periodic && cloud.domain.any_periodic();
-  Real d1 = 0, d2 = 0;  // the two largest displacements
+  // The two largest displacements, per thread and then over the threads.
+  auto keep_two_largest = [](Real d, Real& first, Real& second) {
+    if (d > first) {
+      second = first;
+      first = d;
+    } else if (d > second) {
+      second = d;
+    }
+  };
+  Real d1 = 0, d2 = 0;
 #pragma omp parallel
   {
     Real t1 = 0, t2 = 0;
 #pragma omp for schedule(static) nowait
-    for (Index i = 0; i < size_; ++i) {
-      const Real d = displacement(cloud.domain, periodic, cloud.positions[static_cast<std::size_t>(i)],
-                                  searched_at_[static_cast<std::size_t>(i)]);
-      if (d > t1) {
-        t2 = t1;
-        t1 = d;
-      } else if (d > t2) {
-        t2 = d;
-      }
-    }
+    for (Index i = 0; i < size_; ++i)
+      keep_two_largest(displacement(cloud.domain, periodic, cloud.positions[static_cast<std::size_t>(i)],
+                                    searched_at_[static_cast<std::size_t>(i)]),
+                       t1, t2);
 #pragma omp critical(vrsph_verlet_displacement)
     {
-      for (const Real d : {t1, t2})
-        if (d > d1) {
-          d2 = d1;
-          d1 = d;
-        } else if (d > d2) {
-          d2 = d;
-        }
+      keep_two_largest(t1, d1, d2);
+      keep_two_largest(t2, d1, d2);
     }
   }
   return !(d1 + d2 <= skin_);

@@ -15,11 +15,21 @@ Stencil make_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim
   return s;
 }
 
+void reset_stencil(Stencil& s, OperatorKind kind, int dim, std::string method) {
+  Stencil kept;
+  kept.kind = kind;
+  kept.dim = dim;
+  kept.method = std::move(method);
+  kept.row_ptr = std::move(s.row_ptr);
+  kept.col = std::move(s.col);
+  kept.diag = std::move(s.diag);
+  kept.values = std::move(s.values);
+  s = std::move(kept);
+}
+
 void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, std::string method, Stencil& s,
                           bool zero_values) {
-  s.kind = kind;
-  s.dim = dim;
-  s.method = std::move(method);
+  reset_stencil(s, kind, dim, std::move(method));
   const Index n = nl.size();
   check<ConfigError>(kind != OperatorKind::Dy || dim >= 2, "operator dy needs dimension >= 2");
   check<ConfigError>(kind != OperatorKind::Dz || dim >= 3, "operator dz needs dimension 3");
@@ -64,10 +74,6 @@ void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, s
     if (zero_values) v.assign(s.col.size(), 0.0);
     else v.resize(s.col.size());  // every entry is written by the caller
   }
-  // The per-row outputs of a previous build in `s` do not describe this one.
-  for (auto* v : {&s.residual, &s.condition, &s.xi, &s.wall_flux, &s.rhs}) v->clear();
-  s.local_failure.clear();
-  s.negative_volumes.clear();
 }
 
 void set_difference_diagonal(Stencil& s) {

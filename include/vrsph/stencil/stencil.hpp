@@ -63,6 +63,10 @@ struct Stencil {
 
 /// Pattern {i} ∪ N_i for every row (sorted, diagonal included), all values zero.
 Stencil make_stencil_pattern(const NeighbourList& neighbours, OperatorKind kind, int dim, std::string method);
+/// `s` made a fresh stencil of this kind, dimension and method whose arrays keep their storage
+/// (row_ptr, col, diag, values as they were; every per-row output of a previous build cleared):
+/// what a rebuild into the same object starts from.
+void reset_stencil(Stencil& s, OperatorKind kind, int dim, std::string method);
 /// The same into `s`, whose storage is reused (a rebuild on particles that moved); its other
 /// per-row outputs (residual, rhs, ...) are cleared. zero_values = false leaves the values as
 /// they were (resized): for a caller that writes every entry.

@@ -143,9 +143,7 @@ inline void givens(Real a, Real b, Real& c, Real& s) {
   c = a / r;
   s = b / r;
 }
-}  // namespace
 
-namespace {
 // FixedM > 0: the size known at compile time (the loops unroll; a third of the fast path's time).
 template <int FixedM>
 VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
@@ -218,28 +216,6 @@ void NnlsSolver::reserve(int m, int n) {
   gs_.resize(M);
   passive_.resize(M);
   in_passive_.resize(N);
-}
-
-// The guess as m distinct columns (passive_, marked in in_passive_) whose square system has a
-// positive solution (solve_square_positive, z_); false (nothing marked) otherwise.
-bool NnlsSolver::square_guess(const Real* At, std::size_t M, std::size_t N, const Real* b,
-                              std::span<const int> guess, Real xtol) {
-  std::size_t k = 0;
-  for (const int t : guess) {
-    if (t < 0 || static_cast<std::size_t>(t) >= N || in_passive_[static_cast<std::size_t>(t)]) continue;
-    if (k == M) break;
-    passive_[k++] = t;
-    in_passive_[static_cast<std::size_t>(t)] = 1;
-  }
-  Real* S = Q_.data();  // column-major M x M
-  if (k == M) {
-    for (std::size_t c = 0; c < M; ++c)
-      for (std::size_t r = 0; r < M; ++r) S[c * M + r] = At[r * N + static_cast<std::size_t>(passive_[c])];
-    std::copy(b, b + M, z_.data());
-    if (solve_square_positive(S, static_cast<int>(M), z_.data(), xtol)) return true;
-  }
-  for (std::size_t p = 0; p < k; ++p) in_passive_[static_cast<std::size_t>(passive_[p])] = 0;
-  return false;
 }
 
 // Kept whole on purpose (about 250 lines, the one function of src/ above 120): the
@@ -476,16 +452,10 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   // Warm start: the guessed columns enter, then those with non-positive least-squares values
   // leave (all at once, and again until none is left), which ends at a feasible x_P > 0 that
   // is the least-squares solution on P: the invariant the iteration below starts from (the
-  // cold start's P is empty). No step-back is possible here: x is 0 outside P.
-  // A guess of m independent columns (the usual case: VRSPH's optimal vertices have as many
-  // volumes as moment rows) is first tried by one LU solve of its square system: when all its
-  // values are positive the residual is zero and x is optimal, with no QR to build (a third of
-  // the cost of the general warm start, measured by `vrsph bench update`).
-  if (!initial_passive.empty() && square_guess(At, M, N, b, initial_passive, xtol)) {
-    k = m;
-    for (int p = 0; p < k; ++p) xp_[static_cast<std::size_t>(p)] = z_[static_cast<std::size_t>(p)];
-    res.warm_kept = k;
-  } else if (!initial_passive.empty()) {
+  // cold start's P is empty). No step-back is possible here: x is 0 outside P. (A guess of m
+  // columns that is still optimal is cheaper still by solve_square_positive, which VRSPH tries
+  // first: VolumeRows::square_row.)
+  if (!initial_passive.empty()) {
     for (const int t : initial_passive)
       if (k < m && t >= 0 && t < n && !in_passive_[static_cast<std::size_t>(t)]) add_column(t);
     for (;;) {
@@ -539,10 +509,9 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
 }
 
 NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
-                             MatrixOrder order, std::span<const int> initial_passive) {
+                             MatrixOrder order, std::span<const int> init) {
   check<InputError>(m >= 1 && n >= 0, "NNLS: invalid problem size ", m, " x ", n);
   reserve(m, n);
-  const std::span<const int> init = initial_passive;
   switch (m) {
     case 2: return solve_impl<2>(A, m, n, b, x, options, order, init);
     case 3: return solve_impl<3>(A, m, n, b, x, options, order, init);

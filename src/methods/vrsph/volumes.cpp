@@ -19,14 +19,19 @@ void prefer_near(std::span<const Real> dist, Real* A, std::size_t rows, MatrixOr
 }
 }  // namespace
 
+namespace {
+// Y = -2 W'/r has the units of length^-(d+2): in units of `length` it is Y length^(d+2), and
+// half_y = -W'/r times this (a pow per row was 1% of a rebuild: none for the unit length).
+Real half_y_scale(Real length, int dim) { return length == 1 ? -1.0 : -std::pow(length, dim + 2); }
+}  // namespace
+
 void neighbour_geometry(const Discretisation& disc, Index i, const Kernel& ker, Vec3* xji, Real* half_y, Real length) {
   const auto nbr = disc.neighbours.of(i);
   const auto dist = disc.neighbours.distances_of(i);
   const int cnt = static_cast<int>(nbr.size());
   ker.dW_over_r(dist.data(), half_y, cnt);
   const Vec3& xi = disc.cloud.positions[static_cast<std::size_t>(i)];
-  // Y = -2 W'/r has the units of length^-(d+2): in units of `length` it is Y length^(d+2).
-  const Real y_scale = length == 1 ? -1.0 : -std::pow(length, disc.cloud.dim + 2);  // (a pow per row was 1% of a rebuild)
+  const Real y_scale = half_y_scale(length, disc.cloud.dim);
   for (int k = 0; k < cnt; ++k) {
     xji[k] = (disc.neighbour_position(i, k) - xi) / length;
     half_y[k] *= y_scale;
@@ -109,10 +114,9 @@ class VolumeRows {
     if (static_cast<int>(guess_.size()) != m_) return false;
     const int dim = disc_.cloud.dim, cnt = static_cast<int>(nl_.count(i));
     const auto M = static_cast<std::size_t>(m_);
-    const auto nbr = nl_.of(i);
     const auto dist = nl_.distances_of(i);
     const Vec3& xi = disc_.cloud.positions[static_cast<std::size_t>(i)];
-    const Real y_scale = length_ == 1 ? -1.0 : -std::pow(length_, dim + 2);  // as neighbour_geometry
+    const Real y_scale = half_y_scale(length_, dim);
     for (std::size_t c = 0; c < M; ++c) {
       const auto k = static_cast<std::size_t>(guess_[c]);
       xji_[c] = (disc_.neighbour_position(i, static_cast<Index>(k)) - xi) / length_;

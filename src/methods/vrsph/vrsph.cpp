@@ -1,5 +1,5 @@
-#include <array>
 // SPDX-License-Identifier: BSD-3-Clause
+#include <array>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/uninitialized.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
@@ -271,24 +271,13 @@ class Vrsph final : public Method {
     return true;
   }
 
-  // The point rows' weights from their reconstructed volumes: w_ij = v_j Y_ij for the
-  // Laplacian (times the pair coefficient for div(a grad)), v_j grad_i W_ij for gradients.
-  // point_rows: the rows without a compact form (null: every requested row).
   // The pattern of a sparse rebuild: per row the requested row's neighbours with a volume and
   // the diagonal (rows not computed: the diagonal alone), values sized, not filled.
   void sparse_pattern(const Discretisation& disc, const StencilRequest& req, const ReconstructedVolumes& vol, Stencil& s) const {
     const PointCloud& cloud = disc.cloud;
     const NeighbourList& nl = disc.neighbours;
     const Index n = cloud.size();
-    Stencil kept;  // the arrays' storage kept, every other output of the last build cleared
-    kept.kind = req.kind;
-    kept.dim = cloud.dim;
-    kept.method = info_.name;
-    kept.row_ptr = std::move(s.row_ptr);
-    kept.col = std::move(s.col);
-    kept.diag = std::move(s.diag);
-    kept.values = std::move(s.values);
-    s = std::move(kept);
+    reset_stencil(s, req.kind, cloud.dim, info_.name);
     s.row_ptr.resize(static_cast<std::size_t>(n) + 1);
     s.diag.resize(static_cast<std::size_t>(n));
 #pragma omp parallel for schedule(static)
@@ -307,6 +296,9 @@ class Vrsph final : public Method {
     for (auto& v : s.values) v.resize(s.col.size());
   }
 
+  // The point rows' weights from their reconstructed volumes: w_ij = v_j Y_ij for the
+  // Laplacian (times the pair coefficient for div(a grad)), v_j grad_i W_ij for gradients.
+  // point_rows: the rows without a compact form (null: every requested row).
   // whole_rows: every row is written whole, zeros and the difference-form diagonal included (the
   // pattern was not zero-filled); rows not computed get zeros and the diagonal -0 that
   // set_difference_diagonal gives them. Otherwise the zero slots are the pattern's. sparse: the

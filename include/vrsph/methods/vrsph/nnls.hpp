@@ -66,7 +66,6 @@ class NnlsSolver {
 
  private:
   void reserve(int m, int n);
-  bool square_guess(const Real* At, std::size_t M, std::size_t N, const Real* b, std::span<const int> guess, Real xtol);
   template <int FixedRows>
   NnlsResult solve_impl(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
                         MatrixOrder order, std::span<const int> initial_passive);
