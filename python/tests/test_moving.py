@@ -80,6 +80,8 @@ def test_bad_updates_are_refused_and_change_nothing():
     with pytest.raises(vrsph.InputError, match="non-finite"):
         ops.update(bad)
     assert (ops.stencil("laplacian") != before).nnz == 0
+    with pytest.raises(vrsph.ConfigError, match="give at most 2"):
+        vrsph.Operators(c, skin=5)
     with pytest.raises(vrsph.ConfigError, match="div-a-grad"):
         vrsph.Operators(c, operators="div-a-grad")
     with pytest.raises(vrsph.ConfigError, match="no gradient stencil kept"):

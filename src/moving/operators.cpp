@@ -26,6 +26,10 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
   }
   check<ConfigError>(std::isfinite(options_.skin) && options_.skin >= 0, "operators: the Verlet skin (a fraction of the "
                      "support radius) must be finite and >= 0, got ", options_.skin);
+  // A wider skin only makes each search larger (candidates ~ (1 + skin)^d times the list).
+  check<ConfigError>(options_.skin <= 2, "operators: a Verlet skin of ", options_.skin, " support radii searches (1 + skin)^d = ",
+                     std::pow(1 + options_.skin, cloud_.dim), " times the pairs the list keeps; give at most 2 (0.2-0.3 is "
+                     "usual)");
   spacing_ = estimate_spacing(cloud_);  // as vrsph.stencil and the CLI
   if (options_.radius > 0) {
     check<ConfigError>(std::isfinite(options_.radius), "operators: the support radius must be finite");
