@@ -15,11 +15,14 @@ namespace vrsph {
 Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::move(cloud)), options_(std::move(options)) {
   validate(cloud_);
   method_ = builtin_methods().create(options_.method, options_.method_options);
+  if (!options_.gradient_method.empty())
+    gradient_method_ = builtin_methods().create(options_.gradient_method, options_.gradient_method_options);
   check<ConfigError>(!options_.operators.empty(), "operators: no operator asked for");
   for (const OperatorKind k : options_.operators) {
     check<ConfigError>(k != OperatorKind::DivAGrad, "operators: div-a-grad needs a coefficient at the moving particles, "
                        "which Operators does not take yet; keep the laplacian (and the gradient)");
-    check<ConfigError>(method_->info().supports(k), "operators: method ", options_.method, " has no ", to_string(k), " operator");
+    check<ConfigError>(method_of(k).info().supports(k), "operators: method ", method_of(k).info().name, " has no ",
+                       to_string(k), " operator");
     const bool repeated = std::count(options_.operators.begin(), options_.operators.end(), k) > 1;
     check<ConfigError>(!repeated, "operators: ", to_string(k), " asked for twice");
     kept_.push_back({k, Stencil{}, nullptr});
@@ -101,16 +104,23 @@ void Operators::update_stencils(const NeighbourList& nl) {
     req.use = options_.use;
     // A periodic box whose rows need more than pair vectors: built afresh on the periodic images,
     // columns folded back. Otherwise (VRSPH's point rows) the minimum-image list serves directly.
-    if (!nl.shifts.empty() && !method_->reads_periodic_pairs(req)) {
-      k.stencil = periodic_stencil(*method_, cloud_, search_params(), options_.kernel, spacing_, req);
+    const Method& method = method_of(k.kind);
+    if (!nl.shifts.empty() && !method.reads_periodic_pairs(req)) {
+      k.stencil = periodic_stencil(method, cloud_, search_params(), options_.kernel, spacing_, req);
       continue;
     }
-    method_->rebuild(disc, req, k.stencil, k.state, options_.warm_start);
-    const auto [rows, hits] = method_->warm_start_counts(k.state.get());
+    method.rebuild(disc, req, k.stencil, k.state, options_.warm_start);
+    const auto [rows, hits] = method.warm_start_counts(k.state.get());
     stats_.warm_rows += rows;
     stats_.warm_hits += hits;
   }
   stats_.seconds_stencils = watch.seconds();
+}
+
+const Method& Operators::method_of(OperatorKind kind) const {
+  const bool first_derivative = kind == OperatorKind::Gradient || kind == OperatorKind::Dx || kind == OperatorKind::Dy ||
+                                kind == OperatorKind::Dz;
+  return first_derivative && gradient_method_ ? *gradient_method_ : *method_;
 }
 
 const NeighbourList& Operators::neighbours() const { return verlet_->list(); }

@@ -22,6 +22,11 @@ namespace vrsph {
 struct OperatorsOptions {
   std::string method = "vrsph";
   MethodOptions method_options;
+  /// The method of the first-derivative stencils (gradient, dx/dy/dz) when it is another one
+  /// (empty: `method`): a flow's projection pairs VRSPH's Laplacian with a least-squares
+  /// gradient (docs/flow.md). Both share the one neighbour list.
+  std::string gradient_method;
+  MethodOptions gradient_method_options;
   KernelType kernel = KernelType::CubicSpline;
   Real h_factor = 3;  ///< support radius = h_factor x spacing (estimate_spacing: the cloud's, else from its nearest distances)
   Real radius = 0;    ///< > 0: this support radius instead
@@ -85,7 +90,9 @@ class Operators {
   };
   PointCloud cloud_;
   OperatorsOptions options_;
+  const Method& method_of(OperatorKind kind) const;
   std::unique_ptr<Method> method_;
+  std::unique_ptr<Method> gradient_method_;  ///< null: method_ builds the first derivatives too
   Real spacing_ = 0, radius_ = 0;
   std::unique_ptr<VerletNeighbours> verlet_;
   std::vector<Vec3> previous_;   ///< the positions before the update under way

@@ -35,8 +35,14 @@ class TaylorProjection final : public Method {
   }
   const MethodInfo& info() const override { return info_; }
 
+  // Rows read pair vectors, the neighbours' values and v = dx^d; Shepard volumes and a
+  // coefficient's gradient are sums over each neighbour's own list, left to the images.
+  bool reads_periodic_pairs(const StencilRequest& req) const override {
+    return volume_ == "dx" && req.kind != OperatorKind::DivAGrad;
+  }
+
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
-    check_request(info_, disc, req);
+    check_request(info_, disc, req, reads_periodic_pairs(req));
     const auto& cloud = disc.cloud;
     const int dim = cloud.dim;
     check<ConfigError>(tests_ != TestFunctions::KernelDerivativesQw || dim == 1,
@@ -73,7 +79,8 @@ class TaylorProjection final : public Method {
         M.setZero(m, m);
         for (std::size_t k = 0; k < count; ++k) {
           const Index j = k < nbr.size() ? nbr[k] : i;
-          const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+          // The pair vector (a periodic image's when the list crosses periodic faces).
+          const Vec3 xji = k < nbr.size() ? Vec3(disc.neighbour_position(i, static_cast<Index>(k)) - xi) : Vec3::Zero();
           const Real r = xji.norm();
           Real* ps = psi.data() + k * static_cast<std::size_t>(m);
           for (Eigen::Index a = 0; a < m; ++a) ps[a] = test_function(ker, xji, r, basis[static_cast<std::size_t>(a)]);

@@ -7,6 +7,7 @@
 #include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/periodic.hpp>
+#include <vrsph/stencil/apply.hpp>
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -113,8 +114,25 @@ TEST(PeriodicStencil, ListsAcrossPeriodicFacesOnlyWhereAMethodReadsPairVectors) 
   const NeighbourList nl = find_neighbours(c, sp);
   ASSERT_FALSE(nl.shifts.empty());
   const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
-  EXPECT_THROW_MSG(builtin_methods().create("fpm")->build(disc, StencilRequest{}), ConfigError,
+  EXPECT_THROW_MSG(builtin_methods().create("sph")->build(disc, StencilRequest{}), ConfigError,
                    "build the stencil with periodic_stencil()");
+  MethodOptions shepard;
+  shepard.set("volume", "shepard");
+  EXPECT_THROW_MSG(builtin_methods().create("fpm", shepard)->build(disc, StencilRequest{}), ConfigError,
+                   "build the stencil with periodic_stencil()");
+  // FPM's rows with v = dx^d (a flow's gradient) read pair vectors: the list gives the rows the
+  // images give.
+  MethodOptions quadratic;
+  quadratic.set("gradient_order", "2");
+  const auto fpm = builtin_methods().create("fpm", quadratic);
+  for (const OperatorKind kind : {OperatorKind::Gradient, OperatorKind::Laplacian}) {
+    const StencilRequest req{kind};
+    ASSERT_TRUE(fpm->reads_periodic_pairs(req));
+    const Stencil direct = fpm->build(disc, req);
+    const Stencil images = periodic_stencil(*fpm, c, sp, KernelType::CubicSpline, c.spacing, req);
+    const SparseMatrix a(as_eigen(direct, 0)), b(as_eigen(images, 0));
+    EXPECT_LT((a - b).norm(), 1e-9 * b.norm()) << to_string(kind);
+  }
   // VRSPH's point rows read pair vectors only and take the list (Operators on periodic boxes);
   // its compact rows (a boundary value problem's) do not.
   const auto vrsph = builtin_methods().create("vrsph");
