@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// Incompressible Navier–Stokes on particles, ∂u/∂t + (u·∇)u = -∇p + ν∇²u + g (unit density),
+// with one method's operators (docs/flow.md). The velocity is advanced by a Runge–Kutta scheme
+// whose every stage rate carries its own pressure:
+//
+//   k(u) = f(u) - (u·G)u - G p   (Eulerian: a fixed cloud)
+//   k(u) = f(u)          - G p   (Lagrangian: the particles move with u, their positions
+//                                 integrated by the same scheme, the operators update()d at
+//                                 every stage through the moving-particle path)
+//   f(u) = ν L u + g,    L p = D (f(u) - (u·G)u)  (the pressure that keeps ∂u/∂t divergence-free)
+//
+// and each step ends with the approximate projection of the new velocity (projection.hpp), which
+// removes the divergence the stages left instead of letting it drift. Heun's RK2 and Shu–Osher's
+// SSP-RK3 keep their order in time for the velocity (projecting the state at every stage instead
+// was first order in time in the Lagrangian frame: docs/flow.md). The viscous term is explicit:
+// step() refuses a time step beyond the stability limits of the scheme (bounds from Gershgorin
+// discs of the operators, below) unless FlowOptions::allow_unstable. Eulerian advection uses the
+// gradient as it is, without upwinding: the viscosity of the Reynolds numbers measured damps what a
+// non-skew gradient excites (docs/flow.md); a hyperviscosity is available, and a run that blows up
+// is stopped with its step.
+//
+// Boundaries: the box must be periodic along every axis (walls come with the cavity case).
+#include <functional>
+#include <memory>
+#include <vrsph/flow/pressure_poisson.hpp>
+#include <vrsph/flow/shifting.hpp>
+#include <vrsph/moving/operators.hpp>
+
+namespace vrsph {
+
+enum class FlowFrame { Eulerian, Lagrangian };
+enum class FlowScheme { RK2, RK3 };
+/// "eulerian" | "lagrangian"; "rk2" | "rk3". ConfigError otherwise.
+FlowFrame parse_flow_frame(const std::string& name);
+FlowScheme parse_flow_scheme(const std::string& name);
+std::string to_string(FlowFrame f);
+std::string to_string(FlowScheme s);
+
+struct FlowOptions {
+  FlowFrame frame = FlowFrame::Eulerian;
+  FlowScheme scheme = FlowScheme::RK3;
+  Real nu = 0.01;               ///< kinematic viscosity, >= 0
+  Vec3 body_force = Vec3::Zero();  ///< g (components beyond the dimension must be 0)
+  /// The method, kernel and support of the operators (Laplacian and gradient are kept).
+  OperatorsOptions operators;
+  /// The first derivatives (the projection's G and D, the advection): "auto" (VRSPH: FPM's
+  /// second-order least-squares gradient, with VRSPH's Laplacian taking prefer=near unless its
+  /// options say otherwise; any other method: its own), "own" (the method's), or a method name
+  /// (operators.gradient_method_options its options). Why: docs/flow.md, "Which gradient".
+  std::string gradient = "auto";
+  SolverOptions solver;         ///< the pressure Poisson solves
+  bool allow_unstable = false;  ///< step() warns instead of refusing a time step beyond the limits
+  /// Eulerian stabilisation: the term -c U dx³ L(L u) added to F (c this coefficient, U the
+  /// velocity scale, dx the spacing), a hyperviscosity that damps the grid-scale modes a
+  /// non-skew gradient excites on disordered particles while adding only an O(dx³) error
+  /// (L u, L(L u) are O(1) and O(dx^-2)... see docs/flow.md). 0: none. Lagrangian: unused.
+  Real hyperviscosity = 0;
+  Real velocity_scale = 0;      ///< U of the hyperviscosity (0: the initial max |u|)
+  /// Lagrangian: particle shifting after every step (shifting.hpp); Eulerian: must be none.
+  ShiftingOptions shifting;
+};
+
+/// One step's diagnostics.
+struct FlowStepReport {
+  Index step = 0;
+  Real t = 0, dt = 0;
+  Real kinetic_energy = 0;     ///< ½ Σ_i |u_i|² V (V: the box's measure over N)
+  Real max_speed = 0;
+  Real max_div_u = 0;          ///< max |D u| after the step
+  Real cfl = 0;                ///< dt max|u| / dx
+  Real advective_number = 0;   ///< dt × a bound of the advection operator's spectral radius (Eulerian)
+  Real viscous_number = 0;     ///< dt × a bound of the viscous (and hyperviscous) term's spectral radius
+  int ppe_iterations = 0;      ///< over the step's stages
+  Real ppe_shift = 0;          ///< largest |λ| of the step's projections (PressurePoisson)
+  Real min_spacing = 0;        ///< smallest nearest-neighbour distance / dx
+  Real max_spacing = 0;        ///< largest nearest-neighbour distance / dx (a hole grows it)
+  Real max_shift = 0;          ///< largest shifting displacement of the step / dx
+  double seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
+  std::vector<std::string> warnings;
+};
+
+/// The operators a flow with these options builds (FlowOptions::gradient resolved): ConfigError
+/// for an unknown gradient choice.
+OperatorsOptions flow_operators(const FlowOptions& options);
+
+class FlowSolver {
+ public:
+  /// The cloud (every axis periodic; its particles all Interior) and the initial velocity
+  /// (N x d), projected once so the run starts discretely divergence-free. ConfigError (a box
+  /// that is not periodic, bad options), InputError (shapes, non-finite values).
+  FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions options);
+  ~FlowSolver();
+  FlowSolver(FlowSolver&&) noexcept;
+  FlowSolver& operator=(FlowSolver&&) noexcept;
+
+  /// One step of size dt. StabilityError-style refusals are ConfigError (dt beyond the limits,
+  /// unless allow_unstable); NumericalError when the velocity stops being finite or a pressure
+  /// solve fails, GeometryError when particles pile up (Lagrangian) — each naming the step.
+  /// On a throw the state is that of the step before.
+  const FlowStepReport& step(Real dt);
+  /// The largest dt that meets the limits, times `safety` (in (0, 1]).
+  Real stable_time_step(Real safety = 0.9) const;
+
+  Real time() const { return t_; }
+  Index steps() const { return steps_; }
+  const Eigen::MatrixXd& velocity() const { return u_; }
+  const std::vector<Vec3>& positions() const { return ops_->cloud().positions; }
+  const Operators& operators() const { return *ops_; }
+  const FlowOptions& options() const { return options_; }
+  const FlowStepReport& last() const { return report_; }
+  /// The pressure of the current velocity (zero mean): L p = D F_E(u), F_E the Eulerian
+  /// right-hand side (the pressure that keeps ∂u/∂t divergence-free), one more solve.
+  Field pressure() const;
+  /// max |D u| of the current velocity.
+  Real max_divergence() const;
+
+ private:
+  struct Limits {
+    Real advective = 0, viscous = 0;
+  };
+  Limits limits() const;
+  Real advective_bound(const Eigen::MatrixXd& u) const;
+  Real viscous_rate() const;
+  Eigen::MatrixXd forces(const Eigen::MatrixXd& u) const;  ///< ν L u (- hyperviscosity) + g
+  Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, FlowStepReport* r) const;
+  Eigen::MatrixXd rate(const Eigen::MatrixXd& u, FlowStepReport& r);
+  void move_to(const std::vector<Vec3>& x, FlowStepReport& r);
+  void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
+  Eigen::MatrixXd project_state(const Eigen::MatrixXd& w, FlowStepReport& r);
+  void finish_report(FlowStepReport& r) const;
+
+  FlowOptions options_;
+  std::unique_ptr<Operators> ops_;
+  std::unique_ptr<PressurePoisson> ppe_;
+  Eigen::MatrixXd u_;
+  Field phi_;         ///< the last stage's pressure (the next solve's initial guess)
+  Field correction_;  ///< the last end-of-step projection's potential (likewise)
+  Real t_ = 0, spacing_ = 0, laplacian_bound_ = 0, gamma_ = 0;  ///< gamma_: the hyperviscosity c U dx³
+  Index steps_ = 0;
+  FlowStepReport report_;
+};
+
+}  // namespace vrsph

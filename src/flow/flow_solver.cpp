@@ -1,0 +1,345 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The projection-per-stage Runge–Kutta flow solver (flow_solver.hpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vrsph/core/error.hpp>
+#include <vrsph/core/stopwatch.hpp>
+#include <vrsph/flow/flow_solver.hpp>
+#include <vrsph/flow/projection.hpp>
+#include <vrsph/methods/registry.hpp>
+#include <vrsph/stencil/apply.hpp>
+
+namespace vrsph {
+
+FlowFrame parse_flow_frame(const std::string& name) {
+  if (name == "eulerian") return FlowFrame::Eulerian;
+  if (name == "lagrangian") return FlowFrame::Lagrangian;
+  throw ConfigError(detail::concat("unknown frame '", name, "' (known: eulerian, lagrangian)"));
+}
+
+FlowScheme parse_flow_scheme(const std::string& name) {
+  if (name == "rk2") return FlowScheme::RK2;
+  if (name == "rk3") return FlowScheme::RK3;
+  throw ConfigError(detail::concat("unknown time scheme '", name, "' (known: rk2, rk3)"));
+}
+
+std::string to_string(FlowFrame f) { return f == FlowFrame::Eulerian ? "eulerian" : "lagrangian"; }
+std::string to_string(FlowScheme s) { return s == FlowScheme::RK2 ? "rk2" : "rk3"; }
+
+namespace {
+
+// max_i Σ_j |L_ij|: a bound of the spectral radius (Gershgorin).
+Real row_sum_bound(const Stencil& s) {
+  Real b = 0;
+  for (Index i = 0; i < s.rows(); ++i) {
+    Real r = 0;
+    for (Index k = s.row_begin(i); k < s.row_end(i); ++k) r += std::abs(s.values[0][static_cast<std::size_t>(k)]);
+    b = std::max(b, r);
+  }
+  return b;
+}
+
+// The same error with "flow step k (t = ...): " in front, of the same type.
+[[noreturn]] void rethrow_at(const Error& e, Index step, Real t) {
+  const std::string m = detail::concat("flow step ", step, " (t = ", t, "): ", e.what());
+  if (dynamic_cast<const ResourceError*>(&e)) throw ResourceError(m);
+  if (dynamic_cast<const ConfigError*>(&e)) throw ConfigError(m);
+  if (dynamic_cast<const GeometryError*>(&e)) throw GeometryError(m);
+  if (dynamic_cast<const NumericalError*>(&e)) throw NumericalError(m);
+  if (dynamic_cast<const InputError*>(&e)) throw InputError(m);
+  throw;
+}
+
+Real max_row_norm(const Eigen::MatrixXd& u) { return u.rows() ? u.rowwise().norm().maxCoeff() : 0.0; }
+
+}  // namespace
+
+OperatorsOptions flow_operators(const FlowOptions& options) {
+  OperatorsOptions o = options.operators;
+  o.operators = {OperatorKind::Laplacian, OperatorKind::Gradient};
+  o.use = StencilUse::Values;
+  if (options.gradient == "own") {
+    o.gradient_method.clear();
+  } else if (options.gradient == "auto") {
+    if (o.method == "vrsph") {
+      // VRSPH's NNLS gradient rows pick a few neighbours each; composed into D G they have
+      // modes of the wrong sign against L, and the projection amplifies them (ρ(P) = 1.22 at
+      // jitter 0.2): docs/flow.md. A least-squares gradient has none. prefer=near keeps the
+      // Laplacian's rows on an exact lattice from splitting into two checkerboards.
+      o.gradient_method = "fpm";
+      o.gradient_method_options = MethodOptions{};
+      o.gradient_method_options.set("gradient_order", "2");
+      if (!o.method_options.values().contains("prefer") && !o.method_options.values().contains("profile"))
+        o.method_options.set("prefer", "near");
+    } else {
+      o.gradient_method.clear();
+    }
+  } else {
+    (void)builtin_methods().info(options.gradient);  // ConfigError listing the methods (besides auto and own)
+    o.gradient_method = options.gradient;
+  }
+  return o;
+}
+
+FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions options) : options_(std::move(options)) {
+  validate(cloud);
+  const int d = cloud.dim;
+  check<ConfigError>(d >= 2, "flow: the dimension must be 2 or 3, got ", d);
+  check<ConfigError>(cloud.domain.shape == Domain::Shape::Box && cloud.domain.fully_periodic(),
+                     "flow: the box must be periodic along every axis (walls, moving walls and their pressure "
+                     "condition are not implemented yet)");
+  check<InputError>(std::all_of(cloud.tags.begin(), cloud.tags.end(), [](Tag t) { return t == Tag::Interior; }),
+                    "flow: a periodic box has no boundary particles; every particle must be interior");
+  check<InputError>(u0.rows() == cloud.size() && u0.cols() == d, "flow: an initial velocity of ", u0.rows(), " x ",
+                    u0.cols(), " for ", cloud.size(), " particles in ", d, "D");
+  check<InputError>(u0.allFinite(), "flow: the initial velocity is not finite");
+  check<ConfigError>(std::isfinite(options_.nu) && options_.nu >= 0, "flow: the viscosity must be finite and >= 0, got ",
+                     options_.nu);
+  check<ConfigError>(options_.body_force.allFinite(), "flow: the body force must be finite");
+  for (int c = d; c < 3; ++c)
+    check<ConfigError>(options_.body_force[c] == 0, "flow: a body force along axis ", c, " of a ", d, "D flow");
+  options_.operators = flow_operators(options_);
+  check<ConfigError>(options_.shifting.kind == Shifting::None || options_.frame == FlowFrame::Lagrangian,
+                     "flow: particle shifting moves particles; it applies to the lagrangian frame only");
+  check<ConfigError>(std::isfinite(options_.shifting.coefficient) && options_.shifting.coefficient >= 0,
+                     "flow: the shifting coefficient must be finite and >= 0, got ", options_.shifting.coefficient);
+  options_.solver.dimension = d;
+  ops_ = std::make_unique<Operators>(std::move(cloud), options_.operators);
+  spacing_ = ops_->spacing();
+  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian));
+  check<ConfigError>(std::isfinite(options_.hyperviscosity) && options_.hyperviscosity >= 0 &&
+                     std::isfinite(options_.velocity_scale) && options_.velocity_scale >= 0,
+                     "flow: the hyperviscosity coefficient and the velocity scale must be finite and >= 0");
+  if (options_.frame == FlowFrame::Eulerian) {
+    const Real U = options_.velocity_scale > 0 ? options_.velocity_scale : max_row_norm(u0);
+    gamma_ = options_.hyperviscosity * U * spacing_ * spacing_ * spacing_;
+  }
+  ppe_ = std::make_unique<PressurePoisson>(laplacian_matrix(*ops_), options_.solver);
+  FlowStepReport r;
+  u_ = project_state(u0, r);
+  report_ = r;
+  finish_report(report_);
+}
+
+FlowSolver::~FlowSolver() = default;
+FlowSolver::FlowSolver(FlowSolver&&) noexcept = default;
+FlowSolver& FlowSolver::operator=(FlowSolver&&) noexcept = default;
+
+FlowSolver::Limits FlowSolver::limits() const {
+  // Stability intervals of the schemes' polynomials: RK3 reaches √3 along the imaginary axis and
+  // 2.51 along the negative real one; RK2 (Heun) 2 along the real axis and, strictly, nothing
+  // along the imaginary one (|1 + z + z²/2| = (1 + y⁴/4)^½): its advective limit of 1 relies
+  // on the viscosity to damp that growth.
+  return options_.scheme == FlowScheme::RK3 ? Limits{std::sqrt(3.0), 2.51} : Limits{1.0, 2.0};
+}
+
+Real FlowSolver::advective_bound(const Eigen::MatrixXd& u) const {
+  if (options_.frame == FlowFrame::Lagrangian) return max_row_norm(u) / spacing_;  // the CFL number's rate
+  const Stencil& G = ops_->stencil(OperatorKind::Gradient);
+  const int d = G.dim;
+  Real b = 0;
+  for (Index i = 0; i < G.rows(); ++i) {
+    Real r = 0;
+    for (Index k = G.row_begin(i); k < G.row_end(i); ++k) {
+      Real a = 0;
+      for (int c = 0; c < d; ++c) a += u(i, c) * G.values[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)];
+      r += std::abs(a);
+    }
+    b = std::max(b, r);
+  }
+  return b;
+}
+
+Real FlowSolver::viscous_rate() const {
+  // ν ρ(L) + γ ρ(L)²: the bounds of the viscous and the hyperviscous terms' spectral radii.
+  return options_.nu * laplacian_bound_ + gamma_ * laplacian_bound_ * laplacian_bound_;
+}
+
+Real FlowSolver::stable_time_step(Real safety) const {
+  check<ConfigError>(std::isfinite(safety) && safety > 0 && safety <= 1, "flow: the safety factor must be in (0, 1]");
+  const Limits lim = limits();
+  const Real rate = advective_bound(u_) / lim.advective + viscous_rate() / lim.viscous;
+  return rate > 0 ? safety / rate : std::numeric_limits<Real>::infinity();
+}
+
+Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u) const {
+  const Eigen::MatrixXd lap = ops_->apply(VectorOperator::VectorLaplacian, u);
+  Eigen::MatrixXd f = options_.nu * lap;
+  if (gamma_ > 0) f -= gamma_ * ops_->apply(VectorOperator::VectorLaplacian, lap);
+  for (int c = 0; c < u.cols(); ++c)
+    if (options_.body_force[c] != 0) f.col(c).array() += options_.body_force[c];
+  return f;
+}
+
+Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv,
+                              FlowStepReport* r) const {
+  const Stopwatch watch;
+  // ∂u/∂t = f - (u·∇)u - ∇p stays divergence-free: L p = D (f - (u·G)u).
+  Field p = phi_;
+  const PressurePoisson::Result res = ppe_->solve(ops_->apply(VectorOperator::Divergence, f - adv).col(0), p);
+  if (r) {
+    r->ppe_iterations += res.report.iterations;
+    r->ppe_shift = std::max(r->ppe_shift, std::abs(res.shift));
+    r->seconds_ppe += watch.seconds();
+  }
+  return p;
+}
+
+Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, FlowStepReport& r) {
+  Stopwatch watch;
+  const Eigen::MatrixXd f = forces(u);
+  const Eigen::MatrixXd adv = advection(*ops_, u);
+  r.seconds_rhs += watch.seconds();
+  phi_ = pressure_of(f, adv, &r);
+  watch.restart();
+  // Eulerian: ∂u/∂t = f - (u·∇)u - ∇p; Lagrangian: Du/Dt = f - ∇p (the particles carry the advection).
+  Eigen::MatrixXd k = f - ops_->apply(OperatorKind::Gradient, phi_);
+  if (options_.frame == FlowFrame::Eulerian) k -= adv;
+  r.seconds_rhs += watch.seconds();
+  return k;
+}
+
+Eigen::MatrixXd FlowSolver::project_state(const Eigen::MatrixXd& w, FlowStepReport& r) {
+  const Stopwatch watch;
+  Field guess = correction_;
+  Projected p = project(*ops_, *ppe_, w, guess);
+  correction_ = std::move(p.phi);
+  r.ppe_iterations += p.report.iterations;
+  r.ppe_shift = std::max(r.ppe_shift, std::abs(p.shift));
+  r.seconds_ppe += watch.seconds();
+  return std::move(p.u);
+}
+
+void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
+  Stopwatch watch;
+  ops_->update(x);
+  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian));
+  r.seconds_update += watch.seconds();
+  watch.restart();
+  ppe_ = std::make_unique<PressurePoisson>(laplacian_matrix(*ops_), options_.solver);
+  r.ppe_iterations += ppe_->setup().iterations;
+  r.seconds_ppe += watch.seconds();
+}
+
+void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
+  const Stopwatch watch;
+  const Discretisation disc{ops_->cloud(), ops_->neighbours(), options_.operators.kernel, spacing_};
+  const std::vector<Vec3> dr = shifting_displacements(disc, options_.shifting, u, dt);
+  // u at the shifted position: u + (∇u)·δr with the flow's gradient (Xu et al. 2009, eq. (34)).
+  const int d = static_cast<int>(u.cols());
+  Eigen::MatrixXd du(u.rows(), d);
+  for (int c = 0; c < d; ++c) {
+    const Eigen::MatrixXd g = ops_->apply(OperatorKind::Gradient, Field(u.col(c)));
+    for (Index i = 0; i < u.rows(); ++i) du(i, c) = g.row(i).dot(dr[static_cast<std::size_t>(i)].head(d));
+  }
+  u += du;
+  std::vector<Vec3> x = ops_->cloud().positions;
+  const Domain& box = ops_->cloud().domain;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    r.max_shift = std::max(r.max_shift, dr[i].norm() / spacing_);
+    x[i] = box.wrap(x[i] + dr[i]);
+  }
+  r.seconds_update += watch.seconds();
+  move_to(x, r);
+}
+
+void FlowSolver::finish_report(FlowStepReport& r) const {
+  const auto n = u_.rows();
+  r.t = t_;
+  r.step = steps_;
+  r.max_speed = max_row_norm(u_);
+  r.kinetic_energy = 0.5 * u_.squaredNorm() * ops_->cloud().domain.measure() / static_cast<Real>(n);
+  r.max_div_u = max_divergence();
+  const NeighbourList& nl = ops_->neighbours();
+  Real lo = std::numeric_limits<Real>::infinity(), hi = 0;
+  for (Index i = 0; i < nl.size(); ++i) {
+    const auto d = nl.distances_of(i);
+    if (d.empty()) continue;
+    const Real nearest = *std::min_element(d.begin(), d.end());
+    lo = std::min(lo, nearest);
+    hi = std::max(hi, nearest);
+  }
+  r.min_spacing = lo / spacing_;
+  r.max_spacing = hi / spacing_;
+}
+
+Real FlowSolver::max_divergence() const {
+  return ops_->apply(VectorOperator::Divergence, u_).col(0).cwiseAbs().maxCoeff();
+}
+
+const FlowStepReport& FlowSolver::step(Real dt) {
+  check<ConfigError>(std::isfinite(dt) && dt > 0, "flow: the time step must be positive and finite, got ", dt);
+  FlowStepReport r;
+  r.dt = dt;
+  const Limits lim = limits();
+  r.advective_number = dt * advective_bound(u_);
+  r.viscous_number = dt * viscous_rate();
+  r.cfl = dt * max_row_norm(u_) / spacing_;
+  const Real load = r.advective_number / lim.advective + r.viscous_number / lim.viscous;
+  if (load > 1) {
+    const std::string m = detail::concat("flow step ", steps_ + 1, ": dt = ", dt, " is beyond the ", to_string(options_.scheme),
+                                         " stability limit (", options_.frame == FlowFrame::Eulerian ? "advective" : "CFL",
+                                         " number ", r.advective_number, " of ", lim.advective, ", viscous number ",
+                                         r.viscous_number, " of ", lim.viscous, "; the largest stable dt is about ",
+                                         stable_time_step(1.0), ")");
+    check<ConfigError>(options_.allow_unstable, m, "; give a smaller dt, or allow_unstable (--allow-unstable) to run anyway");
+    r.warnings.push_back(m);
+  }
+  const Eigen::MatrixXd un = u_;
+  const Field phin = phi_;
+  const bool lagrangian = options_.frame == FlowFrame::Lagrangian;
+  const std::vector<Vec3> xn = ops_->cloud().positions;
+  const Domain& box = ops_->cloud().domain;
+  // Positions x^n + dt Σ_s a_s u_s (the stage velocities), wrapped into the box.
+  auto moved = [&](std::initializer_list<std::pair<Real, const Eigen::MatrixXd*>> terms) {
+    std::vector<Vec3> x = xn;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      for (const auto& [a, u] : terms)
+        for (int c = 0; c < u->cols(); ++c) x[i][c] += dt * a * (*u)(static_cast<Index>(i), c);
+      x[i] = box.wrap(x[i]);
+    }
+    return x;
+  };
+  try {
+    // Runge–Kutta on du/dt = k(u) (and dx/dt = u, Lagrangian): each stage's rate carries its own
+    // pressure (one Poisson solve per stage), and the step ends with one projection of the new
+    // velocity, which removes the divergence the stages left (O(dx²) per step) instead of letting
+    // it drift. Shu–Osher's form of SSP-RK3; Heun for RK2.
+    Eigen::MatrixXd u_end;
+    if (options_.scheme == FlowScheme::RK2) {
+      const Eigen::MatrixXd u1 = un + dt * rate(un, r);
+      if (lagrangian) move_to(moved({{1.0, &un}}), r);
+      u_end = 0.5 * un + 0.5 * (u1 + dt * rate(u1, r));
+      if (lagrangian) move_to(moved({{0.5, &un}, {0.5, &u1}}), r);
+    } else {
+      const Eigen::MatrixXd u1 = un + dt * rate(un, r);
+      if (lagrangian) move_to(moved({{1.0, &un}}), r);
+      const Eigen::MatrixXd u2 = 0.75 * un + 0.25 * (u1 + dt * rate(u1, r));
+      if (lagrangian) move_to(moved({{0.25, &un}, {0.25, &u1}}), r);
+      u_end = (1.0 / 3.0) * un + (2.0 / 3.0) * (u2 + dt * rate(u2, r));
+      if (lagrangian) move_to(moved({{1.0 / 6.0, &un}, {1.0 / 6.0, &u1}, {2.0 / 3.0, &u2}}), r);
+    }
+    if (options_.shifting.kind != Shifting::None) shift(u_end, dt, r);
+    u_ = project_state(u_end, r);
+    check<NumericalError>(u_.allFinite(), "the velocity is no longer finite (the run is unstable: a smaller time "
+                          "step, more viscosity or another method)");
+  } catch (const Error& e) {
+    u_ = un;
+    phi_ = phin;
+    if (lagrangian && ops_->cloud().positions != xn) {
+      FlowStepReport ignored;
+      move_to(xn, ignored);
+    }
+    rethrow_at(e, steps_ + 1, t_);
+  }
+  ++steps_;
+  t_ += dt;
+  finish_report(r);
+  report_ = std::move(r);
+  return report_;
+}
+
+Field FlowSolver::pressure() const { return pressure_of(forces(u_), advection(*ops_, u_), nullptr); }
+
+}  // namespace vrsph

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The singular pressure Poisson equation, pinned and its defect spread (pressure_poisson.hpp).
+#include <cmath>
+#include <vrsph/core/error.hpp>
+#include <vrsph/flow/pressure_poisson.hpp>
+
+namespace vrsph {
+
+namespace {
+// A with row p replaced by the identity's, and the zeros the methods store (VRSPH keeps its
+// whole neighbour pattern, most of it without volume) dropped: less work for the solver.
+CsrMatrix pinned_matrix(const CsrMatrix& A, Index p) {
+  CsrMatrix B = A;
+  for (CsrMatrix::InnerIterator it(B, p); it; ++it) it.valueRef() = it.col() == p ? 1.0 : 0.0;
+  B.prune(0.0);
+  B.makeCompressed();
+  return B;
+}
+}  // namespace
+
+PressurePoisson::PressurePoisson(const CsrMatrix& A, const SolverOptions& options, Index pinned)
+    : n_(static_cast<Index>(A.rows())), pinned_(pinned) {
+  check<InputError>(A.rows() == A.cols() && n_ > 1, "pressure Poisson: the matrix must be square over at least two "
+                    "particles, got ", A.rows(), " x ", A.cols());
+  check<InputError>(pinned_ >= 0 && pinned_ < n_, "pressure Poisson: pinned particle ", pinned_, " outside 0..", n_ - 1);
+  for (Index i = 0; i < n_; ++i) {
+    Real sum = 0, size = 0;
+    for (CsrMatrix::InnerIterator it(A, i); it; ++it) {
+      check<InputError>(std::isfinite(it.value()), "pressure Poisson: row ", i, " has a non-finite entry");
+      sum += it.value();
+      size += std::abs(it.value());
+      if (i == pinned_) row_.emplace_back(it.col(), it.value());
+    }
+    // Rows in difference form sum to round-off; anything more is not a Laplacian's row.
+    check<InputError>(std::abs(sum) <= 1e-8 * size, "pressure Poisson: row ", i, " sums to ", sum, " (of ", size,
+                      "): its rows must annihilate constants (a Laplacian in difference form)");
+  }
+  solver_ = std::make_unique<PreparedSolver>(pinned_matrix(A, pinned_), options);
+  Field unit = Field::Ones(n_);
+  unit[pinned_] = 0;
+  z_.resize(0);
+  setup_ = solver_->solve(unit, z_);
+  check<NumericalError>(setup_.success, "pressure Poisson: the unit-source solve failed (", setup_.solver, ": ",
+                        setup_.message, ")");
+  setup_.seconds_setup = solver_->seconds_setup();
+  sigma_ = pinned_defect(z_, 1.0);
+  check<NumericalError>(std::isfinite(sigma_) && sigma_ != 0, "pressure Poisson: a unit source leaves no defect at the "
+                        "pinned particle (sigma = ", sigma_, "); the rows are not a consistent Laplacian");
+}
+
+PressurePoisson::~PressurePoisson() = default;
+PressurePoisson::PressurePoisson(PressurePoisson&&) noexcept = default;
+PressurePoisson& PressurePoisson::operator=(PressurePoisson&&) noexcept = default;
+
+Real PressurePoisson::pinned_defect(const Field& x, Real rhs) const {
+  Real s = -rhs;
+  for (const auto& [j, w] : row_) s += w * x[j];
+  return s;
+}
+
+PressurePoisson::Result PressurePoisson::solve(const Field& r, Field& p) const {
+  check<InputError>(r.size() == n_, "pressure Poisson: ", r.size(), " right-hand-side values for ", n_, " particles");
+  check<InputError>(r.allFinite(), "pressure Poisson: the right-hand side is not finite");
+  Field b = r;
+  b[pinned_] = 0;
+  if (p.size() != n_)
+    p.resize(0);
+  else
+    p.array() -= p[pinned_];  // a previous pressure: the pinned solution is zero at the pin
+  Result out;
+  out.report = solver_->solve(b, p);
+  check<NumericalError>(out.report.success, "pressure Poisson: the solve failed (", out.report.solver, ": ",
+                        out.report.message, ")");
+  // x1 - (ρ/σ) z meets every equation with r - λ, λ = ρ/σ (the dropped one included).
+  out.shift = pinned_defect(p, r[pinned_]) / sigma_;
+  p -= out.shift * z_;
+  p.array() -= p.mean();
+  return out;
+}
+
+}  // namespace vrsph

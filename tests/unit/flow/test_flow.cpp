@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The flow layer's pieces: the singular pressure Poisson solve (every equation met up to one
+// constant, independent of the pinned particle), the projection (stable: its spectral radius
+// is 1 with the flow's operators, above 1 with VRSPH's own NNLS gradient, the reason for the
+// default), the solver's refusals and its Lagrangian and shifting paths.
+#include <cmath>
+#include <numbers>
+#include <Eigen/Dense>
+#include <vrsph/core/error.hpp>
+#include <vrsph/flow/flow_study.hpp>
+#include <vrsph/flow/projection.hpp>
+#include <vrsph/stencil/apply.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+
+PointCloud flow_cloud(int nx, Real jitter = 0.2, int dim = 2) {
+  FlowCloudSpec spec;
+  spec.nx = nx;
+  spec.jitter = jitter;
+  spec.dim = dim;
+  spec.seed = 3;
+  return periodic_flow_cloud(spec);
+}
+
+Operators flow_ops(const PointCloud& cloud, const std::string& gradient = "auto") {
+  FlowOptions fo;
+  fo.gradient = gradient;
+  return Operators(cloud, flow_operators(fo));
+}
+
+Eigen::MatrixXd vortex_at(const PointCloud& c, Real t = 0) {
+  const PeriodicVortex v{c.dim};
+  Eigen::MatrixXd u(c.size(), c.dim);
+  for (Index i = 0; i < c.size(); ++i) u.row(i) = v.velocity(c.positions[static_cast<std::size_t>(i)], t).head(c.dim).transpose();
+  return u;
+}
+
+// max |eig(I - G L^-1 D)| over the velocity space, dense (L^-1 on data of zero mean through L - 11ᵀ/N).
+Real projection_radius(const Operators& ops) {
+  const Eigen::MatrixXd L(SparseMatrix(as_eigen(ops.stencil(OperatorKind::Laplacian))));
+  const Eigen::Index n = L.rows();
+  const int d = ops.cloud().dim;
+  Eigen::MatrixXd G(d * n, n), D(n, d * n);
+  for (int c = 0; c < d; ++c) {
+    const Eigen::MatrixXd Gc(SparseMatrix(as_eigen(ops.stencil(OperatorKind::Gradient), c)));
+    G.middleRows(c * n, n) = Gc;
+    D.middleCols(c * n, n) = Gc;
+  }
+  const Eigen::MatrixXd Linv = (L - Eigen::MatrixXd::Constant(n, n, 1.0 / static_cast<Real>(n))).inverse();
+  const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(d * n, d * n) - G * Linv * D;
+  const Eigen::EigenSolver<Eigen::MatrixXd> eigen(P, false);
+  Real radius = 0;
+  for (Eigen::Index k = 0; k < eigen.eigenvalues().size(); ++k) radius = std::max(radius, std::abs(eigen.eigenvalues()[k]));
+  return radius;
+}
+
+}  // namespace
+
+TEST(PressurePoisson, MeetsEveryEquationUpToOneConstantWhateverThePin) {
+  const Operators ops = flow_ops(flow_cloud(12));
+  const CsrMatrix A = laplacian_matrix(ops);
+  Field r = Field::Random(A.rows());
+  const PressurePoisson first(A, {}, 0), other(A, {}, 77);
+  Field p, q;
+  const PressurePoisson::Result res = first.solve(r, p);
+  (void)other.solve(r, q);
+  EXPECT_NEAR(p.mean(), 0, 1e-12);
+  const Field defect = A * p - r;  // = -λ at every particle
+  EXPECT_LT((defect.array() + res.shift).abs().maxCoeff(), 1e-9 * r.norm());
+  EXPECT_GT(std::abs(res.shift), 0);  // random data are not compatible
+  EXPECT_LT((p - q).cwiseAbs().maxCoeff(), 1e-9 * p.cwiseAbs().maxCoeff());
+  // A compatible right-hand side (the Laplacian of something) has no shift left.
+  const Field target = Field::Random(A.rows());
+  Field s;
+  EXPECT_LT(std::abs(first.solve(A * target, s).shift), 1e-9);
+  EXPECT_LT((A * s - A * target).cwiseAbs().maxCoeff(), 1e-8 * (A * target).cwiseAbs().maxCoeff());
+}
+
+TEST(PressurePoisson, RefusesWhatIsNoLaplacian) {
+  CsrMatrix A(3, 3);
+  A.insert(0, 0) = 1;  // a row that does not sum to zero
+  A.insert(1, 1) = 1;
+  A.insert(2, 2) = 1;
+  EXPECT_THROW_MSG(PressurePoisson(A, {}), InputError, "annihilate constants");
+  const Operators ops = flow_ops(flow_cloud(8));
+  EXPECT_THROW_MSG(PressurePoisson(laplacian_matrix(ops), {}, 64), InputError, "pinned particle 64");
+  const PressurePoisson ppe(laplacian_matrix(ops), {});
+  Field p;
+  EXPECT_THROW_MSG((void)ppe.solve(Field::Zero(5), p), InputError, "5 right-hand-side values for 64 particles");
+  Field bad = Field::Zero(64);
+  bad[3] = std::nan("");
+  EXPECT_THROW_MSG((void)ppe.solve(bad, p), InputError, "not finite");
+}
+
+TEST(Projection, RemovesGradientsAndKeepsDivergenceFreeFields) {
+  const PointCloud c = flow_cloud(24);
+  const Operators ops = flow_ops(c);
+  const PressurePoisson ppe(laplacian_matrix(ops), {});
+  const Eigen::MatrixXd u = vortex_at(c);
+  Eigen::MatrixXd grad(c.size(), 2);
+  for (Index i = 0; i < c.size(); ++i) {
+    const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+    grad.row(i) << std::cos(2 * std::numbers::pi * x[0]), 0;  // ∇ (sin 2πx / 2π)
+  }
+  const Projected p = project(ops, ppe, u + grad);
+  const Real before = ops.apply(VectorOperator::Divergence, Eigen::MatrixXd(u + grad)).cwiseAbs().maxCoeff();
+  const Real after = ops.apply(VectorOperator::Divergence, p.u).cwiseAbs().maxCoeff();
+  EXPECT_LT(after, 0.1 * before);
+  EXPECT_LT((p.u - u).rowwise().norm().maxCoeff(), 0.05);  // the gradient (size 1) is gone to truncation
+  EXPECT_THROW_MSG((void)project(ops, ppe, Eigen::MatrixXd::Zero(3, 2)), InputError, "a velocity of 3 x 2");
+}
+
+TEST(Projection, IsStableWithTheFlowsOperatorsNotWithVrsphsOwnGradient) {
+  const PointCloud c = flow_cloud(14);
+  const Real flow = projection_radius(flow_ops(c));
+  EXPECT_LT(flow, 1 + 1e-6);
+  // VRSPH's NNLS gradient composed with its Laplacian amplifies some modes at every projection.
+  const Real own = projection_radius(flow_ops(c, "own"));
+  EXPECT_GT(own, 1.05);
+}
+
+TEST(FlowOperators, PairVrsphsLaplacianWithALeastSquaresGradient) {
+  FlowOptions fo;
+  OperatorsOptions o = flow_operators(fo);
+  EXPECT_EQ(o.method, "vrsph");
+  EXPECT_EQ(o.gradient_method, "fpm");
+  EXPECT_EQ(o.method_options.values().at("prefer"), "near");
+  fo.operators.method = "sph";
+  EXPECT_TRUE(flow_operators(fo).gradient_method.empty());
+  fo.gradient = "cspm";
+  EXPECT_EQ(flow_operators(fo).gradient_method, "cspm");
+  fo.gradient = "nonsense";
+  EXPECT_THROW_MSG((void)flow_operators(fo), ConfigError, "nonsense");
+  // On an exact lattice prefer=near keeps the Laplacian connected (VRSPH's default vertex there is
+  // the diagonal five-point stencil: two unconnected checkerboards and a singular pressure solve).
+  const PointCloud lattice = flow_cloud(8, 0.0);
+  FlowSolver solver(lattice, vortex_at(lattice), FlowOptions{});
+  EXPECT_LT(solver.max_divergence(), 1.0);
+}
+
+TEST(FlowSolver, RefusesWhatItCannotRun) {
+  const PointCloud c = flow_cloud(8);
+  const Eigen::MatrixXd u = vortex_at(c);
+  PointCloud walls = c;
+  walls.domain.periodic = {false, false, false};
+  EXPECT_THROW_MSG(FlowSolver(walls, u, {}), ConfigError, "periodic along every axis");
+  EXPECT_THROW_MSG(FlowSolver(c, Eigen::MatrixXd::Zero(5, 2), {}), InputError, "5 x 2");
+  Eigen::MatrixXd nan = u;
+  nan(3, 1) = std::nan("");
+  EXPECT_THROW_MSG(FlowSolver(c, nan, {}), InputError, "not finite");
+  FlowOptions o;
+  o.nu = -1;
+  EXPECT_THROW_MSG(FlowSolver(c, u, o), ConfigError, "viscosity");
+  o = {};
+  o.shifting.kind = Shifting::Xu;
+  EXPECT_THROW_MSG(FlowSolver(c, u, o), ConfigError, "lagrangian frame only");
+  o = {};
+  o.body_force = Vec3(0, 0, 1);
+  EXPECT_THROW_MSG(FlowSolver(c, u, o), ConfigError, "body force along axis 2");
+}
+
+TEST(FlowSolver, RefusesAnUnstableStepAndKeepsItsState) {
+  const PointCloud c = flow_cloud(8);
+  FlowSolver s(c, vortex_at(c), {});
+  const Eigen::MatrixXd before = s.velocity();
+  const Real limit = s.stable_time_step(1.0);
+  EXPECT_THROW_MSG(s.step(3 * limit), ConfigError, "stability limit");
+  EXPECT_EQ(s.steps(), 0);
+  EXPECT_EQ(s.velocity(), before);
+  EXPECT_THROW_MSG(s.step(0), ConfigError, "positive");
+  EXPECT_THROW_MSG(s.step(std::nan("")), ConfigError, "positive");
+  FlowOptions o;
+  o.allow_unstable = true;
+  FlowSolver allowed(c, vortex_at(c), o);
+  EXPECT_FALSE(allowed.step(1.5 * limit).warnings.empty());
+  s.step(0.5 * limit);
+  EXPECT_EQ(s.steps(), 1);
+  EXPECT_NEAR(s.time(), 0.5 * limit, 1e-15);
+}
+
+TEST(FlowSolver, LagrangianParticlesMoveWithTheFlowAndShiftingSpreadsThem) {
+  const PointCloud c = flow_cloud(16);
+  FlowOptions o;
+  o.frame = FlowFrame::Lagrangian;
+  FlowSolver plain(c, vortex_at(c), o);
+  const Real dt = 0.5 * plain.stable_time_step();
+  const std::vector<Vec3> x0 = plain.positions();
+  const Eigen::MatrixXd u0 = plain.velocity();
+  plain.step(dt);
+  // Each particle moved by about dt u (the velocity changes by O(dt) over the step).
+  for (std::size_t i = 0; i < x0.size(); ++i) {
+    Vec3 dx = plain.positions()[i] - x0[i];
+    for (int k = 0; k < 2; ++k) dx[k] -= std::round(dx[k]);  // across the periodic faces
+    EXPECT_LT((dx.head<2>() - dt * u0.row(static_cast<Index>(i)).transpose()).norm(), 0.05 * dt) << i;
+  }
+  o.shifting.kind = Shifting::Xu;
+  FlowSolver shifted(c, vortex_at(c), o);
+  const FlowStepReport& r = shifted.step(dt);
+  EXPECT_GT(r.max_shift, 0);
+  EXPECT_LT(r.max_shift, 0.5);  // measured 0.20 dx: the jitter's 0.2 dx being evened out
+  o.shifting.kind = Shifting::Lind;
+  FlowSolver lind(c, vortex_at(c), o);
+  EXPECT_GT(lind.step(dt).max_shift, 0);
+}
