@@ -16,5 +16,6 @@ void add_solve_command(CLI::App& app);
 void add_spectrum_command(CLI::App& app);
 void add_stability_command(CLI::App& app);
 void add_diffuse_command(CLI::App& app);
+void add_flow_command(CLI::App& app);
 
 }  // namespace vrsph::cli

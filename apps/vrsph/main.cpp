@@ -163,6 +163,7 @@ void add_commands(CLI::App& app) {
   vrsph::cli::add_spectrum_command(app);
   vrsph::cli::add_stability_command(app);
   vrsph::cli::add_diffuse_command(app);
+  vrsph::cli::add_flow_command(app);
   vrsph::cli::add_bench_command(app);
 }
 

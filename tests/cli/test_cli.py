@@ -392,6 +392,35 @@ class Study(unittest.TestCase):
                 self.assertIn(f'Name="{name}"', text)
 
 
+class Flow(unittest.TestCase):
+    def test_taylor_green_rows(self):
+        # The acceptance interface: rows[] with nx, t, error_u_mean, error_u_inf, error_p_mean,
+        # decay_rate_error, max_div_u, steps, seconds_per_step; errors falling with nx.
+        for frame in ("eulerian", "lagrangian"):
+            out = run_json("flow", "--case", "taylor-green", "--frame", frame, "--method", "vrsph", "--nx", "16,32",
+                           "--t-end", "0.05", "--threads", "1")
+            rows = out["rows"]
+            self.assertEqual([r["nx"] for r in rows], [16, 32])
+            for r in rows:
+                for key in ("t", "error_u_mean", "error_u_inf", "error_p_mean", "decay_rate_error", "max_div_u", "steps",
+                            "seconds_per_step"):
+                    self.assertIn(key, r)
+                self.assertAlmostEqual(r["t"], 0.05)
+            self.assertLess(rows[1]["error_u_mean"], rows[0]["error_u_mean"] / 2.5)
+            self.assertGreater(rows[1]["order_p_mean"], 1.5)
+
+    def test_projection_rows_and_vtu_series(self):
+        out = run_json("flow", "--case", "projection", "--method", "vrsph,sph", "--nx", "16,32")
+        self.assertEqual([r["method"] for r in out["rows"]], ["vrsph", "vrsph", "sph", "sph"])
+        self.assertLess(out["rows"][1]["error_u_inf"], out["rows"][3]["error_u_inf"])
+        with tempfile.TemporaryDirectory() as tmp:
+            prefix = os.path.join(tmp, "tg")
+            run("flow", "--nx", "8", "--t-end", "0.02", "--vtu-series", prefix, "--vtu-every", "1")
+            pvd = open(prefix + ".pvd").read()
+            self.assertIn("tg_0000.vtu", pvd)
+            self.assertIn("velocity", open(prefix + "_0000.vtu", errors="replace").read())
+
+
 class Bench(unittest.TestCase):
     def test_volumes_bench_json(self):
         out = run_json("bench", "volumes", "--dim", "2", "--n", "40", "--repeat", "1", "--reference-sample", "200")

@@ -16,6 +16,7 @@
 #include <vrsph/problem/diffusion_from_expressions.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
+#include "../vtu_series.hpp"
 
 namespace vrsph::cli {
 
@@ -34,42 +35,6 @@ struct DiffuseArgs {
   OutputOptions out;
 };
 
-// PREFIX_0000.vtu ... and PREFIX.pvd listing them with their times (ParaView's time series).
-class VtuSeries {
- public:
-  VtuSeries(std::string prefix, const PointCloud& cloud) : prefix_(std::move(prefix)), cloud_(cloud) {}
-  void write(Real t, const Field& u, const Field* exact) {
-    const std::string name = detail::concat(prefix_, "_", std::string(4 - std::min<std::size_t>(4, std::to_string(files_.size()).size()), '0'),
-                                            files_.size(), ".vtu");
-    Eigen::MatrixXd U(u.size(), 1);
-    U.col(0) = u;
-    std::vector<PointField> fields{{"u", U}};
-    Eigen::MatrixXd E;
-    if (exact) {
-      E.resize(u.size(), 1);
-      E.col(0) = u - *exact;
-      fields.push_back({"error", E});
-    }
-    write_vtu(name, cloud_, fields, VtuFormat::Binary);
-    files_.emplace_back(t, std::filesystem::path(name).filename().string());
-    write_collection();
-  }
-
- private:
-  // Rewritten (atomically) after every step: at any moment, also after a kill, the PVD lists
-  // exactly this run's finished files, never a previous run's files of the same prefix.
-  void write_collection() const {
-    write_file(prefix_ + ".pvd", "VTU time series", [&](std::ostream& f) {
-      f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
-      for (const auto& [t, file] : files_) f << "    <DataSet timestep=\"" << t << "\" file=\"" << file << "\"/>\n";
-      f << "  </Collection>\n</VTKFile>\n";
-    });
-  }
-
-  std::string prefix_;
-  const PointCloud& cloud_;
-  std::vector<std::pair<Real, std::string>> files_;
-};
 }  // namespace
 
 DiffusionProblem custom_problem(const DiffuseArgs& a) {
@@ -182,10 +147,14 @@ std::function<void(Real, const Field&)> series_writer(VtuSeries& series, const D
   auto next_report = std::make_shared<std::size_t>(0);
   return [&series, &problem, &report_times, next_report](Real time, const Field& u) {
     if (!(time == 0 || (*next_report < report_times.size() && time >= report_times[*next_report] - 1e-12))) return;
-    Field ex(u.size());
-    if (problem.exact)
-      for (Index i = 0; i < u.size(); ++i) ex[i] = problem.exact(problem.cloud.positions[static_cast<std::size_t>(i)], time);
-    series.write(time, u, problem.exact ? &ex : nullptr);
+    std::vector<PointField> fields{{"u", Eigen::MatrixXd(u)}};
+    if (problem.exact) {
+      Eigen::MatrixXd error(u.size(), 1);
+      for (Index i = 0; i < u.size(); ++i)
+        error(i, 0) = u[i] - problem.exact(problem.cloud.positions[static_cast<std::size_t>(i)], time);
+      fields.push_back({"error", std::move(error)});
+    }
+    series.write(time, problem.cloud, fields);
     if (time > 0) ++*next_report;
   };
 }
@@ -216,7 +185,7 @@ void run_diffuse(DiffuseArgs& a, const CLI::App& cmd, const std::string& custom)
   for (std::size_t run = 0; run < nus.size(); ++run) {
     o.dt = nus[run] * ell * ell / a_max;
     std::unique_ptr<VtuSeries> series;
-    if (!a.vtu_series.empty() && run == 0) series = std::make_unique<VtuSeries>(a.vtu_series, problem.cloud);
+    if (!a.vtu_series.empty() && run == 0) series = std::make_unique<VtuSeries>(a.vtu_series);
     o.on_step = series ? series_writer(*series, problem, o.report_times) : nullptr;
     o.progress = [&](double f) { progress.update(detail::concat("nu = ", nus[run]), (static_cast<double>(run) + f) / static_cast<double>(nus.size())); };
     const DiffusionResult r = diffuse(comm.distributed() ? mine : problem, o);

@@ -1,0 +1,277 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// `vrsph flow`: incompressible flow on particles by a projection per Runge–Kutta stage
+// (flow/flow_solver.hpp), and its convergence studies (flow/flow_study.hpp):
+//  --case taylor-green  the periodic vortex (2D Taylor–Green, 3D Beltrami) run to --t-end, one row
+//                       per method and --nx, with the ISPH literature's error measures and orders;
+//  --case projection    the frozen-cloud projection of u_exact + ∇φ (no time stepping).
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <vrsph/analysis/convergence.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/flow/flow_study.hpp>
+#include "../cli_common.hpp"
+#include "../commands.hpp"
+#include "../problem_file.hpp"
+#include "../vtu_series.hpp"
+
+namespace vrsph::cli {
+
+namespace {
+
+struct FlowArgs {
+  std::string flow_case = "taylor-green", frame = "eulerian", methods = "vrsph", gradient = "auto", nx = "32,64",
+              cloud = "perturbed", scheme = "rk3", shifting = "none", solver = "auto", vtu_series, kernel = "cubic";
+  std::vector<std::string> method_opts;
+  int dim = 2, vtu_every = 0, threads = 0;
+  double t_end = 1, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0;
+  std::uint64_t seed = 1;
+  bool allow_unstable = false;
+  OutputOptions out;
+};
+
+FlowCloudSpec cloud_spec(const FlowArgs& a, int nx) {
+  check<ConfigError>(a.cloud == "perturbed" || a.cloud == "lattice", "--cloud for flow is perturbed or lattice, got ", a.cloud);
+  FlowCloudSpec c;
+  c.dim = a.dim;
+  c.nx = nx;
+  c.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
+  c.seed = a.seed;
+  return c;
+}
+
+OperatorsOptions operators_for(const FlowArgs& a, const std::string& method,
+                               const std::map<std::string, MethodOptions>& options) {
+  OperatorsOptions o;
+  o.method = method;
+  o.method_options = options_for(options, method);
+  o.h_factor = a.h_factor;
+  o.kernel = parse_kernel(a.kernel);
+  return o;
+}
+
+// Observed orders between consecutive resolutions of one method (the first row has none).
+void add_orders(Table& t, std::size_t first, const std::vector<Real>& nx, const std::map<std::string, std::vector<Real>>& errors) {
+  const std::vector<Real> h = [&] {
+    std::vector<Real> out;
+    for (const Real n : nx) out.push_back(1.0 / n);
+    return out;
+  }();
+  for (const auto& [name, e] : errors) {
+    const std::vector<Real> orders = pairwise_orders(h, e);
+    const auto col = static_cast<std::size_t>(std::find(t.columns.begin(), t.columns.end(), name) - t.columns.begin());
+    for (std::size_t k = 1; k < orders.size(); ++k)
+      if (std::isfinite(orders[k])) t.rows[first + k][col] = TableCell(orders[k]);
+  }
+}
+
+const std::vector<std::string> projection_columns = {
+    "case", "method", "gradient", "dim", "nx", "particles", "error_u_inf", "error_u_l2", "error_gradp_inf",
+    "error_phi_inf", "max_div_before", "max_div_after", "order_u_inf", "order_u_l2", "order_phi_inf",
+    "solver_iterations", "seconds"};
+const std::vector<std::string> taylor_green_columns = {
+    "case", "method", "gradient", "frame", "scheme", "dim", "nx", "particles", "t", "steps", "dt",
+    "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
+    "order_u_mean", "order_u_inf", "order_p_mean", "kinetic_energy", "min_spacing", "max_spacing",
+    "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs"};
+
+void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
+                    const std::map<std::string, MethodOptions>& options) {
+  Table t;
+  t.columns = projection_columns;
+  SolverOptions so;
+  so.type = parse_solver(a.solver);
+  Progress progress;
+  std::size_t done = 0;
+  for (const std::string& m : methods) {
+    const std::size_t first = t.rows.size();
+    std::map<std::string, std::vector<Real>> errors;
+    std::vector<Real> nx;
+    for (const int n : nxs) {
+      progress.update(detail::concat(m, " nx = ", n), static_cast<double>(done++) / static_cast<double>(methods.size() * nxs.size()));
+      FlowOptions fo;
+      fo.operators = operators_for(a, m, options);
+      fo.gradient = a.gradient;
+      const OperatorsOptions ops = flow_operators(fo);
+      const ProjectionStudyRow r = frozen_projection(cloud_spec(a, n), ops, so);
+      nx.push_back(n);
+      errors["order_u_inf"].push_back(r.error_u_inf);
+      errors["order_u_l2"].push_back(r.error_u_l2);
+      errors["order_phi_inf"].push_back(r.error_phi_inf);
+      t.add_row({{"case", std::string("projection")}, {"method", m},
+                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"dim", static_cast<long long>(a.dim)},
+                 {"nx", static_cast<long long>(n)}, {"particles", static_cast<long long>(r.particles)},
+                 {"error_u_inf", r.error_u_inf}, {"error_u_l2", r.error_u_l2}, {"error_gradp_inf", r.error_gradp_inf},
+                 {"error_phi_inf", r.error_phi_inf}, {"max_div_before", r.max_div_before}, {"max_div_after", r.max_div_after},
+                 {"solver_iterations", static_cast<long long>(r.iterations)}, {"seconds", r.seconds}});
+    }
+    add_orders(t, first, nx, errors);
+  }
+  nlohmann::ordered_json extra;
+  extra["case"] = "projection";
+  extra["jitter"] = a.cloud == "lattice" ? 0.0 : a.jitter;
+  extra["h_factor"] = a.h_factor;
+  extra["seed"] = a.seed;
+  emit(t, a.out, extra.dump(), "nx", "error_u_inf", "method", "frozen-cloud projection: max velocity error");
+}
+
+void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
+                      const std::map<std::string, MethodOptions>& options) {
+  Table t;
+  t.columns = taylor_green_columns;
+  Progress progress;
+  std::size_t done = 0;
+  const double runs = static_cast<double>(methods.size() * nxs.size());
+  for (const std::string& m : methods) {
+    const std::size_t first = t.rows.size();
+    std::map<std::string, std::vector<Real>> errors;
+    std::vector<Real> nx;
+    for (const int n : nxs) {
+      VortexRunOptions o;
+      o.cloud = cloud_spec(a, n);
+      o.vortex.Re = a.re;
+      o.t_end = a.t_end;
+      o.cfl = a.cfl;
+      o.dt = a.dt;
+      o.flow.frame = parse_flow_frame(a.frame);
+      o.flow.scheme = parse_flow_scheme(a.scheme);
+      o.flow.operators = operators_for(a, m, options);
+      o.flow.gradient = a.gradient;
+      o.flow.solver.type = parse_solver(a.solver);
+      o.flow.allow_unstable = a.allow_unstable;
+      o.flow.hyperviscosity = a.hyperviscosity;
+      o.flow.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
+      // The VTU series of the first method's finest run only (one series per --vtu-series).
+      std::unique_ptr<VtuSeries> series;
+      if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
+      const double index = static_cast<double>(done++);
+      std::string first_warning;
+      Index warned = 0;
+      o.on_step = [&](const FlowSolver& s) {
+        for (const std::string& w : s.last().warnings) {
+          if (first_warning.empty()) first_warning = w;
+          ++warned;
+        }
+        progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / a.t_end) / runs);
+        const bool last = s.time() >= a.t_end * (1 - 1e-12);
+        if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
+          PointCloud c = s.operators().cloud();
+          series->write(s.time(), c, {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
+        }
+      };
+      const VortexRunRow r = run_periodic_vortex(o);
+      if (warned > 0 && communicator().rank() == 0)
+        std::cerr << "vrsph: warning: " << first_warning << (warned > 1 ? detail::concat(" (and ", warned - 1, " more)") : "") << '\n';
+      nx.push_back(n);
+      errors["order_u_mean"].push_back(r.errors.error_u_mean);
+      errors["order_u_inf"].push_back(r.errors.error_u_inf);
+      errors["order_p_mean"].push_back(r.errors.error_p_mean);
+      const OperatorsOptions ops = flow_operators(o.flow);
+      t.add_row({{"case", std::string("taylor-green")}, {"method", m},
+                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"frame", a.frame},
+                 {"scheme", a.scheme}, {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
+                 {"particles", static_cast<long long>(r.particles)}, {"t", r.t}, {"steps", static_cast<long long>(r.steps)},
+                 {"dt", r.dt}, {"error_u_mean", r.errors.error_u_mean}, {"error_u_inf", r.errors.error_u_inf},
+                 {"error_p_mean", r.errors.error_p_mean}, {"error_p_inf", r.errors.error_p_inf},
+                 {"decay_rate_error", r.errors.decay_rate_error}, {"max_div_u", r.max_div_u},
+                 {"kinetic_energy", r.kinetic_energy}, {"min_spacing", r.min_spacing}, {"max_spacing", r.max_spacing},
+                 {"ppe_iterations_per_step", r.ppe_iterations_per_step}, {"seconds_per_step", r.seconds_per_step},
+                 {"seconds_update", r.seconds_update}, {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}});
+    }
+    add_orders(t, first, nx, errors);
+  }
+  nlohmann::ordered_json extra;
+  extra["case"] = "taylor-green";
+  extra["exact_solution"] = a.dim == 2 ? "Taylor-Green vortex" : "Beltrami (ABC) flow";
+  extra["re"] = a.re;
+  extra["t_end"] = a.t_end;
+  extra["cfl"] = a.cfl;
+  extra["shifting"] = a.shifting;
+  extra["jitter"] = a.cloud == "lattice" ? 0.0 : a.jitter;
+  extra["h_factor"] = a.h_factor;
+  extra["seed"] = a.seed;
+  extra["peak_memory_mib"] = peak_memory_mib();
+  emit(t, a.out, extra.dump(), "nx", "error_u_mean", "method", "Taylor-Green: mean velocity error");
+}
+
+void run_flow(FlowArgs& a) {
+  validate_output(a.out);
+  set_thread_count(a.threads);
+  check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim for flow must be 2 or 3, got ", a.dim);
+  check<ConfigError>(a.flow_case == "taylor-green" || a.flow_case == "projection", "unknown --case '", a.flow_case,
+                     "' (known: taylor-green, projection; the lid-driven cavity needs walls, not implemented yet)");
+  const std::vector<std::string> methods = parse_name_list(a.methods, "--method");
+  const std::vector<int> nxs = parse_int_list(a.nx, "--nx");
+  for (const int n : nxs) {
+    check<ConfigError>(n >= 4 && n <= 4096, "--nx values must be in [4, 4096], got ", n);
+    check<ConfigError>(std::pow(static_cast<double>(n), a.dim) <= 2e7, "--nx ", n, " in ", a.dim, "D is over 2e7 particles");
+  }
+  (void)parse_flow_frame(a.frame);
+  (void)parse_flow_scheme(a.scheme);
+  (void)parse_solver(a.solver);
+  (void)parse_kernel(a.kernel);
+  (void)parse_shifting(a.shifting);
+  check<ConfigError>(a.vtu_every >= 0, "--vtu-every must be >= 0");
+  const auto options = parse_method_options(a.method_opts, methods);
+  validate_columns(a.out, a.flow_case == "projection" ? projection_columns : taylor_green_columns);
+  if (a.flow_case == "projection") return run_projection(a, methods, nxs, options);
+  run_taylor_green(a, methods, nxs, options);
+}
+
+}  // namespace
+
+void add_flow_command(CLI::App& app) {
+  auto a = std::make_shared<FlowArgs>();
+  auto* cmd = app.add_subcommand("flow", "Incompressible flow on particles (projection per Runge-Kutta stage): the "
+                                         "Taylor-Green vortex and the frozen-cloud projection, with errors and orders");
+  cmd->add_option("--case", a->flow_case, "taylor-green (2D Taylor-Green, 3D Beltrami vortex) | projection (frozen cloud)")
+      ->capture_default_str();
+  cmd->add_option("--dim", a->dim, "Dimension 2 or 3")->capture_default_str();
+  cmd->add_option("--frame", a->frame, "eulerian (a fixed cloud) | lagrangian (particles move with the flow)")->capture_default_str();
+  cmd->add_option("--method", a->methods, "Methods for the Laplacian (pressure Poisson, viscous term), comma-separated")
+      ->capture_default_str();
+  cmd->add_option("--gradient", a->gradient, "First derivatives: auto (vrsph: fpm gradient_order=2; others: own) | own | "
+                                             "a method name")->capture_default_str();
+  cmd->add_option("--method-opt", a->method_opts, "key=value or method:key=value options of the methods");
+  cmd->add_option("--nx", a->nx, "Particles per unit period along each axis, comma-separated (a refinement)")->capture_default_str();
+  cmd->add_option("--cloud", a->cloud, "perturbed (a jittered lattice) | lattice")->capture_default_str();
+  cmd->add_option("--jitter", a->jitter, "Perturbation U(-j dx, j dx) per coordinate")->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
+  cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
+  cmd->add_option("--kernel", a->kernel, "Kernel")->capture_default_str();
+  cmd->add_option("--re", a->re, "Reynolds number U L / nu (L = 1, U = 1)")->capture_default_str();
+  cmd->add_option("--t-end", a->t_end, "End time")->capture_default_str();
+  cmd->add_option("--cfl", a->cfl, "dt = cfl dx / U, shortened where the stability limit asks for less")->capture_default_str();
+  cmd->add_option("--dt", a->dt, "A fixed time step instead of --cfl (refused beyond the stability limit unless "
+                                 "--allow-unstable)");
+  cmd->add_option("--scheme", a->scheme, "rk3 (SSP, third order) | rk2 (Heun), a projection per stage")->capture_default_str();
+  cmd->add_option("--hyperviscosity", a->hyperviscosity, "Eulerian: -c U dx^3 L(L u) added (0: none)")->capture_default_str();
+  cmd->add_option("--shifting", a->shifting, "Lagrangian particle shifting: none | xu (Xu 2009) | lind (Lind 2012, "
+                                             "Fickian)")->capture_default_str();
+  cmd->add_option("--shift-coefficient", a->shift_coefficient, "beta (xu) or A (lind); 0: 0.04 and 2")->capture_default_str();
+  cmd->add_flag("--allow-unstable", a->allow_unstable, "Warn instead of refusing a time step beyond the stability limit");
+  cmd->add_option("--solver", a->solver, "Pressure Poisson solver: auto | umfpack | sparselu | bicgstab | petsc")->capture_default_str();
+  cmd->add_option("--vtu-series", a->vtu_series, "Write velocity and pressure of the first method's finest run as "
+                                                 "PREFIX_NNNN.vtu and PREFIX.pvd (the end, and every --vtu-every steps)");
+  cmd->add_option("--vtu-every", a->vtu_every, "Steps between VTU files (0: the end only)")->capture_default_str();
+  cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
+  cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
+  cmd->add_option("--plot", a->out.plot, "PNG plot of the error against nx");
+  add_columns_option(cmd, a->out, {"method", "gradient", "frame", "nx", "particles", "steps", "error_u_mean", "error_u_inf",
+                                   "error_u_l2", "error_p_mean", "error_phi_inf", "decay_rate_error", "max_div_u",
+                                   "max_div_after", "order_u_mean", "order_u_inf", "order_u_l2", "order_p_mean",
+                                   "seconds_per_step"});
+  auto config = std::make_shared<std::string>();
+  add_config_option(cmd, *config);
+  cmd->callback([a, cmd, config] {
+    if (!config->empty()) {
+      apply_problem_file(*cmd, *config);
+      reject_output_over_input(*cmd);
+    }
+    run_flow(*a);
+  });
+}
+
+}  // namespace vrsph::cli
