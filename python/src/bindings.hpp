@@ -22,6 +22,7 @@ void bind_clouds(py::module_& m);
 void bind_operators(py::module_& m);
 void bind_problems(py::module_& m);
 void bind_moving(py::module_& m);
+void bind_flow(py::module_& m);
 
 /// A numpy array that owns `values` (moved into a capsule): no copy of the C++ data.
 template <class T>

@@ -141,4 +141,5 @@ PYBIND11_MODULE(_vrsph, m) {
   vp::bind_operators(m);
   vp::bind_problems(m);
   vp::bind_moving(m);
+  vp::bind_flow(m);
 }

@@ -68,7 +68,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 )
 
 __all__ = [
-    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Problem", "solve", "Solution", "study",
+    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "ArgumentTypeError", "GeometryError", "NumericalError", "FeatureUnavailable", "parts", "__version__", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
@@ -190,7 +190,8 @@ class Operators:
     the Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
     Verlet skin as a fraction of the support radius; ``warm_start=False`` makes every update
     equal a fresh build bit for bit (with it VRSPH's rows meet the same moment conditions but may
-    pick other volumes). A periodic cloud is rebuilt on its images at every update.
+    pick other volumes). On a periodic cloud the rows that read only pair vectors (VRSPH's point
+    rows, FPM with v = dx^d) take the minimum-image list; others are rebuilt on the images.
 
     ``update(positions)`` takes an (N, dim) array (the same particles; InputError otherwise, and
     the operators stay as they were). ``stencil(op)`` returns what :func:`stencil` returns (a
@@ -268,6 +269,69 @@ class Operators:
         if u.shape != (n,):
             raise InputError(f"{operator}: values of shape {u.shape} for {n} particles")
         return np.column_stack([m @ u for m in s]) if isinstance(s, tuple) else s @ u
+
+
+class Flow:
+    """Incompressible flow on a periodic cloud by Runge-Kutta with a pressure per stage and a
+    projection per step (``vrsph flow``; docs/flow.md). ``velocity``: the initial (N, dim) field
+    (projected once). ``frame``: "eulerian" (the cloud stays) or "lagrangian" (particles move with
+    the flow; ``shifting`` "none", "xu" or "lind"). ``method`` builds the Laplacian (pressure
+    Poisson, viscous term); ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient.
+    ``step(dt)`` returns the step's diagnostics; ``pressure()`` the pressure of the current velocity."""
+
+    def __init__(self, cloud: Cloud, velocity: Any, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
+                 nu: float = 0.01, scheme: str = "rk3", h_factor: float = 3.0, kernel: str = "cubic",
+                 options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
+                 allow_unstable: bool = False):
+        _check_cloud(cloud)
+        self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
+                                     _args.text(method, "method"), _args.text(gradient, "gradient"),
+                                     _args.number(nu, "nu", minimum=0.0), _args.text(scheme, "scheme"),
+                                     _args.number(h_factor, "h_factor", positive=True), _args.text(kernel, "kernel"),
+                                     _args.options(options, "options"), _args.text(shifting, "shifting"),
+                                     _args.number(shift_coefficient, "shift_coefficient", minimum=0.0),
+                                     _args.flag(allow_unstable, "allow_unstable"))
+
+    def step(self, dt: float) -> dict:
+        return self._s.step(_args.number(dt, "dt", positive=True))
+
+    def stable_time_step(self, safety: float = 0.9) -> float:
+        return self._s.stable_time_step(_args.number(safety, "safety", positive=True))
+
+    def pressure(self) -> np.ndarray:
+        return self._s.pressure()
+
+    @property
+    def velocity(self) -> np.ndarray:
+        return self._s.velocity
+
+    @property
+    def positions(self) -> np.ndarray:
+        return self._s.positions
+
+    @property
+    def time(self) -> float:
+        return self._s.time
+
+    @property
+    def max_divergence(self) -> float:
+        return self._s.max_divergence
+
+
+def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
+                 t_end: float = 1.0, re: float = 100.0, cfl: float = 0.25, jitter: float = 0.2, seed: int = 1,
+                 scheme: str = "rk3", h_factor: float = 3.0, options: Mapping[str, Any] | None = None,
+                 shifting: str = "none", shift_coefficient: float = 0.0) -> dict:
+    """One row of ``vrsph flow --case taylor-green`` (2D Taylor-Green, 3D Beltrami vortex): the
+    errors at ``t_end`` on the periodic unit box with ``nx`` particles per period."""
+    return _vrsph._taylor_green(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
+                                _args.text(frame, "frame"), _args.text(method, "method"), _args.text(gradient, "gradient"),
+                                _args.number(t_end, "t_end", positive=True), _args.number(re, "re", positive=True),
+                                _args.number(cfl, "cfl", positive=True), _args.number(jitter, "jitter", minimum=0.0),
+                                _args.integer(seed, "seed", minimum=0), _args.text(scheme, "scheme"),
+                                _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"),
+                                _args.text(shifting, "shifting"),
+                                _args.number(shift_coefficient, "shift_coefficient", minimum=0.0))
 
 
 class Solution(dict):

@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The flow layer (vrsph::FlowSolver and the Taylor–Green study) for Python: the solver steps a
+// velocity given as an (N, dim) array; the study returns its row as a dict.
+#include <vrsph/core/error.hpp>
+#include <vrsph/flow/flow_study.hpp>
+#include <vrsph/kernels/kernel.hpp>
+#include "bindings.hpp"
+#include "cloud_cache.hpp"
+
+namespace vrsph::python {
+
+namespace {
+
+Eigen::MatrixXd matrix_from(const py::handle& values, Index n, int dim, const char* what) {
+  const auto a = py::array_t<Real, py::array::c_style | py::array::forcecast>::ensure(values);
+  check<InputError>(a && a.ndim() == 2 && a.shape(0) == n && a.shape(1) == dim, what, " must be an (N, dim) = (", n, ", ",
+                    dim, ") array of numbers");
+  Eigen::MatrixXd m(n, dim);
+  const Real* p = a.data();
+  for (Index i = 0; i < n; ++i)
+    for (int k = 0; k < dim; ++k) m(i, k) = p[i * dim + k];
+  return m;
+}
+
+py::array_t<Real> array_of(const Eigen::MatrixXd& m) {
+  py::array_t<Real> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+  auto w = out.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < m.rows(); ++i)
+    for (Eigen::Index k = 0; k < m.cols(); ++k) w(i, k) = m(i, k);
+  return out;
+}
+
+FlowOptions flow_options(const std::string& frame, const std::string& method, const std::string& gradient, double nu,
+                         const std::string& scheme, double h_factor, const std::string& kernel, const py::dict& options,
+                         const std::string& shifting, double shift_coefficient, bool allow_unstable) {
+  FlowOptions o;
+  o.frame = parse_flow_frame(frame);
+  o.scheme = parse_flow_scheme(scheme);
+  o.operators.method = method;
+  o.operators.method_options = method_options_from(options);
+  o.operators.h_factor = h_factor;
+  o.operators.kernel = parse_kernel(kernel);
+  o.gradient = gradient;
+  o.nu = nu;
+  o.shifting = {parse_shifting(shifting), shift_coefficient};
+  o.allow_unstable = allow_unstable;
+  return o;
+}
+
+py::dict report_dict(const FlowStepReport& r) {
+  py::dict d;
+  d["step"] = r.step;
+  d["t"] = r.t;
+  d["dt"] = r.dt;
+  d["kinetic_energy"] = r.kinetic_energy;
+  d["max_speed"] = r.max_speed;
+  d["max_div_u"] = r.max_div_u;
+  d["cfl"] = r.cfl;
+  d["advective_number"] = r.advective_number;
+  d["viscous_number"] = r.viscous_number;
+  d["ppe_iterations"] = r.ppe_iterations;
+  d["min_spacing"] = r.min_spacing;
+  d["max_spacing"] = r.max_spacing;
+  d["max_shift"] = r.max_shift;
+  d["seconds_update"] = r.seconds_update;
+  d["seconds_ppe"] = r.seconds_ppe;
+  d["seconds_rhs"] = r.seconds_rhs;
+  d["warnings"] = r.warnings;
+  return d;
+}
+
+std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handle& velocity, const std::string& frame,
+                                        const std::string& method, const std::string& gradient, double nu,
+                                        const std::string& scheme, double h_factor, const std::string& kernel,
+                                        const py::dict& options, const std::string& shifting, double shift_coefficient,
+                                        bool allow_unstable) {
+  const PointCloud& c = as_cloud(cloud);
+  const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
+  FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
+                               allow_unstable);
+  py::gil_scoped_release release;
+  return std::make_unique<FlowSolver>(c, u0, std::move(o));
+}
+
+py::dict taylor_green(int nx, int dim, const std::string& frame, const std::string& method, const std::string& gradient,
+                      double t_end, double re, double cfl, double jitter, std::uint64_t seed, const std::string& scheme,
+                      double h_factor, const py::dict& options, const std::string& shifting, double shift_coefficient) {
+  VortexRunOptions o;
+  o.cloud = {dim, nx, jitter, seed};
+  o.vortex.Re = re;
+  o.t_end = t_end;
+  o.cfl = cfl;
+  o.flow = flow_options(frame, method, gradient, 0, scheme, h_factor, "cubic", options, shifting, shift_coefficient, false);
+  VortexRunRow r;
+  {
+    py::gil_scoped_release release;
+    r = run_periodic_vortex(o);
+  }
+  py::dict d;
+  d["nx"] = r.nx;
+  d["particles"] = r.particles;
+  d["t"] = r.t;
+  d["steps"] = r.steps;
+  d["dt"] = r.dt;
+  d["error_u_mean"] = r.errors.error_u_mean;
+  d["error_u_inf"] = r.errors.error_u_inf;
+  d["error_p_mean"] = r.errors.error_p_mean;
+  d["error_p_inf"] = r.errors.error_p_inf;
+  d["decay_rate_error"] = r.errors.decay_rate_error;
+  d["max_div_u"] = r.max_div_u;
+  d["kinetic_energy"] = r.kinetic_energy;
+  d["min_spacing"] = r.min_spacing;
+  d["max_spacing"] = r.max_spacing;
+  d["seconds_per_step"] = r.seconds_per_step;
+  return d;
+}
+
+}  // namespace
+
+void bind_flow(py::module_& m) {
+  py::class_<FlowSolver>(m, "_FlowSolver")
+      .def(py::init(&make_solver), py::arg("cloud"), py::arg("velocity"), py::arg("frame"), py::arg("method"),
+           py::arg("gradient"), py::arg("nu"), py::arg("scheme"), py::arg("h_factor"), py::arg("kernel"), py::arg("options"),
+           py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"))
+      .def("step", [](FlowSolver& s, double dt) {
+        FlowStepReport r;
+        {
+          py::gil_scoped_release release;
+          r = s.step(dt);
+        }
+        return report_dict(r);
+      }, py::arg("dt"))
+      .def("stable_time_step", &FlowSolver::stable_time_step, py::arg("safety"))
+      .def("pressure", [](const FlowSolver& s) {
+        const Field p = s.pressure();
+        return py::array_t<Real>(static_cast<py::ssize_t>(p.size()), p.data());
+      })
+      .def_property_readonly("velocity", [](const FlowSolver& s) { return array_of(s.velocity()); })
+      .def_property_readonly("positions", [](const FlowSolver& s) {
+        const auto& x = s.positions();
+        Eigen::MatrixXd xm(static_cast<Eigen::Index>(x.size()), s.operators().cloud().dim);
+        for (Eigen::Index i = 0; i < xm.rows(); ++i) xm.row(i) = x[static_cast<std::size_t>(i)].head(xm.cols()).transpose();
+        return array_of(xm);
+      })
+      .def_property_readonly("time", &FlowSolver::time)
+      .def_property_readonly("steps", &FlowSolver::steps)
+      .def_property_readonly("max_divergence", &FlowSolver::max_divergence);
+  m.def("_taylor_green", &taylor_green, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("gradient"),
+        py::arg("t_end"), py::arg("re"), py::arg("cfl"), py::arg("jitter"), py::arg("seed"), py::arg("scheme"),
+        py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"));
+}
+
+}  // namespace vrsph::python
