@@ -113,7 +113,7 @@ void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, 
   extra["jitter"] = a.cloud == "lattice" ? 0.0 : a.jitter;
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
-  emit(t, a.out, extra.dump(), "nx", "error_u_inf", "method", "frozen-cloud projection: max velocity error");
+  emit(t, a.out, extra.dump(), "nx", "error_u_inf:-1/-2", "method", "frozen-cloud projection: max velocity error");
 }
 
 void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
@@ -192,7 +192,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
-  emit(t, a.out, extra.dump(), "nx", "error_u_mean", "method", "Taylor-Green: mean velocity error");
+  emit(t, a.out, extra.dump(), "nx", "error_u_mean:-1/-2,error_p_mean:-1/-2", "method", "Taylor-Green: mean velocity and pressure errors");
 }
 
 void run_flow(FlowArgs& a) {
