@@ -108,6 +108,8 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   ops_ = std::make_unique<Operators>(std::move(cloud), options_.operators);
   spacing_ = ops_->spacing();
   laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian));
+  check<ConfigError>(std::isfinite(options_.max_speed_growth) && options_.max_speed_growth >= 0,
+                     "flow: max_speed_growth must be finite and >= 0, got ", options_.max_speed_growth);
   check<ConfigError>(std::isfinite(options_.hyperviscosity) && options_.hyperviscosity >= 0 &&
                      std::isfinite(options_.velocity_scale) && options_.velocity_scale >= 0,
                      "flow: the hyperviscosity coefficient and the velocity scale must be finite and >= 0");
@@ -120,6 +122,13 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   u_ = project_state(u0, r);
   report_ = r;
   finish_report(report_);
+  // Without a body force nothing feeds a periodic flow: its kinetic energy can only fall (the
+  // viscous dissipation), so a step that raises it by 5 % is an instability, not a result.
+  // A local instability (a few particles) hardly moves the energy: their speed is bounded too.
+  if (options_.body_force.isZero()) {
+    energy_bound_ = 1.05 * report_.kinetic_energy;
+    if (options_.max_speed_growth > 0) speed_bound_ = options_.max_speed_growth * report_.max_speed;
+  }
 }
 
 FlowSolver::~FlowSolver() = default;
@@ -244,12 +253,15 @@ void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
   move_to(x, r);
 }
 
+Real FlowSolver::kinetic_energy(const Eigen::MatrixXd& u) const {
+  return 0.5 * u.squaredNorm() * ops_->cloud().domain.measure() / static_cast<Real>(u.rows());
+}
+
 void FlowSolver::finish_report(FlowStepReport& r) const {
-  const auto n = u_.rows();
   r.t = t_;
   r.step = steps_;
   r.max_speed = max_row_norm(u_);
-  r.kinetic_energy = 0.5 * u_.squaredNorm() * ops_->cloud().domain.measure() / static_cast<Real>(n);
+  r.kinetic_energy = kinetic_energy(u_);
   r.max_div_u = max_divergence();
   const NeighbourList& nl = ops_->neighbours();
   Real lo = std::numeric_limits<Real>::infinity(), hi = 0;
@@ -324,6 +336,16 @@ const FlowStepReport& FlowSolver::step(Real dt) {
     u_ = project_state(u_end, r);
     check<NumericalError>(u_.allFinite(), "the velocity is no longer finite (the run is unstable: a smaller time "
                           "step, more viscosity or another method)");
+    const Real energy = kinetic_energy(u_);
+    check<NumericalError>(energy <= energy_bound_, "the kinetic energy grew to ", energy, " from ", energy_bound_ / 1.05,
+                          " at the start, without a body force to feed it: the run is unstable (particles too "
+                          "disordered for the projection: shifting; or a smaller time step, another method)");
+    Eigen::Index fastest = 0;
+    const Real speed = u_.rowwise().norm().maxCoeff(&fastest);
+    check<NumericalError>(speed <= speed_bound_, "particle ", fastest, " reached |u| = ", speed, ", ",
+                          options_.max_speed_growth, " times the initial largest speed, without a body force: the run "
+                          "is unstable (particles too disordered for the projection: shifting; or a smaller time step, "
+                          "another method; FlowOptions::max_speed_growth = 0 turns this check off)");
   } catch (const Error& e) {
     u_ = un;
     phi_ = phin;

@@ -22,6 +22,7 @@
 //
 // Boundaries: the box must be periodic along every axis (walls come with the cavity case).
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vrsph/flow/pressure_poisson.hpp>
 #include <vrsph/flow/shifting.hpp>
@@ -59,6 +60,10 @@ struct FlowOptions {
   Real velocity_scale = 0;      ///< U of the hyperviscosity (0: the initial max |u|)
   /// Lagrangian: particle shifting after every step (shifting.hpp); Eulerian: must be none.
   ShiftingOptions shifting;
+  /// Without a body force, a step that leaves a particle faster than this many times the initial
+  /// largest speed is an instability (NumericalError); 0: no such check. (The kinetic energy is
+  /// checked too: it may not grow by 5 %.)
+  Real max_speed_growth = 1.5;
 };
 
 /// One step's diagnostics.
@@ -94,9 +99,10 @@ class FlowSolver {
   FlowSolver(FlowSolver&&) noexcept;
   FlowSolver& operator=(FlowSolver&&) noexcept;
 
-  /// One step of size dt. StabilityError-style refusals are ConfigError (dt beyond the limits,
-  /// unless allow_unstable); NumericalError when the velocity stops being finite or a pressure
-  /// solve fails, GeometryError when particles pile up (Lagrangian) — each naming the step.
+  /// One step of size dt. ConfigError for a dt beyond the limits (unless allow_unstable);
+  /// NumericalError when the velocity stops being finite, its kinetic energy grows without a body
+  /// force (by over 5 %: an instability) or a pressure solve fails; the search's and the methods'
+  /// errors when particles pile up or lose their neighbours (Lagrangian) — each naming the step.
   /// On a throw the state is that of the step before.
   const FlowStepReport& step(Real dt);
   /// The largest dt that meets the limits, times `safety` (in (0, 1]).
@@ -129,6 +135,7 @@ class FlowSolver {
   void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
   Eigen::MatrixXd project_state(const Eigen::MatrixXd& w, FlowStepReport& r);
   void finish_report(FlowStepReport& r) const;
+  Real kinetic_energy(const Eigen::MatrixXd& u) const;
 
   FlowOptions options_;
   std::unique_ptr<Operators> ops_;
@@ -139,6 +146,8 @@ class FlowSolver {
   Real t_ = 0, spacing_ = 0, laplacian_bound_ = 0, gamma_ = 0;  ///< gamma_: the hyperviscosity c U dx³
   Index steps_ = 0;
   FlowStepReport report_;
+  Real energy_bound_ = std::numeric_limits<Real>::infinity();  ///< no body force: 1.05 x the initial kinetic energy
+  Real speed_bound_ = std::numeric_limits<Real>::infinity();   ///< no body force: max_speed_growth x the initial max |u|
 };
 
 }  // namespace vrsph

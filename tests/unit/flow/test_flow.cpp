@@ -181,6 +181,29 @@ TEST(FlowSolver, RefusesAnUnstableStepAndKeepsItsState) {
   EXPECT_NEAR(s.time(), 0.5 * limit, 1e-15);
 }
 
+TEST(FlowSolver, StopsARunThatBlowsUpAtTheStepItHappens) {
+  // Steps far beyond the limit, allowed: the velocity grows, and the run stops with the step named
+  // and the state of the step before (no field of a blown-up run is handed out).
+  const PointCloud c = flow_cloud(8);
+  FlowOptions o;
+  o.allow_unstable = true;
+  FlowSolver s(c, vortex_at(c), o);
+  const Real dt = 40 * s.stable_time_step(1.0);  // Gershgorin bounds are cautious: 4x still ran
+  bool stopped = false;
+  for (int k = 0; k < 50 && !stopped; ++k) {
+    const Eigen::MatrixXd before = s.velocity();
+    try {
+      s.step(dt);
+    } catch (const NumericalError& e) {
+      stopped = true;
+      EXPECT_NE(std::string(e.what()).find(detail::concat("flow step ", k + 1)), std::string::npos) << e.what();
+      EXPECT_EQ(s.velocity(), before);
+      EXPECT_TRUE(s.velocity().allFinite());
+    }
+  }
+  EXPECT_TRUE(stopped);
+}
+
 TEST(FlowSolver, LagrangianParticlesMoveWithTheFlowAndShiftingSpreadsThem) {
   const PointCloud c = flow_cloud(16);
   FlowOptions o;
