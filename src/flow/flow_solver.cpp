@@ -309,7 +309,7 @@ const FlowStepReport& FlowSolver::step(Real dt) {
     r.warnings.push_back(m);
   }
   const Eigen::MatrixXd un = u_;
-  const Field phin = phi_;
+  const Field phin = phi_, correctionn = correction_;
   const bool lagrangian = options_.frame == FlowFrame::Lagrangian;
   const std::vector<Vec3> xn = ops_->cloud().positions;
   const Domain& box = ops_->cloud().domain;
@@ -359,6 +359,7 @@ const FlowStepReport& FlowSolver::step(Real dt) {
   } catch (const Error& e) {
     u_ = un;
     phi_ = phin;
+    correction_ = correctionn;
     if (lagrangian && ops_->cloud().positions != xn) {
       FlowStepReport ignored;
       move_to(xn, ignored);
