@@ -41,7 +41,7 @@ PressurePoisson::PressurePoisson(const CsrMatrix& A, const SolverOptions& option
   z_.resize(0);
   setup_ = solver_->solve(unit, z_);
   check<NumericalError>(setup_.success, "pressure Poisson: the unit-source solve failed (", setup_.solver, ": ",
-                        setup_.message, ")");
+                        setup_.message, "); a direct solver (umfpack) may solve what the iterative one could not");
   setup_.seconds_setup = solver_->seconds_setup();
   sigma_ = pinned_defect(z_, 1.0);
   check<NumericalError>(std::isfinite(sigma_) && sigma_ != 0, "pressure Poisson: a unit source leaves no defect at the "

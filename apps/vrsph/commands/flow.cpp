@@ -80,7 +80,7 @@ void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, 
                     const std::map<std::string, MethodOptions>& options) {
   Table t;
   t.columns = projection_columns;
-  SolverOptions so;
+  SolverOptions so = pressure_solver_defaults();
   so.type = parse_solver(a.solver);
   Progress progress;
   std::size_t done = 0;

@@ -38,6 +38,13 @@ FlowScheme parse_flow_scheme(const std::string& name);
 std::string to_string(FlowFrame f);
 std::string to_string(FlowScheme s);
 
+/// SolverOptions with the iteration cap of the pressure solves (1000).
+inline SolverOptions pressure_solver_defaults() {
+  SolverOptions o;
+  o.max_iterations = 1000;
+  return o;
+}
+
 struct FlowOptions {
   FlowFrame frame = FlowFrame::Eulerian;
   FlowScheme scheme = FlowScheme::RK3;
@@ -50,7 +57,10 @@ struct FlowOptions {
   /// options say otherwise; any other method: its own), "own" (the method's), or a method name
   /// (operators.gradient_method_options its options). Why: docs/flow.md, "Which gradient".
   std::string gradient = "auto";
-  SolverOptions solver;         ///< the pressure Poisson solves
+  /// The pressure Poisson solves. An iterative solve stops after 1000 iterations (a pressure
+  /// matrix AMG cannot handle — FPM's Laplacian at 6.5e4 particles ran GMRES for minutes —
+  /// fails with the solver's message instead; VRSPH's need 10–25).
+  SolverOptions solver = pressure_solver_defaults();
   bool allow_unstable = false;  ///< step() warns instead of refusing a time step beyond the limits
   /// Eulerian stabilisation: the term -c U dx³ L(L u) added to F (c this coefficient, U the
   /// velocity scale, dx the spacing), a hyperviscosity that damps the grid-scale modes a
