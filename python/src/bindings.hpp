@@ -32,6 +32,9 @@ py::array_t<T> owning_array(std::vector<T>&& values) {
   return py::array_t<T>({static_cast<py::ssize_t>(heap->size())}, {static_cast<py::ssize_t>(sizeof(T))}, heap->data(), owner);
 }
 
+/// The cloud's positions as an (N, dim) float64 array (a copy: the cloud moves on).
+py::array_t<Real> positions_array(const PointCloud& cloud);
+
 /// A float64 vector of exactly n values from a Python object (array-like), or InputError
 /// naming `what` and the problem (shape, dtype, non-finite values are left to the library).
 Field field_from(const py::handle& values, Index n, const char* what);

@@ -136,12 +136,7 @@ void bind_flow(py::module_& m) {
         return py::array_t<Real>(static_cast<py::ssize_t>(p.size()), p.data());
       })
       .def_property_readonly("velocity", [](const FlowSolver& s) { return array_of(s.velocity()); })
-      .def_property_readonly("positions", [](const FlowSolver& s) {
-        const auto& x = s.positions();
-        Eigen::MatrixXd xm(static_cast<Eigen::Index>(x.size()), s.operators().cloud().dim);
-        for (Eigen::Index i = 0; i < xm.rows(); ++i) xm.row(i) = x[static_cast<std::size_t>(i)].head(xm.cols()).transpose();
-        return array_of(xm);
-      })
+      .def_property_readonly("positions", [](const FlowSolver& s) { return positions_array(s.operators().cloud()); })
       .def_property_readonly("time", &FlowSolver::time)
       .def_property_readonly("steps", &FlowSolver::steps)
       .def_property_readonly("max_divergence", &FlowSolver::max_divergence);

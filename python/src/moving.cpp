@@ -89,14 +89,15 @@ void bind_moving(py::module_& m) {
       .def_property_readonly("radius", &Operators::radius)
       .def_property_readonly("n", [](const Operators& o) { return o.cloud().size(); })
       .def_property_readonly("dim", [](const Operators& o) { return o.cloud().dim; })
-      .def_property_readonly("positions", [](const Operators& o) {
-        const PointCloud& c = o.cloud();
-        py::array_t<Real> out({static_cast<py::ssize_t>(c.size()), static_cast<py::ssize_t>(c.dim)});
-        auto w = out.mutable_unchecked<2>();
-        for (Index i = 0; i < c.size(); ++i)
-          for (int k = 0; k < c.dim; ++k) w(i, k) = c.positions[static_cast<std::size_t>(i)][k];
-        return out;
-      });
+      .def_property_readonly("positions", [](const Operators& o) { return positions_array(o.cloud()); });
+}
+
+py::array_t<Real> positions_array(const PointCloud& c) {
+  py::array_t<Real> out({static_cast<py::ssize_t>(c.size()), static_cast<py::ssize_t>(c.dim)});
+  auto w = out.mutable_unchecked<2>();
+  for (Index i = 0; i < c.size(); ++i)
+    for (int k = 0; k < c.dim; ++k) w(i, k) = c.positions[static_cast<std::size_t>(i)][k];
+  return out;
 }
 
 }  // namespace vrsph::python

@@ -53,6 +53,13 @@ Real row_sum_bound(const Stencil& s) {
 
 Real max_row_norm(const Eigen::MatrixXd& u) { return u.rows() ? u.rowwise().norm().maxCoeff() : 0.0; }
 
+// One pressure solve in the step's report (iterations, the largest shift λ, seconds).
+void count_solve(FlowStepReport& r, const SolveReport& solve, Real shift, double seconds) {
+  r.ppe_iterations += solve.iterations;
+  r.ppe_shift = std::max(r.ppe_shift, std::abs(shift));
+  r.seconds_ppe += seconds;
+}
+
 }  // namespace
 
 OperatorsOptions flow_operators(const FlowOptions& options) {
@@ -187,11 +194,7 @@ Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& a
   // ∂u/∂t = f - (u·∇)u - ∇p stays divergence-free: L p = D (f - (u·G)u).
   Field p = phi_;
   const PressurePoisson::Result res = ppe_->solve(ops_->apply(VectorOperator::Divergence, f - adv).col(0), p);
-  if (r) {
-    r->ppe_iterations += res.report.iterations;
-    r->ppe_shift = std::max(r->ppe_shift, std::abs(res.shift));
-    r->seconds_ppe += watch.seconds();
-  }
+  if (r) count_solve(*r, res.report, res.shift, watch.seconds());
   return p;
 }
 
@@ -211,12 +214,9 @@ Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, FlowStepReport& r) {
 
 Eigen::MatrixXd FlowSolver::project_state(const Eigen::MatrixXd& w, FlowStepReport& r) {
   const Stopwatch watch;
-  Field guess = correction_;
-  Projected p = project(*ops_, *ppe_, w, guess);
+  Projected p = project(*ops_, *ppe_, w, correction_);
   correction_ = std::move(p.phi);
-  r.ppe_iterations += p.report.iterations;
-  r.ppe_shift = std::max(r.ppe_shift, std::abs(p.shift));
-  r.seconds_ppe += watch.seconds();
+  count_solve(r, p.report, p.shift, watch.seconds());
   return std::move(p.u);
 }
 

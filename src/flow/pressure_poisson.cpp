@@ -7,18 +7,16 @@
 namespace vrsph {
 
 namespace {
-// A with row p replaced by the identity's, and the zeros the methods store (VRSPH keeps its
-// whole neighbour pattern, most of it without volume) dropped: less work for the solver.
-CsrMatrix pinned_matrix(const CsrMatrix& A, Index p) {
-  CsrMatrix B = A;
-  for (CsrMatrix::InnerIterator it(B, p); it; ++it) it.valueRef() = it.col() == p ? 1.0 : 0.0;
-  B.prune(0.0);
-  B.makeCompressed();
-  return B;
+// A's row p replaced by the identity's, and the zeros the methods store (VRSPH keeps its whole
+// neighbour pattern, most of it without volume) dropped: less work for the solver.
+void pin_row(CsrMatrix& A, Index p) {
+  for (CsrMatrix::InnerIterator it(A, p); it; ++it) it.valueRef() = it.col() == p ? 1.0 : 0.0;
+  A.prune(0.0);
+  A.makeCompressed();
 }
 }  // namespace
 
-PressurePoisson::PressurePoisson(const CsrMatrix& A, const SolverOptions& options, Index pinned)
+PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned)
     : n_(static_cast<Index>(A.rows())), pinned_(pinned) {
   check<InputError>(A.rows() == A.cols() && n_ > 1, "pressure Poisson: the matrix must be square over at least two "
                     "particles, got ", A.rows(), " x ", A.cols());
@@ -35,7 +33,8 @@ PressurePoisson::PressurePoisson(const CsrMatrix& A, const SolverOptions& option
     check<InputError>(std::abs(sum) <= 1e-8 * size, "pressure Poisson: row ", i, " sums to ", sum, " (of ", size,
                       "): its rows must annihilate constants (a Laplacian in difference form)");
   }
-  solver_ = std::make_unique<PreparedSolver>(pinned_matrix(A, pinned_), options);
+  pin_row(A, pinned_);  // row_ keeps the original row for the defect
+  solver_ = std::make_unique<PreparedSolver>(A, options);
   Field unit = Field::Ones(n_);
   unit[pinned_] = 0;
   z_.resize(0);

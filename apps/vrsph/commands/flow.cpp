@@ -52,12 +52,9 @@ OperatorsOptions operators_for(const FlowArgs& a, const std::string& method,
 }
 
 // Observed orders between consecutive resolutions of one method (the first row has none).
-void add_orders(Table& t, std::size_t first, const std::vector<Real>& nx, const std::map<std::string, std::vector<Real>>& errors) {
-  const std::vector<Real> h = [&] {
-    std::vector<Real> out;
-    for (const Real n : nx) out.push_back(1.0 / n);
-    return out;
-  }();
+void add_orders(Table& t, std::size_t first, const std::vector<int>& nx, const std::map<std::string, std::vector<Real>>& errors) {
+  std::vector<Real> h;
+  for (const int n : nx) h.push_back(1.0 / n);
   for (const auto& [name, e] : errors) {
     const std::vector<Real> orders = pairwise_orders(h, e);
     const auto col = static_cast<std::size_t>(std::find(t.columns.begin(), t.columns.end(), name) - t.columns.begin());
@@ -87,7 +84,6 @@ void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, 
   for (const std::string& m : methods) {
     const std::size_t first = t.rows.size();
     std::map<std::string, std::vector<Real>> errors;
-    std::vector<Real> nx;
     for (const int n : nxs) {
       progress.update(detail::concat(m, " nx = ", n), static_cast<double>(done++) / static_cast<double>(methods.size() * nxs.size()));
       FlowOptions fo;
@@ -95,7 +91,6 @@ void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, 
       fo.gradient = a.gradient;
       const OperatorsOptions ops = flow_operators(fo);
       const ProjectionStudyRow r = frozen_projection(cloud_spec(a, n), ops, so);
-      nx.push_back(n);
       errors["order_u_inf"].push_back(r.error_u_inf);
       errors["order_u_l2"].push_back(r.error_u_l2);
       errors["order_phi_inf"].push_back(r.error_phi_inf);
@@ -106,7 +101,7 @@ void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, 
                  {"error_phi_inf", r.error_phi_inf}, {"max_div_before", r.max_div_before}, {"max_div_after", r.max_div_after},
                  {"solver_iterations", static_cast<long long>(r.iterations)}, {"seconds", r.seconds}});
     }
-    add_orders(t, first, nx, errors);
+    add_orders(t, first, nxs, errors);
   }
   nlohmann::ordered_json extra;
   extra["case"] = "projection";
@@ -126,7 +121,6 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   for (const std::string& m : methods) {
     const std::size_t first = t.rows.size();
     std::map<std::string, std::vector<Real>> errors;
-    std::vector<Real> nx;
     for (const int n : nxs) {
       VortexRunOptions o;
       o.cloud = cloud_spec(a, n);
@@ -156,14 +150,13 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / a.t_end) / runs);
         const bool last = s.time() >= a.t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
-          PointCloud c = s.operators().cloud();
-          series->write(s.time(), c, {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
+          series->write(s.time(), s.operators().cloud(),
+                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
         }
       };
       const VortexRunRow r = run_periodic_vortex(o);
       if (warned > 0 && communicator().rank() == 0)
         std::cerr << "vrsph: warning: " << first_warning << (warned > 1 ? detail::concat(" (and ", warned - 1, " more)") : "") << '\n';
-      nx.push_back(n);
       errors["order_u_mean"].push_back(r.errors.error_u_mean);
       errors["order_u_inf"].push_back(r.errors.error_u_inf);
       errors["order_p_mean"].push_back(r.errors.error_p_mean);
@@ -179,7 +172,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
                  {"ppe_iterations_per_step", r.ppe_iterations_per_step}, {"seconds_per_step", r.seconds_per_step},
                  {"seconds_update", r.seconds_update}, {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}});
     }
-    add_orders(t, first, nx, errors);
+    add_orders(t, first, nxs, errors);
   }
   nlohmann::ordered_json extra;
   extra["case"] = "taylor-green";

@@ -17,11 +17,12 @@ namespace vrsph {
 
 class PressurePoisson {
  public:
-  /// A: N x N, every row summing to zero (InputError otherwise, naming the row); pinned: the
+  /// A: N x N (taken by value: its pinned form is made in place), every row summing to zero
+  /// (InputError otherwise, naming the row); pinned: the
   /// particle whose row is replaced (any; the result does not depend on it beyond the solver's
   /// tolerance). Throws as PreparedSolver, and NumericalError when the unit source leaves no
   /// defect (A's rows are not a consistent Laplacian).
-  PressurePoisson(const CsrMatrix& A, const SolverOptions& options, Index pinned = 0);
+  PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned = 0);
   ~PressurePoisson();
   PressurePoisson(PressurePoisson&&) noexcept;
   PressurePoisson& operator=(PressurePoisson&&) noexcept;
