@@ -2,6 +2,7 @@
 // The flow layer (vrsph::FlowSolver and the Taylor–Green study) for Python: the solver steps a
 // velocity given as an (N, dim) array; the study returns its row as a dict.
 #include <vrsph/core/error.hpp>
+#include <vrsph/flow/cavity.hpp>
 #include <vrsph/flow/flow_study.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include "bindings.hpp"
@@ -73,13 +74,58 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
                                         const std::string& method, const std::string& gradient, double nu,
                                         const std::string& scheme, double h_factor, const std::string& kernel,
                                         const py::dict& options, const std::string& shifting, double shift_coefficient,
-                                        bool allow_unstable) {
+                                        bool allow_unstable, const py::object& wall_velocity) {
   const PointCloud& c = as_cloud(cloud);
   const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
   FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
                                allow_unstable);
+  if (!wall_velocity.is_none()) {
+    // An (N, dim) array: the rows of the wall particles are their velocities (the rest unused).
+    auto walls = std::make_shared<Eigen::MatrixXd>(matrix_from(wall_velocity, c.size(), c.dim, "wall_velocity"));
+    o.wall_velocity = [walls](Index i, const Vec3&) {
+      Vec3 v = Vec3::Zero();
+      v.head(walls->cols()) = walls->row(i).transpose();
+      return v;
+    };
+  }
   py::gil_scoped_release release;
   return std::make_unique<FlowSolver>(c, u0, std::move(o));
+}
+
+py::dict cavity(int nx, double re, const std::string& method, const std::string& gradient, double jitter,
+                std::uint64_t seed, double t_end, double steady_tolerance, double cfl, double h_factor,
+                const py::dict& options) {
+  CavityRunOptions o;
+  o.cloud = {nx, jitter, seed};
+  o.re = re;
+  o.t_end = t_end;
+  o.steady_tolerance = steady_tolerance;
+  o.cfl = cfl;
+  o.flow = flow_options("eulerian", method, gradient, 0, "rk3", h_factor, "cubic", options, "none", 0, false);
+  CavityRunRow r;
+  {
+    py::gil_scoped_release release;
+    r = run_cavity(o);
+  }
+  py::dict d;
+  d["nx"] = r.nx;
+  d["particles"] = r.particles;
+  d["re"] = r.re;
+  d["t"] = r.t;
+  d["steps"] = r.steps;
+  d["dt"] = r.dt;
+  d["steady"] = r.steady;
+  d["steady_residual"] = r.steady_residual;
+  d["ghia_max_deviation_u"] = r.ghia_max_deviation_u;
+  d["ghia_max_deviation_v"] = r.ghia_max_deviation_v;
+  d["u_at_ghia"] = r.u_at_ghia;
+  d["v_at_ghia"] = r.v_at_ghia;
+  d["max_div_u"] = r.max_div_u;
+  d["seconds_per_step"] = r.seconds_per_step;
+  d["line"] = r.line;
+  d["u_line"] = r.u_line;
+  d["v_line"] = r.v_line;
+  return d;
 }
 
 py::dict taylor_green(int nx, int dim, const std::string& frame, const std::string& method, const std::string& gradient,
@@ -121,7 +167,7 @@ void bind_flow(py::module_& m) {
   py::class_<FlowSolver>(m, "_FlowSolver")
       .def(py::init(&make_solver), py::arg("cloud"), py::arg("velocity"), py::arg("frame"), py::arg("method"),
            py::arg("gradient"), py::arg("nu"), py::arg("scheme"), py::arg("h_factor"), py::arg("kernel"), py::arg("options"),
-           py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"))
+           py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"), py::arg("wall_velocity"))
       .def("step", [](FlowSolver& s, double dt) {
         FlowStepReport r;
         {
@@ -140,6 +186,9 @@ void bind_flow(py::module_& m) {
       .def_property_readonly("time", &FlowSolver::time)
       .def_property_readonly("steps", &FlowSolver::steps)
       .def_property_readonly("max_divergence", &FlowSolver::max_divergence);
+  m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
+        py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
+        py::arg("options"));
   m.def("_taylor_green", &taylor_green, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("gradient"),
         py::arg("t_end"), py::arg("re"), py::arg("cfl"), py::arg("jitter"), py::arg("seed"), py::arg("scheme"),
         py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"));

@@ -68,7 +68,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 )
 
 __all__ = [
-    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "Problem", "solve", "Solution", "study",
+    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "cavity", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "ArgumentTypeError", "GeometryError", "NumericalError", "FeatureUnavailable", "parts", "__version__", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
@@ -272,17 +272,20 @@ class Operators:
 
 
 class Flow:
-    """Incompressible flow on a periodic cloud by Runge-Kutta with a pressure per stage and a
-    projection per step (``vrsph flow``; docs/flow.md). ``velocity``: the initial (N, dim) field
-    (projected once). ``frame``: "eulerian" (the cloud stays) or "lagrangian" (particles move with
-    the flow; ``shifting`` "none", "xu" or "lind"). ``method`` builds the Laplacian (pressure
-    Poisson, viscous term); ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient.
-    ``step(dt)`` returns the step's diagnostics; ``pressure()`` the pressure of the current velocity."""
+    """Incompressible flow on a cloud by Runge-Kutta with a pressure per stage and a projection
+    per step (``vrsph flow``; docs/flow.md). The box is periodic along its periodic axes; the
+    particles tagged dirichlet (with outward normals) are walls, at rest or moving along
+    themselves with the rows of ``wall_velocity`` (an (N, dim) array; None: at rest).
+    ``velocity``: the initial (N, dim) field (projected once). ``frame``: "eulerian" (the cloud
+    stays) or "lagrangian" (particles move with the flow, periodic boxes only; ``shifting``
+    "none", "xu" or "lind"). ``method`` builds the Laplacian (pressure Poisson, viscous term);
+    ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
+    step's diagnostics; ``pressure()`` the pressure of the current velocity."""
 
     def __init__(self, cloud: Cloud, velocity: Any, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
                  nu: float = 0.01, scheme: str = "rk3", h_factor: float = 3.0, kernel: str = "cubic",
                  options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
-                 allow_unstable: bool = False):
+                 allow_unstable: bool = False, wall_velocity: Any = None):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -290,7 +293,8 @@ class Flow:
                                      _args.number(h_factor, "h_factor", positive=True), _args.text(kernel, "kernel"),
                                      _args.options(options, "options"), _args.text(shifting, "shifting"),
                                      _args.number(shift_coefficient, "shift_coefficient", minimum=0.0),
-                                     _args.flag(allow_unstable, "allow_unstable"))
+                                     _args.flag(allow_unstable, "allow_unstable"),
+                                     None if wall_velocity is None else np.asarray(wall_velocity, dtype=float))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))
@@ -316,6 +320,20 @@ class Flow:
     @property
     def max_divergence(self) -> float:
         return self._s.max_divergence
+
+
+def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str = "auto", jitter: float = 0.2,
+           seed: int = 1, t_end: float = 100.0, steady_tol: float = 1e-4, cfl: float = 0.25, h_factor: float = 3.0,
+           options: Mapping[str, Any] | None = None) -> dict:
+    """One row of ``vrsph flow --case cavity``: the lid-driven cavity (Re 100 or 1000) on the unit
+    square with ``nx`` intervals per side, run until steady; the largest centre-line deviations
+    from Ghia et al. (1982), the values at their points and the profiles on 101 points."""
+    return _vrsph._cavity(_args.integer(nx, "nx", minimum=8), _args.number(re, "re", positive=True),
+                          _args.text(method, "method"), _args.text(gradient, "gradient"),
+                          _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
+                          _args.number(t_end, "t_end", positive=True),
+                          _args.number(steady_tol, "steady_tol", positive=True), _args.number(cfl, "cfl", positive=True),
+                          _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"))
 
 
 def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",

@@ -29,10 +29,11 @@ std::string to_string(FlowScheme s) { return s == FlowScheme::RK2 ? "rk2" : "rk3
 
 namespace {
 
-// max_i Σ_j |L_ij|: a bound of the spectral radius (Gershgorin).
-Real row_sum_bound(const Stencil& s) {
+// max_i Σ_j |L_ij| over the fluid rows: a bound of the spectral radius (Gershgorin).
+Real row_sum_bound(const Stencil& s, const Walls& walls) {
   Real b = 0;
   for (Index i = 0; i < s.rows(); ++i) {
+    if (!walls.empty() && walls.is_wall[static_cast<std::size_t>(i)]) continue;
     Real r = 0;
     for (Index k = s.row_begin(i); k < s.row_end(i); ++k) r += std::abs(s.values[0][static_cast<std::size_t>(k)]);
     b = std::max(b, r);
@@ -93,14 +94,30 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   validate(cloud);
   const int d = cloud.dim;
   check<ConfigError>(d >= 2, "flow: the dimension must be 2 or 3, got ", d);
-  check<ConfigError>(cloud.domain.shape == Domain::Shape::Box && cloud.domain.fully_periodic(),
-                     "flow: the box must be periodic along every axis (walls, moving walls and their pressure "
-                     "condition are not implemented yet)");
-  check<InputError>(std::all_of(cloud.tags.begin(), cloud.tags.end(), [](Tag t) { return t == Tag::Interior; }),
-                    "flow: a periodic box has no boundary particles; every particle must be interior");
+  check<ConfigError>(cloud.domain.shape == Domain::Shape::Box, "flow: the domain must be a box (periodic axes and walls)");
+  walls_ = walls_of(cloud);
+  check<ConfigError>(!walls_.empty() || cloud.domain.fully_periodic(), "flow: a box that is not periodic along every "
+                     "axis needs wall particles (tag dirichlet, with outward normals) on its other faces");
+  check<ConfigError>(walls_.empty() || options_.frame == FlowFrame::Eulerian, "flow: walls are implemented in the "
+                     "eulerian frame only (the lagrangian frame needs a periodic box)");
   check<InputError>(u0.rows() == cloud.size() && u0.cols() == d, "flow: an initial velocity of ", u0.rows(), " x ",
                     u0.cols(), " for ", cloud.size(), " particles in ", d, "D");
   check<InputError>(u0.allFinite(), "flow: the initial velocity is not finite");
+  Eigen::MatrixXd start = u0;
+  Real wall_speed = 0;
+  for (std::size_t w = 0; w < walls_.index.size(); ++w) {
+    const Index i = walls_.index[w];
+    const Vec3 x = cloud.positions[static_cast<std::size_t>(i)];
+    const Vec3 v = options_.wall_velocity ? options_.wall_velocity(i, x) : Vec3::Zero();
+    check<InputError>(v.allFinite(), "flow: the wall velocity at particle ", i, " is not finite");
+    for (int c = d; c < 3; ++c)
+      check<InputError>(v[c] == 0, "flow: a wall velocity along axis ", c, " of a ", d, "D flow (particle ", i, ")");
+    check<InputError>(std::abs(v.dot(walls_.normal[w])) <= 1e-12 * (1 + v.norm()), "flow: wall particle ", i,
+                      " moves through the wall (u·n = ", v.dot(walls_.normal[w]), "); walls may only slide along "
+                      "themselves");
+    start.row(i) = v.head(d).transpose();
+    wall_speed = std::max(wall_speed, v.norm());
+  }
   check<ConfigError>(std::isfinite(options_.nu) && options_.nu >= 0, "flow: the viscosity must be finite and >= 0, got ",
                      options_.nu);
   check<ConfigError>(options_.body_force.allFinite(), "flow: the body force must be finite");
@@ -114,27 +131,30 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   options_.solver.dimension = d;
   ops_ = std::make_unique<Operators>(std::move(cloud), options_.operators);
   spacing_ = ops_->spacing();
-  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian));
+  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian), walls_);
   check<ConfigError>(std::isfinite(options_.max_speed_growth) && options_.max_speed_growth >= 0,
                      "flow: max_speed_growth must be finite and >= 0, got ", options_.max_speed_growth);
   check<ConfigError>(std::isfinite(options_.hyperviscosity) && options_.hyperviscosity >= 0 &&
                      std::isfinite(options_.velocity_scale) && options_.velocity_scale >= 0,
                      "flow: the hyperviscosity coefficient and the velocity scale must be finite and >= 0");
   if (options_.frame == FlowFrame::Eulerian) {
-    const Real U = options_.velocity_scale > 0 ? options_.velocity_scale : max_row_norm(u0);
+    const Real U = options_.velocity_scale > 0 ? options_.velocity_scale : max_row_norm(start);
     gamma_ = options_.hyperviscosity * U * spacing_ * spacing_ * spacing_;
   }
-  ppe_ = std::make_unique<PressurePoisson>(laplacian_matrix(*ops_), options_.solver);
+  ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(*ops_, walls_, options_.solver));
   FlowStepReport r;
-  u_ = project_state(u0, r);
+  u_ = project_state(start, r);
   report_ = r;
   finish_report(report_);
   // Without a body force nothing feeds a periodic flow: its kinetic energy can only fall (the
   // viscous dissipation), so a step that raises it by 5 % is an instability, not a result.
   // A local instability (a few particles) hardly moves the energy: their speed is bounded too.
+  // Moving walls feed the flow: its energy may grow, but no particle of a stable run outruns
+  // the fastest wall by much (a lid-driven cavity's fluid stays below the lid's speed).
   if (options_.body_force.isZero()) {
-    energy_bound_ = 1.05 * report_.kinetic_energy;
-    if (options_.max_speed_growth > 0) speed_bound_ = options_.max_speed_growth * report_.max_speed;
+    if (wall_speed == 0) energy_bound_ = 1.05 * report_.kinetic_energy;
+    if (options_.max_speed_growth > 0)
+      speed_bound_ = options_.max_speed_growth * std::max(report_.max_speed, wall_speed);
   }
 }
 
@@ -156,6 +176,7 @@ Real FlowSolver::advective_bound(const Eigen::MatrixXd& u) const {
   const int d = G.dim;
   Real b = 0;
   for (Index i = 0; i < G.rows(); ++i) {
+    if (!walls_.empty() && walls_.is_wall[static_cast<std::size_t>(i)]) continue;  // walls do not advance
     Real r = 0;
     for (Index k = G.row_begin(i); k < G.row_end(i); ++k) {
       Real a = 0;
@@ -180,7 +201,8 @@ Real FlowSolver::stable_time_step(Real safety) const {
 }
 
 Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u) const {
-  const Eigen::MatrixXd lap = ops_->apply(VectorOperator::VectorLaplacian, u);
+  Eigen::MatrixXd lap = ops_->apply(VectorOperator::VectorLaplacian, u);
+  wall_laplacian(u, lap);
   Eigen::MatrixXd f = options_.nu * lap;
   if (gamma_ > 0) f -= gamma_ * ops_->apply(VectorOperator::VectorLaplacian, lap);
   for (int c = 0; c < u.cols(); ++c)
@@ -188,12 +210,32 @@ Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u) const {
   return f;
 }
 
+void FlowSolver::wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const {
+  if (walls_.empty()) return;
+  // A wall particle's Laplacian row sees a half (a quarter at a corner) of its support: Σ_a ∂_a ∂_a
+  // from the least-squares gradient of the gradient reads the fluid's rows instead.
+  const Stencil& G = ops_->stencil(OperatorKind::Gradient);
+  const int d = G.dim;
+  for (int c = 0; c < d; ++c) {
+    const Eigen::MatrixXd g = ops_->apply(OperatorKind::Gradient, Field(u.col(c)));  // ∂_a u_c
+    for (const Index i : walls_.index) {
+      Real s = 0;
+      for (Index k = G.row_begin(i); k < G.row_end(i); ++k) {
+        const Index j = G.col[static_cast<std::size_t>(k)];
+        for (int a = 0; a < d; ++a) s += G.values[static_cast<std::size_t>(a)][static_cast<std::size_t>(k)] * g(j, a);
+      }
+      lap(i, c) = s;
+    }
+  }
+}
+
 Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv,
                               FlowStepReport* r) const {
   const Stopwatch watch;
-  // ∂u/∂t = f - (u·∇)u - ∇p stays divergence-free: L p = D (f - (u·G)u).
+  // ∂u/∂t = f - (u·∇)u - ∇p stays divergence-free: L p = D (f - (u·G)u); at walls, which do not
+  // accelerate, n·G p = n·(f - (u·G)u).
   Field p = phi_;
-  const PressurePoisson::Result res = ppe_->solve(ops_->apply(VectorOperator::Divergence, f - adv).col(0), p);
+  const PressurePoisson::Result res = ppe_->solve(pressure_rhs(*ops_, walls_, f - adv), p);
   if (r) count_solve(*r, res.report, res.shift, watch.seconds());
   return p;
 }
@@ -208,13 +250,14 @@ Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, FlowStepReport& r) {
   // Eulerian: ∂u/∂t = f - (u·∇)u - ∇p; Lagrangian: Du/Dt = f - ∇p (the particles carry the advection).
   Eigen::MatrixXd k = f - ops_->apply(OperatorKind::Gradient, phi_);
   if (options_.frame == FlowFrame::Eulerian) k -= adv;
+  for (const Index i : walls_.index) k.row(i).setZero();  // the walls' velocity is prescribed
   r.seconds_rhs += watch.seconds();
   return k;
 }
 
 Eigen::MatrixXd FlowSolver::project_state(const Eigen::MatrixXd& w, FlowStepReport& r) {
   const Stopwatch watch;
-  Projected p = project(*ops_, *ppe_, w, correction_);
+  Projected p = project(*ops_, *ppe_, w, correction_, walls_);
   correction_ = std::move(p.phi);
   count_solve(r, p.report, p.shift, watch.seconds());
   return std::move(p.u);
@@ -223,10 +266,10 @@ Eigen::MatrixXd FlowSolver::project_state(const Eigen::MatrixXd& w, FlowStepRepo
 void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
   Stopwatch watch;
   ops_->update(x);
-  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian));
+  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian), walls_);
   r.seconds_update += watch.seconds();
   watch.restart();
-  ppe_ = std::make_unique<PressurePoisson>(laplacian_matrix(*ops_), options_.solver);
+  ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(*ops_, walls_, options_.solver));
   r.ppe_iterations += ppe_->setup().iterations;
   r.seconds_ppe += watch.seconds();
 }
@@ -287,7 +330,9 @@ void FlowSolver::finish_report(FlowStepReport& r) const {
 }
 
 Real FlowSolver::max_divergence() const {
-  return ops_->apply(VectorOperator::Divergence, u_).col(0).cwiseAbs().maxCoeff();
+  Field div = ops_->apply(VectorOperator::Divergence, u_).col(0);
+  for (const Index i : walls_.index) div[i] = 0;  // a wall's one-sided row measures the wall, not the fluid
+  return div.cwiseAbs().maxCoeff();
 }
 
 const FlowStepReport& FlowSolver::step(Real dt) {

@@ -16,7 +16,27 @@ void pin_row(CsrMatrix& A, Index p) {
 }
 }  // namespace
 
-PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned)
+Field left_null_vector(const CsrMatrix& A, const SolverOptions& options, Index pinned) {
+  const Index n = static_cast<Index>(A.rows());
+  check<InputError>(A.rows() == A.cols() && pinned >= 0 && pinned < n, "left null vector: a square matrix and a pinned "
+                    "particle in it");
+  // A = A' + e_p (a - e_p)ᵀ with A' pinned at p and a its original row p; yᵀA = 0 with y_p = 1
+  // is then A'ᵀ y = -(a - e_p).
+  Field rhs = Field::Zero(n);
+  for (CsrMatrix::InnerIterator it(A, pinned); it; ++it) rhs[it.col()] = -it.value();
+  rhs[pinned] += 1;
+  CsrMatrix pinned_matrix = A;
+  pin_row(pinned_matrix, pinned);
+  const CsrMatrix transposed = pinned_matrix.transpose();
+  PreparedSolver solver(transposed, options);
+  Field y;
+  const SolveReport r = solver.solve(rhs, y);
+  check<NumericalError>(r.success && y.allFinite(), "left null vector: the transposed solve failed (", r.solver, ": ",
+                        r.message, ")");
+  return y;
+}
+
+PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned, Field spread)
     : n_(static_cast<Index>(A.rows())), pinned_(pinned) {
   check<InputError>(A.rows() == A.cols() && n_ > 1, "pressure Poisson: the matrix must be square over at least two "
                     "particles, got ", A.rows(), " x ", A.cols());
@@ -33,16 +53,20 @@ PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Inde
     check<InputError>(std::abs(sum) <= 1e-8 * size, "pressure Poisson: row ", i, " sums to ", sum, " (of ", size,
                       "): its rows must annihilate constants (a Laplacian in difference form)");
   }
+  if (spread.size() == 0) spread = Field::Ones(n_);
+  check<InputError>(spread.size() == n_ && spread.allFinite(), "pressure Poisson: ", spread.size(),
+                    " spreading weights for ", n_, " particles (or not finite)");
   pin_row(A, pinned_);  // row_ keeps the original row for the defect
   solver_ = std::make_unique<PreparedSolver>(A, options);
-  Field unit = Field::Ones(n_);
+  spread_pinned_ = spread[pinned_];
+  Field unit = std::move(spread);
   unit[pinned_] = 0;
   z_.resize(0);
   setup_ = solver_->solve(unit, z_);
   check<NumericalError>(setup_.success, "pressure Poisson: the unit-source solve failed (", setup_.solver, ": ",
                         setup_.message, "); a direct solver (umfpack) may solve what the iterative one could not");
   setup_.seconds_setup = solver_->seconds_setup();
-  sigma_ = pinned_defect(z_, 1.0);
+  sigma_ = pinned_defect(z_, spread_pinned_);
   check<NumericalError>(std::isfinite(sigma_) && sigma_ != 0, "pressure Poisson: a unit source leaves no defect at the "
                         "pinned particle (sigma = ", sigma_, "); the rows are not a consistent Laplacian");
 }
@@ -70,7 +94,7 @@ PressurePoisson::Result PressurePoisson::solve(const Field& r, Field& p) const {
   out.report = solver_->solve(b, p);
   check<NumericalError>(out.report.success, "pressure Poisson: the solve failed (", out.report.solver, ": ",
                         out.report.message, ")");
-  // x1 - (ρ/σ) z meets every equation with r - λ, λ = ρ/σ (the dropped one included).
+  // x1 - (ρ/σ) z meets every equation with r - λ w, λ = ρ/σ (the dropped one included).
   out.shift = pinned_defect(p, r[pinned_]) / sigma_;
   p -= out.shift * z_;
   p.array() -= p.mean();

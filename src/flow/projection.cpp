@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The approximate projection and the advection term from a method's operators (projection.hpp).
+#include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/projection.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -12,17 +13,84 @@ CsrMatrix laplacian_matrix(const Operators& ops) {
   return CsrMatrix(as_eigen(L));
 }
 
-Projected project(const Operators& ops, const PressurePoisson& ppe, const Eigen::MatrixXd& w, const Field& phi_guess) {
+Walls walls_of(const PointCloud& cloud) {
+  Walls walls;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Tag t = cloud.tags[static_cast<std::size_t>(i)];
+    check<ConfigError>(t == Tag::Interior || t == Tag::Dirichlet, "flow: particle ", i, " is tagged ", to_string(t),
+                       "; a flow takes fluid (interior) particles and walls (dirichlet: the velocity prescribed)");
+    if (t != Tag::Dirichlet) continue;
+    check<InputError>(cloud.has_normals(), "flow: wall particle ", i, " has no normal (the pressure's wall rows need "
+                      "the outward normal of every wall particle)");
+    const Vec3& n = cloud.normals[static_cast<std::size_t>(i)];
+    check<InputError>(std::abs(n.norm() - 1) < 1e-6, "flow: wall particle ", i, " has no unit outward normal (|n| = ",
+                      n.norm(), ")");
+    walls.index.push_back(i);
+    walls.normal.push_back(n);
+  }
+  if (!walls.empty()) {
+    walls.is_wall.assign(static_cast<std::size_t>(cloud.size()), 0);
+    for (const Index i : walls.index) walls.is_wall[static_cast<std::size_t>(i)] = 1;
+  }
+  return walls;
+}
+
+CsrMatrix pressure_matrix(const Operators& ops, const Walls& walls) {
+  CsrMatrix A = laplacian_matrix(ops);
+  if (walls.empty()) return A;
+  const Stencil& G = ops.stencil(OperatorKind::Gradient);
+  std::vector<Eigen::Triplet<Real>> t;
+  t.reserve(static_cast<std::size_t>(A.nonZeros()));
+  for (Index i = 0; i < A.rows(); ++i) {
+    if (!walls.is_wall[static_cast<std::size_t>(i)])
+      for (CsrMatrix::InnerIterator it(A, i); it; ++it) t.emplace_back(i, it.col(), it.value());
+  }
+  for (std::size_t w = 0; w < walls.index.size(); ++w) {
+    const Index i = walls.index[w];
+    for (Index k = G.row_begin(i); k < G.row_end(i); ++k) {
+      Real v = 0;
+      for (int c = 0; c < G.dim; ++c) v += walls.normal[w][c] * G.values[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)];
+      t.emplace_back(i, G.col[static_cast<std::size_t>(k)], v);
+    }
+  }
+  CsrMatrix out(A.rows(), A.cols());
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
+}
+
+Field pressure_rhs(const Operators& ops, const Walls& walls, const Eigen::MatrixXd& a) {
+  Field r = ops.apply(VectorOperator::Divergence, a).col(0);
+  for (std::size_t w = 0; w < walls.index.size(); ++w) {
+    const Index i = walls.index[w];
+    r[i] = a.row(i).dot(walls.normal[w].head(a.cols()));
+  }
+  return r;
+}
+
+PressurePoisson pressure_poisson(const Operators& ops, const Walls& walls, const SolverOptions& options) {
+  CsrMatrix A = pressure_matrix(ops, walls);
+  if (walls.empty()) return PressurePoisson(std::move(A), options);
+  Index pinned = 0;
+  while (pinned < A.rows() && walls.is_wall[static_cast<std::size_t>(pinned)]) ++pinned;
+  check<ConfigError>(pinned < A.rows(), "flow: every particle is a wall; there is no fluid");
+  Field y = left_null_vector(A, options, pinned);
+  return PressurePoisson(std::move(A), options, pinned, std::move(y));
+}
+
+Projected project(const Operators& ops, const PressurePoisson& ppe, const Eigen::MatrixXd& w, const Field& phi_guess,
+                  const Walls& walls) {
   const int d = ops.cloud().dim;
   check<InputError>(w.rows() == ops.cloud().size() && w.cols() == d, "projection: a velocity of ", w.rows(), " x ",
                     w.cols(), " for ", ops.cloud().size(), " particles in ", d, "D");
   Projected out;
-  const Field div = ops.apply(VectorOperator::Divergence, w).col(0);
+  Field div = ops.apply(VectorOperator::Divergence, w).col(0);
+  for (const Index i : walls.index) div[i] = 0;  // n·G φ = 0: the wall keeps its normal velocity
   out.phi = phi_guess;
   const PressurePoisson::Result r = ppe.solve(div, out.phi);
   out.shift = r.shift;
   out.report = r.report;
   out.u = w - ops.apply(OperatorKind::Gradient, out.phi);
+  for (const Index i : walls.index) out.u.row(i) = w.row(i);
   return out;
 }
 

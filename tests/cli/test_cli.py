@@ -420,6 +420,33 @@ class Flow(unittest.TestCase):
             self.assertIn("tg_0000.vtu", pvd)
             self.assertIn("velocity", open(prefix + "_0000.vtu", errors="replace").read())
 
+    def test_cavity_rows_and_profiles(self):
+        # The acceptance interface: rows[] with ghia_max_deviation_u/_v and steady_residual;
+        # --profile-output writes the centre lines beside Ghia's points.
+        with tempfile.TemporaryDirectory() as tmp:
+            csv_path = os.path.join(tmp, "profiles.csv")
+            out = run_json("flow", "--case", "cavity", "--re", "100", "--nx", "16", "--threads", "1",
+                           "--profile-output", csv_path)
+            (row,) = out["rows"]
+            for key in ("ghia_max_deviation_u", "ghia_max_deviation_v", "steady_residual", "steady", "t", "steps"):
+                self.assertIn(key, row)
+            self.assertTrue(row["steady"])
+            self.assertLess(row["steady_residual"], 1e-4)
+            self.assertLess(max(row["ghia_max_deviation_u"], row["ghia_max_deviation_v"]), 0.08)  # measured 0.067
+            self.assertEqual(out["reference"][:5], "Ghia,")
+            lines = open(csv_path).read().splitlines()
+            self.assertEqual(lines[0], "series,line,s,value")
+            self.assertEqual(sum(1 for l in lines if l.startswith("ghia,")), 34)
+            self.assertEqual(sum(1 for l in lines if l.startswith("vrsph nx=16,")), 202)
+        for args, message in ((["--re", "400"], "Re = 100 and 1000"), (["--dim", "3"], "two-dimensional"),
+                              (["--frame", "lagrangian"], "eulerian frame"), (["--steady-tol", "0"], "--steady-tol")):
+            result = run("flow", "--case", "cavity", "--nx", "8", *args, check=False)
+            self.assertEqual(result.returncode, 2, result.stderr)
+            self.assertIn(message, result.stderr)
+        result = run("flow", "--nx", "8", "--profile-output", "x.csv", check=False)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("--profile-output applies to --case cavity", result.stderr)
+
 
 class Bench(unittest.TestCase):
     def test_volumes_bench_json(self):

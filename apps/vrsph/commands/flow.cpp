@@ -3,14 +3,19 @@
 // (flow/flow_solver.hpp), and its convergence studies (flow/flow_study.hpp):
 //  --case taylor-green  the periodic vortex (2D Taylor–Green, 3D Beltrami) run to --t-end, one row
 //                       per method and --nx, with the ISPH literature's error measures and orders;
-//  --case projection    the frozen-cloud projection of u_exact + ∇φ (no time stepping).
+//  --case projection    the frozen-cloud projection of u_exact + ∇φ (no time stepping);
+//  --case cavity        the lid-driven cavity run to a steady state, its centre lines against
+//                       Ghia, Ghia & Shin (1982) (flow/cavity.hpp).
 #include <cmath>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/flow/cavity.hpp>
 #include <vrsph/flow/flow_study.hpp>
+#include <vrsph/flow/ghia.hpp>
+#include <vrsph/io/output_file.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "../problem_file.hpp"
@@ -22,10 +27,12 @@ namespace {
 
 struct FlowArgs {
   std::string flow_case = "taylor-green", frame = "eulerian", methods = "vrsph", gradient = "auto", nx = "32,64",
-              cloud = "perturbed", scheme = "rk3", shifting = "none", solver = "auto", vtu_series, kernel = "cubic";
+              cloud = "perturbed", scheme = "rk3", shifting = "none", solver = "auto", vtu_series, kernel = "cubic",
+              profile_output;
   std::vector<std::string> method_opts;
   int dim = 2, vtu_every = 0, threads = 0;
-  double t_end = 1, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0;
+  double t_end = 0, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0,
+         steady_tol = 1e-4;
   std::uint64_t seed = 1;
   bool allow_unstable = false;
   OutputOptions out;
@@ -72,6 +79,11 @@ const std::vector<std::string> taylor_green_columns = {
     "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
     "order_u_mean", "order_u_inf", "order_p_mean", "kinetic_energy", "min_spacing", "max_spacing",
     "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs"};
+
+const std::vector<std::string> cavity_columns = {
+    "case", "method", "gradient", "re", "nx", "particles", "t", "steps", "dt", "steady", "steady_residual",
+    "ghia_max_deviation_u", "ghia_max_deviation_v", "order_ghia_u", "order_ghia_v", "max_div_u", "kinetic_energy",
+    "ppe_iterations_per_step", "seconds_setup", "seconds_per_step", "seconds_ppe", "seconds_rhs"};
 
 void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
                     const std::map<std::string, MethodOptions>& options) {
@@ -188,12 +200,116 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   emit(t, a.out, extra.dump(), "nx", "error_u_mean:-1/-2,error_p_mean:-1/-2", "method", "Taylor-Green: mean velocity and pressure errors");
 }
 
+// The centre-line profiles in long form: series (method and nx, or ghia), line, coordinate, value.
+std::string profile_csv(const std::vector<std::pair<std::string, CavityRunRow>>& runs, Real re) {
+  std::string out = "series,line,s,value\n";
+  const auto add = [&out](const std::string& series, const char* line, Real at, Real value) {
+    out += detail::concat(series, ',', line, ',', at, ',', value, '\n');
+  };
+  for (const auto& [series, r] : runs)
+    for (std::size_t k = 0; k < r.line.size(); ++k) {
+      add(series, "u(0.5;y)", r.line[k], r.u_line[k]);
+      add(series, "v(x;0.5)", r.line[k], r.v_line[k]);
+    }
+  const GhiaProfiles& g = ghia_profiles(re);
+  for (std::size_t k = 0; k < g.y.size(); ++k) add("ghia", "u(0.5;y)", g.y[k], g.u[k]);
+  for (std::size_t k = 0; k < g.x.size(); ++k) add("ghia", "v(x;0.5)", g.x[k], g.v[k]);
+  return out;
+}
+
+void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
+                     const std::map<std::string, MethodOptions>& options) {
+  check<ConfigError>(a.dim == 2, "the cavity is two-dimensional (--dim 2), got --dim ", a.dim);
+  (void)ghia_profiles(a.re);  // Re 100 or 1000, before a long run
+  check<ConfigError>(a.frame == "eulerian", "the cavity runs in the eulerian frame (walls are not implemented in the "
+                     "lagrangian one), got --frame ", a.frame);
+  check<ConfigError>(std::isfinite(a.steady_tol) && a.steady_tol > 0, "--steady-tol must be positive, got ", a.steady_tol);
+  const Real t_end = a.t_end > 0 ? a.t_end : 100;
+  Table t;
+  t.columns = cavity_columns;
+  Progress progress;
+  std::size_t done = 0;
+  const double runs = static_cast<double>(methods.size() * nxs.size());
+  std::vector<std::pair<std::string, CavityRunRow>> profiles;
+  for (const std::string& m : methods) {
+    const std::size_t first = t.rows.size();
+    std::map<std::string, std::vector<Real>> errors;
+    for (const int n : nxs) {
+      CavityRunOptions o;
+      o.cloud.nx = n;
+      o.cloud.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
+      o.cloud.seed = a.seed;
+      o.re = a.re;
+      o.t_end = t_end;
+      o.cfl = a.cfl;
+      o.dt = a.dt;
+      o.steady_tolerance = a.steady_tol;
+      o.flow.scheme = parse_flow_scheme(a.scheme);
+      o.flow.operators = operators_for(a, m, options);
+      o.flow.gradient = a.gradient;
+      o.flow.solver.type = parse_solver(a.solver);
+      o.flow.allow_unstable = a.allow_unstable;
+      o.flow.hyperviscosity = a.hyperviscosity;
+      std::unique_ptr<VtuSeries> series;
+      if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
+      const double index = static_cast<double>(done++);
+      o.on_step = [&](const FlowSolver& s, Real residual) {
+        progress.update(detail::concat(m, " nx = ", n, " t = ", s.time(), " steady residual ", residual),
+                        (index + s.time() / t_end) / runs);
+        const bool last = residual < a.steady_tol || s.time() >= t_end * (1 - 1e-12);
+        if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0)))
+          series->write(s.time(), s.operators().cloud(),
+                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
+      };
+      const CavityRunRow r = run_cavity(o);
+      if (!r.steady && communicator().rank() == 0)
+        std::cerr << "vrsph: warning: " << m << " nx = " << n << " did not reach a steady state by t = " << r.t
+                  << " (residual " << r.steady_residual << " > --steady-tol " << a.steady_tol << "); the profiles are "
+                  << "those at the end\n";
+      errors["order_ghia_u"].push_back(r.ghia_max_deviation_u);
+      errors["order_ghia_v"].push_back(r.ghia_max_deviation_v);
+      const OperatorsOptions ops = flow_operators(o.flow);
+      t.add_row({{"case", std::string("cavity")}, {"method", m},
+                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"re", a.re},
+                 {"nx", static_cast<long long>(n)}, {"particles", static_cast<long long>(r.particles)}, {"t", r.t},
+                 {"steps", static_cast<long long>(r.steps)}, {"dt", r.dt}, {"steady", r.steady},
+                 {"steady_residual", r.steady_residual}, {"ghia_max_deviation_u", r.ghia_max_deviation_u},
+                 {"ghia_max_deviation_v", r.ghia_max_deviation_v}, {"max_div_u", r.max_div_u},
+                 {"kinetic_energy", r.kinetic_energy}, {"ppe_iterations_per_step", r.ppe_iterations_per_step},
+                 {"seconds_setup", r.seconds_setup}, {"seconds_per_step", r.seconds_per_step},
+                 {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}});
+      profiles.emplace_back(detail::concat(m, " nx=", n), r);
+    }
+    add_orders(t, first, nxs, errors);
+  }
+  if (!a.profile_output.empty() && communicator().rank() == 0) {
+    const std::string csv = profile_csv(profiles, a.re);
+    write_file(a.profile_output, "centre-line profiles", [&csv](std::ostream& f) { f << csv; });
+  }
+  nlohmann::ordered_json extra;
+  extra["case"] = "cavity";
+  extra["reference"] = "Ghia, Ghia & Shin, J. Comput. Phys. 48 (1982) 387-411, Tables I-II";
+  extra["re"] = a.re;
+  extra["t_end"] = t_end;
+  extra["steady_tolerance"] = a.steady_tol;
+  extra["cfl"] = a.cfl;
+  extra["jitter"] = a.cloud == "lattice" ? 0.0 : a.jitter;
+  extra["h_factor"] = a.h_factor;
+  extra["seed"] = a.seed;
+  extra["peak_memory_mib"] = peak_memory_mib();
+  emit(t, a.out, extra.dump(), "nx", "ghia_max_deviation_u:-1/-2,ghia_max_deviation_v:-1/-2", "method",
+       "lid-driven cavity: largest centre-line deviation from Ghia et al.");
+}
+
 void run_flow(FlowArgs& a) {
   validate_output(a.out);
   set_thread_count(a.threads);
   check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim for flow must be 2 or 3, got ", a.dim);
-  check<ConfigError>(a.flow_case == "taylor-green" || a.flow_case == "projection", "unknown --case '", a.flow_case,
-                     "' (known: taylor-green, projection; the lid-driven cavity needs walls, not implemented yet)");
+  check<ConfigError>(a.flow_case == "taylor-green" || a.flow_case == "projection" || a.flow_case == "cavity",
+                     "unknown --case '", a.flow_case, "' (known: taylor-green, projection, cavity)");
+  check<ConfigError>(std::isfinite(a.t_end) && a.t_end >= 0, "--t-end must be finite and > 0 (0: the case's default), got ",
+                     a.t_end);
+  check<ConfigError>(a.profile_output.empty() || a.flow_case == "cavity", "--profile-output applies to --case cavity only");
   const std::vector<std::string> methods = parse_name_list(a.methods, "--method");
   const std::vector<int> nxs = parse_int_list(a.nx, "--nx");
   for (const int n : nxs) {
@@ -207,8 +323,12 @@ void run_flow(FlowArgs& a) {
   (void)parse_shifting(a.shifting);
   check<ConfigError>(a.vtu_every >= 0, "--vtu-every must be >= 0");
   const auto options = parse_method_options(a.method_opts, methods);
-  validate_columns(a.out, a.flow_case == "projection" ? projection_columns : taylor_green_columns);
+  validate_columns(a.out, a.flow_case == "projection" ? projection_columns
+                         : a.flow_case == "cavity"   ? cavity_columns
+                                                     : taylor_green_columns);
   if (a.flow_case == "projection") return run_projection(a, methods, nxs, options);
+  if (a.flow_case == "cavity") return run_cavity_case(a, methods, nxs, options);
+  if (a.t_end == 0) a.t_end = 1;
   run_taylor_green(a, methods, nxs, options);
 }
 
@@ -217,8 +337,10 @@ void run_flow(FlowArgs& a) {
 void add_flow_command(CLI::App& app) {
   auto a = std::make_shared<FlowArgs>();
   auto* cmd = app.add_subcommand("flow", "Incompressible flow on particles (projection per Runge-Kutta stage): the "
-                                         "Taylor-Green vortex and the frozen-cloud projection, with errors and orders");
-  cmd->add_option("--case", a->flow_case, "taylor-green (2D Taylor-Green, 3D Beltrami vortex) | projection (frozen cloud)")
+                                         "Taylor-Green vortex, the frozen-cloud projection and the lid-driven cavity, "
+                                         "with errors and orders");
+  cmd->add_option("--case", a->flow_case, "taylor-green (2D Taylor-Green, 3D Beltrami vortex) | projection (frozen cloud) | "
+                                         "cavity (lid-driven, against Ghia et al. 1982)")
       ->capture_default_str();
   cmd->add_option("--dim", a->dim, "Dimension 2 or 3")->capture_default_str();
   cmd->add_option("--frame", a->frame, "eulerian (a fixed cloud) | lagrangian (particles move with the flow)")->capture_default_str();
@@ -227,14 +349,18 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--gradient", a->gradient, "First derivatives: auto (vrsph: fpm gradient_order=2; others: own) | own | "
                                              "a method name")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "key=value or method:key=value options of the methods");
-  cmd->add_option("--nx", a->nx, "Particles per unit period along each axis, comma-separated (a refinement)")->capture_default_str();
+  cmd->add_option("--nx", a->nx, "Particles per unit period along each axis (cavity: intervals per side), "
+                                 "comma-separated (a refinement)")->capture_default_str();
   cmd->add_option("--cloud", a->cloud, "perturbed (a jittered lattice) | lattice")->capture_default_str();
   cmd->add_option("--jitter", a->jitter, "Perturbation U(-j dx, j dx) per coordinate")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
   cmd->add_option("--kernel", a->kernel, "Kernel")->capture_default_str();
-  cmd->add_option("--re", a->re, "Reynolds number U L / nu (L = 1, U = 1)")->capture_default_str();
-  cmd->add_option("--t-end", a->t_end, "End time")->capture_default_str();
+  cmd->add_option("--re", a->re, "Reynolds number U L / nu (L = 1, U = 1; cavity: 100 or 1000)")->capture_default_str();
+  cmd->add_option("--t-end", a->t_end, "End time (0: 1 for taylor-green; cavity: 100, the run stops when steady)")
+      ->capture_default_str();
+  cmd->add_option("--steady-tol", a->steady_tol, "Cavity: steady when max |u(n+1) - u(n)| / dt < this")->capture_default_str();
+  cmd->add_option("--profile-output", a->profile_output, "Cavity: the centre-line profiles (and Ghia's points) as CSV");
   cmd->add_option("--cfl", a->cfl, "dt = cfl dx / U, shortened where the stability limit asks for less")->capture_default_str();
   cmd->add_option("--dt", a->dt, "A fixed time step instead of --cfl (refused beyond the stability limit unless "
                                  "--allow-unstable)");
@@ -254,6 +380,7 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--plot", a->out.plot, "PNG plot of the error against nx");
   add_columns_option(cmd, a->out, {"method", "gradient", "frame", "nx", "particles", "steps", "error_u_mean", "error_u_inf",
                                    "error_u_l2", "error_p_mean", "error_phi_inf", "decay_rate_error", "max_div_u",
+                                   "ghia_max_deviation_u", "ghia_max_deviation_v", "steady_residual",
                                    "max_div_after", "order_u_mean", "order_u_inf", "order_u_l2", "order_p_mean",
                                    "seconds_per_step"});
   auto config = std::make_shared<std::string>();

@@ -20,11 +20,18 @@
 // non-skew gradient excites (docs/flow.md); a hyperviscosity is available, and a run that blows up
 // is stopped with its step.
 //
-// Boundaries: the box must be periodic along every axis (walls come with the cavity case).
+// Boundaries: periodic axes, and walls: particles tagged Dirichlet, with outward normals, whose
+// velocity is prescribed (FlowOptions::wall_velocity: at rest, or sliding along themselves like
+// a cavity's lid). The pressure's wall condition is the normal component of the momentum
+// equation at the wall, n·∇p = n·(ν∇²u - (u·∇)u + g) (the wall does not accelerate), with the
+// wall's ν∇²u from the gradient applied twice (its own Laplacian row would be one-sided); the
+// projection's is n·∇φ = 0. Eulerian frame only with walls (a Lagrangian fluid next to fixed
+// wall particles is not implemented).
 #include <functional>
 #include <limits>
 #include <memory>
 #include <vrsph/flow/pressure_poisson.hpp>
+#include <vrsph/flow/projection.hpp>
 #include <vrsph/flow/shifting.hpp>
 #include <vrsph/moving/operators.hpp>
 
@@ -50,6 +57,10 @@ struct FlowOptions {
   FlowScheme scheme = FlowScheme::RK3;
   Real nu = 0.01;               ///< kinematic viscosity, >= 0
   Vec3 body_force = Vec3::Zero();  ///< g (components beyond the dimension must be 0)
+  /// The velocity of each wall particle (tag Dirichlet), given its index and position; empty:
+  /// walls at rest. It must not change in time, and walls may only slide along themselves
+  /// (u·n = 0, checked).
+  std::function<Vec3(Index, const Vec3&)> wall_velocity;
   /// The method, kernel and support of the operators (Laplacian and gradient are kept).
   OperatorsOptions operators;
   /// The first derivatives (the projection's G and D, the advection): "auto" (VRSPH: FPM's
@@ -101,9 +112,11 @@ OperatorsOptions flow_operators(const FlowOptions& options);
 
 class FlowSolver {
  public:
-  /// The cloud (every axis periodic; its particles all Interior) and the initial velocity
-  /// (N x d), projected once so the run starts discretely divergence-free. ConfigError (a box
-  /// that is not periodic, bad options), InputError (shapes, non-finite values).
+  /// The cloud (a box: periodic axes, and wall particles tagged Dirichlet with normals along
+  /// the others; fluid particles Interior) and the initial velocity (N x d; walls take
+  /// wall_velocity), projected once so the run starts discretely divergence-free. ConfigError
+  /// (a bounded box without walls, walls in the Lagrangian frame, bad options), InputError
+  /// (shapes, non-finite values, walls without normals or moving through themselves).
   FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions options);
   ~FlowSolver();
   FlowSolver(FlowSolver&&) noexcept;
@@ -125,10 +138,11 @@ class FlowSolver {
   const Operators& operators() const { return *ops_; }
   const FlowOptions& options() const { return options_; }
   const FlowStepReport& last() const { return report_; }
+  const Walls& walls() const { return walls_; }
   /// The pressure of the current velocity (zero mean): L p = D F_E(u), F_E the Eulerian
   /// right-hand side (the pressure that keeps ∂u/∂t divergence-free), one more solve.
   Field pressure() const;
-  /// max |D u| of the current velocity.
+  /// max |D u| of the current velocity over the fluid particles.
   Real max_divergence() const;
 
  private:
@@ -139,6 +153,7 @@ class FlowSolver {
   Real advective_bound(const Eigen::MatrixXd& u) const;
   Real viscous_rate() const;
   Eigen::MatrixXd forces(const Eigen::MatrixXd& u) const;  ///< ν L u (- hyperviscosity) + g
+  void wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const;  ///< at walls: Σ_a G_a G_a u
   Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, FlowStepReport* r) const;
   Eigen::MatrixXd rate(const Eigen::MatrixXd& u, FlowStepReport& r);
   void move_to(const std::vector<Vec3>& x, FlowStepReport& r);
@@ -150,6 +165,7 @@ class FlowSolver {
   FlowOptions options_;
   std::unique_ptr<Operators> ops_;
   std::unique_ptr<PressurePoisson> ppe_;
+  Walls walls_;
   Eigen::MatrixXd u_;
   Field phi_;         ///< the last stage's pressure (the next solve's initial guess)
   Field correction_;  ///< the last end-of-step projection's potential (likewise)

@@ -6,7 +6,11 @@
 // compatible with it only up to truncation. As the periodic boundary value problems do
 // (docs/periodic.md): one particle's row is pinned (p = 0) and the defect of the equation that
 // pin replaced is spread evenly, so the result satisfies A p = r - λ at every particle, λ one
-// constant (the part of r no pressure can balance), and has zero mean.
+// constant (the part of r no pressure can balance), and has zero mean. The defect may be spread
+// with other weights w instead (A p = r - λ w): with walls, the left null vector y of A, so that
+// the part of r removed is the smallest possible one (λ y, y ⊥ range A) and the pressure is the
+// pseudo-inverse's; weights of their own (ones over the fluid) amplify λ by 1 / (y·w), which the
+// Neumann rows of walls can make large (docs/flow.md, "Walls").
 // The pinned matrix is factorised (or its preconditioner built) once, with the unit-source
 // solution the spreading needs; every right-hand side after that costs one solve. Rebuild it
 // when the matrix changes (particles that move).
@@ -15,21 +19,27 @@
 
 namespace vrsph {
 
+/// The left null vector y of a singular A whose null space is one-dimensional (yᵀ A = 0),
+/// scaled to y_pinned = 1: one solve with the transpose of A pinned at `pinned` (a particle
+/// where y does not vanish: a fluid particle). NumericalError when that solve fails.
+Field left_null_vector(const CsrMatrix& A, const SolverOptions& options, Index pinned);
+
 class PressurePoisson {
  public:
   /// A: N x N (taken by value: its pinned form is made in place), every row summing to zero
   /// (InputError otherwise, naming the row); pinned: the
   /// particle whose row is replaced (any; the result does not depend on it beyond the solver's
-  /// tolerance). Throws as PreparedSolver, and NumericalError when the unit source leaves no
-  /// defect (A's rows are not a consistent Laplacian).
-  PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned = 0);
+  /// tolerance); spread: the weights w of the defect (size 0: all ones; else N finite values).
+  /// Throws as PreparedSolver, and NumericalError when the unit source leaves no defect (A's
+  /// rows are not a consistent Laplacian).
+  PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned = 0, Field spread = {});
   ~PressurePoisson();
   PressurePoisson(PressurePoisson&&) noexcept;
   PressurePoisson& operator=(PressurePoisson&&) noexcept;
 
   struct Result {
     SolveReport report;  ///< the solve of this right-hand side
-    Real shift = 0;      ///< λ: A p = r - λ at every particle
+    Real shift = 0;      ///< λ: A p = r - λ w at every particle
   };
   /// p: on entry an initial guess for iterative solvers (size 0: none), on exit the solution
   /// with zero mean. NumericalError when the solve fails (the report's message in it).
@@ -43,7 +53,8 @@ class PressurePoisson {
   Index n_ = 0, pinned_ = 0;
   std::vector<std::pair<Index, Real>> row_;  ///< the pinned particle's row of A
   std::unique_ptr<PreparedSolver> solver_;
-  Field z_;  ///< the pinned solution for a unit source (z_p = 0)
+  Field z_;  ///< the pinned solution for the source w (z_p = 0)
+  Real spread_pinned_ = 1;  ///< w at the pinned particle
   Real sigma_ = 0;
   SolveReport setup_;
 };

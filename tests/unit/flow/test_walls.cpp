@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Walls in the flow layer (docs/flow.md, "Walls"): the pressure equation with Neumann rows at the
+// walls and its left null vector, the projection that keeps the walls' velocity, a closed box at
+// rest under gravity that stays at rest (the wall condition balances the body force), the
+// refusals, the moving least-squares sampling and the reference table of the cavity.
+#include <cmath>
+#include <numbers>
+#include <vrsph/analysis/point_sampling.hpp>
+#include <vrsph/core/error.hpp>
+#include <vrsph/flow/cavity.hpp>
+#include <vrsph/flow/ghia.hpp>
+#include <vrsph/flow/projection.hpp>
+#include "test_util.hpp"
+
+using namespace vrsph;
+
+namespace {
+
+constexpr Real kPi = std::numbers::pi;
+
+Operators box_ops(const PointCloud& cloud) { return Operators(cloud, flow_operators(FlowOptions{})); }
+
+// A potential with zero normal derivative on every face of the unit square, and its gradient.
+Real box_potential(const Vec3& x) { return std::cos(kPi * x[0]) * std::cos(kPi * x[1]); }
+Vec3 box_potential_gradient(const Vec3& x) {
+  return {-kPi * std::sin(kPi * x[0]) * std::cos(kPi * x[1]), -kPi * std::cos(kPi * x[0]) * std::sin(kPi * x[1]), 0};
+}
+// A divergence-free velocity that vanishes on the walls: the curl of ψ = sin²πx sin²πy.
+Vec3 box_vortex(const Vec3& x) {
+  const Real sx = std::sin(kPi * x[0]), sy = std::sin(kPi * x[1]);
+  const Real s2x = std::sin(2 * kPi * x[0]), s2y = std::sin(2 * kPi * x[1]);
+  return {kPi * sx * sx * s2y, -kPi * s2x * sy * sy, 0};
+}
+
+Eigen::MatrixXd sample(const PointCloud& c, Vec3 (*f)(const Vec3&)) {
+  Eigen::MatrixXd u(c.size(), 2);
+  for (Index i = 0; i < c.size(); ++i) u.row(i) = f(c.positions[static_cast<std::size_t>(i)]).head(2).transpose();
+  return u;
+}
+
+}  // namespace
+
+TEST(FlowWalls, PressureRowsAnnihilateConstantsAndTheLeftNullVectorIsOne) {
+  const PointCloud c = cavity_cloud({16, 0.2, 1});
+  const Operators ops = box_ops(c);
+  const Walls walls = walls_of(ops.cloud());
+  EXPECT_EQ(walls.index.size(), 64u);  // 4 nx wall particles
+  const CsrMatrix A = pressure_matrix(ops, walls);
+  const Field ones = Field::Ones(c.size());
+  EXPECT_LT((A * ones).cwiseAbs().maxCoeff(), 1e-9);
+  const Field y = left_null_vector(A, {}, 20);
+  EXPECT_NEAR(y[20], 1.0, 1e-9);
+  const Field yA = A.transpose() * y;
+  EXPECT_LT(yA.cwiseAbs().maxCoeff(), 1e-8 * y.cwiseAbs().maxCoeff() * A.cwiseAbs().sum() / static_cast<Real>(c.size()));
+}
+
+TEST(FlowWalls, PressureSolveRecoversACompatiblePotential) {
+  // r = A φ is compatible: the solve returns φ (zero mean) whatever the Neumann rows' scaling.
+  const PointCloud c = cavity_cloud({16, 0.2, 1});
+  const Operators ops = box_ops(c);
+  const Walls walls = walls_of(ops.cloud());
+  const PressurePoisson ppe = pressure_poisson(ops, walls, {});
+  Field phi(c.size());
+  for (Index i = 0; i < c.size(); ++i) phi[i] = box_potential(c.positions[static_cast<std::size_t>(i)]);
+  phi.array() -= phi.mean();
+  Field p;
+  const PressurePoisson::Result r = ppe.solve(pressure_matrix(ops, walls) * phi, p);
+  EXPECT_LT(std::abs(r.shift), 1e-9);
+  EXPECT_LT((p - phi).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+TEST(FlowWalls, ProjectionRemovesTheGradientAndKeepsTheWalls) {
+  // w = u + ∇φ with u divergence-free and zero on the walls, ∂φ/∂n = 0: the projection returns
+  // u at the fluid particles (to the operators' error) and leaves the walls' values alone.
+  Real previous = 0;
+  for (const int nx : {16, 32}) {
+    const PointCloud c = cavity_cloud({nx, 0.2, 2});
+    const Operators ops = box_ops(c);
+    const Walls walls = walls_of(ops.cloud());
+    const PressurePoisson ppe = pressure_poisson(ops, walls, {});
+    const Eigen::MatrixXd u = sample(c, box_vortex);
+    const Eigen::MatrixXd w = u + sample(c, box_potential_gradient);
+    const Projected p = project(ops, ppe, w, {}, walls);
+    Real error = 0;
+    for (Index i = 0; i < c.size(); ++i) {
+      if (walls.is_wall[static_cast<std::size_t>(i)]) {
+        EXPECT_EQ(p.u.row(i), w.row(i));
+      } else {
+        error = std::max(error, (p.u.row(i) - u.row(i)).norm());
+      }
+    }
+    EXPECT_LT(error, nx == 16 ? 0.5 : 0.15) << "nx = " << nx;
+    if (previous > 0) {
+      EXPECT_LT(error, 0.4 * previous) << "second order: a factor 4 per halving";
+    }
+    previous = error;
+  }
+}
+
+TEST(FlowWalls, ABoxAtRestUnderGravityStaysAtRest) {
+  // The walls' pressure rows n·G p = n·g balance gravity: no flow starts. FPM's gradient is exact
+  // on the linear pressure, VRSPH's Laplacian nearly so: a few rows next to the walls miss their
+  // moment conditions (NNLS residual up to 0.015 at nx = 16, |L y| up to 1.2e-4), which leaves a
+  // spurious velocity of 2.5e-6 after 20 steps (measured).
+  const PointCloud c = cavity_cloud({16, 0.2, 1});
+  FlowOptions o;
+  o.body_force = Vec3(0, -9.81, 0);
+  FlowSolver s(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  for (int k = 0; k < 20; ++k) s.step(0.5 * s.stable_time_step());
+  EXPECT_LT(s.velocity().cwiseAbs().maxCoeff(), 1e-5);
+  const Field p = s.pressure();
+  // p = -g y + const: its gradient is g at every particle.
+  const Eigen::MatrixXd gp = s.operators().apply(OperatorKind::Gradient, p);
+  EXPECT_LT((gp.col(1).array() + 9.81).abs().maxCoeff(), 1e-3);
+  EXPECT_LT(gp.col(0).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+TEST(FlowWalls, TheLidDrivesTheFlowAndTheWallsKeepTheirVelocity) {
+  const PointCloud c = cavity_cloud({16, 0.2, 1});
+  FlowOptions o;
+  o.wall_velocity = [](Index, const Vec3& x) { return cavity_lid_velocity(x); };
+  FlowSolver s(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  for (int k = 0; k < 10; ++k) s.step(0.9 * s.stable_time_step());
+  const Walls& walls = s.walls();
+  Real fluid = 0;
+  for (Index i = 0; i < c.size(); ++i) {
+    const Vec3 expected = cavity_lid_velocity(c.positions[static_cast<std::size_t>(i)]);
+    if (walls.is_wall[static_cast<std::size_t>(i)])
+      EXPECT_EQ(s.velocity().row(i), expected.head(2).transpose());
+    else
+      fluid = std::max(fluid, s.velocity().row(i).norm());
+  }
+  EXPECT_GT(fluid, 0.05);  // the lid has set the fluid moving
+  EXPECT_LT(fluid, 1.0);   // and nothing outruns it
+}
+
+TEST(FlowWalls, RefusesWhatItCannotRun) {
+  const PointCloud c = cavity_cloud({8, 0.2, 1});
+  const Eigen::MatrixXd u = Eigen::MatrixXd::Zero(c.size(), 2);
+  FlowOptions o;
+  o.frame = FlowFrame::Lagrangian;
+  EXPECT_THROW_MSG(FlowSolver(c, u, o), ConfigError, "eulerian frame only");
+  o = {};
+  o.wall_velocity = [](Index, const Vec3&) { return Vec3(0, 1, 0); };  // through the floor and the lid
+  EXPECT_THROW_MSG(FlowSolver(c, u, o), InputError, "moves through the wall");
+  PointCloud no_normals = c;
+  no_normals.normals.clear();
+  EXPECT_THROW_MSG(FlowSolver(no_normals, u, {}), InputError, "has no normal");
+  PointCloud neumann = c;
+  neumann.tags[0] = Tag::Neumann;
+  EXPECT_THROW_MSG(FlowSolver(neumann, u, {}), ConfigError, "tagged neumann");
+  PointCloud no_walls = c;
+  for (Tag& t : no_walls.tags) t = Tag::Interior;
+  EXPECT_THROW_MSG(FlowSolver(no_walls, u, {}), ConfigError, "needs wall particles");
+  CavityRunOptions run;
+  run.re = 400;
+  EXPECT_THROW_MSG(run_cavity(run), ConfigError, "Re = 100 and 1000");
+}
+
+TEST(PointSampling, IsExactOnQuadraticsAndNamesAStarvedPoint) {
+  const PointCloud c = cavity_cloud({16, 0.3, 5});
+  Eigen::MatrixXd f(c.size(), 2);
+  const auto q = [](const Vec3& x) { return 1 + 2 * x[0] - x[1] + 3 * x[0] * x[1] - x[0] * x[0] + 0.5 * x[1] * x[1]; };
+  for (Index i = 0; i < c.size(); ++i) {
+    const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+    f(i, 0) = q(x);
+    f(i, 1) = x[0];
+  }
+  const std::vector<Vec3> at = {{0.5, 0.5, 0}, {0.0, 0.0, 0}, {1.0, 0.37, 0}, {0.123, 0.987, 0}};
+  const Eigen::MatrixXd s = sample_field(c, f, at, 2.5 / 16);
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    EXPECT_NEAR(s(static_cast<Index>(k), 0), q(at[k]), 1e-11);
+    EXPECT_NEAR(s(static_cast<Index>(k), 1), at[k][0], 1e-12);
+  }
+  const std::vector<Vec3> far = {{5, 5, 0}};
+  EXPECT_THROW_MSG(sample_field(c, f, far, 0.1), GeometryError, "point 0 (5, 5) has 0 particles");
+}
+
+TEST(PointSampling, ReadsAcrossPeriodicFaces) {
+  PointCloud c = cavity_cloud({16, 0.0, 1});
+  c.domain.set_periodic("x");
+  Eigen::MatrixXd f(c.size(), 1);
+  for (Index i = 0; i < c.size(); ++i) f(i, 0) = std::cos(2 * kPi * c.positions[static_cast<std::size_t>(i)][0]);
+  const std::vector<Vec3> at = {{0.999, 0.5, 0}};
+  EXPECT_NEAR(sample_field(c, f, at, 2.5 / 16)(0, 0), std::cos(2 * kPi * 0.999), 5e-3);
+}
+
+TEST(Ghia, TablesForRe100And1000) {
+  const GhiaProfiles& a = ghia_profiles(100);
+  ASSERT_EQ(a.y.size(), 17u);
+  ASSERT_EQ(a.u.size(), 17u);
+  ASSERT_EQ(a.x.size(), 17u);
+  ASSERT_EQ(a.v.size(), 17u);
+  EXPECT_DOUBLE_EQ(a.u.front(), 1.0);  // the lid
+  EXPECT_DOUBLE_EQ(a.u[9], -0.21090);  // the minimum at y = 0.4531
+  EXPECT_DOUBLE_EQ(ghia_profiles(1000).v[5], -0.51550);
+  EXPECT_THROW_MSG(ghia_profiles(3200), ConfigError, "not 3200");
+}
