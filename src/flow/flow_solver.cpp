@@ -95,25 +95,25 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   const int d = cloud.dim;
   check<ConfigError>(d >= 2, "flow: the dimension must be 2 or 3, got ", d);
   check<ConfigError>(cloud.domain.shape == Domain::Shape::Box, "flow: the domain must be a box (periodic axes and walls)");
-  walls_ = walls_of(cloud);
-  check<ConfigError>(!walls_.empty() || cloud.domain.fully_periodic(), "flow: a box that is not periodic along every "
+  eq_.walls = walls_of(cloud);
+  check<ConfigError>(!eq_.walls.empty() || cloud.domain.fully_periodic(), "flow: a box that is not periodic along every "
                      "axis needs wall particles (tag dirichlet, with outward normals) on its other faces");
-  check<ConfigError>(walls_.empty() || options_.frame == FlowFrame::Eulerian, "flow: walls are implemented in the "
+  check<ConfigError>(eq_.walls.empty() || options_.frame == FlowFrame::Eulerian, "flow: walls are implemented in the "
                      "eulerian frame only (the lagrangian frame needs a periodic box)");
   check<InputError>(u0.rows() == cloud.size() && u0.cols() == d, "flow: an initial velocity of ", u0.rows(), " x ",
                     u0.cols(), " for ", cloud.size(), " particles in ", d, "D");
   check<InputError>(u0.allFinite(), "flow: the initial velocity is not finite");
   Eigen::MatrixXd start = u0;
   Real wall_speed = 0;
-  for (std::size_t w = 0; w < walls_.index.size(); ++w) {
-    const Index i = walls_.index[w];
+  for (std::size_t w = 0; w < eq_.walls.index.size(); ++w) {
+    const Index i = eq_.walls.index[w];
     const Vec3 x = cloud.positions[static_cast<std::size_t>(i)];
     const Vec3 v = options_.wall_velocity ? options_.wall_velocity(i, x) : Vec3::Zero();
     check<InputError>(v.allFinite(), "flow: the wall velocity at particle ", i, " is not finite");
     for (int c = d; c < 3; ++c)
       check<InputError>(v[c] == 0, "flow: a wall velocity along axis ", c, " of a ", d, "D flow (particle ", i, ")");
-    check<InputError>(std::abs(v.dot(walls_.normal[w])) <= 1e-12 * (1 + v.norm()), "flow: wall particle ", i,
-                      " moves through the wall (u·n = ", v.dot(walls_.normal[w]), "); walls may only slide along "
+    check<InputError>(std::abs(v.dot(eq_.walls.normal[w])) <= 1e-12 * (1 + v.norm()), "flow: wall particle ", i,
+                      " moves through the wall (u·n = ", v.dot(eq_.walls.normal[w]), "); walls may only slide along "
                       "themselves");
     start.row(i) = v.head(d).transpose();
     wall_speed = std::max(wall_speed, v.norm());
@@ -131,7 +131,7 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   options_.solver.dimension = d;
   ops_ = std::make_unique<Operators>(std::move(cloud), options_.operators);
   spacing_ = ops_->spacing();
-  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian), walls_);
+  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian), eq_.walls);
   check<ConfigError>(std::isfinite(options_.max_speed_growth) && options_.max_speed_growth >= 0,
                      "flow: max_speed_growth must be finite and >= 0, got ", options_.max_speed_growth);
   check<ConfigError>(std::isfinite(options_.hyperviscosity) && options_.hyperviscosity >= 0 &&
@@ -141,7 +141,7 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
     const Real U = options_.velocity_scale > 0 ? options_.velocity_scale : max_row_norm(start);
     gamma_ = options_.hyperviscosity * U * spacing_ * spacing_ * spacing_;
   }
-  ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(*ops_, walls_, options_.solver));
+  factorise_pressure();
   FlowStepReport r;
   u_ = project_state(start, r);
   report_ = r;
@@ -156,6 +156,12 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
     if (options_.max_speed_growth > 0)
       speed_bound_ = options_.max_speed_growth * std::max(report_.max_speed, wall_speed);
   }
+}
+
+void FlowSolver::factorise_pressure() {
+  PressureEquation eq = pressure_equation(*ops_, eq_.walls);
+  eq_.wall_flux = std::move(eq.wall_flux);
+  ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(std::move(eq.matrix), eq_.walls, options_.solver));
 }
 
 FlowSolver::~FlowSolver() = default;
@@ -176,7 +182,7 @@ Real FlowSolver::advective_bound(const Eigen::MatrixXd& u) const {
   const int d = G.dim;
   Real b = 0;
   for (Index i = 0; i < G.rows(); ++i) {
-    if (!walls_.empty() && walls_.is_wall[static_cast<std::size_t>(i)]) continue;  // walls do not advance
+    if (!eq_.walls.empty() && eq_.walls.is_wall[static_cast<std::size_t>(i)]) continue;  // walls do not advance
     Real r = 0;
     for (Index k = G.row_begin(i); k < G.row_end(i); ++k) {
       Real a = 0;
@@ -211,14 +217,14 @@ Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u) const {
 }
 
 void FlowSolver::wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const {
-  if (walls_.empty()) return;
+  if (eq_.walls.empty()) return;
   // A wall particle's Laplacian row sees a half (a quarter at a corner) of its support: Σ_a ∂_a ∂_a
   // from the least-squares gradient of the gradient reads the fluid's rows instead.
   const Stencil& G = ops_->stencil(OperatorKind::Gradient);
   const int d = G.dim;
   for (int c = 0; c < d; ++c) {
     const Eigen::MatrixXd g = ops_->apply(OperatorKind::Gradient, Field(u.col(c)));  // ∂_a u_c
-    for (const Index i : walls_.index) {
+    for (const Index i : eq_.walls.index) {
       Real s = 0;
       for (Index k = G.row_begin(i); k < G.row_end(i); ++k) {
         const Index j = G.col[static_cast<std::size_t>(k)];
@@ -235,7 +241,7 @@ Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& a
   // ∂u/∂t = f - (u·∇)u - ∇p stays divergence-free: L p = D (f - (u·G)u); at walls, which do not
   // accelerate, n·G p = n·(f - (u·G)u).
   Field p = phi_;
-  const PressurePoisson::Result res = ppe_->solve(pressure_rhs(*ops_, walls_, f - adv), p);
+  const PressurePoisson::Result res = ppe_->solve(pressure_rhs(*ops_, eq_, f - adv), p);
   if (r) count_solve(*r, res.report, res.shift, watch.seconds());
   return p;
 }
@@ -250,14 +256,14 @@ Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, FlowStepReport& r) {
   // Eulerian: ∂u/∂t = f - (u·∇)u - ∇p; Lagrangian: Du/Dt = f - ∇p (the particles carry the advection).
   Eigen::MatrixXd k = f - ops_->apply(OperatorKind::Gradient, phi_);
   if (options_.frame == FlowFrame::Eulerian) k -= adv;
-  for (const Index i : walls_.index) k.row(i).setZero();  // the walls' velocity is prescribed
+  for (const Index i : eq_.walls.index) k.row(i).setZero();  // the walls' velocity is prescribed
   r.seconds_rhs += watch.seconds();
   return k;
 }
 
 Eigen::MatrixXd FlowSolver::project_state(const Eigen::MatrixXd& w, FlowStepReport& r) {
   const Stopwatch watch;
-  Projected p = project(*ops_, *ppe_, w, correction_, walls_);
+  Projected p = project(*ops_, *ppe_, w, correction_, &eq_);
   correction_ = std::move(p.phi);
   count_solve(r, p.report, p.shift, watch.seconds());
   return std::move(p.u);
@@ -266,10 +272,10 @@ Eigen::MatrixXd FlowSolver::project_state(const Eigen::MatrixXd& w, FlowStepRepo
 void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
   Stopwatch watch;
   ops_->update(x);
-  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian), walls_);
+  laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian), eq_.walls);
   r.seconds_update += watch.seconds();
   watch.restart();
-  ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(*ops_, walls_, options_.solver));
+  factorise_pressure();
   r.ppe_iterations += ppe_->setup().iterations;
   r.seconds_ppe += watch.seconds();
 }
@@ -331,7 +337,7 @@ void FlowSolver::finish_report(FlowStepReport& r) const {
 
 Real FlowSolver::max_divergence() const {
   Field div = ops_->apply(VectorOperator::Divergence, u_).col(0);
-  for (const Index i : walls_.index) div[i] = 0;  // a wall's one-sided row measures the wall, not the fluid
+  for (const Index i : eq_.walls.index) div[i] = 0;  // a wall's one-sided row measures the wall, not the fluid
   return div.cwiseAbs().maxCoeff();
 }
 

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The approximate projection and the advection term from a method's operators (projection.hpp).
+#include <algorithm>
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/projection.hpp>
+#include <vrsph/methods/registry.hpp>
 #include <vrsph/stencil/apply.hpp>
 
 namespace vrsph {
@@ -35,10 +37,25 @@ Walls walls_of(const PointCloud& cloud) {
   return walls;
 }
 
-CsrMatrix pressure_matrix(const Operators& ops, const Walls& walls) {
-  CsrMatrix A = laplacian_matrix(ops);
-  if (walls.empty()) return A;
-  const Stencil& G = ops.stencil(OperatorKind::Gradient);
+namespace {
+// The method of the pressure rows with balance rows at the walls, or null when it has none (or
+// the user chose its gradient rows).
+std::unique_ptr<Method> balance_method(const OperatorsOptions& o) {
+  const MethodInfo& info = builtin_methods().info(o.method);
+  const auto declares = [&info](const std::string& key) {
+    return std::any_of(info.options.begin(), info.options.end(), [&key](const auto& kv) { return kv.first == key; });
+  };
+  const auto& set = o.method_options.values();
+  if (!declares("flux") || set.contains("profile")) return nullptr;
+  if (set.contains("flux") && set.at("flux") != "balance") return nullptr;
+  MethodOptions m = o.method_options;
+  m.set("flux", "balance");
+  if (declares("rhs") && !set.contains("rhs")) m.set("rhs", "point");  // the projection needs point rows
+  return builtin_methods().create(o.method, m);
+}
+
+// The walls' gradient rows n·G in place of their rows of A.
+CsrMatrix with_gradient_rows(const CsrMatrix& A, const Stencil& G, const Walls& walls) {
   std::vector<Eigen::Triplet<Real>> t;
   t.reserve(static_cast<std::size_t>(A.nonZeros()));
   for (Index i = 0; i < A.rows(); ++i) {
@@ -57,34 +74,69 @@ CsrMatrix pressure_matrix(const Operators& ops, const Walls& walls) {
   out.setFromTriplets(t.begin(), t.end());
   return out;
 }
+}  // namespace
 
-Field pressure_rhs(const Operators& ops, const Walls& walls, const Eigen::MatrixXd& a) {
+PressureEquation pressure_equation(const Operators& ops, const Walls& walls) {
+  PressureEquation eq;
+  eq.walls = walls;
+  if (walls.empty()) {
+    eq.matrix = laplacian_matrix(ops);
+    return eq;
+  }
+  if (const std::unique_ptr<Method> method = balance_method(ops.options())) {
+    // The same cloud with its walls as Neumann particles: the method's balance rows are those
+    // of its Neumann boundary value problems.
+    PointCloud neumann = ops.cloud();
+    for (const Index i : walls.index) neumann.tags[static_cast<std::size_t>(i)] = Tag::Neumann;
+    const Discretisation disc{neumann, ops.neighbours(), ops.options().kernel, ops.spacing()};
+    StencilRequest request;
+    request.kind = OperatorKind::Laplacian;
+    Stencil L = method->build(disc, request);
+    if (!L.wall_flux.empty()) {
+      require_point_rows(L, "a projection");
+      eq.matrix = CsrMatrix(as_eigen(L));
+      eq.wall_flux = std::move(L.wall_flux);
+      for (Index i = 0; i < eq.matrix.rows(); ++i)
+        if (!walls.is_wall[static_cast<std::size_t>(i)]) eq.wall_flux[static_cast<std::size_t>(i)] = 0;
+      return eq;
+    }
+  }
+  eq.matrix = with_gradient_rows(laplacian_matrix(ops), ops.stencil(OperatorKind::Gradient), walls);
+  return eq;
+}
+
+Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen::MatrixXd& a) {
   Field r = ops.apply(VectorOperator::Divergence, a).col(0);
+  const Walls& walls = eq.walls;
   for (std::size_t w = 0; w < walls.index.size(); ++w) {
     const Index i = walls.index[w];
-    r[i] = a.row(i).dot(walls.normal[w].head(a.cols()));
+    const Real flux = a.row(i).dot(walls.normal[w].head(a.cols()));
+    r[i] = eq.wall_flux.empty() ? flux : r[i] - eq.wall_flux[static_cast<std::size_t>(i)] * flux;
   }
   return r;
 }
 
-PressurePoisson pressure_poisson(const Operators& ops, const Walls& walls, const SolverOptions& options) {
-  CsrMatrix A = pressure_matrix(ops, walls);
-  if (walls.empty()) return PressurePoisson(std::move(A), options);
+PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const SolverOptions& options) {
+  if (walls.empty()) return PressurePoisson(std::move(matrix), options);
   Index pinned = 0;
-  while (pinned < A.rows() && walls.is_wall[static_cast<std::size_t>(pinned)]) ++pinned;
-  check<ConfigError>(pinned < A.rows(), "flow: every particle is a wall; there is no fluid");
-  Field y = left_null_vector(A, options, pinned);
-  return PressurePoisson(std::move(A), options, pinned, std::move(y));
+  while (pinned < matrix.rows() && walls.is_wall[static_cast<std::size_t>(pinned)]) ++pinned;
+  check<ConfigError>(pinned < matrix.rows(), "flow: every particle is a wall; there is no fluid");
+  Field y = left_null_vector(matrix, options, pinned);
+  return PressurePoisson(std::move(matrix), options, pinned, std::move(y));
 }
 
 Projected project(const Operators& ops, const PressurePoisson& ppe, const Eigen::MatrixXd& w, const Field& phi_guess,
-                  const Walls& walls) {
+                  const PressureEquation* eq) {
   const int d = ops.cloud().dim;
   check<InputError>(w.rows() == ops.cloud().size() && w.cols() == d, "projection: a velocity of ", w.rows(), " x ",
                     w.cols(), " for ", ops.cloud().size(), " particles in ", d, "D");
   Projected out;
+  // ∂φ/∂n = n·(w - u_wall) = 0 at walls: the wall keeps its normal velocity.
+  const Walls no_walls;
+  const Walls& walls = eq ? eq->walls : no_walls;
   Field div = ops.apply(VectorOperator::Divergence, w).col(0);
-  for (const Index i : walls.index) div[i] = 0;  // n·G φ = 0: the wall keeps its normal velocity
+  if (eq && eq->wall_flux.empty())
+    for (const Index i : walls.index) div[i] = 0;  // gradient rows: n·G φ = 0 (balance rows: Δφ_i - c_i·0)
   out.phi = phi_guess;
   const PressurePoisson::Result r = ppe.solve(div, out.phi);
   out.shift = r.shift;

@@ -2,7 +2,8 @@
 // The flow layer against exact solutions (docs/flow.md): the frozen-cloud projection converges
 // at second order with VRSPH's Laplacian while classic SPH's stalls; the Taylor–Green vortex in
 // both frames converges, and its pressure at second order. Sizes kept small for CI; the long runs
-// are documented commands. The lid-driven cavity at Re = 100 approaches Ghia et al.'s profiles.
+// are documented commands. The lid-driven cavity at Re = 100 meets Ghia et al.'s profiles within a band.
+#include <algorithm>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/flow/cavity.hpp>
 #include <vrsph/flow/flow_study.hpp>
@@ -87,24 +88,23 @@ TEST(FlowConvergence, TaylorGreenLagrangianShortRun) {
   EXPECT_GT(least_squares_order(sizes(r.nx), r.p_mean), 1.7);
 }
 
-TEST(FlowConvergence, LidDrivenCavityApproachesGhiaAtRe100) {
-  // The steady cavity at Re = 100 on perturbed clouds (jitter 0.2): the largest centre-line
-  // deviation from Ghia et al.'s table falls under refinement (measured: u 4.01e-2, 2.15e-2;
-  // v 6.67e-2, 2.01e-2 at nx = 16, 32); the finer runs are in docs/flow.md.
-  std::vector<Real> deviation;
-  for (const int nx : {16, 32}) {
-    CavityRunOptions o;
-    o.cloud.nx = nx;
-    o.re = 100;
-    o.t_end = 40;
-    const CavityRunRow r = run_cavity(o);
-    EXPECT_TRUE(r.steady) << "nx = " << nx << " residual " << r.steady_residual;
-    EXPECT_LT(r.t, 20) << "steady well before t = 20 (measured 13.3, 13.4)";
-    deviation.push_back(std::max(r.ghia_max_deviation_u, r.ghia_max_deviation_v));
-    EXPECT_EQ(r.u_line.size(), 101u);
-    EXPECT_NEAR(r.u_line.back(), 1.0, 0.01);  // the lid, through the fit
-  }
-  EXPECT_LT(deviation[0], 0.08);
-  EXPECT_LT(deviation[1], 0.03);
-  EXPECT_LT(deviation[1], 0.5 * deviation[0]);
+TEST(FlowConvergence, LidDrivenCavityMeetsGhiaWithinABandAtRe100) {
+  // The steady cavity at Re = 100 on a perturbed cloud (jitter 0.2, nx = 32): the largest
+  // centre-line deviation from Ghia et al.'s table within 0.03 (measured: u 1.79e-2, v 2.49e-2;
+  // 8.2e-3 and 1.34e-2 at nx = 64, docs/flow.md, where Ghia's own error is discussed).
+  CavityRunOptions o;
+  o.cloud.nx = 32;
+  o.re = 100;
+  o.t_end = 40;
+  const CavityRunRow r = run_cavity(o);
+  EXPECT_TRUE(r.steady) << "residual " << r.steady_residual;
+  EXPECT_LT(r.t, 20) << "steady well before t = 20 (measured 13.8)";
+  EXPECT_LT(r.ghia_max_deviation_u, 0.03);
+  EXPECT_LT(r.ghia_max_deviation_v, 0.03);
+  ASSERT_EQ(r.u_line.size(), 101u);
+  EXPECT_NEAR(r.u_line.back(), 1.0, 0.01);  // the lid, through the fit
+  EXPECT_NEAR(r.u_line.front(), 0.0, 0.01);
+  // The primary vortex: u's minimum on the vertical centre line, Ghia's -0.2109 within 8 % (measured
+  // -0.2223: the coarse cloud's vortex is too strong, docs/flow.md).
+  EXPECT_NEAR(*std::min_element(r.u_line.begin(), r.u_line.end()), -0.2109, 0.08 * 0.2109);
 }

@@ -138,7 +138,7 @@ class FlowSolver {
   const Operators& operators() const { return *ops_; }
   const FlowOptions& options() const { return options_; }
   const FlowStepReport& last() const { return report_; }
-  const Walls& walls() const { return walls_; }
+  const Walls& walls() const { return eq_.walls; }
   /// The pressure of the current velocity (zero mean): L p = D F_E(u), F_E the Eulerian
   /// right-hand side (the pressure that keeps ∂u/∂t divergence-free), one more solve.
   Field pressure() const;
@@ -157,6 +157,7 @@ class FlowSolver {
   Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, FlowStepReport* r) const;
   Eigen::MatrixXd rate(const Eigen::MatrixXd& u, FlowStepReport& r);
   void move_to(const std::vector<Vec3>& x, FlowStepReport& r);
+  void factorise_pressure();  ///< the pressure equation of the current operators into ppe_ (and eq_'s wall fluxes)
   void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
   Eigen::MatrixXd project_state(const Eigen::MatrixXd& w, FlowStepReport& r);
   void finish_report(FlowStepReport& r) const;
@@ -165,7 +166,7 @@ class FlowSolver {
   FlowOptions options_;
   std::unique_ptr<Operators> ops_;
   std::unique_ptr<PressurePoisson> ppe_;
-  Walls walls_;
+  PressureEquation eq_;  ///< its walls and wall fluxes (the matrix is moved into ppe_)
   Eigen::MatrixXd u_;
   Field phi_;         ///< the last stage's pressure (the next solve's initial guess)
   Field correction_;  ///< the last end-of-step projection's potential (likewise)

@@ -8,9 +8,16 @@
 // truncation error applied to φ (second order for VRSPH); on a periodic box the part of D w no
 // gradient can remove (its mean, in the left null vector's weights) is returned as the shift.
 //
-// Walls (particles tagged Dirichlet: their velocity is prescribed) keep their velocity; their
-// pressure rows are the Neumann rows n·G φ = n·(w - u_wall) = 0, so the projected velocity keeps
-// the wall's normal velocity (the discrete form of the projection's boundary condition).
+// Walls (particles tagged Dirichlet: their velocity is prescribed) keep their velocity, and their
+// pressure rows carry the Neumann condition ∂φ/∂n = n·(w - u_wall) = 0, the projection's
+// boundary condition. Two forms (docs/flow.md, "Walls"):
+//  - balance rows (VRSPH): the wall particle's own Laplacian row over its half support, with
+//    a wall-flux unknown c_i ≥ 0 in its moment conditions: row·φ ≈ Δφ_i - c_i ∂φ/∂n_i (the
+//    rows of VRSPH's Neumann boundary value problems, flux=balance). The matrix keeps the
+//    M-matrix sign pattern, and the projection is stable: its spectral radius 1 + 2e-4 on the
+//    cavity's clouds, where the gradient rows below gave 1.04–1.52 (a tangential mode of the
+//    first fluid layer that grew until the viscosity held it, measured);
+//  - gradient rows (every other method): n·G φ, with the flow's gradient.
 #include <vrsph/flow/pressure_poisson.hpp>
 #include <vrsph/moving/operators.hpp>
 
@@ -32,16 +39,27 @@ struct Walls {
 };
 Walls walls_of(const PointCloud& cloud);
 
-/// The pressure matrix: the Laplacian's rows at fluid particles, the Neumann rows n·G at walls
-/// (every row annihilates constants, as PressurePoisson requires).
-CsrMatrix pressure_matrix(const Operators& ops, const Walls& walls);
-/// Its right-hand side for a pressure that balances the acceleration a (N x d): D a at fluid
-/// particles, n·a at walls.
-Field pressure_rhs(const Operators& ops, const Walls& walls, const Eigen::MatrixXd& a);
-/// The pressure equation of these operators and walls, factorised: pressure_matrix, pinned at
-/// the first fluid particle; with walls its defect spread along the left null vector
-/// (pressure_poisson.hpp), one more factorisation (of the transpose) at set-up.
-PressurePoisson pressure_poisson(const Operators& ops, const Walls& walls, const SolverOptions& options);
+/// The pressure equation's matrix over every particle: the Laplacian's rows at fluid particles
+/// and the walls' rows (every row annihilates constants, as PressurePoisson requires).
+struct PressureEquation {
+  CsrMatrix matrix;
+  Walls walls;
+  /// Balance rows: c_i of each particle's row (0 at fluid particles); empty: the walls take
+  /// gradient rows n·G.
+  std::vector<Real> wall_flux;
+};
+/// Balance rows where the method has them (a "flux" option the user left unset or set to
+/// balance; its "rhs" then point), else gradient rows. Throws as the method's build.
+PressureEquation pressure_equation(const Operators& ops, const Walls& walls);
+/// Its right-hand side for a pressure whose gradient balances the acceleration a (N x d),
+/// ∇²p = ∇·a inside and ∂p/∂n = n·a at walls: D a at fluid particles; at walls n·a (gradient
+/// rows) or (D a)_i - c_i n·a_i (balance rows).
+Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen::MatrixXd& a);
+/// The pressure equation, factorised: pinned at the first fluid particle; with walls its defect
+/// spread along the left null vector (pressure_poisson.hpp), one more factorisation (of the
+/// transpose) at set-up.
+/// `matrix`: the equation's (moved in: PressurePoisson pins it in place).
+PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const SolverOptions& options);
 
 struct Projected {
   Eigen::MatrixXd u;  ///< w - G φ
@@ -50,11 +68,11 @@ struct Projected {
   SolveReport report;
 };
 
-/// w projected with the operators' L (factorised in `ppe`: pressure_matrix with these walls),
-/// G and D; wall particles keep w. `phi_guess`: an initial guess for an iterative solver
-/// (empty: none). InputError for a w of another shape.
+/// w projected with the operators' L (factorised in `ppe`: the pressure equation `eq`), G and D;
+/// wall particles keep w (whose normal component must be the wall's). `phi_guess`: an initial
+/// guess for an iterative solver (empty: none). InputError for a w of another shape.
 Projected project(const Operators& ops, const PressurePoisson& ppe, const Eigen::MatrixXd& w, const Field& phi_guess = {},
-                  const Walls& walls = {});
+                  const PressureEquation* eq = nullptr);
 
 /// (u · G) u: the advection of u (N x d) by itself with the operators' gradient, N x d.
 Eigen::MatrixXd advection(const Operators& ops, const Eigen::MatrixXd& u);
