@@ -118,6 +118,8 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
   d["steady_residual"] = r.steady_residual;
   d["ghia_max_deviation_u"] = r.ghia_max_deviation_u;
   d["ghia_max_deviation_v"] = r.ghia_max_deviation_v;
+  d["reference_max_deviation_u"] = r.reference_max_deviation_u;
+  d["reference_max_deviation_v"] = r.reference_max_deviation_v;
   d["u_at_ghia"] = r.u_at_ghia;
   d["v_at_ghia"] = r.v_at_ghia;
   d["max_div_u"] = r.max_div_u;

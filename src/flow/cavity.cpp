@@ -121,6 +121,8 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
   centre_lines(solver, radius, ghia.y, ghia.x, row.u_at_ghia, row.v_at_ghia);
   row.ghia_max_deviation_u = max_deviation(ghia.y, row.u_at_ghia, ghia.u);
   row.ghia_max_deviation_v = max_deviation(ghia.x, row.v_at_ghia, ghia.v);
+  row.reference_max_deviation_u = max_deviation(ghia.y, row.u_at_ghia, ghia.u_converged);
+  row.reference_max_deviation_v = max_deviation(ghia.x, row.v_at_ghia, ghia.v_converged);
   for (int k = 0; k <= 100; ++k) row.line.push_back(k / 100.0);
   centre_lines(solver, radius, row.line, row.line, row.u_line, row.v_line);
   return row;

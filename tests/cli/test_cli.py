@@ -437,6 +437,8 @@ class Flow(unittest.TestCase):
             lines = open(csv_path).read().splitlines()
             self.assertEqual(lines[0], "series,line,s,value")
             self.assertEqual(sum(1 for l in lines if l.startswith("ghia,")), 34)
+            self.assertEqual(sum(1 for l in lines if l.startswith("p2-p1 n=128,")), 34)
+            self.assertIn("reference_max_deviation_v", row)
             self.assertEqual(sum(1 for l in lines if l.startswith("vrsph nx=16,")), 202)
         for args, message in ((["--re", "400"], "Re = 100 and 1000"), (["--dim", "3"], "two-dimensional"),
                               (["--frame", "lagrangian"], "eulerian frame"), (["--steady-tol", "0"], "--steady-tol")):

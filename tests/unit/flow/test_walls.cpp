@@ -238,5 +238,17 @@ TEST(Ghia, TablesForRe100And1000) {
   EXPECT_DOUBLE_EQ(a.u.front(), 1.0);  // the lid
   EXPECT_DOUBLE_EQ(a.u[9], -0.21090);  // the minimum at y = 0.4531
   EXPECT_DOUBLE_EQ(ghia_profiles(1000).v[5], -0.51550);
+  for (const Real re : {100.0, 1000.0}) {
+    const GhiaProfiles& g = ghia_profiles(re);
+    ASSERT_EQ(g.u_converged.size(), 17u);
+    ASSERT_EQ(g.v_converged.size(), 17u);
+    Real u = 0, v = 0;  // the table's own distance from the converged solution (ghia.hpp)
+    for (std::size_t k = 1; k + 1 < 17; ++k) {
+      u = std::max(u, std::abs(g.u[k] - g.u_converged[k]));
+      v = std::max(v, std::abs(g.v[k] - g.v_converged[k]));
+    }
+    EXPECT_NEAR(u, re == 100 ? 5.04e-3 : 6.30e-3, 1e-4);
+    EXPECT_NEAR(v, re == 100 ? 9.24e-3 : 1.85e-2, 1e-4);
+  }
   EXPECT_THROW_MSG(ghia_profiles(3200), ConfigError, "not 3200");
 }
