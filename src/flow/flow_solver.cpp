@@ -403,10 +403,13 @@ const FlowStepReport& FlowSolver::step(Real dt) {
                           "disordered for the projection: shifting; or a smaller time step, another method)");
     Eigen::Index fastest = 0;
     const Real speed = u_.rowwise().norm().maxCoeff(&fastest);
-    check<NumericalError>(speed <= speed_bound_, "particle ", fastest, " reached |u| = ", speed, ", ",
-                          options_.max_speed_growth, " times the initial largest speed, without a body force: the run "
-                          "is unstable (particles too disordered for the projection: shifting; or a smaller time step, "
-                          "another method; FlowOptions::max_speed_growth = 0 turns this check off)");
+    check<NumericalError>(speed <= speed_bound_, "particle ", fastest, " reached |u| = ", speed, ", over ",
+                          options_.max_speed_growth, " times the initial largest speed",
+                          eq_.walls.empty() ? "" : " or the fastest wall's", ", without a body force: the run is unstable (",
+                          lagrangian ? "particles too disordered for the projection: shifting"
+                                     : "advection under-resolved on this cloud: more particles or a hyperviscosity",
+                          "; or a smaller time step, another method; FlowOptions::max_speed_growth = 0 turns this check "
+                          "off)");
   } catch (const Error& e) {
     u_ = un;
     phi_ = phin;
