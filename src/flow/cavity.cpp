@@ -7,6 +7,7 @@
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/flow/cavity.hpp>
 #include <vrsph/flow/ghia.hpp>
+#include "study_step.hpp"
 
 namespace vrsph {
 
@@ -86,9 +87,10 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
   Index steps = 0;
   const std::vector<char>& wall = solver.walls().is_wall;
   while (solver.time() < o.t_end * (1 - 1e-12)) {
-    Real dt = o.dt > 0 ? dt_target : std::min(dt_target, solver.stable_time_step(0.9));
-    check<NumericalError>(dt > 1e-6 * dt_target, "cavity step ", steps + 1, " (t = ", solver.time(), "): the stable "
-                          "time step fell to ", dt, " (max |u| = ", solver.last().max_speed, "): the run is unstable");
+    check<NumericalError>(static_cast<Real>(steps) < max_steps, "cavity: 1e7 steps reached at t = ", solver.time(),
+                          " of ", o.t_end, " (the stability limit shortened the steps to ", row.dt, ")");
+    const Real dt = detail::study_time_step(solver, o.dt, dt_target, steps + 1,
+                                            "more particles, a hyperviscosity or a smaller --cfl");
     const Eigen::MatrixXd before = solver.velocity();
     const FlowStepReport& r = solver.step(dt);
     ++steps;

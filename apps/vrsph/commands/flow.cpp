@@ -58,6 +58,21 @@ OperatorsOptions operators_for(const FlowArgs& a, const std::string& method,
   return o;
 }
 
+// The flow's options from the command line, for one method.
+FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
+                             const std::map<std::string, MethodOptions>& options) {
+  FlowOptions o;
+  o.frame = parse_flow_frame(a.frame);
+  o.scheme = parse_flow_scheme(a.scheme);
+  o.operators = operators_for(a, method, options);
+  o.gradient = a.gradient;
+  o.solver.type = parse_solver(a.solver);
+  o.allow_unstable = a.allow_unstable;
+  o.hyperviscosity = a.hyperviscosity;
+  o.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
+  return o;
+}
+
 // Observed orders between consecutive resolutions of one method (the first row has none).
 void add_orders(Table& t, std::size_t first, const std::vector<int>& nx, const std::map<std::string, std::vector<Real>>& errors) {
   std::vector<Real> h;
@@ -141,14 +156,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
       o.t_end = a.t_end;
       o.cfl = a.cfl;
       o.dt = a.dt;
-      o.flow.frame = parse_flow_frame(a.frame);
-      o.flow.scheme = parse_flow_scheme(a.scheme);
-      o.flow.operators = operators_for(a, m, options);
-      o.flow.gradient = a.gradient;
-      o.flow.solver.type = parse_solver(a.solver);
-      o.flow.allow_unstable = a.allow_unstable;
-      o.flow.hyperviscosity = a.hyperviscosity;
-      o.flow.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
+      o.flow = flow_options_for(a, m, options);
       // The VTU series of the first method's finest run only (one series per --vtu-series).
       std::unique_ptr<VtuSeries> series;
       if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
@@ -247,12 +255,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
       o.cfl = a.cfl;
       o.dt = a.dt;
       o.steady_tolerance = a.steady_tol;
-      o.flow.scheme = parse_flow_scheme(a.scheme);
-      o.flow.operators = operators_for(a, m, options);
-      o.flow.gradient = a.gradient;
-      o.flow.solver.type = parse_solver(a.solver);
-      o.flow.allow_unstable = a.allow_unstable;
-      o.flow.hyperviscosity = a.hyperviscosity;
+      o.flow = flow_options_for(a, m, options);
       std::unique_ptr<VtuSeries> series;
       if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
       const double index = static_cast<double>(done++);
