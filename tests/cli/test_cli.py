@@ -445,6 +445,15 @@ class Flow(unittest.TestCase):
             result = run("flow", "--case", "cavity", "--nx", "8", *args, check=False)
             self.assertEqual(result.returncode, 2, result.stderr)
             self.assertIn(message, result.stderr)
+        # A comparator that blows up keeps its row (status) and the others; the command then fails (exit 5).
+        result = run("flow", "--case", "cavity", "--method", "vrsph,fpm", "--nx", "16", "--t-end", "2", "--threads", "1",
+                     "--format", "json", check=False)
+        self.assertEqual(result.returncode, 5, result.stderr)
+        self.assertIn("vrsph: numerical error: 1 of 2 runs failed", result.stderr)
+        rows = json.loads(result.stdout)["rows"]
+        self.assertEqual([r["status"] for r in rows][0], "ok")
+        self.assertIn("the run is unstable", rows[1]["status"])
+        self.assertNotIn("ghia_max_deviation_u", {k for k, v in rows[1].items() if v is not None})
         result = run("flow", "--nx", "8", "--profile-output", "x.csv", check=False)
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("--profile-output applies to --case cavity", result.stderr)

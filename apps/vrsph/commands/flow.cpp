@@ -8,6 +8,7 @@
 //                       Ghia, Ghia & Shin (1982) (flow/cavity.hpp).
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/convergence.hpp>
@@ -58,6 +59,41 @@ OperatorsOptions operators_for(const FlowArgs& a, const std::string& method,
   return o;
 }
 
+// The runs of a comparison that blew up (NumericalError: an instability, a failed pressure
+// solve). A classic scheme that cannot run is a result of the comparison, not a reason to lose
+// the others: its row carries the message in `status`, the table is written, and the command
+// then fails with the first message (the exit code of a numerical error). Bad input
+// (ConfigError, InputError, ...) still stops at once.
+struct FailedRuns {
+  std::size_t runs = 0;
+  std::vector<std::string> messages;
+  /// run(); false (and the row `key` + status added to t) when it threw a NumericalError.
+  template <class Run>
+  bool attempt(Table& t, std::vector<std::pair<std::string, TableCell>> key, Run&& run) {
+    ++runs;
+    try {
+      run();
+      return true;
+    } catch (const NumericalError& e) {
+      messages.emplace_back(e.what());
+      key.emplace_back("status", std::string(e.what()));
+      t.add_row(key);
+      return false;
+    }
+  }
+  void raise_if_any() const {
+    if (messages.empty()) return;
+    std::string all = messages.front();
+    for (std::size_t k = 1; k < messages.size(); ++k) all += "; then: " + messages[k];
+    throw NumericalError(detail::concat(messages.size(), " of ", runs, " runs failed (their rows' status says why): ", all));
+  }
+};
+
+// NaN for every order column of a run that failed (orders skip it).
+void skip_orders(std::map<std::string, std::vector<Real>>& errors) {
+  for (auto& [name, e] : errors) e.push_back(std::numeric_limits<Real>::quiet_NaN());
+}
+
 // The flow's options from the command line, for one method.
 FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
                              const std::map<std::string, MethodOptions>& options) {
@@ -93,13 +129,13 @@ const std::vector<std::string> taylor_green_columns = {
     "case", "method", "gradient", "frame", "scheme", "dim", "nx", "particles", "t", "steps", "dt",
     "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
     "order_u_mean", "order_u_inf", "order_p_mean", "kinetic_energy", "min_spacing", "max_spacing",
-    "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs"};
+    "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "status"};
 
 const std::vector<std::string> cavity_columns = {
     "case", "method", "gradient", "re", "nx", "particles", "t", "steps", "dt", "steady", "steady_residual",
     "ghia_max_deviation_u", "ghia_max_deviation_v", "order_ghia_u", "order_ghia_v", "reference_max_deviation_u",
     "reference_max_deviation_v", "order_reference_u", "order_reference_v", "max_div_u", "kinetic_energy",
-    "ppe_iterations_per_step", "seconds_setup", "seconds_per_step", "seconds_ppe", "seconds_rhs"};
+    "ppe_iterations_per_step", "seconds_setup", "seconds_per_step", "seconds_ppe", "seconds_rhs", "status"};
 
 void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
                     const std::map<std::string, MethodOptions>& options) {
@@ -146,9 +182,10 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   Progress progress;
   std::size_t done = 0;
   const double runs = static_cast<double>(methods.size() * nxs.size());
+  FailedRuns failed;
   for (const std::string& m : methods) {
     const std::size_t first = t.rows.size();
-    std::map<std::string, std::vector<Real>> errors;
+    std::map<std::string, std::vector<Real>> errors{{"order_u_mean", {}}, {"order_u_inf", {}}, {"order_p_mean", {}}};
     for (const int n : nxs) {
       VortexRunOptions o;
       o.cloud = cloud_spec(a, n);
@@ -175,7 +212,12 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
                         {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
         }
       };
-      const VortexRunRow r = run_periodic_vortex(o);
+      VortexRunRow r;
+      if (!failed.attempt(t, {{"case", std::string("taylor-green")}, {"method", m}, {"nx", static_cast<long long>(n)}},
+                          [&] { r = run_periodic_vortex(o); })) {
+        skip_orders(errors);
+        continue;
+      }
       if (warned > 0 && communicator().rank() == 0)
         std::cerr << "vrsph: warning: " << first_warning << (warned > 1 ? detail::concat(" (and ", warned - 1, " more)") : "") << '\n';
       errors["order_u_mean"].push_back(r.errors.error_u_mean);
@@ -191,7 +233,8 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
                  {"decay_rate_error", r.errors.decay_rate_error}, {"max_div_u", r.max_div_u},
                  {"kinetic_energy", r.kinetic_energy}, {"min_spacing", r.min_spacing}, {"max_spacing", r.max_spacing},
                  {"ppe_iterations_per_step", r.ppe_iterations_per_step}, {"seconds_per_step", r.seconds_per_step},
-                 {"seconds_update", r.seconds_update}, {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}});
+                 {"seconds_update", r.seconds_update}, {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs},
+                 {"status", std::string("ok")}});
     }
     add_orders(t, first, nxs, errors);
   }
@@ -207,6 +250,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
   emit(t, a.out, extra.dump(), "nx", "error_u_mean:-1/-2,error_p_mean:-1/-2", "method", "Taylor-Green: mean velocity and pressure errors");
+  failed.raise_if_any();
 }
 
 // The centre-line profiles in long form: series (method and nx, or ghia), line, coordinate, value.
@@ -242,9 +286,11 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
   std::size_t done = 0;
   const double runs = static_cast<double>(methods.size() * nxs.size());
   std::vector<std::pair<std::string, CavityRunRow>> profiles;
+  FailedRuns failed;
   for (const std::string& m : methods) {
     const std::size_t first = t.rows.size();
-    std::map<std::string, std::vector<Real>> errors;
+    std::map<std::string, std::vector<Real>> errors{
+        {"order_ghia_u", {}}, {"order_ghia_v", {}}, {"order_reference_u", {}}, {"order_reference_v", {}}};
     for (const int n : nxs) {
       CavityRunOptions o;
       o.cloud.nx = n;
@@ -267,7 +313,12 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
           series->write(s.time(), s.operators().cloud(),
                         {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
       };
-      const CavityRunRow r = run_cavity(o);
+      CavityRunRow r;
+      if (!failed.attempt(t, {{"case", std::string("cavity")}, {"method", m}, {"nx", static_cast<long long>(n)}},
+                          [&] { r = run_cavity(o); })) {
+        skip_orders(errors);
+        continue;
+      }
       if (!r.steady && communicator().rank() == 0)
         std::cerr << "vrsph: warning: " << m << " nx = " << n << " did not reach a steady state by t = " << r.t
                   << " (residual " << r.steady_residual << " > --steady-tol " << a.steady_tol << "); the profiles are "
@@ -287,7 +338,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
                  {"reference_max_deviation_v", r.reference_max_deviation_v}, {"max_div_u", r.max_div_u},
                  {"kinetic_energy", r.kinetic_energy}, {"ppe_iterations_per_step", r.ppe_iterations_per_step},
                  {"seconds_setup", r.seconds_setup}, {"seconds_per_step", r.seconds_per_step},
-                 {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}});
+                 {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"status", std::string("ok")}});
       profiles.emplace_back(detail::concat(m, " nx=", n), r);
     }
     add_orders(t, first, nxs, errors);
@@ -311,6 +362,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
   emit(t, a.out, extra.dump(), "nx",
        "ghia_max_deviation_u:-1/-2,ghia_max_deviation_v:-1/-2,reference_max_deviation_u,reference_max_deviation_v",
        "method", "lid-driven cavity: largest centre-line deviation from Ghia et al. and a converged solution");
+  failed.raise_if_any();
 }
 
 void run_flow(FlowArgs& a) {
@@ -393,7 +445,7 @@ void add_flow_command(CLI::App& app) {
   add_columns_option(cmd, a->out, {"method", "gradient", "frame", "nx", "particles", "steps", "error_u_mean", "error_u_inf",
                                    "error_u_l2", "error_p_mean", "error_phi_inf", "decay_rate_error", "max_div_u",
                                    "ghia_max_deviation_u", "ghia_max_deviation_v", "reference_max_deviation_u",
-                                   "reference_max_deviation_v", "steady_residual",
+                                   "reference_max_deviation_v", "steady_residual", "status",
                                    "max_div_after", "order_u_mean", "order_u_inf", "order_u_l2", "order_p_mean",
                                    "seconds_per_step"});
   auto config = std::make_shared<std::string>();
