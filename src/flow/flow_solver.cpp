@@ -161,7 +161,8 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
 void FlowSolver::factorise_pressure() {
   PressureEquation eq = pressure_equation(*ops_, eq_.walls);
   eq_.wall_flux = std::move(eq.wall_flux);
-  ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(std::move(eq.matrix), eq_.walls, options_.solver));
+  ppe_ = std::make_unique<PressurePoisson>(
+      pressure_poisson(std::move(eq.matrix), eq_.walls, eq_.wall_flux, options_.solver));
 }
 
 FlowSolver::~FlowSolver() = default;

@@ -116,8 +116,11 @@ Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen
   return r;
 }
 
-PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const SolverOptions& options) {
-  if (walls.empty()) return PressurePoisson(std::move(matrix), options);
+PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
+                                 const SolverOptions& options) {
+  // Periodic boxes and balance rows (Laplacian rows at the walls too, positive left null vector):
+  // the defect spread evenly. Gradient rows: along the left null vector (pressure_poisson.hpp).
+  if (walls.empty() || !wall_flux.empty()) return PressurePoisson(std::move(matrix), options);
   Index pinned = 0;
   while (pinned < matrix.rows() && walls.is_wall[static_cast<std::size_t>(pinned)]) ++pinned;
   check<ConfigError>(pinned < matrix.rows(), "flow: every particle is a wall; there is no fluid");

@@ -55,11 +55,13 @@ PressureEquation pressure_equation(const Operators& ops, const Walls& walls);
 /// ∇²p = ∇·a inside and ∂p/∂n = n·a at walls: D a at fluid particles; at walls n·a (gradient
 /// rows) or (D a)_i - c_i n·a_i (balance rows).
 Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen::MatrixXd& a);
-/// The pressure equation, factorised: pinned at the first fluid particle; with walls its defect
-/// spread along the left null vector (pressure_poisson.hpp), one more factorisation (of the
-/// transpose) at set-up.
-/// `matrix`: the equation's (moved in: PressurePoisson pins it in place).
-PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const SolverOptions& options);
+/// The pressure equation, factorised. On a periodic box and with balance rows its defect is
+/// spread evenly (their left null vector is positive: quadrature weights); with gradient rows
+/// along the left null vector, pinned at the first fluid particle (pressure_poisson.hpp: one
+/// more factorisation, of the transpose, at set-up). `matrix`: the equation's (moved in:
+/// PressurePoisson pins it in place); `wall_flux`: PressureEquation's.
+PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
+                                 const SolverOptions& options);
 
 struct Projected {
   Eigen::MatrixXd u;  ///< w - G φ

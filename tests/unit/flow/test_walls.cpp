@@ -29,7 +29,7 @@ Operators box_ops(const PointCloud& cloud, const std::string& flux = "") {
 // max |eig| of the projection w -> w - G φ over the fluid particles' velocities (the walls' held
 // at zero), dense.
 Real projection_radius(const Operators& ops, const PressureEquation& eq) {
-  const PressurePoisson ppe = pressure_poisson(eq.matrix, eq.walls, {});
+  const PressurePoisson ppe = pressure_poisson(eq.matrix, eq.walls, eq.wall_flux, {});
   std::vector<Index> fluid;
   for (Index i = 0; i < ops.cloud().size(); ++i)
     if (!eq.walls.is_wall[static_cast<std::size_t>(i)]) fluid.push_back(i);
@@ -89,7 +89,7 @@ TEST(FlowWalls, PressureSolveRecoversACompatiblePotential) {
   const Operators ops = box_ops(c);
   const Walls walls = walls_of(ops.cloud());
   const PressureEquation eq = pressure_equation(ops, walls);
-  const PressurePoisson ppe = pressure_poisson(eq.matrix, walls, {});
+  const PressurePoisson ppe = pressure_poisson(eq.matrix, walls, eq.wall_flux, {});
   Field phi(c.size());
   for (Index i = 0; i < c.size(); ++i) phi[i] = box_potential(c.positions[static_cast<std::size_t>(i)]);
   phi.array() -= phi.mean();
@@ -108,7 +108,7 @@ TEST(FlowWalls, ProjectionRemovesTheGradientAndKeepsTheWalls) {
     const Operators ops = box_ops(c);
     const Walls walls = walls_of(ops.cloud());
     const PressureEquation eq = pressure_equation(ops, walls);
-    const PressurePoisson ppe = pressure_poisson(eq.matrix, walls, {});
+    const PressurePoisson ppe = pressure_poisson(eq.matrix, walls, eq.wall_flux, {});
     const Eigen::MatrixXd u = sample(c, box_vortex);
     const Eigen::MatrixXd w = u + sample(c, box_potential_gradient);
     const Projected p = project(ops, ppe, w, {}, &eq);
