@@ -54,8 +54,9 @@ std::unique_ptr<Method> balance_method(const OperatorsOptions& o) {
   return builtin_methods().create(o.method, m);
 }
 
-// The walls' gradient rows n·G in place of their rows of A.
-CsrMatrix with_gradient_rows(const CsrMatrix& A, const Stencil& G, const Walls& walls) {
+// The Laplacian's rows at the fluid particles and, at wall w, the row Σ_c weight[w][c] S_c
+// (balance rows: S the balance Laplacian, weight 1; gradient rows: S = G, weight the normal).
+CsrMatrix with_wall_rows(const CsrMatrix& A, const Stencil& S, const Walls& walls, const std::vector<Vec3>& weight) {
   std::vector<Eigen::Triplet<Real>> t;
   t.reserve(static_cast<std::size_t>(A.nonZeros()));
   for (Index i = 0; i < A.rows(); ++i) {
@@ -64,10 +65,11 @@ CsrMatrix with_gradient_rows(const CsrMatrix& A, const Stencil& G, const Walls& 
   }
   for (std::size_t w = 0; w < walls.index.size(); ++w) {
     const Index i = walls.index[w];
-    for (Index k = G.row_begin(i); k < G.row_end(i); ++k) {
+    for (Index k = S.row_begin(i); k < S.row_end(i); ++k) {
       Real v = 0;
-      for (int c = 0; c < G.dim; ++c) v += walls.normal[w][c] * G.values[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)];
-      t.emplace_back(i, G.col[static_cast<std::size_t>(k)], v);
+      for (int c = 0; c < S.components(); ++c)
+        v += weight[w][c] * S.values[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)];
+      t.emplace_back(i, S.col[static_cast<std::size_t>(k)], v);
     }
   }
   CsrMatrix out(A.rows(), A.cols());
@@ -88,20 +90,21 @@ PressureEquation pressure_equation(const Operators& ops, const Walls& walls) {
     // of its Neumann boundary value problems.
     PointCloud neumann = ops.cloud();
     for (const Index i : walls.index) neumann.tags[static_cast<std::size_t>(i)] = Tag::Neumann;
+    // Only the walls' rows: the fluid's are the operators' Laplacian (the viscous term's too).
     const Discretisation disc{neumann, ops.neighbours(), ops.options().kernel, ops.spacing()};
     StencilRequest request;
     request.kind = OperatorKind::Laplacian;
+    request.rows = walls.is_wall;
     Stencil L = method->build(disc, request);
     if (!L.wall_flux.empty()) {
       require_point_rows(L, "a projection");
-      eq.matrix = CsrMatrix(as_eigen(L));
-      eq.wall_flux = std::move(L.wall_flux);
-      for (Index i = 0; i < eq.matrix.rows(); ++i)
-        if (!walls.is_wall[static_cast<std::size_t>(i)]) eq.wall_flux[static_cast<std::size_t>(i)] = 0;
+      eq.matrix = with_wall_rows(laplacian_matrix(ops), L, walls, std::vector<Vec3>(walls.index.size(), Vec3(1, 0, 0)));
+      eq.wall_flux.assign(L.wall_flux.size(), 0);
+      for (const Index i : walls.index) eq.wall_flux[static_cast<std::size_t>(i)] = L.wall_flux[static_cast<std::size_t>(i)];
       return eq;
     }
   }
-  eq.matrix = with_gradient_rows(laplacian_matrix(ops), ops.stencil(OperatorKind::Gradient), walls);
+  eq.matrix = with_wall_rows(laplacian_matrix(ops), ops.stencil(OperatorKind::Gradient), walls, walls.normal);
   return eq;
 }
 
