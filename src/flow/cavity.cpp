@@ -89,8 +89,10 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
   while (solver.time() < o.t_end * (1 - 1e-12)) {
     check<NumericalError>(static_cast<Real>(steps) < max_steps, "cavity: 1e7 steps reached at t = ", solver.time(),
                           " of ", o.t_end, " (the stability limit shortened the steps to ", row.dt, ")");
-    const Real dt = detail::study_time_step(solver, o.dt, dt_target, steps + 1,
-                                            "more particles, a hyperviscosity or a smaller --cfl");
+    Real dt = detail::study_time_step(solver, o.dt, dt_target, steps + 1,
+                                      "more particles, a hyperviscosity or a smaller --cfl");
+    const Real left = o.t_end - solver.time();
+    if (dt >= left * (1 - 1e-9)) dt = left;  // the last step ends at t_end
     const Eigen::MatrixXd before = solver.velocity();
     const FlowStepReport& r = solver.step(dt);
     ++steps;
