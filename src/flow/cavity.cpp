@@ -78,21 +78,15 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
   row.particles = static_cast<Index>(solver.positions().size());
   const Real dx = solver.operators().spacing();
   const Real dt_target = o.dt > 0 ? o.dt : o.cfl * dx;
-  constexpr Real max_steps = 1e7;
-  check<ConfigError>(o.t_end / dt_target <= max_steps, "cavity: t_end ", o.t_end, " at a step of ", dt_target,
-                     " would take ", o.t_end / dt_target, " steps (at most 1e7)");
+  detail::check_study_length("cavity", o.t_end, dt_target);
   row.dt = dt_target;
   const Stopwatch watch;
   double iterations = 0;
   Index steps = 0;
   const std::vector<char>& wall = solver.walls().is_wall;
   while (solver.time() < o.t_end * (1 - 1e-12)) {
-    check<NumericalError>(static_cast<Real>(steps) < max_steps, "cavity: 1e7 steps reached at t = ", solver.time(),
-                          " of ", o.t_end, " (the stability limit shortened the steps to ", row.dt, ")");
-    Real dt = detail::study_time_step(solver, o.dt, dt_target, steps + 1,
-                                      "more particles, a hyperviscosity or a smaller --cfl");
-    const Real left = o.t_end - solver.time();
-    if (dt >= left * (1 - 1e-9)) dt = left;  // the last step ends at t_end
+    const Real dt = detail::next_study_step(solver, "cavity", o.dt, dt_target, o.t_end, steps, row.dt,
+                                            "more particles, a hyperviscosity or a smaller --cfl");
     const Eigen::MatrixXd before = solver.velocity();
     const FlowStepReport& r = solver.step(dt);
     ++steps;

@@ -133,11 +133,7 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
   // with the particles and the velocity) asks for less.
   check<ConfigError>(std::isfinite(o.dt) && o.dt >= 0, "flow: the time step must be finite and >= 0, got ", o.dt);
   const Real dt_target = o.dt > 0 ? o.dt : o.cfl * dx / vortex.max_speed(0);
-  // A run of more steps than this would take days; refused before it starts (and stopped if the
-  // stability limit shortens the steps that far).
-  constexpr Real max_steps = 1e7;
-  check<ConfigError>(o.t_end / dt_target <= max_steps, "flow: t_end ", o.t_end, " at a step of ", dt_target,
-                     " would take ", o.t_end / dt_target, " steps (at most 1e7)");
+  detail::check_study_length("flow", o.t_end, dt_target);
   const Real dt_cfl = o.t_end / std::ceil(o.t_end / dt_target - 1e-9);
   VortexRunRow row;
   row.nx = o.cloud.nx;
@@ -149,12 +145,8 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
   double iterations = 0;
   Index steps = 0;
   while (solver.time() < o.t_end * (1 - 1e-12)) {
-    check<NumericalError>(static_cast<Real>(steps) < max_steps, "flow: 1e7 steps reached at t = ", solver.time(),
-                          " of ", o.t_end, " (the stability limit shortened the steps to ", row.dt, ")");
-    Real dt = detail::study_time_step(solver, o.dt > 0 ? dt_cfl : 0, dt_cfl, steps + 1,
-                                      "try another gradient, a smaller --cfl or shifting");
-    const Real left = o.t_end - solver.time();
-    if (dt >= left * (1 - 1e-9)) dt = left;
+    const Real dt = detail::next_study_step(solver, "flow", o.dt > 0 ? dt_cfl : 0, dt_cfl, o.t_end, steps, row.dt,
+                                            "try another gradient, a smaller --cfl or shifting");
     const FlowStepReport& r = solver.step(dt);
     ++steps;
     row.dt = std::min(row.dt, dt);

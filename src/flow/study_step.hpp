@@ -1,21 +1,39 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The time step of the flow studies (run_periodic_vortex, run_cavity): a fixed one, or the target
+// The time steps of the flow studies (run_periodic_vortex, run_cavity): a fixed one, or the target
 // shortened to 0.9 of the stability limit, which moves with the velocity (and, Lagrangian, the
-// particles). A limit that collapses means the velocity grew without bound: NumericalError naming
-// the step, with `hint` (what to try).
+// particles); the last step ends at t_end. A run of more than 1e7 steps would take days: it is
+// refused before it starts, and stopped if the stability limit shortens the steps that far. A
+// limit that collapses means the velocity grew without bound: NumericalError naming the step.
 #include <string>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/flow_solver.hpp>
 
 namespace vrsph::detail {
 
-inline Real study_time_step(const FlowSolver& solver, Real fixed_dt, Real target, Index next_step, const std::string& hint) {
-  if (fixed_dt > 0) return fixed_dt;
-  const Real dt = std::min(target, solver.stable_time_step(0.9));
-  check<NumericalError>(dt > 1e-6 * target, "flow step ", next_step, " (t = ", solver.time(), "): the stable time step "
-                        "fell to ", dt, " (max |u| = ", solver.last().max_speed, "): the run is unstable (", hint, ")");
-  return dt;
+constexpr Real kMaxStudySteps = 1e7;
+
+/// ConfigError ("<what>: t_end ... would take ... steps") for a run of over 1e7 steps of dt.
+inline void check_study_length(const char* what, Real t_end, Real dt) {
+  check<ConfigError>(t_end / dt <= kMaxStudySteps, what, ": t_end ", t_end, " at a step of ", dt, " would take ",
+                     t_end / dt, " steps (at most 1e7)");
+}
+
+/// The next step after `steps` of them (the smallest so far `smallest`), `hint` what to try when
+/// the stability limit collapses.
+inline Real next_study_step(const FlowSolver& solver, const char* what, Real fixed_dt, Real target, Real t_end,
+                            Index steps, Real smallest, const std::string& hint) {
+  check<NumericalError>(static_cast<Real>(steps) < kMaxStudySteps, what, ": 1e7 steps reached at t = ", solver.time(),
+                        " of ", t_end, " (the stability limit shortened the steps to ", smallest, ")");
+  Real dt = fixed_dt;
+  if (dt <= 0) {
+    dt = std::min(target, solver.stable_time_step(0.9));
+    check<NumericalError>(dt > 1e-6 * target, "flow step ", steps + 1, " (t = ", solver.time(), "): the stable time "
+                          "step fell to ", dt, " (max |u| = ", solver.last().max_speed, "): the run is unstable (", hint,
+                          ")");
+  }
+  const Real left = t_end - solver.time();
+  return dt >= left * (1 - 1e-9) ? left : dt;
 }
 
 }  // namespace vrsph::detail
