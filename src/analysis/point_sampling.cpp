@@ -45,7 +45,8 @@ Eigen::MatrixXd sample_field(const PointCloud& cloud, const Eigen::MatrixXd& val
       for (int a = 0; a < d; ++a)
         if (box.shape == Domain::Shape::Box && box.periodic[static_cast<std::size_t>(a)])
           r[a] -= box.period(a) * std::round(r[a] / box.period(a));
-      const Real dist = r.head(d).norm();
+      for (int a = d; a < 3; ++a) r[a] = 0;  // a query point's unused coordinates are not read
+      const Real dist = r.norm();
       if (dist >= radius) continue;
       near.push_back(j);
       weight.push_back(std::sqrt(wendland_c2(dist / radius)));
