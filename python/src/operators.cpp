@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/analysis/free_surface.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/references.hpp>
@@ -201,6 +202,52 @@ void bind_operators(py::module_& m) {
     d["candidates"] = r.candidates;
     return d;
   }, py::arg("cloud"), "The exact covering radius max_x min_i |x - x_i| over the cloud's box or ball domain.");
+  m.def("free_surface", [](const PointCloud& cloud, const std::string& criterion, double h_factor, double spacing,
+                           double density_threshold, double surface_eigenvalue, double interior_eigenvalue, bool scan,
+                           bool only_interior) {
+    FreeSurfaceOptions o;
+    o.criterion = parse_surface_criterion(criterion);
+    o.h_factor = h_factor;
+    o.spacing = spacing;
+    o.density_threshold = density_threshold;
+    o.surface_eigenvalue = surface_eigenvalue;
+    o.interior_eigenvalue = interior_eigenvalue;
+    o.scan = scan;
+    o.only_interior = only_interior;
+    const FreeSurface fs = [&] {
+      py::gil_scoped_release release;
+      return detect_free_surface(cloud, o);
+    }();
+    const auto n = static_cast<py::ssize_t>(cloud.size());
+    const int d = cloud.dim;
+    py::array_t<bool> surface(n), scanned(n);
+    py::array_t<double> normals({n, static_cast<py::ssize_t>(d)});
+    auto sf = surface.mutable_unchecked<1>();
+    auto sc = scanned.mutable_unchecked<1>();
+    auto nm = normals.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < n; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      sf(i) = fs.surface[iu] != 0;
+      sc(i) = fs.scanned[iu] != 0;
+      for (int a = 0; a < d; ++a) nm(i, a) = fs.normals[iu][a];
+    }
+    py::dict out;
+    out["surface"] = surface;
+    out["normals"] = normals;
+    out["density_ratio"] = py::array_t<double>(n, fs.density_ratio.data());
+    out["eigenvalue"] = py::array_t<double>(n, fs.eigenvalue.data());
+    out["scanned"] = scanned;
+    out["count"] = fs.count;
+    out["spacing"] = fs.spacing;
+    out["radius"] = fs.radius;
+    return out;
+  }, py::arg("cloud"), py::kw_only(), py::arg("criterion") = "eigenvalue", py::arg("h_factor") = 2.5,
+     py::arg("spacing") = 0.0, py::arg("density_threshold") = 0.97, py::arg("surface_eigenvalue") = 0.2,
+     py::arg("interior_eigenvalue") = 0.75, py::arg("scan") = true, py::arg("only_interior") = false,
+     "Free-surface particles and outward normals: criterion 'eigenvalue' (renormalisation matrix with Marrone's "
+     "scan) or 'number-density' (n/n0 < density_threshold); only_interior: tagged particles are walls, never "
+     "surface. Returns surface (bool), normals (N x dim), density_ratio, eigenvalue (both 1 inside a lattice), "
+     "scanned, count, spacing and radius.");
 }
 
 }  // namespace vrsph::python

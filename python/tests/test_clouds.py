@@ -74,3 +74,25 @@ def test_read_cloud_fields_and_geometries(tmp_path):
     assert g.dim == 2 and g.count(vrsph.DIRICHLET) == 40 and g.count(vrsph.INTERIOR) > 60
     cr = vrsph.covering_radius(vrsph.cloud.lattice(dim=2, n=10))
     assert cr["radius"] == pytest.approx(np.sqrt(2) / 20)
+
+
+def test_free_surface_of_a_disk_agrees_with_the_cli(cli, tmp_path):
+    c = vrsph.cloud.disk(dim=2, n=20)
+    fs = vrsph.free_surface(c)
+    # The disk's particles on the circle, and only they, are its surface; normals point outwards.
+    assert np.array_equal(fs["surface"], c.tags == vrsph.DIRICHLET)
+    assert fs["count"] == int(np.sum(c.tags == vrsph.DIRICHLET))
+    out = c.points[fs["surface"]] - 0.5  # the disk's centre is (1/2, 1/2)
+    radial = out / np.linalg.norm(out, axis=1)[:, None]
+    assert np.min(np.sum(fs["normals"][fs["surface"]] * radial, axis=1)) > 0.99
+    assert fs["normals"].shape == (len(c), 2)
+    path = str(tmp_path / "s.csv")
+    cli("cloud", "--family", "disk", "--n", "20", "--free-surface", "--output", path)
+    flags = np.loadtxt(path, delimiter=",", skiprows=1, usecols=7)
+    assert np.array_equal(flags.astype(bool), fs["surface"])
+    nd = vrsph.free_surface(c, criterion="number-density", density_threshold=0.9)
+    assert nd["count"] > 0 and "density_ratio" in nd
+    with pytest.raises(vrsph.ConfigError, match="must lie in"):
+        vrsph.free_surface(c, density_threshold=1.2)
+    with pytest.raises(vrsph.ConfigError, match="unknown free-surface criterion"):
+        vrsph.free_surface(c, criterion="density")

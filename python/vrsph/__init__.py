@@ -61,6 +61,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
     NumericalError,
     ResourceError,
     covering_radius,
+    free_surface,
     kernels,
     methods,
     parts,
@@ -69,7 +70,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 
 __all__ = [
     "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "cavity", "Problem", "solve", "Solution", "study",
-    "operator_study", "study_report", "covering_radius", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
+    "operator_study", "study_report", "covering_radius", "free_surface", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "ArgumentTypeError", "GeometryError", "NumericalError", "FeatureUnavailable", "parts", "__version__", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
 

@@ -4,6 +4,7 @@
 
 Usage: test_cli.py PATH_TO_VRSPH
 """
+import csv as csv_module
 import json
 import math
 import os
@@ -209,6 +210,35 @@ class Cloud(unittest.TestCase):
             self.assertTrue(os.path.getsize(vtu) > 0)
             checked = run_json("cloud", "--input", csv, "--check")
             self.assertEqual(checked["brute_force_check"], "agrees")
+
+    def test_free_surface_of_a_disk_and_its_fields(self):
+        with tempfile.TemporaryDirectory() as d:
+            csv = os.path.join(d, "s.csv")
+            info = run_json("cloud", "--family", "disk", "--n", "20", "--delta", "0.2", "--free-surface", "--output", csv)
+            self.assertEqual(info["free_surface_criterion"], "eigenvalue")
+            with open(csv, encoding="utf-8") as f:
+                rows = list(csv_module.DictReader(f))
+            # The disk's boundary particles (dirichlet, on the circle) are its surface, and only they.
+            flagged = [r["tag"] for r in rows if r["free_surface"] == "1"]
+            self.assertEqual(info["free_surface_particles"], len(flagged))
+            self.assertEqual(flagged, ["dirichlet"] * info["dirichlet"])
+            for r in rows:
+                if r["free_surface"] == "1":  # outward: away from the centre (1/2, 1/2)
+                    x, y = float(r["x"]) - 0.5, float(r["y"]) - 0.5
+                    nx, ny = float(r["surface_normal_x"]), float(r["surface_normal_y"])
+                    self.assertGreater((x * nx + y * ny) / math.hypot(x, y), 0.97)
+            band = run_json("cloud", "--family", "disk", "--n", "20", "--delta", "0.2", "--free-surface",
+                            "--surface-criterion", "number-density")
+            self.assertEqual(band["free_surface_criterion"], "number-density")
+            self.assertGreater(band["free_surface_particles"], 0)
+            self.assertNotIn("free_surface_scanned", band)
+            for args, reason in [(["--free-surface", "--density-threshold", "1"], "must lie in (0, 1)"),
+                                 (["--free-surface", "--surface-eigenvalue", "0.9"], "exceeds the interior one"),
+                                 (["--free-surface", "--surface-criterion", "density"], "unknown free-surface criterion"),
+                                 (["--no-scan"], "--no-scan needs --free-surface")]:
+                p = run("cloud", "--family", "disk", "--n", "10", *args, check=False)
+                self.assertEqual(p.returncode, 2, msg=p.stderr)
+                self.assertIn(reason, p.stderr)
 
     def test_bad_clouds_exit_non_zero_with_reason(self):
         cases = {

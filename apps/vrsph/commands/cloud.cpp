@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
+#include <vrsph/analysis/free_surface.hpp>
 #include <vrsph/core/features.hpp>
 #include <vrsph/analysis/regularity.hpp>
 #include <vrsph/analysis/smoothing.hpp>
@@ -46,7 +47,35 @@ struct CloudArgs {
   double dn_radius = 0, c0 = 1;
   long long dn_direct_limit = 3000, dn_block = 500, dn_flow_above = 20000;
   std::string dn_method = "auto";
+  // --free-surface (free_surface.hpp)
+  bool free_surface = false, surface_only_interior = false, no_scan = false;
+  std::string surface_criterion = "eigenvalue";
+  double surface_h_factor = 2.5, density_threshold = 0.97, surface_eigenvalue = 0.2, interior_eigenvalue = 0.75;
 };
+
+// --free-surface: the detection's options from the command line (each checked by the library).
+FreeSurfaceOptions free_surface_options(const CloudArgs& a, Real spacing) {
+  FreeSurfaceOptions o;
+  o.criterion = parse_surface_criterion(a.surface_criterion);
+  o.h_factor = a.surface_h_factor;
+  o.spacing = spacing;
+  o.density_threshold = a.density_threshold;
+  o.surface_eigenvalue = a.surface_eigenvalue;
+  o.interior_eigenvalue = a.interior_eigenvalue;
+  o.scan = !a.no_scan;
+  o.only_interior = a.surface_only_interior;
+  return o;
+}
+
+void add_free_surface_rows(const FreeSurface& fs, const FreeSurfaceOptions& o,
+                           const std::function<void(const std::string&, TableCell)>& add) {
+  add("free_surface_criterion", std::string(surface_criterion_name(o.criterion)));
+  add("free_surface_h", fs.radius);
+  add("free_surface_particles", static_cast<long long>(fs.count));
+  long long scanned = 0;
+  for (auto f : fs.scanned) scanned += f;
+  if (o.criterion == SurfaceCriterion::Eigenvalue) add("free_surface_scanned", scanned);
+}
 
 // The --regularity rows: what [IM] says about this set, before anything is solved on it.
 void add_regularity_rows(const PointCloud& cloud, const CloudArgs& a, Real h,
@@ -184,6 +213,22 @@ void add_cloud_options(CLI::App* cmd, CloudArgs& a) {
   cmd->add_flag("--normalise-volumes", a.normalise_volumes, "With --regularity: scale the volumes to the cells' sum "
                 "(else a mismatch is an error: LP (63) would be infeasible)");
   cmd->add_option("--c0", a.c0, "With --regularity: the constant c0 of h^m >= c0 (r_N + d_N)")->capture_default_str();
+  cmd->add_flag("--free-surface", a.free_surface, "Detect the free surface: report its particle count and write the "
+               "fields free_surface (0/1), surface_normal, density_ratio and surface_eigenvalue with --output");
+  cmd->add_option("--surface-criterion", a.surface_criterion, "With --free-surface: eigenvalue (smallest eigenvalue of the "
+                  "renormalisation matrix with Marrone's scan) or number-density (n/n0 below --density-threshold, MPS)")
+      ->capture_default_str();
+  cmd->add_option("--surface-h-factor", a.surface_h_factor, "With --free-surface: support radius / spacing of the detection kernel (Wendland C2)")
+      ->capture_default_str();
+  cmd->add_option("--density-threshold", a.density_threshold, "With --free-surface number-density: surface iff n/n0 is below this, in (0, 1)")
+      ->capture_default_str();
+  cmd->add_option("--surface-eigenvalue", a.surface_eigenvalue, "With --free-surface eigenvalue: surface without a scan below this, in (0, 1)")
+      ->capture_default_str();
+  cmd->add_option("--interior-eigenvalue", a.interior_eigenvalue, "With --free-surface eigenvalue: interior without a scan above this, in (0, 1)")
+      ->capture_default_str();
+  cmd->add_flag("--no-scan", a.no_scan, "With --free-surface eigenvalue: no scan (surface iff the eigenvalue is at most --interior-eigenvalue)");
+  cmd->add_flag("--surface-only-interior", a.surface_only_interior, "With --free-surface: classify only interior particles; "
+               "tagged ones (walls) count as neighbours and are never surface");
   cmd->add_flag("--check", a.check_brute, "Verify the neighbour search against brute force (N <= 50000)");
   cmd->add_option("--geometry", a.geometry,
                   "Fill this domain with particles: a 2D GeoJSON Polygon or MultiPolygon (holes, and islands in holes) or a 3D closed surface "
@@ -307,7 +352,22 @@ void print_report(const Table& t, const std::string& format) {
 }
 
 // --output: the cloud as CSV (its data columns kept) or VTU (plus the neighbour counts).
-void write_cloud(const std::string& path, const LoadedCloud& c, const NeighbourList& nl, VtuFormat vtu_format) {
+void write_cloud(const std::string& path, const LoadedCloud& c, const NeighbourList& nl, VtuFormat vtu_format,
+                 const FreeSurface* fs) {
+  std::vector<PointField> surface_fields;
+  if (fs) {
+    const Index n = c.cloud.size();
+    Eigen::MatrixXd flag(n, 1), normal(n, c.cloud.dim), density(n, 1), eigenvalue(n, 1);
+    for (Index i = 0; i < n; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      flag(i, 0) = fs->surface[iu];
+      normal.row(i) = fs->normals[iu].head(c.cloud.dim).transpose();
+      density(i, 0) = fs->density_ratio[iu];
+      eigenvalue(i, 0) = fs->eigenvalue[iu];
+    }
+    surface_fields = {{"free_surface", flag}, {"surface_normal", normal}, {"density_ratio", density},
+                      {"surface_eigenvalue", eigenvalue}};
+  }
   if (ends_with(path, ".vtu")) {
     Eigen::MatrixXd counts(c.cloud.size(), 1);
     for (Index i = 0; i < c.cloud.size(); ++i) counts(i, 0) = nl.count(i);
@@ -315,10 +375,18 @@ void write_cloud(const std::string& path, const LoadedCloud& c, const NeighbourL
     for (const auto& f : c.data_columns)
       if (f.name != "neighbours") fields.push_back({f.name, Eigen::MatrixXd(f.values)});
     fields.push_back({"neighbours", counts});
+    for (auto& f : surface_fields) fields.push_back(std::move(f));
     write_vtu(path, c.cloud, fields, vtu_format);
   } else {
     check<ConfigError>(ends_with(path, ".csv"), "--output must end in .csv or .vtu, got '", path, "'");
-    write_csv(path, c.cloud, c.data_columns);
+    std::vector<NamedField> columns = c.data_columns;
+    for (const auto& f : surface_fields)
+      for (Index k = 0; k < f.values.cols(); ++k) {
+        const std::string name = f.values.cols() == 1 ? f.name : f.name + "_" + "xyz"[k];
+        std::erase_if(columns, [&](const NamedField& col) { return col.name == name; });  // recomputed, not kept
+        columns.push_back({name, Field(f.values.col(k))});
+      }
+    write_csv(path, c.cloud, columns);
   }
 }
 
@@ -373,8 +441,18 @@ void run_cloud(const CloudArgs& a, const CLI::App& cmd) {
       check<ConfigError>(cmd.count(opt) == 0, opt, " needs --regularity");
   }
   if (a.check_brute) add("brute_force_check", std::string("agrees"));
+  std::optional<FreeSurface> fs;
+  if (a.free_surface) {
+    const FreeSurfaceOptions o = free_surface_options(a, spacing);
+    fs = detect_free_surface(cloud, o);
+    add_free_surface_rows(*fs, o, add);
+  } else {
+    for (const char* opt : {"--surface-criterion", "--surface-h-factor", "--density-threshold", "--surface-eigenvalue",
+                            "--interior-eigenvalue", "--no-scan", "--surface-only-interior"})
+      check<ConfigError>(cmd.count(opt) == 0, opt, " needs --free-surface");
+  }
   print_report(t, a.format);
-  if (!a.output.empty()) write_cloud(a.output, c, nl, vtu_format);
+  if (!a.output.empty()) write_cloud(a.output, c, nl, vtu_format, fs ? &*fs : nullptr);
 }
 }  // namespace
 
