@@ -232,7 +232,7 @@ class Cloud(unittest.TestCase):
             self.assertEqual(band["free_surface_criterion"], "number-density")
             self.assertGreater(band["free_surface_particles"], 0)
             self.assertNotIn("free_surface_scanned", band)
-            for args, reason in [(["--free-surface", "--density-threshold", "1"], "must lie in (0, 1)"),
+            for args, reason in [(["--free-surface", "--surface-criterion", "number-density", "--density-threshold", "1"], "must lie in (0, 1)"),
                                  (["--free-surface", "--surface-eigenvalue", "0.9"], "exceeds the interior one"),
                                  (["--free-surface", "--surface-criterion", "density"], "unknown free-surface criterion"),
                                  (["--no-scan"], "--no-scan needs --free-surface")]:

@@ -54,9 +54,14 @@ struct CloudArgs {
 };
 
 // --free-surface: the detection's options from the command line (each checked by the library).
-FreeSurfaceOptions free_surface_options(const CloudArgs& a, Real spacing) {
+FreeSurfaceOptions free_surface_options(const CloudArgs& a, const CLI::App& cmd, Real spacing) {
   FreeSurfaceOptions o;
   o.criterion = parse_surface_criterion(a.surface_criterion);
+  const bool eigenvalue = o.criterion == SurfaceCriterion::Eigenvalue;
+  for (const char* opt : {"--surface-eigenvalue", "--interior-eigenvalue", "--no-scan"})
+    check<ConfigError>(eigenvalue || cmd.count(opt) == 0, opt, " applies to --surface-criterion eigenvalue");
+  check<ConfigError>(!eigenvalue || cmd.count("--density-threshold") == 0,
+                     "--density-threshold applies to --surface-criterion number-density");
   o.h_factor = a.surface_h_factor;
   o.spacing = spacing;
   o.density_threshold = a.density_threshold;
@@ -443,7 +448,7 @@ void run_cloud(const CloudArgs& a, const CLI::App& cmd) {
   if (a.check_brute) add("brute_force_check", std::string("agrees"));
   std::optional<FreeSurface> fs;
   if (a.free_surface) {
-    const FreeSurfaceOptions o = free_surface_options(a, spacing);
+    const FreeSurfaceOptions o = free_surface_options(a, cmd, spacing);
     fs = detect_free_surface(cloud, o);
     add_free_surface_rows(*fs, o, add);
   } else {
