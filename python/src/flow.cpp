@@ -3,6 +3,7 @@
 // velocity given as an (N, dim) array; the study returns its row as a dict.
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/cavity.hpp>
+#include <vrsph/flow/tank.hpp>
 #include <vrsph/flow/flow_study.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include "bindings.hpp"
@@ -74,11 +75,18 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
                                         const std::string& method, const std::string& gradient, double nu,
                                         const std::string& scheme, double h_factor, const std::string& kernel,
                                         const py::dict& options, const std::string& shifting, double shift_coefficient,
-                                        bool allow_unstable, const py::object& wall_velocity) {
+                                        bool allow_unstable, const py::object& wall_velocity, const py::object& body_force,
+                                        bool free_surface, double body_force_ramp) {
   const PointCloud& c = as_cloud(cloud);
   const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
   FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
                                allow_unstable);
+  if (!body_force.is_none()) {
+    const Eigen::MatrixXd g = matrix_from(body_force, 1, c.dim, "body_force");
+    o.body_force.head(c.dim) = g.row(0).transpose();
+  }
+  o.free_surface = free_surface;
+  o.body_force_ramp = body_force_ramp;
   if (!wall_velocity.is_none()) {
     // An (N, dim) array: the rows of the wall particles are their velocities (the rest unused).
     auto walls = std::make_shared<Eigen::MatrixXd>(matrix_from(wall_velocity, c.size(), c.dim, "wall_velocity"));
@@ -169,7 +177,8 @@ void bind_flow(py::module_& m) {
   py::class_<FlowSolver>(m, "_FlowSolver")
       .def(py::init(&make_solver), py::arg("cloud"), py::arg("velocity"), py::arg("frame"), py::arg("method"),
            py::arg("gradient"), py::arg("nu"), py::arg("scheme"), py::arg("h_factor"), py::arg("kernel"), py::arg("options"),
-           py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"), py::arg("wall_velocity"))
+           py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"), py::arg("wall_velocity"),
+           py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"))
       .def("step", [](FlowSolver& s, double dt) {
         FlowStepReport r;
         {
@@ -187,7 +196,53 @@ void bind_flow(py::module_& m) {
       .def_property_readonly("positions", [](const FlowSolver& s) { return positions_array(s.operators().cloud()); })
       .def_property_readonly("time", &FlowSolver::time)
       .def_property_readonly("steps", &FlowSolver::steps)
-      .def_property_readonly("max_divergence", &FlowSolver::max_divergence);
+      .def_property_readonly("max_divergence", &FlowSolver::max_divergence)
+      .def_property_readonly("free_surface", [](const FlowSolver& s) {
+        const auto& f = s.surface().surface;
+        py::array_t<bool> out(static_cast<py::ssize_t>(f.size()));
+        auto v = out.mutable_unchecked<1>();
+        for (std::size_t i = 0; i < f.size(); ++i) v(static_cast<py::ssize_t>(i)) = f[i] != 0;
+        return out;
+      });
+  m.def("_hydrostatic", [](int nx, int dim, const std::string& frame, const std::string& method, double jitter,
+                           std::uint64_t seed, double t_end, double gravity, double ramp, double h_factor,
+                           const py::dict& options) {
+    HydrostaticRunOptions o;
+    o.tank.dim = dim;
+    o.tank.nx = nx;
+    o.tank.jitter = jitter;
+    o.tank.seed = seed;
+    o.t_end = t_end;
+    o.gravity = gravity;
+    o.ramp = ramp;
+    o.flow = flow_options(frame, method, "auto", 0.01, "rk3", h_factor, "cubic", options, "none", 0, false);
+    HydrostaticRow r;
+    {
+      py::gil_scoped_release release;
+      r = run_hydrostatic(o);
+    }
+    py::dict d;
+    d["nx"] = r.nx;
+    d["particles"] = r.particles;
+    d["water_particles"] = r.water_particles;
+    d["t"] = r.t;
+    d["steps"] = r.steps;
+    d["dt"] = r.dt;
+    d["bottom_pressure"] = r.bottom_pressure;
+    d["bottom_pressure_error"] = r.bottom_pressure_error;
+    d["pressure_profile_error"] = r.pressure_profile_error;
+    d["max_speed"] = r.max_speed;
+    d["max_speed_after_ramp"] = r.max_speed_after_ramp;
+    d["surface_particles"] = r.surface_particles;
+    d["surface_rise"] = r.surface_rise;
+    d["surface_drop"] = r.surface_drop;
+    d["max_div_u"] = r.max_div_u;
+    d["seconds_per_step"] = r.seconds_per_step;
+    d["line_y"] = r.line_y;
+    d["line_p"] = r.line_p;
+    return d;
+  }, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("jitter"), py::arg("seed"),
+     py::arg("t_end"), py::arg("gravity"), py::arg("ramp"), py::arg("h_factor"), py::arg("options"));
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
         py::arg("options"));

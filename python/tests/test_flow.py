@@ -44,8 +44,8 @@ def test_flow_refuses_bad_input():
     box = vrsph.cloud.perturbed(dim=2, n=12, delta=0.2, seed=2)  # its faces are walls (dirichlet)
     with pytest.raises(vrsph.InputError, match="moves through the wall"):
         vrsph.Flow(box, np.zeros((len(box), 2)), wall_velocity=np.tile([0.0, 1.0], (len(box), 1)))
-    with pytest.raises(vrsph.ConfigError, match="eulerian frame only"):
-        vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian")
+    with pytest.raises(vrsph.ConfigError, match="nothing drives this flow"):
+        vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", free_surface=True)
     with pytest.raises(vrsph.ConfigError, match="Re = 100 and 1000"):
         vrsph.cavity(nx=8, re=400)
     with pytest.raises(vrsph.ConfigError, match="unknown frame"):
@@ -69,3 +69,19 @@ def test_walls_keep_their_velocity_and_the_cavity_meets_ghia():
     row = vrsph.cavity(nx=16, re=100)
     assert row["steady"] and len(row["u_line"]) == 101
     assert max(row["ghia_max_deviation_u"], row["ghia_max_deviation_v"]) < 0.04  # measured 0.028
+
+
+def test_hydrostatic_tank_and_a_free_surface_flow():
+    row = vrsph.hydrostatic(nx=10, jitter=0.2, t_end=1.0)
+    assert row["bottom_pressure_error"] < 1e-3  # measured 1.7e-5
+    assert row["max_speed_after_ramp"] < 1e-3
+    assert row["surface_particles"] == 9
+    assert len(row["line_p"]) == 41
+    # A closed box has no free surface: the flags and the gravity reach the solver, which says so.
+    box = vrsph.cloud.perturbed(dim=2, n=10, delta=0.2, seed=2)
+    with pytest.raises(vrsph.GeometryError, match="no free-surface particle"):
+        vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", body_force=[0.0, -1.0], free_surface=True)
+    closed = vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", body_force=[0.0, -1.0])
+    closed.step(0.5 * closed.stable_time_step())
+    assert not closed.free_surface.any()
+    assert np.abs(closed.velocity).max() < 1e-6  # a closed box at rest under gravity stays at rest

@@ -69,7 +69,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 )
 
 __all__ = [
-    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "cavity", "Problem", "solve", "Solution", "study",
+    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "cavity", "hydrostatic", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "free_surface", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "ArgumentTypeError", "GeometryError", "NumericalError", "FeatureUnavailable", "parts", "__version__", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
@@ -278,15 +278,18 @@ class Flow:
     particles tagged dirichlet (with outward normals) are walls, at rest or moving along
     themselves with the rows of ``wall_velocity`` (an (N, dim) array; None: at rest).
     ``velocity``: the initial (N, dim) field (projected once). ``frame``: "eulerian" (the cloud
-    stays) or "lagrangian" (particles move with the flow, periodic boxes only; ``shifting``
-    "none", "xu" or "lind"). ``method`` builds the Laplacian (pressure Poisson, viscous term);
+    stays) or "lagrangian" (particles move with the flow, walls stay; ``shifting`` "none", "xu"
+    or "lind"). ``body_force``: g (dim values), reached over ``body_force_ramp``;
+    ``free_surface``: p = 0 on the detected surface (docs/free_surface.md), ``free_surface``
+    the property: the flags. ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""
 
     def __init__(self, cloud: Cloud, velocity: Any, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
                  nu: float = 0.01, scheme: str = "rk3", h_factor: float = 3.0, kernel: str = "cubic",
                  options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
-                 allow_unstable: bool = False, wall_velocity: Any = None):
+                 allow_unstable: bool = False, wall_velocity: Any = None, body_force: Any = None,
+                 free_surface: bool = False, body_force_ramp: float = 0.0):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -295,7 +298,10 @@ class Flow:
                                      _args.options(options, "options"), _args.text(shifting, "shifting"),
                                      _args.number(shift_coefficient, "shift_coefficient", minimum=0.0),
                                      _args.flag(allow_unstable, "allow_unstable"),
-                                     None if wall_velocity is None else np.asarray(wall_velocity, dtype=float))
+                                     None if wall_velocity is None else np.asarray(wall_velocity, dtype=float),
+                                     None if body_force is None else np.asarray(body_force, dtype=float).reshape(1, -1),
+                                     _args.flag(free_surface, "free_surface"),
+                                     _args.number(body_force_ramp, "body_force_ramp", minimum=0.0))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))
@@ -321,6 +327,10 @@ class Flow:
     @property
     def max_divergence(self) -> float:
         return self._s.max_divergence
+
+    @property
+    def free_surface(self) -> np.ndarray:
+        return self._s.free_surface
 
 
 def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str = "auto", jitter: float = 0.2,
@@ -351,6 +361,20 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                                 _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"),
                                 _args.text(shifting, "shifting"),
                                 _args.number(shift_coefficient, "shift_coefficient", minimum=0.0))
+
+
+def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,
+                seed: int = 1, t_end: float = 2.0, gravity: float = 1.0, ramp: float = 0.5, h_factor: float = 3.0,
+                options: Mapping[str, Any] | None = None) -> dict:
+    """One row of ``vrsph flow --case hydrostatic``: water of depth 1 at rest in a tank of width 1
+    (``nx`` intervals across) under gravity ramped in over ``ramp``, run to ``t_end``: the bottom
+    pressure against g H, the spurious speeds in (g H)^(1/2), the surface's particles."""
+    return _vrsph._hydrostatic(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
+                               _args.text(frame, "frame"), _args.text(method, "method"),
+                               _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
+                               _args.number(t_end, "t_end", positive=True), _args.number(gravity, "gravity"),
+                               _args.number(ramp, "ramp", minimum=0.0), _args.number(h_factor, "h_factor", positive=True),
+                               _args.options(options, "options"))
 
 
 class Solution(dict):

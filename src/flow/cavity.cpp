@@ -62,8 +62,8 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
   check<ConfigError>(std::isfinite(o.dt) && o.dt >= 0, "cavity: the time step must be finite and >= 0, got ", o.dt);
   check<ConfigError>(std::isfinite(o.steady_tolerance) && o.steady_tolerance > 0,
                      "cavity: the steady tolerance must be positive, got ", o.steady_tolerance);
-  check<ConfigError>(o.flow.frame == FlowFrame::Eulerian, "cavity: the lagrangian cavity is not implemented (walls are "
-                     "implemented in the eulerian frame only)");
+  check<ConfigError>(o.flow.frame == FlowFrame::Eulerian, "cavity: the lagrangian cavity is not implemented (the fluid "
+                     "particle at the lid's corner blows up: docs/flow.md)");
   const Stopwatch setup;
   PointCloud cloud = cavity_cloud(o.cloud);
   FlowOptions fo = o.flow;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/flow/flow_solver.hpp>
@@ -52,6 +53,19 @@ Real row_sum_bound(const Stencil& s, const Walls& walls) {
   throw;
 }
 
+// The first fluid particle outside the box along a bounded axis, or -1: a particle that crossed a
+// wall or was flung out of its tank.
+Index first_outside(const PointCloud& cloud, const Walls& walls) {
+  const Domain& box = cloud.domain;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    if (!walls.empty() && walls.is_wall[static_cast<std::size_t>(i)]) continue;
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    for (int a = 0; a < cloud.dim; ++a)
+      if (!box.periodic[static_cast<std::size_t>(a)] && (x[a] < box.lo[a] || x[a] > box.hi[a])) return i;
+  }
+  return -1;
+}
+
 Real max_row_norm(const Eigen::MatrixXd& u) { return u.rows() ? u.rowwise().norm().maxCoeff() : 0.0; }
 
 // One pressure solve in the step's report (iterations, the largest shift λ, seconds).
@@ -76,8 +90,7 @@ OperatorsOptions flow_operators(const FlowOptions& options) {
       // jitter 0.2): docs/flow.md. A least-squares gradient has none. prefer=near keeps the
       // Laplacian's rows on an exact lattice from splitting into two checkerboards.
       o.gradient_method = "fpm";
-      o.gradient_method_options = MethodOptions{};
-      o.gradient_method_options.set("gradient_order", "2");
+      if (!o.gradient_method_options.values().contains("gradient_order")) o.gradient_method_options.set("gradient_order", "2");
       if (!o.method_options.values().contains("prefer") && !o.method_options.values().contains("profile"))
         o.method_options.set("prefer", "near");
     } else {
@@ -98,8 +111,6 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   eq_.walls = walls_of(cloud);
   check<ConfigError>(!eq_.walls.empty() || cloud.domain.fully_periodic(), "flow: a box that is not periodic along every "
                      "axis needs wall particles (tag dirichlet, with outward normals) on its other faces");
-  check<ConfigError>(eq_.walls.empty() || options_.frame == FlowFrame::Eulerian, "flow: walls are implemented in the "
-                     "eulerian frame only (the lagrangian frame needs a periodic box)");
   check<InputError>(u0.rows() == cloud.size() && u0.cols() == d, "flow: an initial velocity of ", u0.rows(), " x ",
                     u0.cols(), " for ", cloud.size(), " particles in ", d, "D");
   check<InputError>(u0.allFinite(), "flow: the initial velocity is not finite");
@@ -124,6 +135,20 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   for (int c = d; c < 3; ++c)
     check<ConfigError>(options_.body_force[c] == 0, "flow: a body force along axis ", c, " of a ", d, "D flow");
   options_.operators = flow_operators(options_);
+  if (options_.free_surface) {
+    // Above the water the walls' particles stand in a line, and a splash's droplets hold a few
+    // particles: their least-squares rows are singular. They are left zero (no pressure gradient
+    // acts on a lone droplet; a dry wall's rows are not used).
+    for (auto* m : {&options_.operators.method_options, &options_.operators.gradient_method_options}) {
+      const std::string& name = m == &options_.operators.method_options || options_.operators.gradient_method.empty()
+                                    ? options_.operators.method
+                                    : options_.operators.gradient_method;
+      const MethodInfo& info = builtin_methods().info(name);
+      const bool declares = std::any_of(info.options.begin(), info.options.end(),
+                                        [](const auto& kv) { return kv.first == "on_singular"; });
+      if (declares && !m->values().contains("on_singular")) m->set("on_singular", "warn");
+    }
+  }
   check<ConfigError>(options_.shifting.kind == Shifting::None || options_.frame == FlowFrame::Lagrangian,
                      "flow: particle shifting moves particles; it applies to the lagrangian frame only");
   check<ConfigError>(std::isfinite(options_.shifting.coefficient) && options_.shifting.coefficient >= 0,
@@ -137,6 +162,15 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   check<ConfigError>(std::isfinite(options_.hyperviscosity) && options_.hyperviscosity >= 0 &&
                      std::isfinite(options_.velocity_scale) && options_.velocity_scale >= 0,
                      "flow: the hyperviscosity coefficient and the velocity scale must be finite and >= 0");
+  check<ConfigError>(std::isfinite(options_.body_force_ramp) && options_.body_force_ramp >= 0,
+                     "flow: the body-force ramp time must be finite and >= 0, got ", options_.body_force_ramp);
+  if (options_.free_surface) {
+    check<ConfigError>(!options_.body_force.isZero() || !start.isZero(), "flow: a free surface with neither a body force "
+                       "nor an initial velocity: nothing drives this flow (give gravity, e.g. --gravity 0,-1)");
+    options_.surface.only_interior = true;
+    options_.surface.spacing = spacing_;
+    detect_surface();
+  }
   if (options_.frame == FlowFrame::Eulerian) {
     const Real U = options_.velocity_scale > 0 ? options_.velocity_scale : max_row_norm(start);
     gamma_ = options_.hyperviscosity * U * spacing_ * spacing_ * spacing_;
@@ -159,10 +193,51 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
 }
 
 void FlowSolver::factorise_pressure() {
-  PressureEquation eq = pressure_equation(*ops_, eq_.walls);
+  std::vector<char> flags;
+  if (options_.free_surface) {
+    // p = 0 on the surface and at the dry walls: wall particles without water in their support,
+    // or (under gravity) with none of it half a spacing above them — above the water, where
+    // the air's pressure holds. The wet walls' rows do not see them (projection.cpp).
+    flags.assign(surface_.surface.begin(), surface_.surface.end());
+    const NeighbourList& nl = ops_->neighbours();
+    const PointCloud& cloud = ops_->cloud();
+    const Real g = options_.body_force.norm();
+    const Vec3 up = g > 0 ? Vec3(-options_.body_force / g) : Vec3::Zero();
+    for (const Index i : eq_.walls.index) {
+      const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+      bool wet = false;
+      for (Index k = 0; k < nl.count(i) && !wet; ++k) {
+        const Index j = nl.of(i)[static_cast<std::size_t>(k)];
+        if (eq_.walls.is_wall[static_cast<std::size_t>(j)]) continue;
+        // Half a spacing: a wall level with the surface stays dry while the surface ripples.
+        wet = g == 0 || (cloud.positions[static_cast<std::size_t>(j)] - xi).dot(up) > 0.5 * spacing_;
+      }
+      if (!wet) flags[static_cast<std::size_t>(i)] = 1;
+    }
+  }
+  PressureEquation eq = pressure_equation(*ops_, eq_.walls, flags);
   eq_.wall_flux = std::move(eq.wall_flux);
+  eq_.surface = std::move(eq.surface);
   ppe_ = std::make_unique<PressurePoisson>(
-      pressure_poisson(std::move(eq.matrix), eq_.walls, eq_.wall_flux, options_.solver));
+      pressure_poisson(std::move(eq.matrix), eq_.walls, eq_.wall_flux, options_.solver, eq_.has_surface()));
+}
+
+void FlowSolver::detect_surface() {
+  surface_ = detect_free_surface(ops_->cloud(), options_.surface);
+  check<GeometryError>(surface_.count > 0 || ops_->cloud().domain.fully_periodic(), "flow: no free-surface particle was "
+                       "found (a free surface needs fluid particles with an open side)");
+}
+
+Vec3 FlowSolver::body_force(Real t) const {
+  const Real T = options_.body_force_ramp;
+  if (T <= 0 || t >= T) return options_.body_force;
+  return options_.body_force * (0.5 * (1 - std::cos(std::numbers::pi * t / T)));
+}
+
+Real FlowSolver::force_limit() const {
+  const Real g = options_.body_force.norm();
+  if (!options_.free_surface || g == 0) return std::numeric_limits<Real>::infinity();
+  return 0.25 * std::sqrt(spacing_ / g);
 }
 
 FlowSolver::~FlowSolver() = default;
@@ -203,17 +278,18 @@ Real FlowSolver::viscous_rate() const {
 Real FlowSolver::stable_time_step(Real safety) const {
   check<ConfigError>(std::isfinite(safety) && safety > 0 && safety <= 1, "flow: the safety factor must be in (0, 1]");
   const Limits lim = limits();
-  const Real rate = advective_bound(u_) / lim.advective + viscous_rate() / lim.viscous;
+  const Real rate = advective_bound(u_) / lim.advective + viscous_rate() / lim.viscous + 1 / force_limit();
   return rate > 0 ? safety / rate : std::numeric_limits<Real>::infinity();
 }
 
-Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u) const {
+Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u, Real t) const {
   Eigen::MatrixXd lap = ops_->apply(VectorOperator::VectorLaplacian, u);
   wall_laplacian(u, lap);
   Eigen::MatrixXd f = options_.nu * lap;
   if (gamma_ > 0) f -= gamma_ * ops_->apply(VectorOperator::VectorLaplacian, lap);
+  const Vec3 g = body_force(t);
   for (int c = 0; c < u.cols(); ++c)
-    if (options_.body_force[c] != 0) f.col(c).array() += options_.body_force[c];
+    if (g[c] != 0) f.col(c).array() += g[c];
   return f;
 }
 
@@ -247,9 +323,9 @@ Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& a
   return p;
 }
 
-Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, FlowStepReport& r) {
+Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, Real t, FlowStepReport& r) {
   Stopwatch watch;
-  const Eigen::MatrixXd f = forces(u);
+  const Eigen::MatrixXd f = forces(u, t);
   const Eigen::MatrixXd adv = advection(*ops_, u);
   r.seconds_rhs += watch.seconds();
   phi_ = pressure_of(f, adv, &r);
@@ -274,6 +350,7 @@ void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
   Stopwatch watch;
   ops_->update(x);
   laplacian_bound_ = row_sum_bound(ops_->stencil(OperatorKind::Laplacian), eq_.walls);
+  if (options_.free_surface) detect_surface();
   r.seconds_update += watch.seconds();
   watch.restart();
   factorise_pressure();
@@ -284,7 +361,12 @@ void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
 void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
   const Stopwatch watch;
   const Discretisation disc{ops_->cloud(), ops_->neighbours(), options_.operators.kernel, spacing_};
-  const std::vector<Vec3> dr = shifting_displacements(disc, options_.shifting, u, dt);
+  std::vector<Vec3> dr = shifting_displacements(disc, options_.shifting, u, dt);
+  for (const Index i : eq_.walls.index) dr[static_cast<std::size_t>(i)].setZero();  // walls stay
+  // A surface particle's support is cut: the shift would push it out of the fluid. It moves only
+  // along the surface (Lind et al. 2012).
+  for (std::size_t i = 0; i < surface_.surface.size(); ++i)
+    if (surface_.surface[i]) dr[i] -= dr[i].dot(surface_.normals[i]) * surface_.normals[i];
   // u at the shifted position: u + (∇u)·δr + ½ δrᵀ(∇∇u)δr with the flow's gradient, applied twice
   // for the Hessian. Xu et al.'s eq. (34) stops at the gradient; but the shifts are O(dt) each,
   // so that interpolation's O(δr²) error per step adds up to O(dt) — first order (measured: the
@@ -314,7 +396,10 @@ void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
 }
 
 Real FlowSolver::kinetic_energy(const Eigen::MatrixXd& u) const {
-  return 0.5 * u.squaredNorm() * ops_->cloud().domain.measure() / static_cast<Real>(u.rows());
+  // A free surface fills part of its box: each particle carries dx^d.
+  const Real volume = options_.free_surface ? std::pow(spacing_, ops_->cloud().dim)
+                                            : ops_->cloud().domain.measure() / static_cast<Real>(u.rows());
+  return 0.5 * u.squaredNorm() * volume;
 }
 
 void FlowSolver::finish_report(FlowStepReport& r) const {
@@ -334,6 +419,7 @@ void FlowSolver::finish_report(FlowStepReport& r) const {
   }
   r.min_spacing = lo / spacing_;
   r.max_spacing = hi / spacing_;
+  r.surface_particles = surface_.count;
 }
 
 Real FlowSolver::max_divergence() const {
@@ -350,12 +436,16 @@ const FlowStepReport& FlowSolver::step(Real dt) {
   r.advective_number = dt * advective_bound(u_);
   r.viscous_number = dt * viscous_rate();
   r.cfl = dt * max_row_norm(u_) / spacing_;
-  const Real load = r.advective_number / lim.advective + r.viscous_number / lim.viscous;
+  r.force_number = dt / force_limit();
+  const Real load = r.advective_number / lim.advective + r.viscous_number / lim.viscous + r.force_number;
   if (load > 1) {
     const std::string m = detail::concat("flow step ", steps_ + 1, ": dt = ", dt, " is beyond the ", to_string(options_.scheme),
                                          " stability limit (", options_.frame == FlowFrame::Eulerian ? "advective" : "CFL",
                                          " number ", r.advective_number, " of ", lim.advective, ", viscous number ",
-                                         r.viscous_number, " of ", lim.viscous, "; the largest stable dt is about ",
+                                         r.viscous_number, " of ", lim.viscous,
+                                         r.force_number > 0 ? detail::concat(", body-force number ", r.force_number, " of 1")
+                                                            : std::string(),
+                                         "; the largest stable dt is about ",
                                          stable_time_step(1.0), ")");
     check<ConfigError>(options_.allow_unstable, m, "; give a smaller dt, or allow_unstable (--allow-unstable) to run anyway");
     r.warnings.push_back(m);
@@ -365,10 +455,11 @@ const FlowStepReport& FlowSolver::step(Real dt) {
   const bool lagrangian = options_.frame == FlowFrame::Lagrangian;
   const std::vector<Vec3> xn = ops_->cloud().positions;
   const Domain& box = ops_->cloud().domain;
-  // Positions x^n + dt Σ_s a_s u_s (the stage velocities), wrapped into the box.
+  // Positions x^n + dt Σ_s a_s u_s (the stage velocities), wrapped into the box; walls stay.
   auto moved = [&](std::initializer_list<std::pair<Real, const Eigen::MatrixXd*>> terms) {
     std::vector<Vec3> x = xn;
     for (std::size_t i = 0; i < x.size(); ++i) {
+      if (!eq_.walls.empty() && eq_.walls.is_wall[i]) continue;
       for (const auto& [a, u] : terms)
         for (int c = 0; c < u->cols(); ++c) x[i][c] += dt * a * (*u)(static_cast<Index>(i), c);
       x[i] = box.wrap(x[i]);
@@ -381,20 +472,31 @@ const FlowStepReport& FlowSolver::step(Real dt) {
     // velocity, which removes the divergence the stages left (O(dx²) per step) instead of letting
     // it drift. Shu–Osher's form of SSP-RK3; Heun for RK2.
     Eigen::MatrixXd u_end;
+    // Stage times: Heun's t, t + dt; Shu–Osher's t, t + dt, t + dt/2.
     if (options_.scheme == FlowScheme::RK2) {
-      const Eigen::MatrixXd u1 = un + dt * rate(un, r);
+      const Eigen::MatrixXd u1 = un + dt * rate(un, t_, r);
       if (lagrangian) move_to(moved({{1.0, &un}}), r);
-      u_end = 0.5 * un + 0.5 * (u1 + dt * rate(u1, r));
+      u_end = 0.5 * un + 0.5 * (u1 + dt * rate(u1, t_ + dt, r));
       if (lagrangian) move_to(moved({{0.5, &un}, {0.5, &u1}}), r);
     } else {
-      const Eigen::MatrixXd u1 = un + dt * rate(un, r);
+      const Eigen::MatrixXd u1 = un + dt * rate(un, t_, r);
       if (lagrangian) move_to(moved({{1.0, &un}}), r);
-      const Eigen::MatrixXd u2 = 0.75 * un + 0.25 * (u1 + dt * rate(u1, r));
+      const Eigen::MatrixXd u2 = 0.75 * un + 0.25 * (u1 + dt * rate(u1, t_ + dt, r));
       if (lagrangian) move_to(moved({{0.25, &un}, {0.25, &u1}}), r);
-      u_end = (1.0 / 3.0) * un + (2.0 / 3.0) * (u2 + dt * rate(u2, r));
+      u_end = (1.0 / 3.0) * un + (2.0 / 3.0) * (u2 + dt * rate(u2, t_ + 0.5 * dt, r));
       if (lagrangian) move_to(moved({{1.0 / 6.0, &un}, {1.0 / 6.0, &u1}, {2.0 / 3.0, &u2}}), r);
     }
     if (options_.shifting.kind != Shifting::None) shift(u_end, dt, r);
+    if (lagrangian) {
+      const Index out = first_outside(ops_->cloud(), eq_.walls);
+      if (out >= 0) {
+        const Vec3& x = ops_->cloud().positions[static_cast<std::size_t>(out)];
+        throw NumericalError(detail::concat("particle ", out, " left the box at (", x[0], ", ", x[1],
+                                           ops_->cloud().dim == 3 ? detail::concat(", ", x[2]) : std::string(),
+                                           "): it crossed a wall or was flung out (a smaller time step, shifting, or "
+                                           "higher walls)"));
+      }
+    }
     u_ = project_state(u_end, r);
     check<NumericalError>(u_.allFinite(), "the velocity is no longer finite (the run is unstable: a smaller time "
                           "step, more viscosity or another method)");
@@ -419,6 +521,7 @@ const FlowStepReport& FlowSolver::step(Real dt) {
       FlowStepReport ignored;
       move_to(xn, ignored);
     }
+
     rethrow_at(e, steps_ + 1, t_);
   }
   ++steps_;
@@ -428,6 +531,6 @@ const FlowStepReport& FlowSolver::step(Real dt) {
   return report_;
 }
 
-Field FlowSolver::pressure() const { return pressure_of(forces(u_), advection(*ops_, u_), nullptr); }
+Field FlowSolver::pressure() const { return pressure_of(forces(u_, t_), advection(*ops_, u_), nullptr); }
 
 }  // namespace vrsph

@@ -71,6 +71,22 @@ PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Inde
                         "pinned particle (sigma = ", sigma_, "); the rows are not a consistent Laplacian");
 }
 
+PressurePoisson PressurePoisson::regular(CsrMatrix A, const SolverOptions& options) {
+  check<InputError>(A.rows() == A.cols() && A.rows() > 0, "pressure Poisson: the matrix must be square, got ", A.rows(),
+                    " x ", A.cols());
+  check<InputError>(Field(Eigen::Map<const Field>(A.valuePtr(), A.nonZeros())).allFinite(),
+                    "pressure Poisson: the matrix has a non-finite entry");
+  PressurePoisson p;
+  p.regular_ = true;
+  p.n_ = static_cast<Index>(A.rows());
+  A.prune(0.0);
+  A.makeCompressed();
+  p.solver_ = std::make_unique<PreparedSolver>(A, options);
+  p.setup_.seconds_setup = p.solver_->seconds_setup();
+  p.setup_.success = true;
+  return p;
+}
+
 PressurePoisson::~PressurePoisson() = default;
 PressurePoisson::PressurePoisson(PressurePoisson&&) noexcept = default;
 PressurePoisson& PressurePoisson::operator=(PressurePoisson&&) noexcept = default;
@@ -84,6 +100,14 @@ Real PressurePoisson::pinned_defect(const Field& x, Real rhs) const {
 PressurePoisson::Result PressurePoisson::solve(const Field& r, Field& p) const {
   check<InputError>(r.size() == n_, "pressure Poisson: ", r.size(), " right-hand-side values for ", n_, " particles");
   check<InputError>(r.allFinite(), "pressure Poisson: the right-hand side is not finite");
+  if (regular_) {
+    Result out;
+    if (p.size() != n_) p.resize(0);
+    out.report = solver_->solve(r, p);
+    check<NumericalError>(out.report.success, "pressure Poisson: the solve failed (", out.report.solver, ": ",
+                          out.report.message, ")");
+    return out;
+  }
   Field b = r;
   b[pinned_] = 0;
   if (p.size() != n_)

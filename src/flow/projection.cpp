@@ -78,7 +78,61 @@ CsrMatrix with_wall_rows(const CsrMatrix& A, const Stencil& S, const Walls& wall
 }
 }  // namespace
 
-PressureEquation pressure_equation(const Operators& ops, const Walls& walls) {
+namespace {
+// Row i of A replaced by the identity's at every free-surface particle (p = 0 there).
+void set_surface_rows(CsrMatrix& A, const std::vector<char>& surface) {
+  for (Index i = 0; i < A.rows(); ++i) {
+    if (!surface[static_cast<std::size_t>(i)]) continue;
+    bool diagonal = false;
+    for (CsrMatrix::InnerIterator it(A, i); it; ++it) {
+      it.valueRef() = it.col() == i ? 1.0 : 0.0;
+      diagonal = diagonal || it.col() == i;
+    }
+    if (!diagonal) A.coeffRef(i, i) = 1.0;  // a row that did not store its diagonal
+  }
+  A.prune(0.0);
+  A.makeCompressed();
+}
+
+PressureEquation wall_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface);
+
+// The list without the columns `drop` flags (their rows kept): the rows of the wet walls built
+// as if the dry walls were not there.
+NeighbourList without_columns(const NeighbourList& nl, const std::vector<char>& drop) {
+  NeighbourList out;
+  out.radii = nl.radii;
+  out.offsets.assign(1, 0);
+  out.offsets.reserve(nl.offsets.size());
+  std::vector<Index> indices;
+  std::vector<Real> distances;
+  indices.reserve(nl.indices.size());
+  for (Index i = 0; i < nl.size(); ++i) {
+    for (Index k = nl.offsets[static_cast<std::size_t>(i)]; k < nl.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      if (drop[static_cast<std::size_t>(nl.indices[ku])]) continue;
+      indices.push_back(nl.indices[ku]);
+      if (!nl.distances.empty()) distances.push_back(nl.distances[ku]);
+      if (!nl.shifts.empty()) out.shifts.push_back(nl.shifts[ku]);
+    }
+    out.offsets.push_back(static_cast<Index>(indices.size()));
+  }
+  out.indices.assign(indices.begin(), indices.end());
+  out.distances.assign(distances.begin(), distances.end());
+  return out;
+}
+}  // namespace
+
+PressureEquation pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
+  check<InputError>(surface.empty() || static_cast<Index>(surface.size()) == ops.cloud().size(), "pressure equation: ",
+                    surface.size(), " free-surface flags for ", ops.cloud().size(), " particles");
+  PressureEquation eq = wall_equation(ops, walls, surface);
+  eq.surface = surface;
+  if (eq.has_surface()) set_surface_rows(eq.matrix, surface);
+  return eq;
+}
+
+namespace {
+PressureEquation wall_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
   PressureEquation eq;
   eq.walls = walls;
   if (walls.empty()) {
@@ -91,10 +145,20 @@ PressureEquation pressure_equation(const Operators& ops, const Walls& walls) {
     PointCloud neumann = ops.cloud();
     for (const Index i : walls.index) neumann.tags[static_cast<std::size_t>(i)] = Tag::Neumann;
     // Only the walls' rows: the fluid's are the operators' Laplacian (the viscous term's too).
-    const Discretisation disc{neumann, ops.neighbours(), ops.options().kernel, ops.spacing()};
+    // A free surface: a dry wall (flagged) takes p = 0; the wet walls' rows do not see it (the
+    // air's p = 0 would put a kink into the hydrostatic pressure they extend above the water).
+    std::vector<char> wet = walls.is_wall, dry(walls.is_wall.size(), 0);
+    for (std::size_t i = 0; i < surface.size(); ++i)
+      if (surface[i] && walls.is_wall[i]) {
+        wet[i] = 0;
+        dry[i] = 1;
+      }
+    const bool any_dry = std::find(dry.begin(), dry.end(), 1) != dry.end();
+    const NeighbourList filtered = any_dry ? without_columns(ops.neighbours(), dry) : NeighbourList{};
+    const Discretisation disc{neumann, any_dry ? filtered : ops.neighbours(), ops.options().kernel, ops.spacing()};
     StencilRequest request;
     request.kind = OperatorKind::Laplacian;
-    request.rows = walls.is_wall;
+    request.rows = wet;
     Stencil L = method->build(disc, request);
     if (!L.wall_flux.empty()) {
       require_point_rows(L, "a projection");
@@ -107,6 +171,7 @@ PressureEquation pressure_equation(const Operators& ops, const Walls& walls) {
   eq.matrix = with_wall_rows(laplacian_matrix(ops), ops.stencil(OperatorKind::Gradient), walls, walls.normal);
   return eq;
 }
+}  // namespace
 
 Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen::MatrixXd& a) {
   Field r = ops.apply(VectorOperator::Divergence, a).col(0);
@@ -116,11 +181,14 @@ Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen
     const Real flux = a.row(i).dot(walls.normal[w].head(a.cols()));
     r[i] = eq.wall_flux.empty() ? flux : r[i] - eq.wall_flux[static_cast<std::size_t>(i)] * flux;
   }
+  for (std::size_t i = 0; i < eq.surface.size(); ++i)
+    if (eq.surface[i]) r[static_cast<Index>(i)] = 0;
   return r;
 }
 
 PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
-                                 const SolverOptions& options) {
+                                 const SolverOptions& options, bool has_surface) {
+  if (has_surface) return PressurePoisson::regular(std::move(matrix), options);
   // Periodic boxes and balance rows (Laplacian rows at the walls too, positive left null vector):
   // the defect spread evenly. Gradient rows: along the left null vector (pressure_poisson.hpp).
   if (walls.empty() || !wall_flux.empty()) return PressurePoisson(std::move(matrix), options);
@@ -143,6 +211,9 @@ Projected project(const Operators& ops, const PressurePoisson& ppe, const Eigen:
   Field div = ops.apply(VectorOperator::Divergence, w).col(0);
   if (eq && eq->wall_flux.empty())
     for (const Index i : walls.index) div[i] = 0;  // gradient rows: n·G φ = 0 (balance rows: Δφ_i - c_i·0)
+  if (eq)
+    for (std::size_t i = 0; i < eq->surface.size(); ++i)
+      if (eq->surface[i]) div[static_cast<Index>(i)] = 0;  // φ = 0 on a free surface
   out.phi = phi_guess;
   const PressurePoisson::Result r = ppe.solve(div, out.phi);
   out.shift = r.shift;

@@ -488,6 +488,31 @@ class Flow(unittest.TestCase):
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("--profile-output applies to --case cavity", result.stderr)
 
+    def test_hydrostatic_rows_and_surface_series(self):
+        # The acceptance interface: rows[] with nx, bottom_pressure_error, max_speed, surface_particles.
+        with tempfile.TemporaryDirectory() as tmp:
+            prefix = os.path.join(tmp, "tank")
+            out = run_json("flow", "--case", "hydrostatic", "--nx", "10,20", "--t-end", "2", "--threads", "1",
+                           "--vtu-series", prefix)
+            rows = out["rows"]
+            self.assertEqual([r["nx"] for r in rows], [10, 20])
+            self.assertEqual([r["frame"] for r in rows], ["lagrangian"] * 2)  # the free-surface cases' default
+            self.assertEqual([r["surface_particles"] for r in rows], [9, 19])
+            self.assertLess(rows[1]["bottom_pressure_error"], rows[0]["bottom_pressure_error"])  # 1.7e-5, 1.1e-7
+            self.assertLess(rows[0]["bottom_pressure_error"], 1e-3)
+            self.assertLess(max(r["max_speed"] for r in rows), 1e-3)
+            self.assertEqual(out["case"], "hydrostatic")
+            with open(prefix + "_0000.vtu", encoding="utf-8") as f:
+                self.assertIn('Name="free_surface"', f.read())
+        result = run("flow", "--case", "hydrostatic", "--nx", "10", "--method", "sph", "--format", "json", check=False)
+        self.assertEqual(result.returncode, 5, result.stderr)
+        self.assertIn("left the box", json.loads(result.stdout)["rows"][0]["status"])
+        for args, message in ((["--gravity", "0"], "--gravity must be positive"),
+                              (["--depth", "0.33"], "not a whole number of particle spacings")):
+            result = run("flow", "--case", "hydrostatic", "--nx", "10", *args, check=False)
+            self.assertEqual(result.returncode, 2, result.stderr)
+            self.assertIn(message, result.stderr)
+
 
 class Bench(unittest.TestCase):
     def test_volumes_bench_json(self):

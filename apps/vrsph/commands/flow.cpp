@@ -5,7 +5,9 @@
 //                       per method and --nx, with the ISPH literature's error measures and orders;
 //  --case projection    the frozen-cloud projection of u_exact + ∇φ (no time stepping);
 //  --case cavity        the lid-driven cavity run to a steady state, its centre lines against
-//                       Ghia, Ghia & Shin (1982) (flow/cavity.hpp).
+//                       Ghia, Ghia & Shin (1982) (flow/cavity.hpp);
+//  --case hydrostatic   water at rest in a tank under gravity, with a free surface
+//                       (flow_free_surface.cpp, flow/tank.hpp).
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -21,23 +23,9 @@
 #include "../commands.hpp"
 #include "../problem_file.hpp"
 #include "../vtu_series.hpp"
+#include "flow_args.hpp"
 
 namespace vrsph::cli {
-
-namespace {
-
-struct FlowArgs {
-  std::string flow_case = "taylor-green", frame = "eulerian", methods = "vrsph", gradient = "auto", nx = "32,64",
-              cloud = "perturbed", scheme = "rk3", shifting = "none", solver = "auto", vtu_series, kernel = "cubic",
-              profile_output;
-  std::vector<std::string> method_opts;
-  int dim = 2, vtu_every = 0, threads = 0;
-  double t_end = 0, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0,
-         steady_tol = 1e-4;
-  std::uint64_t seed = 1;
-  bool allow_unstable = false;
-  OutputOptions out;
-};
 
 FlowCloudSpec cloud_spec(const FlowArgs& a, int nx) {
   check<ConfigError>(a.cloud == "perturbed" || a.cloud == "lattice", "--cloud for flow is perturbed or lattice, got ", a.cloud);
@@ -59,42 +47,12 @@ OperatorsOptions operators_for(const FlowArgs& a, const std::string& method,
   return o;
 }
 
-// The runs of a comparison that blew up (NumericalError: an instability, a failed pressure
-// solve). A classic scheme that cannot run is a result of the comparison, not a reason to lose
-// the others: its row carries the message in `status`, the table is written, and the command
-// then fails with the first message (the exit code of a numerical error). Bad input
-// (ConfigError, InputError, ...) still stops at once.
-struct FailedRuns {
-  std::size_t runs = 0;
-  std::vector<std::string> messages;
-  /// run(); false (and the row `key` + status added to t) when it threw a NumericalError.
-  template <class Run>
-  bool attempt(Table& t, std::vector<std::pair<std::string, TableCell>> key, Run&& run) {
-    ++runs;
-    try {
-      run();
-      return true;
-    } catch (const NumericalError& e) {
-      messages.emplace_back(e.what());
-      key.emplace_back("status", std::string(e.what()));
-      t.add_row(key);
-      return false;
-    }
-  }
-  void raise_if_any() const {
-    if (messages.empty()) return;
-    std::string all = messages.front();
-    for (std::size_t k = 1; k < messages.size(); ++k) all += "; then: " + messages[k];
-    throw NumericalError(detail::concat(messages.size(), " of ", runs, " runs failed (their rows' status says why): ", all));
-  }
-};
 
-// NaN for every order column of a run that failed (orders skip it).
+
 void skip_orders(std::map<std::string, std::vector<Real>>& errors) {
   for (auto& [name, e] : errors) e.push_back(std::numeric_limits<Real>::quiet_NaN());
 }
 
-// The flow's options from the command line, for one method.
 FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
                              const std::map<std::string, MethodOptions>& options) {
   FlowOptions o;
@@ -109,7 +67,6 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   return o;
 }
 
-// Observed orders between consecutive resolutions of one method (the first row has none).
 void add_orders(Table& t, std::size_t first, const std::vector<int>& nx, const std::map<std::string, std::vector<Real>>& errors) {
   std::vector<Real> h;
   for (const int n : nx) h.push_back(1.0 / n);
@@ -120,6 +77,8 @@ void add_orders(Table& t, std::size_t first, const std::vector<int>& nx, const s
       if (std::isfinite(orders[k])) t.rows[first + k][col] = TableCell(orders[k]);
   }
 }
+
+namespace {
 
 const std::vector<std::string> projection_columns = {
     "case", "method", "gradient", "dim", "nx", "particles", "error_u_inf", "error_u_l2", "error_gradp_inf",
@@ -276,8 +235,8 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
                      const std::map<std::string, MethodOptions>& options) {
   check<ConfigError>(a.dim == 2, "the cavity is two-dimensional (--dim 2), got --dim ", a.dim);
   (void)ghia_profiles(a.re);  // Re 100 or 1000, before a long run
-  check<ConfigError>(a.frame == "eulerian", "the cavity runs in the eulerian frame (walls are not implemented in the "
-                     "lagrangian one), got --frame ", a.frame);
+  check<ConfigError>(a.frame == "eulerian", "the cavity runs in the eulerian frame (in the lagrangian one the fluid "
+                     "particle at the lid's corner blows up: docs/flow.md), got --frame ", a.frame);
   check<ConfigError>(std::isfinite(a.steady_tol) && a.steady_tol > 0, "--steady-tol must be positive, got ", a.steady_tol);
   const Real t_end = a.t_end > 0 ? a.t_end : 100;
   Table t;
@@ -369,8 +328,14 @@ void run_flow(FlowArgs& a) {
   validate_output(a.out);
   set_thread_count(a.threads);
   check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim for flow must be 2 or 3, got ", a.dim);
-  check<ConfigError>(a.flow_case == "taylor-green" || a.flow_case == "projection" || a.flow_case == "cavity",
-                     "unknown --case '", a.flow_case, "' (known: taylor-green, projection, cavity)");
+  check<ConfigError>(a.flow_case == "taylor-green" || a.flow_case == "projection" || a.flow_case == "cavity" ||
+                         a.flow_case == "hydrostatic",
+                     "unknown --case '", a.flow_case, "' (known: taylor-green, projection, cavity, hydrostatic)");
+  const bool free_surface = a.flow_case == "hydrostatic";
+  for (const auto& [value, name] : {std::pair{a.gravity != 1, "--gravity"}, {a.ramp != -1, "--ramp"},
+                                    {a.depth != 0, "--depth"}, {a.tank_width != 0, "--tank-width"}})
+    check<ConfigError>(free_surface || !value, name, " applies to --case hydrostatic");
+  if (free_surface && !a.frame_given) a.frame = "lagrangian";
   check<ConfigError>(std::isfinite(a.t_end) && a.t_end >= 0, "--t-end must be finite and > 0 (0: the case's default), got ",
                      a.t_end);
   check<ConfigError>(a.profile_output.empty() || a.flow_case == "cavity", "--profile-output applies to --case cavity only");
@@ -389,9 +354,11 @@ void run_flow(FlowArgs& a) {
   const auto options = parse_method_options(a.method_opts, methods);
   validate_columns(a.out, a.flow_case == "projection" ? projection_columns
                          : a.flow_case == "cavity"   ? cavity_columns
+                         : free_surface              ? hydrostatic_columns
                                                      : taylor_green_columns);
   if (a.flow_case == "projection") return run_projection(a, methods, nxs, options);
   if (a.flow_case == "cavity") return run_cavity_case(a, methods, nxs, options);
+  if (a.flow_case == "hydrostatic") return run_hydrostatic_case(a, methods, nxs, options);
   if (a.t_end == 0) a.t_end = 1;
   run_taylor_green(a, methods, nxs, options);
 }
@@ -404,7 +371,8 @@ void add_flow_command(CLI::App& app) {
                                          "Taylor-Green vortex, the frozen-cloud projection and the lid-driven cavity, "
                                          "with errors and orders");
   cmd->add_option("--case", a->flow_case, "taylor-green (2D Taylor-Green, 3D Beltrami vortex) | projection (frozen cloud) | "
-                                         "cavity (lid-driven, against Ghia et al. 1982)")
+                                         "cavity (lid-driven, against Ghia et al. 1982) | hydrostatic (water at rest "
+                                         "in a tank, free surface)")
       ->capture_default_str();
   cmd->add_option("--dim", a->dim, "Dimension 2 or 3")->capture_default_str();
   cmd->add_option("--frame", a->frame, "eulerian (a fixed cloud) | lagrangian (particles move with the flow)")->capture_default_str();
@@ -420,8 +388,14 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
   cmd->add_option("--kernel", a->kernel, "Kernel")->capture_default_str();
-  cmd->add_option("--re", a->re, "Reynolds number U L / nu (L = 1, U = 1; cavity: 100 or 1000)")->capture_default_str();
-  cmd->add_option("--t-end", a->t_end, "End time (0: 1 for taylor-green; cavity: 100, the run stops when steady)")
+  cmd->add_option("--re", a->re, "Reynolds number U L / nu (L = 1, U = 1; cavity: 100 or 1000; hydrostatic: "
+                                 "(g H)^(1/2) H / nu)")->capture_default_str();
+  cmd->add_option("--gravity", a->gravity, "Hydrostatic: |g| (down the last axis)")->capture_default_str();
+  cmd->add_option("--ramp", a->ramp, "Hydrostatic: gravity reaches |g| over this time (default 0.5 (H/g)^(1/2))");
+  cmd->add_option("--depth", a->depth, "Hydrostatic: the water's depth H (default: the tank's width)");
+  cmd->add_option("--tank-width", a->tank_width, "Hydrostatic: the tank's width (default 1; --nx intervals across it)");
+  cmd->add_option("--t-end", a->t_end, "End time (0: 1 for taylor-green; cavity: 100, the run stops when steady; "
+                                       "hydrostatic: 2)")
       ->capture_default_str();
   cmd->add_option("--steady-tol", a->steady_tol, "Cavity: steady when max |u(n+1) - u(n)| / dt < this")->capture_default_str();
   cmd->add_option("--profile-output", a->profile_output, "Cavity: the centre-line profiles (and Ghia's points) as CSV");
@@ -455,6 +429,7 @@ void add_flow_command(CLI::App& app) {
       apply_problem_file(*cmd, *config);
       reject_output_over_input(*cmd);
     }
+    a->frame_given = cmd->count("--frame") > 0;
     run_flow(*a);
   });
 }

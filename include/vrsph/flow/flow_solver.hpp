@@ -25,11 +25,18 @@
 // a cavity's lid). The pressure's wall condition is the normal component of the momentum
 // equation at the wall, n·∇p = n·(ν∇²u - (u·∇)u + g) (the wall does not accelerate), with the
 // wall's ν∇²u from the gradient applied twice (its own Laplacian row would be one-sided); the
-// projection's is n·∇φ = 0. Eulerian frame only with walls (a Lagrangian fluid next to fixed
-// wall particles is not implemented).
+// projection's is n·∇φ = 0. In the Lagrangian frame the wall particles stay where they are (a
+// sliding wall's velocity is a boundary value, not a motion).
+//
+// Free surfaces (FlowOptions::free_surface): the fluid particles free_surface.hpp's detection
+// flags (at the start and, Lagrangian, after every move) take p = 0 and φ = 0; the body force
+// may be ramped in; the time step is further limited by the body force, dt <= 0.25 (dx/|g|)^½
+// (a particle may not fall more than dx/8 from rest in a step). Shifting moves surface
+// particles only along the surface (Lind et al. 2012).
 #include <functional>
 #include <limits>
 #include <memory>
+#include <vrsph/analysis/free_surface.hpp>
 #include <vrsph/flow/pressure_poisson.hpp>
 #include <vrsph/flow/projection.hpp>
 #include <vrsph/flow/shifting.hpp>
@@ -81,6 +88,12 @@ struct FlowOptions {
   Real velocity_scale = 0;      ///< U of the hyperviscosity (0: the initial max |u|)
   /// Lagrangian: particle shifting after every step (shifting.hpp); Eulerian: must be none.
   ShiftingOptions shifting;
+  /// A free surface: p = 0 at the fluid particles `surface` flags (its only_interior is always
+  /// on, its spacing the flow's). Needs a body force or a moving initial state (ConfigError).
+  bool free_surface = false;
+  FreeSurfaceOptions surface;
+  /// The body force reaches g over this time, g (1 - cos(π t / T)) / 2 for t < T; 0: at once.
+  Real body_force_ramp = 0;
   /// Without a body force, a step that leaves a particle faster than this many times the initial
   /// largest speed is an instability (NumericalError); 0: no such check. (The kinetic energy is
   /// checked too: it may not grow by 5 %.)
@@ -102,6 +115,8 @@ struct FlowStepReport {
   Real min_spacing = 0;        ///< smallest nearest-neighbour distance / dx
   Real max_spacing = 0;        ///< largest nearest-neighbour distance / dx (a hole grows it)
   Real max_shift = 0;          ///< largest shifting displacement of the step / dx
+  Real force_number = 0;       ///< free surface: dt / (0.25 (dx/|g|)^½), at most 1
+  Index surface_particles = 0; ///< free surface: flagged particles after the step
   double seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
   std::vector<std::string> warnings;
 };
@@ -125,7 +140,8 @@ class FlowSolver {
   /// One step of size dt. ConfigError for a dt beyond the limits (unless allow_unstable);
   /// NumericalError when the velocity stops being finite, its kinetic energy grows without a body
   /// force (by over 5 %: an instability) or a pressure solve fails; the search's and the methods'
-  /// errors when particles pile up or lose their neighbours (Lagrangian) — each naming the step.
+  /// errors when particles pile up or lose their neighbours, and NumericalError when a particle
+  /// leaves the box along a bounded axis (Lagrangian) — each naming the step.
   /// On a throw the state is that of the step before.
   const FlowStepReport& step(Real dt);
   /// The largest dt that meets the limits, times `safety` (in (0, 1]).
@@ -139,6 +155,10 @@ class FlowSolver {
   const FlowOptions& options() const { return options_; }
   const FlowStepReport& last() const { return report_; }
   const Walls& walls() const { return eq_.walls; }
+  /// The last free-surface detection (empty flags without a free surface).
+  const FreeSurface& surface() const { return surface_; }
+  /// The body force at time t (the ramp applied).
+  Vec3 body_force(Real t) const;
   /// The pressure of the current velocity (zero mean): L p = D F_E(u), F_E the Eulerian
   /// right-hand side (the pressure that keeps ∂u/∂t divergence-free), one more solve.
   Field pressure() const;
@@ -152,10 +172,12 @@ class FlowSolver {
   Limits limits() const;
   Real advective_bound(const Eigen::MatrixXd& u) const;
   Real viscous_rate() const;
-  Eigen::MatrixXd forces(const Eigen::MatrixXd& u) const;  ///< ν L u (- hyperviscosity) + g
+  Eigen::MatrixXd forces(const Eigen::MatrixXd& u, Real t) const;  ///< ν L u (- hyperviscosity) + g(t)
+  Real force_limit() const;  ///< free surface: 0.25 (dx/|g|)^½, else infinity
+  void detect_surface();     ///< surface_ of the current positions
   void wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const;  ///< at walls: Σ_a G_a G_a u
   Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, FlowStepReport* r) const;
-  Eigen::MatrixXd rate(const Eigen::MatrixXd& u, FlowStepReport& r);
+  Eigen::MatrixXd rate(const Eigen::MatrixXd& u, Real t, FlowStepReport& r);
   void move_to(const std::vector<Vec3>& x, FlowStepReport& r);
   void factorise_pressure();  ///< the pressure equation of the current operators into ppe_ (and eq_'s wall fluxes)
   void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
@@ -166,7 +188,8 @@ class FlowSolver {
   FlowOptions options_;
   std::unique_ptr<Operators> ops_;
   std::unique_ptr<PressurePoisson> ppe_;
-  PressureEquation eq_;  ///< its walls and wall fluxes (the matrix is moved into ppe_)
+  PressureEquation eq_;  ///< its walls, wall fluxes and surface (the matrix is moved into ppe_)
+  FreeSurface surface_;
   Eigen::MatrixXd u_;
   Field phi_;         ///< the last stage's pressure (the next solve's initial guess)
   Field correction_;  ///< the last end-of-step projection's potential (likewise)

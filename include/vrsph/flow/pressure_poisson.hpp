@@ -33,6 +33,9 @@ class PressurePoisson {
   /// Throws as PreparedSolver, and NumericalError when the unit source leaves no defect (A's
   /// rows are not a consistent Laplacian).
   PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned = 0, Field spread = {});
+  /// A non-singular A (Dirichlet rows: a free surface where p = 0): solve() solves A p = r as it
+  /// is, with no pin, no shift and no mean removed. Throws as PreparedSolver.
+  static PressurePoisson regular(CsrMatrix A, const SolverOptions& options);
   ~PressurePoisson();
   PressurePoisson(PressurePoisson&&) noexcept;
   PressurePoisson& operator=(PressurePoisson&&) noexcept;
@@ -47,8 +50,11 @@ class PressurePoisson {
   /// The set-up's report (the factorisation or preconditioner and the unit-source solve).
   const SolveReport& setup() const { return setup_; }
   Index size() const { return n_; }
+  bool is_regular() const { return regular_; }
 
  private:
+  PressurePoisson() = default;
+  bool regular_ = false;
   Real pinned_defect(const Field& x, Real rhs) const;
   Index n_ = 0, pinned_ = 0;
   std::vector<std::pair<Index, Real>> row_;  ///< the pinned particle's row of A

@@ -18,6 +18,12 @@
 //    cavity's clouds, where the gradient rows below gave 1.04–1.52 (a tangential mode of the
 //    first fluid layer that grew until the viscosity held it, measured);
 //  - gradient rows (every other method): n·G φ, with the flow's gradient.
+//
+// Free surfaces (free_surface.hpp's particles): φ = 0 and p = 0 there (Dirichlet rows, the ISPH
+// and MPS practice); the equation is then regular (no pin, no shift, no mean removed). The fluid
+// rows next to the surface are the method's rows over their truncated supports (VRSPH: its
+// moment conditions over what the support holds, docs/free_surface.md).
+#include <algorithm>
 #include <vrsph/flow/pressure_poisson.hpp>
 #include <vrsph/moving/operators.hpp>
 
@@ -47,21 +53,28 @@ struct PressureEquation {
   /// Balance rows: c_i of each particle's row (0 at fluid particles); empty: the walls take
   /// gradient rows n·G.
   std::vector<Real> wall_flux;
+  /// Per particle, 1 on a free surface (an identity row: p = 0); empty: no free surface.
+  std::vector<char> surface;
+  bool has_surface() const { return std::find(surface.begin(), surface.end(), 1) != surface.end(); }
 };
 /// Balance rows where the method has them (a "flux" option the user left unset or set to
-/// balance; its "rhs" then point), else gradient rows. Throws as the method's build.
-PressureEquation pressure_equation(const Operators& ops, const Walls& walls);
+/// balance; its "rhs" then point), else gradient rows; identity rows at the free-surface
+/// particles `surface` (empty: none; InputError for another size), which may include dry walls
+/// (wall particles without water in their support: p = 0 there, the air's).
+/// Throws as the method's build.
+PressureEquation pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface = {});
 /// Its right-hand side for a pressure whose gradient balances the acceleration a (N x d),
-/// ∇²p = ∇·a inside and ∂p/∂n = n·a at walls: D a at fluid particles; at walls n·a (gradient
-/// rows) or (D a)_i - c_i n·a_i (balance rows).
+/// ∇²p = ∇·a inside, ∂p/∂n = n·a at walls and p = 0 on a free surface: D a at fluid particles;
+/// at walls n·a (gradient rows) or (D a)_i - c_i n·a_i (balance rows); 0 at the surface.
 Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen::MatrixXd& a);
 /// The pressure equation, factorised. On a periodic box and with balance rows its defect is
 /// spread evenly (their left null vector is positive: quadrature weights); with gradient rows
 /// along the left null vector, pinned at the first fluid particle (pressure_poisson.hpp: one
 /// more factorisation, of the transpose, at set-up). `matrix`: the equation's (moved in:
 /// PressurePoisson pins it in place); `wall_flux`: PressureEquation's.
+/// With a free surface (`has_surface`) the equation is regular: PressurePoisson::regular.
 PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
-                                 const SolverOptions& options);
+                                 const SolverOptions& options, bool has_surface = false);
 
 struct Projected {
   Eigen::MatrixXd u;  ///< w - G φ

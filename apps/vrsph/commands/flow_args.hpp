@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// The `vrsph flow` command's arguments and the helpers its cases share (flow.cpp: the periodic
+// vortex, the projection and the cavity; flow_free_surface.cpp: the hydrostatic tank).
+#include <map>
+#include <string>
+#include <vector>
+#include <vrsph/core/error.hpp>
+#include <vrsph/flow/flow_study.hpp>
+#include <vrsph/io/table.hpp>
+#include "../cli_common.hpp"
+
+namespace vrsph::cli {
+
+struct FlowArgs {
+  std::string flow_case = "taylor-green", frame = "eulerian", methods = "vrsph", gradient = "auto", nx = "32,64",
+              cloud = "perturbed", scheme = "rk3", shifting = "none", solver = "auto", vtu_series, kernel = "cubic",
+              profile_output;
+  std::vector<std::string> method_opts;
+  int dim = 2, vtu_every = 0, threads = 0;
+  double t_end = 0, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0,
+         steady_tol = 1e-4;
+  // Free-surface cases (flow_free_surface.cpp): |g|, its ramp time, the water's depth and width
+  // (a dam break's column: width and height 2 width), the tank's width.
+  double gravity = 1, ramp = -1, depth = 0, tank_width = 0;
+  bool frame_given = false;  // --frame on the command line (the free-surface cases default to lagrangian)
+  std::uint64_t seed = 1;
+  bool allow_unstable = false;
+  OutputOptions out;
+};
+
+// The runs of a comparison that blew up (NumericalError: an instability, a failed pressure
+// solve). A classic scheme that cannot run is a result of the comparison, not a reason to lose
+// the others: its row carries the message in `status`, the table is written, and the command
+// then fails with the first message (the exit code of a numerical error). Bad input
+// (ConfigError, InputError, ...) still stops at once.
+struct FailedRuns {
+  std::size_t runs = 0;
+  std::vector<std::string> messages;
+  /// run(); false (and the row `key` + status added to t) when it threw a NumericalError.
+  template <class Run>
+  bool attempt(Table& t, std::vector<std::pair<std::string, TableCell>> key, Run&& run) {
+    ++runs;
+    try {
+      run();
+      return true;
+    } catch (const NumericalError& e) {
+      messages.emplace_back(e.what());
+      key.emplace_back("status", std::string(e.what()));
+      t.add_row(key);
+      return false;
+    }
+  }
+  void raise_if_any() const {
+    if (messages.empty()) return;
+    std::string all = messages.front();
+    for (std::size_t k = 1; k < messages.size(); ++k) all += "; then: " + messages[k];
+    throw NumericalError(detail::concat(messages.size(), " of ", runs, " runs failed (their rows' status says why): ", all));
+  }
+};
+
+/// The periodic vortex's cloud of one resolution.
+FlowCloudSpec cloud_spec(const FlowArgs& a, int nx);
+/// One method's operators, and the flow's options, from the command line.
+OperatorsOptions operators_for(const FlowArgs& a, const std::string& method, const std::map<std::string, MethodOptions>& options);
+FlowOptions flow_options_for(const FlowArgs& a, const std::string& method, const std::map<std::string, MethodOptions>& options);
+/// NaN for every order column of a run that failed (orders skip it).
+void skip_orders(std::map<std::string, std::vector<Real>>& errors);
+/// Observed orders between consecutive resolutions of one method (the first row has none).
+void add_orders(Table& t, std::size_t first, const std::vector<int>& nx, const std::map<std::string, std::vector<Real>>& errors);
+/// --case hydrostatic (flow_free_surface.cpp).
+void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
+                          const std::map<std::string, MethodOptions>& options);
+extern const std::vector<std::string> hydrostatic_columns;
+
+}  // namespace vrsph::cli
