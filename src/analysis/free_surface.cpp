@@ -155,7 +155,10 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
           const Vec3 xji = pair(k);
           const Real r = nl.distances[static_cast<std::size_t>(k)];
           const bool in_cone = r < std::sqrt(2.0) * s && xji.dot(nrm) > r * std::sqrt(0.5);
-          const bool in_cap = (xji - centre).norm() < s;
+          // A wall covers the particle only inside the cone: the cap reaches down to a floor next
+          // to a free face (the foot of a water column), which would hide the face.
+          const bool wall = options.only_interior && cloud.tags[static_cast<std::size_t>(nl.indices[static_cast<std::size_t>(k)])] != Tag::Interior;
+          const bool in_cap = !wall && (xji - centre).norm() < s;
           if (in_cone || in_cap) surface = false;
         }
       }

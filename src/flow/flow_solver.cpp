@@ -193,31 +193,18 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
 }
 
 void FlowSolver::factorise_pressure() {
-  std::vector<char> flags;
-  if (options_.free_surface) {
-    // p = 0 on the surface and at the dry walls: wall particles without water in their support,
-    // or (under gravity) with none of it half a spacing above them — above the water, where
-    // the air's pressure holds. The wet walls' rows do not see them (projection.cpp).
-    flags.assign(surface_.surface.begin(), surface_.surface.end());
-    const NeighbourList& nl = ops_->neighbours();
-    const PointCloud& cloud = ops_->cloud();
-    const Real g = options_.body_force.norm();
-    const Vec3 up = g > 0 ? Vec3(-options_.body_force / g) : Vec3::Zero();
-    for (const Index i : eq_.walls.index) {
-      const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
-      bool wet = false;
-      for (Index k = 0; k < nl.count(i) && !wet; ++k) {
-        const Index j = nl.of(i)[static_cast<std::size_t>(k)];
-        if (eq_.walls.is_wall[static_cast<std::size_t>(j)]) continue;
-        // Half a spacing: a wall level with the surface stays dry while the surface ripples.
-        wet = g == 0 || (cloud.positions[static_cast<std::size_t>(j)] - xi).dot(up) > 0.5 * spacing_;
-      }
-      if (!wet) flags[static_cast<std::size_t>(i)] = 1;
-    }
-  }
-  PressureEquation eq = pressure_equation(*ops_, eq_.walls, flags);
+  // A free surface: p = 0 there, and the walls' rows carry the water's pressure to them
+  // (extrapolated rows: exact for the hydrostatic pressure on either side of the surface, and
+  // they hold up the water at a column's foot, where a wall's balance row over a quarter support
+  // could not; docs/free_surface.md).
+  PressureEquation eq =
+      options_.free_surface
+          ? extrapolated_pressure_equation(*ops_, eq_.walls,
+                                           std::vector<char>(surface_.surface.begin(), surface_.surface.end()))
+          : pressure_equation(*ops_, eq_.walls);
   eq_.wall_flux = std::move(eq.wall_flux);
   eq_.surface = std::move(eq.surface);
+  eq_.wall_offset = std::move(eq.wall_offset);
   ppe_ = std::make_unique<PressurePoisson>(
       pressure_poisson(std::move(eq.matrix), eq_.walls, eq_.wall_flux, options_.solver, eq_.has_surface()));
 }

@@ -94,45 +94,24 @@ void set_surface_rows(CsrMatrix& A, const std::vector<char>& surface) {
   A.makeCompressed();
 }
 
-PressureEquation wall_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface);
+PressureEquation wall_equation(const Operators& ops, const Walls& walls);
 
-// The list without the columns `drop` flags (their rows kept): the rows of the wet walls built
-// as if the dry walls were not there.
-NeighbourList without_columns(const NeighbourList& nl, const std::vector<char>& drop) {
-  NeighbourList out;
-  out.radii = nl.radii;
-  out.offsets.assign(1, 0);
-  out.offsets.reserve(nl.offsets.size());
-  std::vector<Index> indices;
-  std::vector<Real> distances;
-  indices.reserve(nl.indices.size());
-  for (Index i = 0; i < nl.size(); ++i) {
-    for (Index k = nl.offsets[static_cast<std::size_t>(i)]; k < nl.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
-      const auto ku = static_cast<std::size_t>(k);
-      if (drop[static_cast<std::size_t>(nl.indices[ku])]) continue;
-      indices.push_back(nl.indices[ku]);
-      if (!nl.distances.empty()) distances.push_back(nl.distances[ku]);
-      if (!nl.shifts.empty()) out.shifts.push_back(nl.shifts[ku]);
-    }
-    out.offsets.push_back(static_cast<Index>(indices.size()));
-  }
-  out.indices.assign(indices.begin(), indices.end());
-  out.distances.assign(distances.begin(), distances.end());
-  return out;
-}
 }  // namespace
 
 PressureEquation pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
   check<InputError>(surface.empty() || static_cast<Index>(surface.size()) == ops.cloud().size(), "pressure equation: ",
                     surface.size(), " free-surface flags for ", ops.cloud().size(), " particles");
-  PressureEquation eq = wall_equation(ops, walls, surface);
+  for (const Index i : walls.index)
+    check<InputError>(surface.empty() || !surface[static_cast<std::size_t>(i)], "pressure equation: wall particle ", i,
+                      " is flagged as free surface (extrapolated_pressure_equation gives walls in the air p = 0)");
+  PressureEquation eq = wall_equation(ops, walls);
   eq.surface = surface;
   if (eq.has_surface()) set_surface_rows(eq.matrix, surface);
   return eq;
 }
 
 namespace {
-PressureEquation wall_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
+PressureEquation wall_equation(const Operators& ops, const Walls& walls) {
   PressureEquation eq;
   eq.walls = walls;
   if (walls.empty()) {
@@ -145,20 +124,10 @@ PressureEquation wall_equation(const Operators& ops, const Walls& walls, const s
     PointCloud neumann = ops.cloud();
     for (const Index i : walls.index) neumann.tags[static_cast<std::size_t>(i)] = Tag::Neumann;
     // Only the walls' rows: the fluid's are the operators' Laplacian (the viscous term's too).
-    // A free surface: a dry wall (flagged) takes p = 0; the wet walls' rows do not see it (the
-    // air's p = 0 would put a kink into the hydrostatic pressure they extend above the water).
-    std::vector<char> wet = walls.is_wall, dry(walls.is_wall.size(), 0);
-    for (std::size_t i = 0; i < surface.size(); ++i)
-      if (surface[i] && walls.is_wall[i]) {
-        wet[i] = 0;
-        dry[i] = 1;
-      }
-    const bool any_dry = std::find(dry.begin(), dry.end(), 1) != dry.end();
-    const NeighbourList filtered = any_dry ? without_columns(ops.neighbours(), dry) : NeighbourList{};
-    const Discretisation disc{neumann, any_dry ? filtered : ops.neighbours(), ops.options().kernel, ops.spacing()};
+    const Discretisation disc{neumann, ops.neighbours(), ops.options().kernel, ops.spacing()};
     StencilRequest request;
     request.kind = OperatorKind::Laplacian;
-    request.rows = wet;
+    request.rows = walls.is_wall;
     Stencil L = method->build(disc, request);
     if (!L.wall_flux.empty()) {
       require_point_rows(L, "a projection");
@@ -173,11 +142,63 @@ PressureEquation wall_equation(const Operators& ops, const Walls& walls, const s
 }
 }  // namespace
 
+PressureEquation extrapolated_pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
+  const PointCloud& cloud = ops.cloud();
+  const Index n = cloud.size();
+  check<InputError>(static_cast<Index>(surface.size()) == n, "pressure equation: ", surface.size(),
+                    " free-surface flags for ", n, " particles");
+  PressureEquation eq;
+  eq.walls = walls;
+  eq.surface = surface;
+  eq.wall_offset.assign(static_cast<std::size_t>(n), Vec3::Zero());
+  CsrMatrix L = laplacian_matrix(ops);
+  std::vector<Eigen::Triplet<Real>> t;
+  t.reserve(static_cast<std::size_t>(L.nonZeros()));
+  for (Index i = 0; i < n; ++i) {
+    if (walls.empty() || !walls.is_wall[static_cast<std::size_t>(i)]) {
+      if (surface[static_cast<std::size_t>(i)]) t.emplace_back(i, i, 1.0);
+      else
+        for (CsrMatrix::InnerIterator it(L, i); it; ++it) t.emplace_back(i, it.col(), it.value());
+    }
+  }
+  const NeighbourList& nl = ops.neighbours();
+  const Discretisation disc{cloud, nl, ops.options().kernel, ops.spacing()};
+  for (const Index w : walls.index) {
+    const Kernel kernel = disc.kernel_at(w);
+    Real sum = 0;
+    Vec3 offset = Vec3::Zero();
+    std::vector<std::pair<Index, Real>> row;
+    for (Index k = 0; k < nl.count(w); ++k) {
+      const Index f = nl.of(w)[static_cast<std::size_t>(k)];
+      if (walls.is_wall[static_cast<std::size_t>(f)]) continue;
+      const Real weight = kernel.W(nl.distances_of(w)[static_cast<std::size_t>(k)]);
+      if (weight <= 0) continue;
+      row.emplace_back(f, weight);
+      sum += weight;
+      offset += weight * (cloud.positions[static_cast<std::size_t>(w)] - disc.neighbour_position(w, k));
+    }
+    t.emplace_back(w, w, 1.0);
+    if (sum <= 0) {  // no water in the support: the air's p = 0
+      eq.surface[static_cast<std::size_t>(w)] = 1;
+      continue;
+    }
+    for (const auto& [f, weight] : row) t.emplace_back(w, f, -weight / sum);
+    eq.wall_offset[static_cast<std::size_t>(w)] = offset / sum;
+  }
+  eq.matrix = CsrMatrix(n, n);
+  eq.matrix.setFromTriplets(t.begin(), t.end());
+  return eq;
+}
+
 Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen::MatrixXd& a) {
   Field r = ops.apply(VectorOperator::Divergence, a).col(0);
   const Walls& walls = eq.walls;
   for (std::size_t w = 0; w < walls.index.size(); ++w) {
     const Index i = walls.index[w];
+    if (!eq.wall_offset.empty()) {
+      r[i] = a.row(i).dot(eq.wall_offset[static_cast<std::size_t>(i)].head(a.cols()));
+      continue;
+    }
     const Real flux = a.row(i).dot(walls.normal[w].head(a.cols()));
     r[i] = eq.wall_flux.empty() ? flux : r[i] - eq.wall_flux[static_cast<std::size_t>(i)] * flux;
   }

@@ -4,6 +4,7 @@
 // vortex, the projection and the cavity; flow_free_surface.cpp: the hydrostatic tank).
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/flow_study.hpp>
@@ -30,7 +31,7 @@ struct FlowArgs {
 };
 
 // The runs of a comparison that blew up (NumericalError: an instability, a failed pressure
-// solve). A classic scheme that cannot run is a result of the comparison, not a reason to lose
+// solve, a particle lost; GeometryError raised within a step: particles left without neighbours). A classic scheme that cannot run is a result of the comparison, not a reason to lose
 // the others: its row carries the message in `status`, the table is written, and the command
 // then fails with the first message (the exit code of a numerical error). Bad input
 // (ConfigError, InputError, ...) still stops at once.
@@ -45,11 +46,20 @@ struct FailedRuns {
       run();
       return true;
     } catch (const NumericalError& e) {
-      messages.emplace_back(e.what());
-      key.emplace_back("status", std::string(e.what()));
-      t.add_row(key);
+      record(t, std::move(key), e.what());
+      return false;
+    } catch (const GeometryError& e) {
+      // Particles that lost their neighbours during a step (a Lagrangian run that blew up) end
+      // that run, not the comparison; a cloud refused before its first step is bad input.
+      if (std::string_view(e.what()).substr(0, 10) != "flow step ") throw;
+      record(t, std::move(key), e.what());
       return false;
     }
+  }
+  void record(Table& t, std::vector<std::pair<std::string, TableCell>> key, const std::string& message) {
+    messages.push_back(message);
+    key.emplace_back("status", message);
+    t.add_row(key);
   }
   void raise_if_any() const {
     if (messages.empty()) return;

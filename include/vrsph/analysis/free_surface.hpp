@@ -24,7 +24,9 @@
 // is below interior_eigenvalue (the surface and the band under it), 0 elsewhere.
 //
 // Walls: with only_interior, particles tagged Dirichlet/Neumann/Ghost count as neighbours
-// (a fluid particle next to a wall has a full support) but are never flagged. Periodic boxes
+// (a fluid particle next to a wall has a full support) but are never flagged, and in the scan
+// they cover a particle only inside its cone (the cap of a particle at the foot of a water
+// column's free face reaches down to the floor beside it). Periodic boxes
 // are searched across their periodic faces.
 #include <cstdint>
 #include <string_view>

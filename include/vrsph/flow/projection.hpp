@@ -17,7 +17,14 @@
 //    M-matrix sign pattern, and the projection is stable: its spectral radius 1 + 2e-4 on the
 //    cavity's clouds, where the gradient rows below gave 1.04–1.52 (a tangential mode of the
 //    first fluid layer that grew until the viscosity held it, measured);
-//  - gradient rows (every other method): n·G φ, with the flow's gradient.
+//  - gradient rows (every other method): n·G φ, with the flow's gradient;
+//  - extrapolated rows (free surfaces; Adami, Hu & Adams, J. Comput. Phys. 231 (2012) 7057):
+//    p_w = Σ_f ω_wf (p_f + a_w·(x_w - x_f)) over the water particles f of the wall's support,
+//    ω the kernel's Shepard weights: the water's pressure carried to the wall along the
+//    acceleration the wall balances (∇p = a there). Exact for the hydrostatic pressure wherever
+//    the wall sees water — above the surface it is the pressure's linear extension, at a column's
+//    foot it holds the water up — and an M-matrix row. A wall without water in its support takes
+//    p = 0 (the air's).
 //
 // Free surfaces (free_surface.hpp's particles): φ = 0 and p = 0 there (Dirichlet rows, the ISPH
 // and MPS practice); the equation is then regular (no pin, no shift, no mean removed). The fluid
@@ -55,17 +62,23 @@ struct PressureEquation {
   std::vector<Real> wall_flux;
   /// Per particle, 1 on a free surface (an identity row: p = 0); empty: no free surface.
   std::vector<char> surface;
+  /// Extrapolated wall rows: per particle, Σ_f ω_wf (x_w - x_f) at walls (0 elsewhere; empty:
+  /// balance or gradient rows). The row's right-hand side is a_w · this.
+  std::vector<Vec3> wall_offset;
   bool has_surface() const { return std::find(surface.begin(), surface.end(), 1) != surface.end(); }
 };
 /// Balance rows where the method has them (a "flux" option the user left unset or set to
 /// balance; its "rhs" then point), else gradient rows; identity rows at the free-surface
-/// particles `surface` (empty: none; InputError for another size), which may include dry walls
-/// (wall particles without water in their support: p = 0 there, the air's).
+/// particles `surface` (empty: none; InputError for another size or a wall flagged).
 /// Throws as the method's build.
 PressureEquation pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface = {});
+/// The free-surface form: identity rows at `surface`, extrapolated rows at the walls (identity
+/// rows at walls without water in their support). InputError for a `surface` of another size.
+PressureEquation extrapolated_pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface);
 /// Its right-hand side for a pressure whose gradient balances the acceleration a (N x d),
 /// ∇²p = ∇·a inside, ∂p/∂n = n·a at walls and p = 0 on a free surface: D a at fluid particles;
-/// at walls n·a (gradient rows) or (D a)_i - c_i n·a_i (balance rows); 0 at the surface.
+/// at walls n·a (gradient rows), (D a)_i - c_i n·a_i (balance rows) or a_i·offset_i
+/// (extrapolated rows); 0 at the surface and at dry walls.
 Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen::MatrixXd& a);
 /// The pressure equation, factorised. On a periodic box and with balance rows its defect is
 /// spread evenly (their left null vector is positive: quadrature weights); with gradient rows

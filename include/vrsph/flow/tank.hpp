@@ -29,7 +29,7 @@ struct TankSpec {
 PointCloud tank_cloud(const TankSpec& spec);
 
 struct HydrostaticRunOptions {
-  TankSpec tank;
+  TankSpec tank;           ///< its wall_height 0 here: walls up to the water's level
   FlowOptions flow;        ///< free_surface, body_force and its ramp are set here
   Real gravity = 1;        ///< |g|, > 0
   Real ramp = 0.5;         ///< gravity reaches |g| over this time (FlowOptions::body_force_ramp)

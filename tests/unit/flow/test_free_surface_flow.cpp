@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Free surfaces in the flow layer (docs/free_surface.md): the tank's cloud, the pressure equation
-// with p = 0 rows at the surface and at the dry walls, and the hydrostatic tank — water at rest
+// with p = 0 rows at the surface and extrapolated wall rows, and the hydrostatic tank — water at rest
 // under gravity in the Lagrangian frame, whose pressure must be g (H - y) and whose particles must
 // stay at rest. VRSPH reproduces the linear hydrostatic pressure, so on a lattice the tank is at
 // rest to round-off, and on a perturbed one (flat surface) to the solver's tolerance.
@@ -77,6 +77,28 @@ TEST(FreeSurfaceFlow, PressureEquationIsExactForTheHydrostaticPressure) {
   }
   EXPECT_LT(error, 1e-5);     // measured 7.7e-7: the residual of the rows' NNLS moment conditions
   EXPECT_LT(gradient, 1e-4);  // the least-squares gradient at the surface's corner particles (measured 3e-6)
+}
+
+TEST(FreeSurfaceFlow, ExtrapolatedWallRowsExtendThePressureAboveTheWaterAndGiveTheAirZero) {
+  TankSpec s;
+  s.nx = 10;
+  s.wall_height = 1.6;  // six wall particles above the water on each side, the top two in the air
+  s.jitter = 0.2;
+  const PointCloud c = tank_cloud(s);
+  FlowOptions o;
+  o.free_surface = true;
+  o.body_force = Vec3(0, -1, 0);
+  const FlowSolver solver(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  const Field p = solver.pressure();
+  const Real support = solver.operators().neighbours().radius(0);
+  for (const Index w : solver.walls().index) {
+    const Real y = c.positions[static_cast<std::size_t>(w)][1];
+    if (y <= 1 + support - 0.05) {  // water in its support: the hydrostatic field, extended above the surface
+      EXPECT_NEAR(p[w], 1 - y, 1e-4) << "wall " << w << " at y = " << y;
+    } else if (y >= 1 + support + 0.05) {  // in the air
+      EXPECT_EQ(p[w], 0.0) << "wall " << w << " at y = " << y;
+    }
+  }
 }
 
 TEST(FreeSurfaceFlow, HydrostaticTankStaysAtRestOnALattice) {
