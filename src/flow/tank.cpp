@@ -48,22 +48,23 @@ PointCloud tank_cloud(const TankSpec& s) {
   // particle beyond it has been flung out of the tank (FlowSolver stops there).
   hi[v] = wall_height + s.depth;
   c.domain = Domain::box(d, Vec3::Zero(), hi);
-  const int nk = d == 3 ? s.nx : 0;
+  check<ConfigError>(s.wall_layers >= 1 && s.wall_layers <= 8, "tank: wall layers must be in [1, 8], got ", s.wall_layers);
+  const int nk = d == 3 ? s.nx : 0, extra = s.wall_layers - 1, ek = d == 3 ? extra : 0;
   std::vector<Vec3> positions, normals;
   std::vector<Tag> tags;
-  for (int i = 0; i <= s.nx; ++i)
-    for (int k = 0; k <= nk; ++k)
-      for (int j = 0; j <= nt; ++j) {
-        // Horizontal indices (i, k) and the vertical j.
+  for (int i = -extra; i <= s.nx + extra; ++i)
+    for (int k = -ek; k <= nk + ek; ++k)
+      for (int j = -extra; j <= nt; ++j) {
+        // Horizontal indices (i, k) and the vertical j; the faces' extra layers lie outside the box.
         const int idx[2] = {i, k};
         Vec3 x = Vec3::Zero(), n = Vec3::Zero();
         for (int a = 0; a < v; ++a) {
           x[a] = idx[a] * dx;
-          if (idx[a] == 0) n[a] = -1;
-          if (idx[a] == s.nx) n[a] = 1;
+          if (idx[a] <= 0) n[a] = -1;
+          if (idx[a] >= s.nx) n[a] = 1;
         }
         x[v] = j * dx;
-        if (j == 0) n[v] = -1;
+        if (j <= 0) n[v] = -1;
         if (n.squaredNorm() > 0) {
           positions.push_back(x);
           normals.push_back(n.normalized());

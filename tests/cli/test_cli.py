@@ -488,6 +488,27 @@ class Flow(unittest.TestCase):
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("--profile-output applies to --case cavity", result.stderr)
 
+    def test_dam_break_rows_and_plot(self):
+        # The acceptance interface: rows[] with t_star and front_z_over_l, beside the references.
+        with tempfile.TemporaryDirectory() as tmp:
+            png = os.path.join(tmp, "front.png")
+            out = run_json("flow", "--case", "dam-break", "--nx", "10", "--t-end", "1", "--threads", "1", "--plot", png)
+            rows = out["rows"]
+            self.assertGreater(len(rows), 10)
+            self.assertEqual(rows[0]["t_star"], 0.0)
+            self.assertLess(abs(rows[0]["front_z_over_l"] - 1.0), 0.021)  # the column's face, perturbed by 0.2 dx
+            self.assertAlmostEqual(rows[-1]["t_star"], 2 ** 0.5, places=9)
+            self.assertTrue(all(r["status"] == "ok" and r["shifting"] == "xu" for r in rows))
+            self.assertTrue(1.3 < rows[-1]["front_z_over_l"] < 1.9)  # experiments 1.52-1.55, MPS 1.65 at T = 1.41
+            self.assertLess(rows[-1]["max_outside_experiments"], 0.25)
+            self.assertEqual([c["name"] for c in out["reference_curves"]][2], "koshizuka-oka mps")
+            self.assertTrue(os.path.getsize(png) > 1000)
+        for args, message in ((["--dim", "3"], "two-dimensional"), (["--frame", "eulerian"], "--frame lagrangian"),
+                              (["--cfl", "2"], "must be in (0, 1]"), (["--nx", "500"], "at most 400")):
+            result = run("flow", "--case", "dam-break", *args, check=False)
+            self.assertEqual(result.returncode, 2, result.stderr)
+            self.assertIn(message, result.stderr)
+
     def test_hydrostatic_rows_and_surface_series(self):
         # The acceptance interface: rows[] with nx, bottom_pressure_error, max_speed, surface_particles.
         with tempfile.TemporaryDirectory() as tmp:

@@ -7,7 +7,9 @@
 //  --case cavity        the lid-driven cavity run to a steady state, its centre lines against
 //                       Ghia, Ghia & Shin (1982) (flow/cavity.hpp);
 //  --case hydrostatic   water at rest in a tank under gravity, with a free surface
-//                       (flow_free_surface.cpp, flow/tank.hpp).
+//                       (flow_free_surface.cpp, flow/tank.hpp);
+//  --case dam-break     a water column released in a tank, its surge front against Martin &
+//                       Moyce's experiments and Koshizuka & Oka's MPS (flow/dam_break.hpp).
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -329,13 +331,14 @@ void run_flow(FlowArgs& a) {
   set_thread_count(a.threads);
   check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim for flow must be 2 or 3, got ", a.dim);
   check<ConfigError>(a.flow_case == "taylor-green" || a.flow_case == "projection" || a.flow_case == "cavity" ||
-                         a.flow_case == "hydrostatic",
-                     "unknown --case '", a.flow_case, "' (known: taylor-green, projection, cavity, hydrostatic)");
-  const bool free_surface = a.flow_case == "hydrostatic";
+                         a.flow_case == "hydrostatic" || a.flow_case == "dam-break",
+                     "unknown --case '", a.flow_case, "' (known: taylor-green, projection, cavity, hydrostatic, dam-break)");
+  const bool hydrostatic = a.flow_case == "hydrostatic", dam_break = a.flow_case == "dam-break";
   for (const auto& [value, name] : {std::pair{a.gravity != 1, "--gravity"}, {a.ramp != -1, "--ramp"},
                                     {a.depth != 0, "--depth"}, {a.tank_width != 0, "--tank-width"}})
-    check<ConfigError>(free_surface || !value, name, " applies to --case hydrostatic");
-  if (free_surface && !a.frame_given) a.frame = "lagrangian";
+    check<ConfigError>(hydrostatic || !value, name, " applies to --case hydrostatic");
+  if ((hydrostatic || dam_break) && !a.frame_given) a.frame = "lagrangian";
+  if (dam_break && !a.shifting_given) a.shifting = "xu";
   check<ConfigError>(std::isfinite(a.t_end) && a.t_end >= 0, "--t-end must be finite and > 0 (0: the case's default), got ",
                      a.t_end);
   check<ConfigError>(a.profile_output.empty() || a.flow_case == "cavity", "--profile-output applies to --case cavity only");
@@ -354,11 +357,13 @@ void run_flow(FlowArgs& a) {
   const auto options = parse_method_options(a.method_opts, methods);
   validate_columns(a.out, a.flow_case == "projection" ? projection_columns
                          : a.flow_case == "cavity"   ? cavity_columns
-                         : free_surface              ? hydrostatic_columns
+                         : hydrostatic               ? hydrostatic_columns
+                         : dam_break                 ? dam_break_columns
                                                      : taylor_green_columns);
   if (a.flow_case == "projection") return run_projection(a, methods, nxs, options);
   if (a.flow_case == "cavity") return run_cavity_case(a, methods, nxs, options);
-  if (a.flow_case == "hydrostatic") return run_hydrostatic_case(a, methods, nxs, options);
+  if (hydrostatic) return run_hydrostatic_case(a, methods, nxs, options);
+  if (dam_break) return run_dam_break_case(a, methods, nxs, options);
   if (a.t_end == 0) a.t_end = 1;
   run_taylor_green(a, methods, nxs, options);
 }
@@ -372,7 +377,8 @@ void add_flow_command(CLI::App& app) {
                                          "with errors and orders");
   cmd->add_option("--case", a->flow_case, "taylor-green (2D Taylor-Green, 3D Beltrami vortex) | projection (frozen cloud) | "
                                          "cavity (lid-driven, against Ghia et al. 1982) | hydrostatic (water at rest "
-                                         "in a tank, free surface)")
+                                         "in a tank, free surface) | dam-break (a column released, against Martin & "
+                                         "Moyce 1952 and Koshizuka & Oka 1996)")
       ->capture_default_str();
   cmd->add_option("--dim", a->dim, "Dimension 2 or 3")->capture_default_str();
   cmd->add_option("--frame", a->frame, "eulerian (a fixed cloud) | lagrangian (particles move with the flow)")->capture_default_str();
@@ -381,7 +387,7 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--gradient", a->gradient, "First derivatives: auto (vrsph: fpm gradient_order=2; others: own) | own | "
                                              "a method name")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "key=value or method:key=value options of the methods");
-  cmd->add_option("--nx", a->nx, "Particles per unit period along each axis (cavity: intervals per side), "
+  cmd->add_option("--nx", a->nx, "Particles per unit period along each axis (cavity: intervals per side; hydrostatic: across the tank; dam-break: across the column), "
                                  "comma-separated (a refinement)")->capture_default_str();
   cmd->add_option("--cloud", a->cloud, "perturbed (a jittered lattice) | lattice")->capture_default_str();
   cmd->add_option("--jitter", a->jitter, "Perturbation U(-j dx, j dx) per coordinate")->capture_default_str();
@@ -395,7 +401,7 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--depth", a->depth, "Hydrostatic: the water's depth H (default: the tank's width)");
   cmd->add_option("--tank-width", a->tank_width, "Hydrostatic: the tank's width (default 1; --nx intervals across it)");
   cmd->add_option("--t-end", a->t_end, "End time (0: 1 for taylor-green; cavity: 100, the run stops when steady; "
-                                       "hydrostatic: 2)")
+                                       "hydrostatic: 2; dam-break: 2.5 (L/g)^(1/2), T = 3.54, or the far wall)")
       ->capture_default_str();
   cmd->add_option("--steady-tol", a->steady_tol, "Cavity: steady when max |u(n+1) - u(n)| / dt < this")->capture_default_str();
   cmd->add_option("--profile-output", a->profile_output, "Cavity: the centre-line profiles (and Ghia's points) as CSV");
@@ -430,6 +436,7 @@ void add_flow_command(CLI::App& app) {
       reject_output_over_input(*cmd);
     }
     a->frame_given = cmd->count("--frame") > 0;
+    a->shifting_given = cmd->count("--shifting") > 0;
     run_flow(*a);
   });
 }

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The `vrsph flow` command's arguments and the helpers its cases share (flow.cpp: the periodic
-// vortex, the projection and the cavity; flow_free_surface.cpp: the hydrostatic tank).
+// vortex, the projection and the cavity; flow_free_surface.cpp: the hydrostatic tank and the
+// dam break).
 #include <map>
 #include <string>
 #include <string_view>
@@ -24,7 +25,8 @@ struct FlowArgs {
   // Free-surface cases (flow_free_surface.cpp): |g|, its ramp time, the water's depth and width
   // (a dam break's column: width and height 2 width), the tank's width.
   double gravity = 1, ramp = -1, depth = 0, tank_width = 0;
-  bool frame_given = false;  // --frame on the command line (the free-surface cases default to lagrangian)
+  bool frame_given = false;     // --frame on the command line (the free-surface cases default to lagrangian)
+  bool shifting_given = false;  // --shifting on the command line (the dam break defaults to xu)
   std::uint64_t seed = 1;
   bool allow_unstable = false;
   OutputOptions out;
@@ -82,5 +84,9 @@ void add_orders(Table& t, std::size_t first, const std::vector<int>& nx, const s
 void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
                           const std::map<std::string, MethodOptions>& options);
 extern const std::vector<std::string> hydrostatic_columns;
+/// --case dam-break (flow_free_surface.cpp).
+void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
+                        const std::map<std::string, MethodOptions>& options);
+extern const std::vector<std::string> dam_break_columns;
 
 }  // namespace vrsph::cli

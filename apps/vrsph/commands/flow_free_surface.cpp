@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <vrsph/flow/dam_break.hpp>
 #include <vrsph/flow/tank.hpp>
 #include "../vtu_series.hpp"
 #include "flow_args.hpp"
@@ -111,6 +112,112 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
   extra["peak_memory_mib"] = peak_memory_mib();
   emit(t, a.out, extra.dump(), "nx", "bottom_pressure_error:-1/-2,max_speed_after_ramp", "method",
        "hydrostatic tank: bottom pressure error and spurious speed");
+  failed.raise_if_any();
+}
+
+}  // namespace vrsph::cli
+
+namespace vrsph::cli {
+
+const std::vector<std::string> dam_break_columns = {
+    "case", "method", "gradient", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
+    "experiment_low", "experiment_high", "outside_experiments", "mps_z_over_l", "max_speed", "surface_particles",
+    "min_spacing", "max_outside_experiments", "reached_far_wall", "steps", "seconds_per_step", "seconds_ppe", "status"};
+
+void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
+                        const std::map<std::string, MethodOptions>& options) {
+  check<ConfigError>(a.dim == 2, "the dam break is two-dimensional (--dim 2), got --dim ", a.dim);
+  check<ConfigError>(a.frame == "lagrangian", "the dam break's water moves: --frame lagrangian, got --frame ", a.frame);
+  check<ConfigError>(a.cloud == "perturbed" || a.cloud == "lattice", "--cloud for flow is perturbed or lattice, got ",
+                     a.cloud);
+  check<ConfigError>(std::isfinite(a.cfl) && a.cfl > 0 && a.cfl <= 1, "--cfl for the dam break must be in (0, 1], got ",
+                     a.cfl);
+  // L = g = 1: T = t √2. Default: T = 3.54 (t = 2.5), beyond the experiments' z/L = 3.5.
+  const Real t_end = a.t_end > 0 ? a.t_end : 2.5;
+  Table t;
+  t.columns = dam_break_columns;
+  Progress progress;
+  std::size_t done = 0;
+  const double runs = static_cast<double>(methods.size() * nxs.size());
+  FailedRuns failed;
+  for (const std::string& m : methods) {
+    for (const int n : nxs) {
+      check<ConfigError>(n <= 400, "--nx for the dam break counts intervals across the column (the tank is 4 times "
+                         "wider): at most 400, got ", n);
+      DamBreakRunOptions o;
+      o.nx = n;
+      o.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
+      o.seed = a.seed;
+      o.t_star_end = t_end * std::sqrt(2.0);
+      o.cfl = a.cfl;
+      o.flow = flow_options_for(a, m, options);
+      o.flow.nu = std::sqrt(2.0) / a.re;  // Re = (g 2L)^½ L / ν
+      std::unique_ptr<VtuSeries> series;
+      if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
+      const double index = static_cast<double>(done++);
+      o.on_step = [&](const FlowSolver& s) {
+        progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / t_end) / runs);
+        if (series && a.vtu_every > 0 && s.steps() % a.vtu_every == 0) {
+          const std::vector<std::uint8_t>& flags = s.surface().surface;
+          Eigen::MatrixXd surface(static_cast<Index>(flags.size()), 1);
+          for (std::size_t i = 0; i < flags.size(); ++i) surface(static_cast<Index>(i), 0) = flags[i];
+          series->write(s.time(), s.operators().cloud(), {{"velocity", s.velocity()}, {"free_surface", surface}});
+        }
+      };
+      DamBreakRun r;
+      if (!failed.attempt(t, {{"case", std::string("dam-break")}, {"method", m}, {"nx", static_cast<long long>(n)}},
+                          [&] { r = run_dam_break(o); }))
+        continue;
+      const OperatorsOptions ops = flow_operators(o.flow);
+      for (std::size_t k = 0; k < r.samples.size(); ++k) {
+        const DamBreakSample& s = r.samples[k];
+        const auto number = [](Real v) { return std::isfinite(v) ? TableCell(v) : TableCell(); };
+        std::vector<std::pair<std::string, TableCell>> row = {
+            {"case", std::string("dam-break")}, {"method", m},
+            {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"shifting", a.shifting},
+            {"nx", static_cast<long long>(n)}, {"particles", static_cast<long long>(r.particles)},
+            {"t", s.t_star / std::sqrt(2.0)}, {"t_star", s.t_star}, {"front_z_over_l", s.front_z_over_l},
+            {"column_height_over_l", s.column_height_over_l}, {"experiment_low", number(s.experiment_low)},
+            {"experiment_high", number(s.experiment_high)}, {"outside_experiments", number(s.outside_experiments)},
+            {"mps_z_over_l", number(s.mps)}, {"max_speed", s.max_speed},
+            {"surface_particles", static_cast<long long>(s.surface_particles)}, {"min_spacing", s.min_spacing},
+            {"status", std::string(k + 1 == r.samples.size() && !r.stopped.empty() ? r.stopped : "ok")}};
+        if (k + 1 == r.samples.size()) {  // the run's summary on its last row
+          row.emplace_back("max_outside_experiments", r.max_outside_experiments);
+          row.emplace_back("reached_far_wall", r.reached_far_wall);
+          row.emplace_back("steps", static_cast<long long>(r.steps));
+          row.emplace_back("seconds_per_step", r.seconds_per_step);
+          row.emplace_back("seconds_ppe", r.seconds_ppe);
+        }
+        t.add_row(row);
+      }
+      if (!r.stopped.empty()) failed.messages.push_back(r.stopped);  // its samples kept, the command fails
+    }
+  }
+  nlohmann::ordered_json extra;
+  extra["case"] = "dam-break";
+  extra["geometry"] = "column L x 2L, tank 4L wide, L = g = 1, T = t (2 g / L)^(1/2)";
+  extra["references"] = {"Martin & Moyce, Phil. Trans. R. Soc. A 244 (1952) 312-324, Fig. 3 (n^2 = 2, a = 1.125 in and 2.25 in)",
+                         "Koshizuka & Oka, Nucl. Sci. Eng. 123 (1996) 421-434 (MPS)"};
+  nlohmann::ordered_json curves = nlohmann::ordered_json::array();
+  for (const SurgeCurve& c : dam_break_references())
+    curves.push_back({{"name", c.name}, {"t_star", c.t_star}, {"z_over_l", c.z_over_l}});
+  extra["reference_curves"] = curves;
+  extra["t_end"] = t_end;
+  extra["cfl"] = a.cfl;
+  extra["re"] = a.re;
+  extra["jitter"] = a.cloud == "lattice" ? 0.0 : a.jitter;
+  extra["h_factor"] = a.h_factor;
+  extra["seed"] = a.seed;
+  extra["peak_memory_mib"] = peak_memory_mib();
+  OutputOptions table_only = a.out;
+  table_only.plot.clear();  // the front against T beside the references: a plot of its own
+  emit(t, table_only, extra.dump(), "", "", "", "");
+  if (!a.out.plot.empty() && communicator().rank() == 0) {
+    const TemporaryFile data("vrsph-dam-break", ".json");
+    write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << to_json(t, extra.dump()); });
+    run_plot_script("plot_dam_break.py", data.path(), a.out.plot);
+  }
   failed.raise_if_any();
 }
 

@@ -17,6 +17,7 @@ struct TankSpec {
   Real depth = 1;          ///< H: the water's height (its top row of particles)
   Real column_width = 0;   ///< water in [0, column_width] along x only (a dam break); 0: the full width
   Real wall_height = 0;    ///< the walls' height; 0: depth + 4 dx
+  int wall_layers = 1;     ///< layers of wall particles (the extra ones outside the box, at dx apart)
   Real jitter = 0;         ///< water particles displaced by U(-jitter dx, jitter dx) per coordinate (the top row only horizontally)
   std::uint64_t seed = 1;
 };

@@ -1,0 +1,53 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""The dam break's surge front z/L against T = t (2g/L)^(1/2): one line per method and
+resolution, beside Martin & Moyce's experiments and Koshizuka & Oka's MPS (the JSON's
+reference_curves).
+
+Usage: plot_dam_break.py RUN.json OUT.png   (vrsph flow --case dam-break --format json)
+"""
+import json
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+MARKERS = {"martin-moyce a=1.125in": "o", "martin-moyce a=2.25in": "s", "koshizuka-oka mps": "^"}
+
+
+def main() -> int:
+    if len(sys.argv) != 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    with open(sys.argv[1], encoding="utf-8") as f:
+        doc = json.load(f)
+    runs = {}
+    for r in doc["rows"]:
+        if r.get("t_star") is None:  # a run that failed before its first sample
+            continue
+        runs.setdefault(f'{r["method"]} nx={r["nx"]}', []).append((r["t_star"], r["front_z_over_l"]))
+    if not runs:
+        print("plot_dam_break.py: no run to plot (every run failed)", file=sys.stderr)
+        return 1
+    fig, ax = plt.subplots(figsize=(6.0, 4.4))
+    for name, pts in runs.items():
+        pts.sort()
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], label=name)
+    for c in doc.get("reference_curves", []):
+        ax.plot(c["t_star"], c["z_over_l"], MARKERS.get(c["name"], "x"), mfc="none", color="k", label=c["name"])
+    ax.set_xlim(0, max(max(p[0] for p in pts) for pts in runs.values()) * 1.05)
+    ax.set_ylim(1, 4.2)
+    ax.set_xlabel("T = t (2g/L)^(1/2)")
+    ax.set_ylabel("z / L")
+    ax.set_title("dam break: surge front")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(sys.argv[2], dpi=120)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
