@@ -3,6 +3,7 @@
 // velocity given as an (N, dim) array; the study returns its row as a dict.
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/cavity.hpp>
+#include <vrsph/flow/dam_break.hpp>
 #include <vrsph/flow/tank.hpp>
 #include <vrsph/flow/flow_study.hpp>
 #include <vrsph/kernels/kernel.hpp>
@@ -243,6 +244,46 @@ void bind_flow(py::module_& m) {
     return d;
   }, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("jitter"), py::arg("seed"),
      py::arg("t_end"), py::arg("gravity"), py::arg("ramp"), py::arg("h_factor"), py::arg("options"));
+  m.def("_dam_break", [](int nx, const std::string& method, double jitter, std::uint64_t seed, double t_star_end,
+                         const std::string& shifting, double cfl, double h_factor, const py::dict& options) {
+    DamBreakRunOptions o;
+    o.nx = nx;
+    o.jitter = jitter;
+    o.seed = seed;
+    o.t_star_end = t_star_end;
+    o.cfl = cfl;
+    o.flow = flow_options("lagrangian", method, "auto", 0.01, "rk3", h_factor, "cubic", options, shifting, 0, false);
+    DamBreakRun r;
+    {
+      py::gil_scoped_release release;
+      r = run_dam_break(o);
+    }
+    py::dict d;
+    std::vector<Real> t, z, h, lo, hi, mps;
+    for (const DamBreakSample& s : r.samples) {
+      t.push_back(s.t_star);
+      z.push_back(s.front_z_over_l);
+      h.push_back(s.column_height_over_l);
+      lo.push_back(s.experiment_low);
+      hi.push_back(s.experiment_high);
+      mps.push_back(s.mps);
+    }
+    d["nx"] = r.nx;
+    d["particles"] = r.particles;
+    d["steps"] = r.steps;
+    d["t_star"] = t;
+    d["front_z_over_l"] = z;
+    d["column_height_over_l"] = h;
+    d["experiment_low"] = lo;
+    d["experiment_high"] = hi;
+    d["mps_z_over_l"] = mps;
+    d["max_outside_experiments"] = r.max_outside_experiments;
+    d["reached_far_wall"] = r.reached_far_wall;
+    d["stopped"] = r.stopped;
+    d["seconds_per_step"] = r.seconds_per_step;
+    return d;
+  }, py::arg("nx"), py::arg("method"), py::arg("jitter"), py::arg("seed"), py::arg("t_star_end"), py::arg("shifting"),
+     py::arg("cfl"), py::arg("h_factor"), py::arg("options"));
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
         py::arg("options"));

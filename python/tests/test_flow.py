@@ -85,3 +85,13 @@ def test_hydrostatic_tank_and_a_free_surface_flow():
     closed.step(0.5 * closed.stable_time_step())
     assert not closed.free_surface.any()
     assert np.abs(closed.velocity).max() < 1e-6  # a closed box at rest under gravity stays at rest
+
+
+def test_dam_break_front_and_references():
+    row = vrsph.dam_break(nx=10, t_star_end=1.5)
+    assert row["stopped"] == ""
+    assert row["front_z_over_l"][0] == 1.0 and row["column_height_over_l"][0] == 2.0
+    assert 1.5 < row["front_z_over_l"][-1] < 2.1  # the experiments 1.77, MPS 1.86 at T = 1.5
+    assert row["max_outside_experiments"] < 0.25
+    with pytest.raises(vrsph.ConfigError, match="unknown shifting"):
+        vrsph.dam_break(nx=10, shifting="sideways")

@@ -69,7 +69,7 @@ from ._vrsph import (  # noqa: F401  (re-exported)
 )
 
 __all__ = [
-    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "cavity", "hydrostatic", "Problem", "solve", "Solution", "study",
+    "Cloud", "cloud", "read_cloud", "methods", "kernels", "stencil", "Stencil", "Operators", "Flow", "taylor_green", "cavity", "hydrostatic", "dam_break", "Problem", "solve", "Solution", "study",
     "operator_study", "study_report", "covering_radius", "free_surface", "write_vtu", "Error", "InputError", "IoError", "ConfigError", "ResourceError",
     "ArgumentTypeError", "GeometryError", "NumericalError", "FeatureUnavailable", "parts", "__version__", "INTERIOR", "DIRICHLET", "NEUMANN", "GHOST",
 ]
@@ -375,6 +375,20 @@ def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: s
                                _args.number(t_end, "t_end", positive=True), _args.number(gravity, "gravity"),
                                _args.number(ramp, "ramp", minimum=0.0), _args.number(h_factor, "h_factor", positive=True),
                                _args.options(options, "options"))
+
+
+def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: int = 1, t_star_end: float = 3.0,
+              shifting: str = "xu", cfl: float = 0.25, h_factor: float = 3.0,
+              options: Mapping[str, Any] | None = None) -> dict:
+    """``vrsph flow --case dam-break`` for one method and resolution (``nx`` intervals across the
+    column L x 2L, tank 4L): the surge front z/L and the column's height at samples of
+    T = t (2g/L)^(1/2), beside Martin & Moyce's experiments (their spread) and Koshizuka & Oka's
+    MPS; ``stopped`` says why a run ended early (its samples before are kept)."""
+    return _vrsph._dam_break(_args.integer(nx, "nx", minimum=2), _args.text(method, "method"),
+                             _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
+                             _args.number(t_star_end, "t_star_end", positive=True), _args.text(shifting, "shifting"),
+                             _args.number(cfl, "cfl", positive=True), _args.number(h_factor, "h_factor", positive=True),
+                             _args.options(options, "options"))
 
 
 class Solution(dict):

@@ -109,6 +109,10 @@ def hydrostatic(nx: int = ..., dim: int = ..., frame: str = ..., method: str = .
                 seed: int = ..., t_end: float = ..., gravity: float = ..., ramp: float = ..., h_factor: float = ...,
                 options: Mapping[str, Any] | None = ...) -> dict: ...
 
+def dam_break(nx: int = ..., method: str = ..., jitter: float = ..., seed: int = ..., t_star_end: float = ...,
+              shifting: str = ..., cfl: float = ..., h_factor: float = ...,
+              options: Mapping[str, Any] | None = ...) -> dict: ...
+
 def taylor_green(nx: int = ..., dim: int = ..., frame: str = ..., method: str = ..., gradient: str = ...,
                  t_end: float = ..., re: float = ..., cfl: float = ..., jitter: float = ..., seed: int = ...,
                  scheme: str = ..., h_factor: float = ..., options: Mapping[str, Any] | None = ...,

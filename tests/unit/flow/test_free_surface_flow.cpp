@@ -46,6 +46,13 @@ TEST(TankCloud, WallsNormalsWaterAndRefusals) {
   }
   EXPECT_DOUBLE_EQ(top, 1.0);
   EXPECT_EQ(c.normals[0], Vec3(-1, -1, 0).normalized());  // the corner's diagonal
+  TankSpec thick = s;
+  thick.wall_layers = 3;  // two more layers outside each face: i, j in [-2, 12], less the 9 x 12 inside
+  const PointCloud t = tank_cloud(thick);
+  EXPECT_EQ(t.count(Tag::Dirichlet), 15 * 15 - 9 * 12);
+  EXPECT_EQ(t.count(Tag::Interior), 9 * 10);
+  thick.wall_layers = 9;
+  EXPECT_THROW_MSG(tank_cloud(thick), ConfigError, "wall layers must be in [1, 8]");
   s.column_width = 0.5;  // a dam break's column
   EXPECT_EQ(tank_cloud(s).count(Tag::Interior), 5 * 10);
   s.column_width = 1.5;
