@@ -46,8 +46,9 @@ LatticeSums lattice_sums(const Kernel& kernel, Real dx) {
 
 void check_options(const FreeSurfaceOptions& o) {
   auto in_unit = [](Real t) { return std::isfinite(t) && t > 0 && t < 1; };
-  check<ConfigError>(std::isfinite(o.h_factor) && o.h_factor > 0, "free surface: the h-factor must be positive, got ",
-                     o.h_factor);
+  // More than 10 spacings is not a local test (and every particle would see thousands).
+  check<ConfigError>(std::isfinite(o.h_factor) && o.h_factor > 0 && o.h_factor <= 10,
+                     "free surface: the h-factor must be in (0, 10], got ", o.h_factor);
   check<ConfigError>(std::isfinite(o.spacing) && o.spacing >= 0, "free surface: the spacing must be >= 0 (0 = estimate), got ",
                      o.spacing);
   check<ConfigError>(in_unit(o.density_threshold), "free surface: the number-density threshold must lie in (0, 1), got ",

@@ -81,19 +81,14 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
   detail::check_study_length("cavity", o.t_end, dt_target);
   row.dt = dt_target;
   const Stopwatch watch;
-  double iterations = 0;
-  Index steps = 0;
+  detail::StepCosts costs;
   const std::vector<char>& wall = solver.walls().is_wall;
   while (solver.time() < o.t_end * (1 - 1e-12)) {
-    const Real dt = detail::next_study_step(solver, "cavity", o.dt, dt_target, o.t_end, steps, row.dt,
+    const Real dt = detail::next_study_step(solver, "cavity", o.dt, dt_target, o.t_end, costs.steps, row.dt,
                                             "more particles, a hyperviscosity or a smaller --cfl");
     const Eigen::MatrixXd before = solver.velocity();
-    const FlowStepReport& r = solver.step(dt);
-    ++steps;
+    costs.add(solver.step(dt));
     row.dt = std::min(row.dt, dt);
-    iterations += r.ppe_iterations;
-    row.seconds_ppe += r.seconds_ppe;
-    row.seconds_rhs += r.seconds_rhs;
     Real change = 0;
     for (Index i = 0; i < before.rows(); ++i)
       if (!wall[static_cast<std::size_t>(i)]) change = std::max(change, (solver.velocity().row(i) - before.row(i)).norm());
@@ -104,13 +99,8 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
       break;
     }
   }
-  const auto per = static_cast<double>(std::max<Index>(steps, 1));
-  row.steps = steps;
+  costs.write(row, watch.seconds());
   row.t = solver.time();
-  row.seconds_per_step = watch.seconds() / per;
-  row.seconds_ppe /= per;
-  row.seconds_rhs /= per;
-  row.ppe_iterations_per_step = iterations / per;
   row.max_div_u = solver.last().max_div_u;
   row.kinetic_energy = solver.last().kinetic_energy;
   // Profiles from a quadratic moving least-squares fit over 2.5 dx: its error is far below the

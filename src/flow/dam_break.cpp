@@ -7,6 +7,7 @@
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/flow/dam_break.hpp>
 #include <vrsph/flow/tank.hpp>
+#include "study_step.hpp"
 
 namespace vrsph {
 
@@ -99,16 +100,16 @@ DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
   };
   run.samples.push_back(sample());
   const Stopwatch watch;
+  detail::StepCosts costs;
   Real next = o.sample;
   const Real t_end = o.t_star_end / time_scale;
   while (solver.time() < t_end * (1 - 1e-12)) {
-    check<NumericalError>(run.steps < 10'000'000, "dam break: 1e7 steps reached at T = ", solver.time() * time_scale);
+    check<NumericalError>(costs.steps < 10'000'000, "dam break: 1e7 steps reached at T = ", solver.time() * time_scale);
     const Real speed = std::max(solver.last().max_speed, std::sqrt(g * dx));
     Real dt = std::min(0.9 * solver.stable_time_step(), o.cfl * dx / speed);
     dt = std::min(dt, t_end - solver.time());
-    FlowStepReport r;
     try {
-      r = solver.step(dt);
+      costs.add(solver.step(dt));
     } catch (const NumericalError& e) {
       run.stopped = e.what();
       break;
@@ -116,10 +117,6 @@ DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
       run.stopped = e.what();
       break;
     }
-    ++run.steps;
-    run.seconds_update += r.seconds_update;
-    run.seconds_ppe += r.seconds_ppe;
-    run.seconds_rhs += r.seconds_rhs;
     if (o.on_step) o.on_step(solver);
     const DamBreakSample s = sample();
     const bool far = s.front_z_over_l >= width / L - 1.5 * dx / L;
@@ -132,11 +129,7 @@ DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
       break;
     }
   }
-  const auto per = static_cast<double>(std::max<Index>(run.steps, 1));
-  run.seconds_per_step = watch.seconds() / per;
-  run.seconds_update /= per;
-  run.seconds_ppe /= per;
-  run.seconds_rhs /= per;
+  costs.write(run, watch.seconds());
   run.t_star = solver.time() * time_scale;
   for (const DamBreakSample& s : run.samples)
     if (s.front_z_over_l <= 3.5 && std::isfinite(s.outside_experiments))

@@ -142,31 +142,19 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
   row.min_spacing = solver.last().min_spacing;
   row.max_spacing = solver.last().max_spacing;
   const Stopwatch watch;
-  double iterations = 0;
-  Index steps = 0;
+  detail::StepCosts costs;
   while (solver.time() < o.t_end * (1 - 1e-12)) {
-    const Real dt = detail::next_study_step(solver, "flow", o.dt > 0 ? dt_cfl : 0, dt_cfl, o.t_end, steps, row.dt,
+    const Real dt = detail::next_study_step(solver, "flow", o.dt > 0 ? dt_cfl : 0, dt_cfl, o.t_end, costs.steps, row.dt,
                                             "try another gradient, a smaller --cfl or shifting");
     const FlowStepReport& r = solver.step(dt);
-    ++steps;
+    costs.add(r);
     row.dt = std::min(row.dt, dt);
-    iterations += r.ppe_iterations;
-    row.seconds_update += r.seconds_update;
-    row.seconds_ppe += r.seconds_ppe;
-    row.seconds_rhs += r.seconds_rhs;
     row.min_spacing = std::min(row.min_spacing, r.min_spacing);
     row.max_spacing = std::max(row.max_spacing, r.max_spacing);
     if (o.on_step) o.on_step(solver);
   }
-  const double total = watch.seconds();
-  const auto per = static_cast<double>(steps);
-  row.steps = steps;
+  costs.write(row, watch.seconds());
   row.t = solver.time();
-  row.seconds_per_step = total / per;
-  row.seconds_update /= per;
-  row.seconds_ppe /= per;
-  row.seconds_rhs /= per;
-  row.ppe_iterations_per_step = iterations / per;
   row.max_div_u = solver.last().max_div_u;
   row.kinetic_energy = solver.last().kinetic_energy;
   row.errors = vortex_errors(vortex, solver.positions(), solver.velocity(), solver.pressure(), solver.time());

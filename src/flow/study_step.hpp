@@ -5,6 +5,7 @@
 // particles); the last step ends at t_end. A run of more than 1e7 steps would take days: it is
 // refused before it starts, and stopped if the stability limit shortens the steps that far. A
 // limit that collapses means the velocity grew without bound: NumericalError naming the step.
+#include <algorithm>
 #include <string>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/flow_solver.hpp>
@@ -35,5 +36,30 @@ inline Real next_study_step(const FlowSolver& solver, const char* what, Real fix
   const Real left = t_end - solver.time();
   return dt >= left * (1 - 1e-9) ? left : dt;
 }
+
+/// The costs of a study's steps: PPE iterations and seconds per stage, summed, then per step.
+struct StepCosts {
+  double iterations = 0, update = 0, ppe = 0, rhs = 0;
+  Index steps = 0;
+  void add(const FlowStepReport& r) {
+    ++steps;
+    iterations += r.ppe_iterations;
+    update += r.seconds_update;
+    ppe += r.seconds_ppe;
+    rhs += r.seconds_rhs;
+  }
+  /// A study row's steps and per-step costs (its fields steps, seconds_per_step, seconds_update,
+  /// seconds_ppe, seconds_rhs, ppe_iterations_per_step), `seconds` the wall time of the steps.
+  template <class Row>
+  void write(Row& row, double seconds) const {
+    const auto n = static_cast<double>(std::max<Index>(steps, 1));
+    row.steps = steps;
+    row.seconds_per_step = seconds / n;
+    row.seconds_update = update / n;
+    row.seconds_ppe = ppe / n;
+    row.seconds_rhs = rhs / n;
+    row.ppe_iterations_per_step = iterations / n;
+  }
+};
 
 }  // namespace vrsph::detail

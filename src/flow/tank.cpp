@@ -34,6 +34,11 @@ PointCloud tank_cloud(const TankSpec& s) {
   const Real wall_height = s.wall_height > 0 ? s.wall_height : s.depth + 4 * dx;
   check<ConfigError>(std::isfinite(wall_height) && wall_height >= s.depth, "tank: the water (depth ", s.depth,
                      ") does not fit the tank (walls ", wall_height, " high)");
+  // Before anything is made: a tank of more than 2e7 lattice points (its water, walls and the air
+  // between them) is beyond what a run could hold.
+  const Real points = std::pow(s.nx + 2.0 * s.wall_layers, s.dim - 1) * (wall_height / dx + s.wall_layers);
+  check<ConfigError>(points <= 2e7, "tank: ", points, " lattice points (width ", s.width, ", walls ", wall_height,
+                     " high, dx ", dx, ") is over 2e7 particles");
   const int nh = whole_spacings(s.depth, dx, "depth");
   const int nt = whole_spacings(wall_height, dx, "wall height");
   const int nc = s.column_width > 0 ? whole_spacings(s.column_width, dx, "column width") : s.nx;
@@ -141,18 +146,12 @@ HydrostaticRow run_hydrostatic(const HydrostaticRunOptions& o) {
   for (std::size_t i = 0; i < wall.size(); ++i)
     if (!wall[i] && std::abs(solver.positions()[i][v] - H) <= 0.5 * dx) top.push_back(static_cast<Index>(i));
   const Stopwatch watch;
-  double iterations = 0;
-  Index steps = 0;
+  detail::StepCosts costs;
   while (solver.time() < o.t_end * (1 - 1e-12)) {
-    const Real dt = detail::next_study_step(solver, "hydrostatic tank", o.dt, dt_target, o.t_end, steps, row.dt,
+    const Real dt = detail::next_study_step(solver, "hydrostatic tank", o.dt, dt_target, o.t_end, costs.steps, row.dt,
                                             "more particles or a smaller time step");
-    const FlowStepReport& r = solver.step(dt);
-    ++steps;
+    costs.add(solver.step(dt));
     row.dt = std::min(row.dt, dt);
-    iterations += r.ppe_iterations;
-    row.seconds_update += r.seconds_update;
-    row.seconds_ppe += r.seconds_ppe;
-    row.seconds_rhs += r.seconds_rhs;
     Real speed = 0;
     for (std::size_t i = 0; i < wall.size(); ++i)
       if (!wall[i]) speed = std::max(speed, solver.velocity().row(static_cast<Index>(i)).norm());
@@ -163,14 +162,8 @@ HydrostaticRow run_hydrostatic(const HydrostaticRunOptions& o) {
       row.surface_drop = std::max(row.surface_drop, (H - solver.positions()[static_cast<std::size_t>(i)][v]) / dx);
     if (o.on_step) o.on_step(solver);
   }
-  const auto per = static_cast<double>(std::max<Index>(steps, 1));
-  row.steps = steps;
+  costs.write(row, watch.seconds());
   row.t = solver.time();
-  row.seconds_per_step = watch.seconds() / per;
-  row.seconds_update /= per;
-  row.seconds_ppe /= per;
-  row.seconds_rhs /= per;
-  row.ppe_iterations_per_step = iterations / per;
   row.max_div_u = solver.last().max_div_u;
   row.surface_particles = solver.last().surface_particles;
   // The pressure at the end, sampled along the vertical centre line (the bottom's centre first).

@@ -51,7 +51,7 @@ struct CavityRunRow {
   Real kinetic_energy = 0;
   double ppe_iterations_per_step = 0;
   double seconds_setup = 0;       ///< operators, factorisation, the first projection
-  double seconds_per_step = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last two per step
+  double seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last three per step
   /// Centre-line profiles on 101 evenly spaced points: u(0.5, s_k) and v(s_k, 0.5), s_k = k / 100.
   std::vector<Real> line, u_line, v_line;
 };

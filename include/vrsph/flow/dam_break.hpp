@@ -63,6 +63,7 @@ struct DamBreakRun {
   std::vector<DamBreakSample> samples;
   /// Largest front deviation outside the experiments' spread while z/L <= 3.5, / L.
   Real max_outside_experiments = 0;
+  double ppe_iterations_per_step = 0;
   double seconds_setup = 0, seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
 };
 /// Runs the dam break. ConfigError for bad settings (an Eulerian frame); a step that fails

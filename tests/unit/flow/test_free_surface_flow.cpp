@@ -26,6 +26,24 @@ HydrostaticRow tank_run(int nx, Real jitter, const std::string& method = "vrsph"
   return run_hydrostatic(o);
 }
 
+// A tank at rest under full gravity (no time step taken): its cloud and solver.
+struct StillTank {
+  PointCloud cloud;
+  FlowSolver solver;
+};
+StillTank still_tank(int nx, Real wall_height, Real jitter) {
+  TankSpec s;
+  s.nx = nx;
+  s.wall_height = wall_height;
+  s.jitter = jitter;
+  PointCloud c = tank_cloud(s);
+  FlowOptions o;
+  o.free_surface = true;
+  o.body_force = Vec3(0, -1, 0);
+  FlowSolver solver(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  return {std::move(c), std::move(solver)};
+}
+
 }  // namespace
 
 TEST(TankCloud, WallsNormalsWaterAndRefusals) {
@@ -66,15 +84,9 @@ TEST(TankCloud, WallsNormalsWaterAndRefusals) {
 }
 
 TEST(FreeSurfaceFlow, PressureEquationIsExactForTheHydrostaticPressure) {
-  TankSpec s;
-  s.nx = 16;
-  s.wall_height = 1;
-  s.jitter = 0.2;
-  const PointCloud c = tank_cloud(s);
-  FlowOptions o;
-  o.free_surface = true;
-  o.body_force = Vec3(0, -1, 0);
-  const FlowSolver solver(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  const StillTank tank = still_tank(16, 1, 0.2);
+  const PointCloud& c = tank.cloud;
+  const FlowSolver& solver = tank.solver;
   EXPECT_EQ(solver.surface().count, 15);  // the top row, no wall
   const Field p = solver.pressure();
   const Eigen::MatrixXd gp = solver.operators().apply(OperatorKind::Gradient, p);
@@ -88,15 +100,10 @@ TEST(FreeSurfaceFlow, PressureEquationIsExactForTheHydrostaticPressure) {
 }
 
 TEST(FreeSurfaceFlow, ExtrapolatedWallRowsExtendThePressureAboveTheWaterAndGiveTheAirZero) {
-  TankSpec s;
-  s.nx = 10;
-  s.wall_height = 1.6;  // six wall particles above the water on each side, the top two in the air
-  s.jitter = 0.2;
-  const PointCloud c = tank_cloud(s);
-  FlowOptions o;
-  o.free_surface = true;
-  o.body_force = Vec3(0, -1, 0);
-  const FlowSolver solver(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  // Six wall particles above the water on each side, the top two in the air.
+  const StillTank tank = still_tank(10, 1.6, 0.2);
+  const PointCloud& c = tank.cloud;
+  const FlowSolver& solver = tank.solver;
   const Field p = solver.pressure();
   const Real support = solver.operators().neighbours().radius(0);
   for (const Index w : solver.walls().index) {
