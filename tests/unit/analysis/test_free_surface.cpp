@@ -56,7 +56,9 @@ Shape tank_shape(int dim, int n, Real delta, bool periodic_x) {
         Vec3 x(i * dx, j * dx, dim == 3 ? k * dx : 0.0);
         const bool surface = !wall && j == top;
         if (!wall && !surface && delta > 0) {
-          const std::uint64_t h = static_cast<std::uint64_t>((i * 7919 + j) * 104729 + k) * std::uint64_t{0x9E3779B97F4A7C15};
+          const std::uint64_t h =
+              ((static_cast<std::uint64_t>(i) * 7919 + static_cast<std::uint64_t>(j)) * 104729 + static_cast<std::uint64_t>(k)) *
+              std::uint64_t{0x9E3779B97F4A7C15};  // unsigned: wraps, where int overflowed
           for (int a = 0; a < dim; ++a) {
             const Real u = static_cast<Real>((h >> (8 + 17 * a)) % 100000) / 100000.0 - 0.5;
             x[a] += 2 * delta * dx * u;
@@ -138,7 +140,7 @@ TEST(FreeSurface, TankWithAFreeTopFlagsTheTopRowAndNoWallNeighbour) {
     EXPECT_EQ(s.surface, 39);
     EXPECT_EQ(s.false_negatives, 0) << "delta " << delta;
     EXPECT_EQ(s.false_positives, 0) << "delta " << delta;
-    EXPECT_LT(s.worst_angle_deg, 6.5) << "delta " << delta;  // the corners' included (measured 1.5, 5.9)
+    EXPECT_LT(s.worst_angle_deg, delta == 0 ? 2.0 : 8.0) << "delta " << delta;  // corners included (measured 1.5, 6.7)
   }
   const Shape cube = tank_shape(3, 16, 0.2, false);
   const Score c = score(cube, detect_free_surface(cube.cloud, o), true);
@@ -198,7 +200,7 @@ TEST(FreeSurface, NumberDensityFlagsABandOnDisorderedClouds) {
   EXPECT_EQ(l.false_negatives, 0);
   EXPECT_EQ(l.false_positives, 0);
   // ... but a jitter of 0.2 dx moves n/n0 by up to 15 % inside: the criterion flags interior particles
-  // (measured 164 of 741 at h = 2.5 dx), which the eigenvalue criterion does not.
+  // (well over a hundred of 741 at h = 2.5 dx), which the eigenvalue criterion does not.
   const Shape jittered = tank_shape(2, 40, 0.2, false);
   const Score j = score(jittered, detect_free_surface(jittered.cloud, o), true);
   EXPECT_GT(j.false_positives, 50);
