@@ -166,7 +166,7 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
                      "flow: the body-force ramp time must be finite and >= 0, got ", options_.body_force_ramp);
   if (options_.free_surface) {
     check<ConfigError>(!options_.body_force.isZero() || !start.isZero(), "flow: a free surface with neither a body force "
-                       "nor an initial velocity: nothing drives this flow (give gravity, e.g. --gravity 0,-1)");
+                       "nor an initial velocity: nothing drives this flow (give it a body force: gravity)");
     options_.surface.only_interior = true;
     options_.surface.spacing = spacing_;
     detect_surface();

@@ -78,40 +78,7 @@ CsrMatrix with_wall_rows(const CsrMatrix& A, const Stencil& S, const Walls& wall
 }
 }  // namespace
 
-namespace {
-// Row i of A replaced by the identity's at every free-surface particle (p = 0 there).
-void set_surface_rows(CsrMatrix& A, const std::vector<char>& surface) {
-  for (Index i = 0; i < A.rows(); ++i) {
-    if (!surface[static_cast<std::size_t>(i)]) continue;
-    bool diagonal = false;
-    for (CsrMatrix::InnerIterator it(A, i); it; ++it) {
-      it.valueRef() = it.col() == i ? 1.0 : 0.0;
-      diagonal = diagonal || it.col() == i;
-    }
-    if (!diagonal) A.coeffRef(i, i) = 1.0;  // a row that did not store its diagonal
-  }
-  A.prune(0.0);
-  A.makeCompressed();
-}
-
-PressureEquation wall_equation(const Operators& ops, const Walls& walls);
-
-}  // namespace
-
-PressureEquation pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
-  check<InputError>(surface.empty() || static_cast<Index>(surface.size()) == ops.cloud().size(), "pressure equation: ",
-                    surface.size(), " free-surface flags for ", ops.cloud().size(), " particles");
-  for (const Index i : walls.index)
-    check<InputError>(surface.empty() || !surface[static_cast<std::size_t>(i)], "pressure equation: wall particle ", i,
-                      " is flagged as free surface (extrapolated_pressure_equation gives walls in the air p = 0)");
-  PressureEquation eq = wall_equation(ops, walls);
-  eq.surface = surface;
-  if (eq.has_surface()) set_surface_rows(eq.matrix, surface);
-  return eq;
-}
-
-namespace {
-PressureEquation wall_equation(const Operators& ops, const Walls& walls) {
+PressureEquation pressure_equation(const Operators& ops, const Walls& walls) {
   PressureEquation eq;
   eq.walls = walls;
   if (walls.empty()) {
@@ -140,7 +107,6 @@ PressureEquation wall_equation(const Operators& ops, const Walls& walls) {
   eq.matrix = with_wall_rows(laplacian_matrix(ops), ops.stencil(OperatorKind::Gradient), walls, walls.normal);
   return eq;
 }
-}  // namespace
 
 PressureEquation extrapolated_pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
   const PointCloud& cloud = ops.cloud();

@@ -68,10 +68,8 @@ struct PressureEquation {
   bool has_surface() const { return std::find(surface.begin(), surface.end(), 1) != surface.end(); }
 };
 /// Balance rows where the method has them (a "flux" option the user left unset or set to
-/// balance; its "rhs" then point), else gradient rows; identity rows at the free-surface
-/// particles `surface` (empty: none; InputError for another size or a wall flagged).
-/// Throws as the method's build.
-PressureEquation pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface = {});
+/// balance; its "rhs" then point), else gradient rows. Throws as the method's build.
+PressureEquation pressure_equation(const Operators& ops, const Walls& walls);
 /// The free-surface form: identity rows at `surface`, extrapolated rows at the walls (identity
 /// rows at walls without water in their support). InputError for a `surface` of another size.
 PressureEquation extrapolated_pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface);
