@@ -39,6 +39,12 @@ FlowCloudSpec cloud_spec(const FlowArgs& a, int nx) {
   return c;
 }
 
+std::unique_ptr<VtuSeries> series_for(const FlowArgs& a, const std::vector<std::string>& methods,
+                                      const std::vector<int>& nxs, const std::string& method, int nx) {
+  if (a.vtu_series.empty() || method != methods.front() || nx != nxs.back()) return nullptr;
+  return std::make_unique<VtuSeries>(a.vtu_series);
+}
+
 OperatorsOptions operators_for(const FlowArgs& a, const std::string& method,
                                const std::map<std::string, MethodOptions>& options) {
   OperatorsOptions o;
@@ -155,9 +161,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
       o.cfl = a.cfl;
       o.dt = a.dt;
       o.flow = flow_options_for(a, m, options);
-      // The VTU series of the first method's finest run only (one series per --vtu-series).
-      std::unique_ptr<VtuSeries> series;
-      if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
+      std::unique_ptr<VtuSeries> series = series_for(a, methods, nxs, m, n);
       const double index = static_cast<double>(done++);
       std::string first_warning;
       Index warned = 0;
@@ -263,8 +267,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
       o.dt = a.dt;
       o.steady_tolerance = a.steady_tol;
       o.flow = flow_options_for(a, m, options);
-      std::unique_ptr<VtuSeries> series;
-      if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
+      std::unique_ptr<VtuSeries> series = series_for(a, methods, nxs, m, n);
       const double index = static_cast<double>(done++);
       o.on_step = [&](const FlowSolver& s, Real residual) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time(), " steady residual ", residual),

@@ -4,6 +4,7 @@
 // vortex, the projection and the cavity; flow_free_surface.cpp: the hydrostatic tank and the
 // dam break).
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,6 +12,7 @@
 #include <vrsph/flow/flow_study.hpp>
 #include <vrsph/io/table.hpp>
 #include "../cli_common.hpp"
+#include "../vtu_series.hpp"
 
 namespace vrsph::cli {
 
@@ -73,6 +75,9 @@ struct FailedRuns {
 
 /// The periodic vortex's cloud of one resolution.
 FlowCloudSpec cloud_spec(const FlowArgs& a, int nx);
+/// The VTU series of the first method's finest run (one series per --vtu-series), else null.
+std::unique_ptr<VtuSeries> series_for(const FlowArgs& a, const std::vector<std::string>& methods,
+                                      const std::vector<int>& nxs, const std::string& method, int nx);
 /// One method's operators, and the flow's options, from the command line.
 OperatorsOptions operators_for(const FlowArgs& a, const std::string& method, const std::map<std::string, MethodOptions>& options);
 FlowOptions flow_options_for(const FlowArgs& a, const std::string& method, const std::map<std::string, MethodOptions>& options);

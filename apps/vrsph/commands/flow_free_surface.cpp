@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // `vrsph flow --case hydrostatic`: water at rest in a tank under gravity, with a free surface
 // (flow/tank.hpp): one row per method and --nx, the bottom pressure against g H, the pressure
-// along the vertical, the spurious velocities and the surface's stability.
+// along the vertical, the spurious velocities and the surface's stability. `--case dam-break`:
+// a column released in a tank (flow/dam_break.hpp), one row per sample of its surge front.
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -12,6 +13,16 @@
 #include "flow_args.hpp"
 
 namespace vrsph::cli {
+
+namespace {
+// The solver's free-surface flags as a VTU field (0/1).
+PointField surface_field(const FlowSolver& s) {
+  const std::vector<std::uint8_t>& flags = s.surface().surface;
+  Eigen::MatrixXd values(static_cast<Index>(flags.size()), 1);
+  for (std::size_t i = 0; i < flags.size(); ++i) values(static_cast<Index>(i), 0) = flags[i];
+  return {"free_surface", values};
+}
+}  // namespace
 
 const std::vector<std::string> hydrostatic_columns = {
     "case", "method", "gradient", "frame", "dim", "nx", "particles", "water_particles", "t", "steps", "dt",
@@ -57,19 +68,15 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
       o.dt = a.dt;
       o.flow = flow_options_for(a, m, options);
       o.flow.nu = scale * depth / a.re;
-      std::unique_ptr<VtuSeries> series;
-      if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
+      std::unique_ptr<VtuSeries> series = series_for(a, methods, nxs, m, n);
       const double index = static_cast<double>(done++);
       o.on_step = [&](const FlowSolver& s) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time(), " max |u| = ", s.last().max_speed),
                         (index + s.time() / t_end) / runs);
         const bool last = s.time() >= t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
-          const std::vector<std::uint8_t>& flags = s.surface().surface;
-          Eigen::MatrixXd surface(static_cast<Index>(flags.size()), 1);
-          for (std::size_t i = 0; i < flags.size(); ++i) surface(static_cast<Index>(i), 0) = flags[i];
           series->write(s.time(), s.operators().cloud(),
-                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, {"free_surface", surface}});
+                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s)});
         }
       };
       HydrostaticRow r;
@@ -115,10 +122,6 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
   failed.raise_if_any();
 }
 
-}  // namespace vrsph::cli
-
-namespace vrsph::cli {
-
 const std::vector<std::string> dam_break_columns = {
     "case", "method", "gradient", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
     "experiment_low", "experiment_high", "outside_experiments", "mps_z_over_l", "max_speed", "surface_particles",
@@ -152,16 +155,12 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       o.cfl = a.cfl;
       o.flow = flow_options_for(a, m, options);
       o.flow.nu = std::sqrt(2.0) / a.re;  // Re = (g 2L)^½ L / ν
-      std::unique_ptr<VtuSeries> series;
-      if (!a.vtu_series.empty() && m == methods.front() && n == nxs.back()) series = std::make_unique<VtuSeries>(a.vtu_series);
+      std::unique_ptr<VtuSeries> series = series_for(a, methods, nxs, m, n);
       const double index = static_cast<double>(done++);
       o.on_step = [&](const FlowSolver& s) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / t_end) / runs);
         if (series && a.vtu_every > 0 && s.steps() % a.vtu_every == 0) {
-          const std::vector<std::uint8_t>& flags = s.surface().surface;
-          Eigen::MatrixXd surface(static_cast<Index>(flags.size()), 1);
-          for (std::size_t i = 0; i < flags.size(); ++i) surface(static_cast<Index>(i), 0) = flags[i];
-          series->write(s.time(), s.operators().cloud(), {{"velocity", s.velocity()}, {"free_surface", surface}});
+          series->write(s.time(), s.operators().cloud(), {{"velocity", s.velocity()}, surface_field(s)});
         }
       };
       DamBreakRun r;
