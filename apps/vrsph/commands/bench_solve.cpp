@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // `vrsph bench solve`: Example 5 from nothing to the solution, stage by stage, for a
-// list of sizes and solvers in one run; optionally the FEniCSx P1 + BoomerAMG peer
-// (../shared/anchors/fenicsx_ex5.py) on the same sizes in the same run, with ratios.
+// list of sizes and solvers in one run; optionally the FEniCSx Pk + BoomerAMG peer
+// (../shared/anchors/fenicsx_ex5.py, fenicsx_anchor.hpp) on about the same numbers of
+// unknowns, in the same run and on the same cores, with ratios.
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -13,9 +14,11 @@
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/io/csv.hpp>
 #include <vrsph/methods/registry.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
+#include "fenicsx_anchor.hpp"
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -26,7 +29,8 @@ namespace {
 struct SolveBenchArgs {
   int dim = 2, threads = 0;
   std::string n = "100,200,400", method = "vrsph", cloud = "perturbed", solvers = "petsc", petsc_options, anchor,
-              anchor_script;
+              anchor_script, anchor_degrees = "1";
+  int anchor_ranks = 0;
   std::vector<std::string> method_opts;
   std::uint64_t seed = 1;
   double h_factor = 3;
@@ -45,42 +49,6 @@ StageTimes stage_times(const BvpRun& r) {
               r.seconds_solve};
 }
 
-struct AnchorRow {
-  double seconds_total = 0, error_inf = 0;
-  int iterations = 0;
-};
-
-// Where the peer lives: --anchor-script, else VRSPH_ANCHOR_DIR, else the workspace's
-// shared/anchors next to the source tree.
-std::string anchor_script(const SolveBenchArgs& a) {
-  if (!a.anchor_script.empty()) return a.anchor_script;
-  if (const char* dir = std::getenv("VRSPH_ANCHOR_DIR")) return std::string(dir) + "/fenicsx_ex5.py";
-  return std::string(VRSPH_SOURCE_DIR) + "/../shared/anchors/fenicsx_ex5.py";
-}
-
-// Runs the peer for one n (one JSON line on stdout). Its first call of a size compiles
-// the form, so the caller runs a warm-up first.
-AnchorRow run_anchor(const std::string& script, int n, bool perturbed) {
-  // Under mpirun the peer must not see the launcher's variables (it would join our MPI job).
-  const std::string cmd = "for v in $(env | grep -o '^\\(OMPI\\|PMIX\\|PMI\\)[A-Za-z0-9_]*'); do unset \"$v\"; done; "
-                          "OMP_NUM_THREADS=1 " + shell_quote(python_interpreter()) + " " + shell_quote(script) + " " +
-                          std::to_string(n) + (perturbed ? " --perturbed" : "") + " 2>/dev/null";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(cmd.c_str(), "r"), ::pclose);
-  check<IoError>(pipe != nullptr, "could not start the FEniCSx anchor (", script, ")");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe.get())) out += buf.data();
-  const int rc = ::pclose(pipe.release());
-  check<IoError>(rc == 0 && !out.empty(), "the FEniCSx anchor failed at n = ", n, " (", script,
-                 "; it needs Debian's python3-dolfinx-real, python3-petsc4py, python3-mpi4py and python3-scipy)");
-  try {
-    const auto j = nlohmann::json::parse(out.substr(0, out.find('\n')));
-    return {j.at("total").get<double>(), j.at("error_inf").get<double>(), j.at("iterations").get<int>()};
-  } catch (const nlohmann::json::exception& e) {
-    throw IoError(detail::concat("the FEniCSx anchor at n = ", n, " (", script, ") did not print its JSON line ",
-                                 "(total, error_inf, iterations): ", e.what()));
-  }
-}
 }  // namespace
 
 namespace {
@@ -88,7 +56,6 @@ namespace {
 BvpStudyParams bench_params(const SolveBenchArgs& a, const Communicator& comm) {
   check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim must be 2 or 3 for bench solve, got ", a.dim);
   check<ConfigError>(a.anchor.empty() || a.anchor == "fenicsx", "--anchor must be fenicsx, got '", a.anchor, "'");
-  check<ConfigError>(a.anchor.empty() || a.dim == 2, "--anchor fenicsx runs [QW] Example 5 in 2D only");
   check<ConfigError>(!a.baseline || comm.distributed(), "--baseline compares with one rank: run under mpirun with "
                      "more than one rank");
   BvpStudyParams p;
@@ -106,26 +73,50 @@ BvpStudyParams bench_params(const SolveBenchArgs& a, const Communicator& comm) {
   return p;
 }
 
-// The peer on every size, rank 0 only (serial), the others asleep; only rank 0 prints. A
-// failure of the peer is rank 0's; after the (sleeping) barrier every rank throws it.
-std::vector<AnchorRow> run_anchors(const SolveBenchArgs& a, const std::vector<int>& sizes, bool perturbed,
-                                   const Communicator& comm) {
-  std::vector<AnchorRow> anchor;
+// The peer's rows of one size, one per degree.
+using AnchorRows = std::vector<AnchorRun>;
+
+// Our cloud of size n as a CSV file for the peer (the same cloud run_bvp makes).
+void write_bench_cloud(const BvpStudyParams& p, int n, std::uint64_t seed, const std::string& path) {
+  CloudSpec spec;
+  spec.family = p.cloud;
+  spec.box = Domain::unit_box(p.dim);
+  spec.n = n;
+  spec.delta = p.delta;
+  spec.seed = seed;
+  write_csv(path, make_study_cloud(spec).cloud);
+}
+
+// The peer on every size and degree, launched by rank 0 (serial or under its own mpirun)
+// while our other ranks sleep; only rank 0 prints. A failure of the peer is rank 0's;
+// after the (sleeping) barrier every rank throws it.
+std::vector<AnchorRows> run_anchors(const SolveBenchArgs& a, const BvpStudyParams& p, const std::vector<int>& sizes,
+                                    const Communicator& comm) {
+  std::vector<AnchorRows> anchor;
   if (a.anchor.empty()) return anchor;
-  const std::string script = anchor_script(a);
-  check<IoError>(std::filesystem::exists(script), "the FEniCSx anchor script '", script,
-                 "' does not exist (--anchor-script or VRSPH_ANCHOR_DIR)");
+  const std::vector<int> degrees = parse_anchor_degrees(a.anchor_degrees);
+  const AnchorSetup setup{fenicsx_script(a.anchor_script), a.dim, anchor_ranks(a.anchor_ranks)};
+  const bool perturbed = p.cloud == CloudFamily::Perturbed;
   Progress progress;
   std::exception_ptr failure;
   try {
+    if (comm.is_root()) warm_up_anchor(setup, degrees);
     for (std::size_t k = 0; k < sizes.size(); ++k) {
       progress.update("anchor n=" + std::to_string(sizes[k]), static_cast<double>(k) / static_cast<double>(sizes.size()));
-      if (!comm.is_root()) {
-        anchor.push_back({1, 0, 0});
-        continue;
+      AnchorRows rows(degrees.size());
+      if (comm.is_root()) {
+        const TemporaryFile points("vrsph-anchor-cloud", ".csv");
+        bool written = false;
+        for (std::size_t d = 0; d < degrees.size(); ++d) {
+          const AnchorMesh mesh = anchor_mesh(setup, perturbed, degrees[d]);
+          if (mesh == AnchorMesh::SamePoints && !written) {
+            write_bench_cloud(p, sizes[k], a.seed, points.path());
+            written = true;
+          }
+          rows[d] = run_anchor(setup, degrees[d], anchor_cells(sizes[k], degrees[d]), mesh, points.path());
+        }
       }
-      (void)run_anchor(script, sizes[k], perturbed);  // warm-up: form compilation
-      anchor.push_back(run_anchor(script, sizes[k], perturbed));
+      anchor.push_back(std::move(rows));
     }
   } catch (...) {
     failure = std::current_exception();
@@ -137,7 +128,7 @@ std::vector<AnchorRow> run_anchors(const SolveBenchArgs& a, const std::vector<in
   return anchor;
 }
 
-std::vector<std::string> bench_columns(bool baseline, bool anchor) {
+std::vector<std::string> bench_columns(bool baseline, const std::vector<int>& anchor_degrees) {
   std::vector<std::string> c = {"n", "N", "method", "solver", "seconds_cloud", "seconds_data", "seconds_neighbours",
                                 "seconds_stencil", "seconds_assemble", "seconds_setup", "seconds_solve", "seconds_total",
                                 "solver_iterations", "error_inf", "bytes_per_particle", "bytes_per_particle_cloud",
@@ -148,7 +139,13 @@ std::vector<std::string> bench_columns(bool baseline, bool anchor) {
   if (baseline)
     c.insert(c.end(), {"baseline_seconds_build", "baseline_seconds_solve", "baseline_seconds_total",
                        "parallel_efficiency_build", "parallel_efficiency_solve", "parallel_efficiency"});
-  if (anchor) c.insert(c.end(), {"anchor_seconds_total", "anchor_iterations", "anchor_error_inf", "ratio_to_anchor"});
+  // anchor_*: the first degree listed (the P1 columns of the single-peer benchmark).
+  if (!anchor_degrees.empty())
+    c.insert(c.end(), {"anchor_seconds_total", "anchor_iterations", "anchor_error_inf", "ratio_to_anchor"});
+  for (int k : anchor_degrees)
+    for (const char* what : {"cells", "nodes", "mesh", "seconds_total", "iterations", "error_inf", "peak_memory_mib"})
+      c.push_back("anchor_p" + std::to_string(k) + "_" + what);
+  for (int k : anchor_degrees) c.push_back("ratio_to_anchor_p" + std::to_string(k));
   return c;
 }
 
@@ -208,7 +205,7 @@ void warm_up(const BvpStudyParams& p, const SolveBenchArgs& a) {
 
 // Every size with one solver: the rows, and the cost slopes in N into `meta`.
 void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<int>& sizes,
-                  const std::vector<AnchorRow>& anchor, const std::string& solver, Table& t, Progress& progress,
+                  const std::vector<AnchorRows>& anchor, const std::string& solver, Table& t, Progress& progress,
                   double& done, double total_runs, nlohmann::ordered_json& meta) {
   const Communicator& comm = p.communicator;
   std::vector<Real> big_n, work, iterations;
@@ -237,11 +234,23 @@ void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<
       row.emplace_back("parallel_efficiency_solve", base.solve / (P * times.solve));
       row.emplace_back("parallel_efficiency", base.total / (P * times.total));
     }
-    if (!anchor.empty()) {
-      row.emplace_back("anchor_seconds_total", anchor[k].seconds_total);
-      row.emplace_back("anchor_iterations", static_cast<long long>(anchor[k].iterations));
-      row.emplace_back("anchor_error_inf", anchor[k].error_inf);
-      row.emplace_back("ratio_to_anchor", times.total / anchor[k].seconds_total);
+    if (!anchor.empty() && comm.is_root()) {
+      const AnchorRun& first = anchor[k].front();
+      row.emplace_back("anchor_seconds_total", first.seconds_total);
+      row.emplace_back("anchor_iterations", static_cast<long long>(first.iterations));
+      row.emplace_back("anchor_error_inf", first.error_inf);
+      row.emplace_back("ratio_to_anchor", times.total / first.seconds_total);
+      for (const AnchorRun& run : anchor[k]) {
+        const std::string pk = "anchor_p" + std::to_string(run.degree) + "_";
+        row.emplace_back(pk + "cells", static_cast<long long>(run.cells));
+        row.emplace_back(pk + "nodes", run.nodes);
+        row.emplace_back(pk + "mesh", to_string(run.mesh));
+        row.emplace_back(pk + "seconds_total", run.seconds_total);
+        row.emplace_back(pk + "iterations", static_cast<long long>(run.iterations));
+        row.emplace_back(pk + "error_inf", run.error_inf);
+        row.emplace_back(pk + "peak_memory_mib", run.peak_bytes / (1024.0 * 1024.0));
+        row.emplace_back("ratio_to_anchor_p" + std::to_string(run.degree), times.total / run.seconds_total);
+      }
     }
     t.add_row(row);
     big_n.push_back(static_cast<Real>(r.particles));
@@ -270,9 +279,9 @@ void run_solve_bench(const SolveBenchArgs& a) {
     o.petsc_options = a.petsc_options;
     solver_options.push_back(o);
   }
-  const std::vector<AnchorRow> anchor = run_anchors(a, sizes, p.cloud == CloudFamily::Perturbed, comm);
+  const std::vector<AnchorRows> anchor = run_anchors(a, p, sizes, comm);
   Table t;
-  t.columns = bench_columns(a.baseline, !anchor.empty());
+  t.columns = bench_columns(a.baseline, a.anchor.empty() ? std::vector<int>{} : parse_anchor_degrees(a.anchor_degrees));
   nlohmann::ordered_json meta;
   meta["benchmark"] = "solve";
   meta["dim"] = a.dim;
@@ -302,7 +311,7 @@ void run_solve_bench(const SolveBenchArgs& a) {
 void add_solve_bench(CLI::App& bench) {
   auto a = std::make_shared<SolveBenchArgs>();
   auto* cmd = bench.add_subcommand("solve", "[QW] Example 5 end to end: seconds and memory per stage, solver iterations, "
-                                            "against the FEniCSx P1 + BoomerAMG peer (--anchor fenicsx)");
+                                            "against the FEniCSx Pk + BoomerAMG peer (--anchor fenicsx --anchor-degree 1,2,3)");
   cmd->add_option("--dim", a->dim, "Dimension 2 or 3")->capture_default_str();
   cmd->add_option("--n", a->n, "Intervals per direction, comma-separated ((n+1)^d particles)")->capture_default_str();
   cmd->add_option("--method", a->method, "Method (see `vrsph methods`)")->capture_default_str();
@@ -314,7 +323,16 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
-  cmd->add_option("--anchor", a->anchor, "Run a peer on the same sizes in the same run: fenicsx (2D only)");
+  cmd->add_option("--anchor", a->anchor,
+                  "Run a peer in the same run on the same cores: fenicsx (Lagrange Pk, CG + BoomerAMG), about the "
+                  "same unknowns as each size (round(n/k) cells); on a 2D perturbed cloud with one peer rank P1 solves "
+                  "on our very points and P2, P3 on the peer's own perturbed nodes; on more ranks and in 3D the "
+                  "peer meshes its lattice (it cannot mesh points in parallel)");
+  cmd->add_option("--anchor-degree", a->anchor_degrees, "The peer's Lagrange degrees, comma-separated (1, 2, 3)")
+      ->capture_default_str();
+  cmd->add_option("--anchor-ranks", a->anchor_ranks,
+                  "The peer's MPI ranks (0: as many as vrsph's threads; at most the cores)")
+      ->capture_default_str();
   cmd->add_option("--anchor-script", a->anchor_script,
                   "The peer's script (default: $VRSPH_ANCHOR_DIR/fenicsx_ex5.py, else ../shared/anchors next to the "
                   "source tree)");
@@ -325,7 +343,11 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot seconds_total and solver_iterations against N (log-log, reference slopes 1 and 0) into this PNG file");
-  cmd->callback([a] { run_solve_bench(*a); });
+  cmd->callback([a, cmd] {
+    for (const char* option : {"--anchor-degree", "--anchor-ranks", "--anchor-script"})
+      check<ConfigError>(!a->anchor.empty() || cmd->count(option) == 0, option, " applies to the peer: add --anchor fenicsx");
+    run_solve_bench(*a);
+  });
 }
 
 }  // namespace vrsph::cli

@@ -1,0 +1,197 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "fenicsx_anchor.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vrsph/core/error.hpp>
+#include "../cli_common.hpp"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace vrsph::cli {
+
+namespace {
+// Runs the peer's script as __main__ and then prints, on rank 0, the summed peak resident
+// memory of all its ranks: the memory a refinement sweep extrapolates before it asks for a
+// larger run. (The script itself reports sizes, errors and times, not memory.)
+constexpr const char* peak_memory_wrapper = R"PY(
+import json, resource, runpy, sys
+try:
+    import scipy.spatial  # the script imports it inside its timed region; a user's session has it loaded
+except ImportError:
+    pass
+script = sys.argv[1]
+sys.argv = sys.argv[1:]
+try:
+    runpy.run_path(script, run_name="__main__")
+except SystemExit as e:
+    if e.code not in (None, 0):
+        raise
+from mpi4py import MPI
+kib = MPI.COMM_WORLD.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+if MPI.COMM_WORLD.rank == 0:
+    print(json.dumps({"peak_rss_kib": kib}), flush=True)
+)PY";
+
+int machine_cores() {
+#ifdef _OPENMP
+  return omp_get_num_procs();
+#else
+  return 1;
+#endif
+}
+
+// The peer's last line of error output that says something (mpirun frames its messages in
+// lines of dashes).
+std::string last_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (std::any_of(line.begin(), line.end(), [](unsigned char c) { return std::isalpha(c); })) last = line;
+  return last;
+}
+
+std::string describe(int degree, int cells, AnchorMesh mesh) {
+  return detail::concat("P", degree, mesh == AnchorMesh::SamePoints ? std::string(" on our points")
+                                                                    : detail::concat(", ", cells, " cells per direction"));
+}
+}  // namespace
+
+std::string to_string(AnchorMesh mesh) {
+  switch (mesh) {
+    case AnchorMesh::Structured: return "lattice";
+    case AnchorMesh::OwnPerturbed: return "own perturbed";
+    case AnchorMesh::SamePoints: return "same points";
+  }
+  return "?";
+}
+
+std::string fenicsx_script(const std::string& option) {
+  std::string script = option;
+  if (script.empty()) {
+    if (const char* dir = std::getenv("VRSPH_ANCHOR_DIR"))
+      script = std::string(dir) + "/fenicsx_ex5.py";
+    else
+      script = std::string(VRSPH_SOURCE_DIR) + "/../shared/anchors/fenicsx_ex5.py";
+  }
+  check<IoError>(std::filesystem::is_regular_file(script), "the FEniCSx anchor script '", script,
+                 "' does not exist (--anchor-script or VRSPH_ANCHOR_DIR)");
+  return script;
+}
+
+int anchor_ranks(int requested) {
+  check<ConfigError>(requested >= 0, "--anchor-ranks must be >= 0 (0: as many as vrsph's threads), got ", requested);
+  int ranks = requested;
+#ifdef _OPENMP
+  if (ranks == 0) ranks = omp_get_max_threads();
+#endif
+  ranks = std::max(1, ranks);
+  const int cores = machine_cores();
+  check<ConfigError>(ranks <= cores, "--anchor-ranks ", ranks, " is more than this machine's ", cores,
+                     " cores: the peer runs on the same cores as vrsph, not oversubscribed");
+  check<ConfigError>(ranks == 1 || std::system("command -v mpirun >/dev/null 2>&1") == 0,
+                     "--anchor-ranks ", ranks, " needs mpirun (Debian's openmpi-bin), which is not on PATH");
+  return ranks;
+}
+
+std::vector<int> parse_anchor_degrees(const std::string& text) {
+  std::vector<int> degrees = parse_int_list(text, "--anchor-degree");
+  for (int k : degrees)
+    check<ConfigError>(k >= 1 && k <= 3, "--anchor-degree takes Lagrange degrees 1, 2 or 3, got ", k);
+  for (std::size_t i = 0; i < degrees.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      check<ConfigError>(degrees[i] != degrees[j], "--anchor-degree lists P", degrees[i], " twice");
+  return degrees;
+}
+
+int anchor_cells(int n, int degree) {
+  return std::max(1, static_cast<int>(std::lround(static_cast<double>(n) / degree)));
+}
+
+AnchorMesh anchor_mesh(const AnchorSetup& setup, bool perturbed, int degree) {
+  // The peer meshes a point set (scipy's Delaunay) in 2D and in serial only (under mpirun
+  // it aborts), and only its P1 nodes coincide with the points.
+  if (!perturbed || setup.dim != 2 || setup.ranks > 1) return AnchorMesh::Structured;
+  return degree == 1 ? AnchorMesh::SamePoints : AnchorMesh::OwnPerturbed;
+}
+
+AnchorRun run_anchor(const AnchorSetup& setup, int degree, int cells, AnchorMesh mesh, const std::string& points_csv) {
+  check<ConfigError>(mesh != AnchorMesh::SamePoints || !points_csv.empty(), "the peer on our points needs the cloud file");
+  std::string args = mesh == AnchorMesh::SamePoints ? " --points " + shell_quote(points_csv) : " " + std::to_string(cells);
+  if (mesh == AnchorMesh::OwnPerturbed) args += " --perturbed";
+  args += " --degree " + std::to_string(degree) + " --dim " + std::to_string(setup.dim);
+  const std::string launcher =
+      setup.ranks > 1 ? "mpirun --allow-run-as-root -np " + std::to_string(setup.ranks) + " " : std::string();
+  const TemporaryFile errors("vrsph-anchor", ".err");
+  // Under our own mpirun the peer must not see the launcher's variables (it would join our job).
+  const std::string cmd = "for v in $(env | grep -o '^\\(OMPI\\|PMIX\\|PMI\\)[A-Za-z0-9_]*'); do unset \"$v\"; done; "
+                          "OMP_NUM_THREADS=1 " + launcher + shell_quote(python_interpreter()) + " -c " +
+                          shell_quote(peak_memory_wrapper) + " " + shell_quote(setup.script) + args + " 2>" +
+                          shell_quote(errors.path());
+  const std::string what = describe(degree, cells, mesh) + ", " + std::to_string(setup.dim) + "D, " +
+                           std::to_string(setup.ranks) + (setup.ranks == 1 ? " rank" : " ranks");
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(cmd.c_str(), "r"), ::pclose);
+  check<IoError>(pipe != nullptr, "could not start the FEniCSx anchor (", setup.script, ")");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe.get())) out += buf.data();
+  const int rc = ::pclose(pipe.release());
+  if (rc != 0 || out.empty()) {
+    const std::string cause = last_line(errors.path());
+    throw IoError(detail::concat("the FEniCSx anchor failed (", what, "; ", setup.script, ")",
+                                 cause.empty() ? std::string() : ": " + cause,
+                                 " (it needs Debian's python3-dolfinx-real, python3-petsc4py, python3-mpi4py and "
+                                 "python3-scipy)"));
+  }
+  AnchorRun run;
+  run.degree = degree;
+  run.cells = cells;
+  run.mesh = mesh;
+  bool found = false;
+  std::istringstream lines(out);
+  std::string line;
+  try {
+    while (std::getline(lines, line)) {
+      if (line.empty() || line.front() != '{') continue;
+      const auto j = nlohmann::json::parse(line);
+      if (j.contains("peak_rss_kib")) {
+        run.peak_bytes = 1024.0 * j.at("peak_rss_kib").get<double>();
+      } else if (!found) {
+        run.seconds_total = j.at("total").get<double>();
+        run.error_inf = j.at("error_inf").get<double>();
+        run.iterations = j.at("iterations").get<int>();
+        run.nodes = j.at("nodes").get<long long>();
+        if (j.contains("n") && j.at("n").is_number_integer()) run.cells = j.at("n").get<int>();
+        found = j.at("reason").get<int>() > 0 || !j.contains("reason");
+        check<IoError>(found, "the FEniCSx anchor's solver did not converge (", what, ", KSP reason ",
+                       j.at("reason").get<int>(), ")");
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(detail::concat("the FEniCSx anchor (", what, ", ", setup.script,
+                                 ") printed a line that is not its JSON result: ", e.what()));
+  }
+  check<IoError>(found, "the FEniCSx anchor (", what, ", ", setup.script,
+                 ") did not print its JSON line (nodes, total, error_inf, iterations)");
+  check<IoError>(std::isfinite(run.error_inf) && std::isfinite(run.seconds_total),
+                 "the FEniCSx anchor (", what, ") reported a non-finite error or time");
+  return run;
+}
+
+void warm_up_anchor(const AnchorSetup& setup, const std::vector<int>& degrees) {
+  // Forms are compiled per degree and dimension (cached on disk); the mesh kind does not
+  // matter, so a lattice is enough, and two cells keep the run short.
+  for (int k : degrees) (void)run_anchor(setup, k, 2, AnchorMesh::Structured);
+}
+
+}  // namespace vrsph::cli
