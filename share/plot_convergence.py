@@ -54,9 +54,11 @@ def main() -> int:
 # One colour per method in every figure: the registry's methods get fixed colours, other
 # groups one from the same palette chosen by a hash of the name (stable across runs).
 PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-           "#bcbd22", "#17becf", "#393b79", "#637939"]
+           "#bcbd22", "#17becf", "#393b79", "#637939", "#000000", "#ad494a", "#8c6d31", "#843c39", "#5254a3"]
+# The registry's methods, then the benchmarks' configurations (`bench accuracy`).
 FIXED = {name: PALETTE[k] for k, name in enumerate(
-    ["vrsph", "sph", "fpm", "cspm", "kgf", "aar-sph", "chen-beraun", "rkpm1", "rkpm2", "mfpm", "fpm2o", "p1-fem"])}
+    ["vrsph", "sph", "fpm", "cspm", "kgf", "aar-sph", "chen-beraun", "rkpm1", "rkpm2", "mfpm", "fpm2o", "p1-fem",
+     "fenicsx-p1", "fenicsx-p2", "fenicsx-p3", "vrsph-qw", "vrsph-point"])}
 MARKERS = "osD^v<>ph*"
 
 

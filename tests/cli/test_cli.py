@@ -637,6 +637,103 @@ class Solvers(unittest.TestCase):
         self.assertIn("umfpack", out["slope_iterations"])
 
 
+FAKE_PEER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fake_fenicsx.py")
+
+
+class TimeToAccuracy(unittest.TestCase):
+    """Issue 37: the peer in Pk on P ranks in `bench solve`, and `bench accuracy`. The real
+    peer needs FEniCSx (not part of the test set-up): these run a stand-in with the peer's
+    command line whose error is known, (k n)^-(k+1) on n cells (tests/cli/fake_fenicsx.py)."""
+
+    def test_bench_solve_reports_each_degree_on_about_the_same_unknowns(self):
+        out = run_json("bench", "solve", "--n", "12,24", "--cloud", "uniform", "--threads", "1", "--anchor", "fenicsx",
+                       "--anchor-script", FAKE_PEER, "--anchor-degree", "1,2,3", "--anchor-ranks", "1")
+        for r in out["rows"]:
+            n = r["n"]
+            for k in (1, 2, 3):
+                cells = max(1, round(n / k))
+                self.assertEqual(r[f"anchor_p{k}_cells"], cells)
+                self.assertEqual(r[f"anchor_p{k}_nodes"], (k * cells + 1) ** 2)
+                self.assertAlmostEqual(r[f"anchor_p{k}_error_inf"], float(k * cells) ** -(k + 1), delta=1e-15)
+                self.assertEqual(r[f"anchor_p{k}_mesh"], "lattice")
+                self.assertAlmostEqual(r[f"ratio_to_anchor_p{k}"], r["seconds_total"] / r[f"anchor_p{k}_seconds_total"],
+                                       delta=1e-9 * r[f"ratio_to_anchor_p{k}"])
+            self.assertEqual(r["anchor_error_inf"], r["anchor_p1_error_inf"])  # the first degree's columns
+        # A perturbed cloud with one peer rank: P1 on our very points, P2 on the peer's own.
+        r = run_json("bench", "solve", "--n", "12", "--threads", "1", "--anchor", "fenicsx", "--anchor-script",
+                     FAKE_PEER, "--anchor-degree", "1,2", "--anchor-ranks", "1")["rows"][0]
+        self.assertEqual(r["anchor_p1_mesh"], "same points")
+        self.assertEqual(r["anchor_p1_nodes"], 13 * 13)  # the stand-in counts the lines of our cloud file
+        self.assertEqual(r["anchor_p2_mesh"], "own perturbed")
+
+    def test_bench_accuracy_finds_the_smallest_run_per_target_and_never_times_a_miss(self):
+        targets = [1e-3, 1e-5, 1e-7]
+        out = run_json("bench", "accuracy", "--dim", "2", "--cloud", "uniform", "--targets", "1e-3,1e-5,1e-7",
+                       "--configurations", "vrsph", "--threads", "1", "--anchor", "fenicsx", "--anchor-script",
+                       FAKE_PEER, "--anchor-degree", "1,2", "--anchor-ranks", "1", "--max-seconds", "5",
+                       "--max-memory", "2G")
+        rows = out["rows"]
+        self.assertEqual(len(rows), 3 * 3)  # vrsph, fenicsx-p1, fenicsx-p2
+        for r in rows:
+            for key in ("target", "configuration", "N", "seconds", "error_inf", "status"):
+                self.assertIn(key, r)
+            if r["status"] == "reached":
+                self.assertLessEqual(r["error_inf"], r["target"])
+                self.assertGreater(r["seconds"], 0)
+            else:
+                self.assertIsNone(r["seconds"])
+                self.assertIsNone(r["error_inf"])
+                self.assertRegex(r["status"], "not reached: .*(memory|per run|largest n|stalled)")
+        by = {(r["target"], r["configuration"]): r for r in rows}
+        for t in targets:
+            for k in (1, 2):
+                r = by[(t, f"fenicsx-p{k}")]
+                needed = t ** (-1 / (k + 1))  # k n cells reach t from this n on
+                if r["status"] == "reached":
+                    self.assertEqual(r["n"] % k, 0)
+                    self.assertLessEqual(r["n"], max(1.3 * needed, needed + 2 * k) if r["n"] != 8 else 8)
+            # The default rows reach every target here (third order or better).
+            self.assertEqual(by[(t, "vrsph")]["status"], "reached")
+        # Every sweep's runs are the plot's curves.
+        configs = {s["configuration"] for s in out["sweep"]}
+        self.assertEqual(configs, {"vrsph", "fenicsx-p1", "fenicsx-p2"})
+        self.assertEqual(out["targets"], targets)
+
+    def test_a_failing_or_missing_peer_is_a_clear_error(self):
+        env = dict(os.environ, FAKE_FENICSX_FAIL="ModuleNotFoundError: No module named 'dolfinx'")
+        p = subprocess.run([VRSPH, "bench", "accuracy", "--targets", "1e-3", "--anchor", "fenicsx", "--anchor-script",
+                            FAKE_PEER, "--anchor-ranks", "1"], capture_output=True, text=True, timeout=300, env=env)
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn("FEniCSx anchor failed", p.stderr)
+        self.assertIn("No module named 'dolfinx'", p.stderr)
+        self.assertEqual(p.stdout, "")  # no table, no time
+        env = dict(os.environ, FAKE_FENICSX_GARBAGE="1")
+        p = subprocess.run([VRSPH, "bench", "solve", "--n", "8", "--anchor", "fenicsx", "--anchor-script", FAKE_PEER,
+                            "--anchor-ranks", "1"], capture_output=True, text=True, timeout=300, env=env)
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn("JSON", p.stderr)
+        p = run("bench", "accuracy", "--anchor", "fenicsx", "--anchor-script", "/nonexistent/peer.py", check=False)
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn("does not exist", p.stderr)
+        for args, message in ((("--anchor-ranks", "4096"), "cores"), (("--anchor-degree", "4"), "1, 2 or 3"),
+                              (("--targets", "0"), "(0, 1)"), (("--targets", "1e-3,x"), "not a number"),
+                              (("--configurations", "p2"), "unknown configuration")):
+            p = run("bench", "accuracy", "--anchor", "fenicsx", "--anchor-script", FAKE_PEER, *args, check=False)
+            self.assertEqual(p.returncode, 2, args)
+            self.assertIn(message, p.stderr)
+        p = run("bench", "accuracy", "--anchor-degree", "2", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("add --anchor fenicsx", p.stderr)
+
+    def test_a_target_out_of_reach_is_said_per_configuration(self):
+        out = run_json("bench", "accuracy", "--targets", "1e-3,1e-13", "--configurations", "vrsph-qw", "--threads", "1",
+                       "--max-memory", "300M", "--max-seconds", "30")
+        far = [r for r in out["rows"] if r["target"] == 1e-13][0]
+        self.assertRegex(far["status"], "not reached: not run: .*(memory limit|per run)")
+        self.assertIsNone(far["seconds"])
+        self.assertLess(max(s["peak_memory_mib"] for s in out["sweep"]), 300)
+
+
 class SpeFamily(unittest.TestCase):
     """[SPE] (seed 003): the patch figures, the steady tables' interface, and --mobility."""
 

@@ -67,6 +67,7 @@ double best_of(int repeat, F&& f) {
 // VRSPH Laplace volume reconstruction alone (neighbour search excluded), against the
 // traditional SPH stencil build and the textbook NNLS in the same run.
 void add_solve_bench(CLI::App& bench);   // bench_solve.cpp
+void add_accuracy_bench(CLI::App& bench);  // bench_accuracy.cpp
 void add_update_bench(CLI::App& bench);  // bench_update.cpp
 
 void add_volumes_bench(CLI::App& bench) {
@@ -267,6 +268,7 @@ void add_bench_command(CLI::App& app) {
   add_volumes_bench(*bench);
   add_stencils_bench(*bench);
   add_solve_bench(*bench);
+  add_accuracy_bench(*bench);
   add_update_bench(*bench);
 }
 

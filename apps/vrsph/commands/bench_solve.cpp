@@ -18,6 +18,7 @@
 #include <vrsph/methods/registry.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
+#include "bench_run.hpp"
 #include "fenicsx_anchor.hpp"
 #ifdef _OPENMP
 #include <omp.h>
@@ -44,9 +45,7 @@ struct StageTimes {
 };
 StageTimes stage_times(const BvpRun& r) {
   // The partition's time is part of the neighbour stage (BvpSolution::seconds_neighbours).
-  return {r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble, r.seconds_solve,
-          r.seconds_cloud + r.seconds_data + r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble +
-              r.seconds_solve};
+  return {r.seconds_neighbours + r.seconds_stencil + r.seconds_assemble, r.seconds_solve, run_seconds_total(r)};
 }
 
 }  // namespace
@@ -155,11 +154,10 @@ std::vector<std::pair<std::string, TableCell>> bench_row(const BvpRun& r, int n,
                                                         const Communicator& comm) {
   const double total = stage_times(r).total;
   const auto per = [&](std::size_t bytes) {
-    const double above = static_cast<double>(bytes) - static_cast<double>(r.resident_bytes_before);
-    return std::max(0.0, above) / static_cast<double>(comm.distributed() ? r.distribution.owned : r.particles);
+    return run_bytes_above_start(r, bytes) / static_cast<double>(comm.distributed() ? r.distribution.owned : r.particles);
   };
   const auto& sp = r.stage_peak_bytes;
-  const std::size_t peak = std::max({r.peak_bytes_cloud, sp.neighbours, sp.stencil, sp.assemble, sp.solve});
+  const std::size_t peak = run_peak_bytes(r);
   return {{"n", static_cast<long long>(n)},
           {"N", static_cast<long long>(r.particles)},
           {"method", method},

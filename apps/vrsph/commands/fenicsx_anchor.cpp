@@ -37,9 +37,13 @@ try:
 except SystemExit as e:
     if e.code not in (None, 0):
         raise
-from mpi4py import MPI
-kib = MPI.COMM_WORLD.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
-if MPI.COMM_WORLD.rank == 0:
+kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+try:
+    from mpi4py import MPI
+    kib, rank = MPI.COMM_WORLD.allreduce(kib), MPI.COMM_WORLD.rank
+except ImportError:
+    rank = 0
+if rank == 0:
     print(json.dumps({"peak_rss_kib": kib}), flush=True)
 )PY";
 
