@@ -4,6 +4,8 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
@@ -53,7 +55,14 @@ void set_thread_count(int threads) {
   if (threads > cores)
     std::cerr << "vrsph: warning: --threads " << threads << " is more than the " << cores
               << " cores of this machine; using " << cores << '\n';
-  omp_set_num_threads(threads == 0 || threads > cores ? cores : threads);
+  // 0: one per core, shared among this machine's ranks under mpirun (two ranks with a
+  // thread per core each would oversubscribe the cores).
+  int ranks_here = 1;
+  if (communicator().distributed()) {
+    const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+    ranks_here = local ? std::max(1, std::atoi(local)) : communicator().size();
+  }
+  omp_set_num_threads(threads == 0 ? std::max(1, cores / ranks_here) : threads > cores ? cores : threads);
 #else
   if (threads > 1)
     std::cerr << "vrsph: warning: --threads " << threads << " is more than the 1 thread of this build (no OpenMP); using 1\n";

@@ -28,6 +28,7 @@
 #include <vrsph/io/output_file.hpp>
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "relaunch.hpp"
 
 namespace {
 
@@ -121,11 +122,8 @@ void require_distributed_command(const CLI::App& app) {
   if (!comm.distributed()) return;
   const auto subs = app.get_subcommands();
   const std::string name = subs.empty() ? "" : subs.front()->get_name();
-  const bool parallel = name == "study" || name == "solve" || name == "diffuse" ||
-                        (name == "bench" && !subs.front()->get_subcommands().empty() &&
-                         subs.front()->get_subcommands().front()->get_name() == "solve");
-  vrsph::check<vrsph::ConfigError>(parallel, "vrsph ", name, " runs on one rank; under mpirun (", comm.size(),
-                                   " ranks) only study, solve, diffuse and bench solve are distributed");
+  vrsph::check<vrsph::ConfigError>(vrsph::cli::distributed_command(app), "vrsph ", name, " runs on one rank; under mpirun (",
+                                   comm.size(), " ranks) only study, solve, diffuse and bench solve are distributed");
 }
 
 // The options every command takes (--max-memory, --verbose, --version) and the checks
@@ -133,22 +131,28 @@ void require_distributed_command(const CLI::App& app) {
 struct GlobalOptions {
   std::string max_memory;
   bool verbose = false;
+  int ranks = 1;
 };
 
-void add_global_options(CLI::App& app, GlobalOptions& g) {
+void add_global_options(CLI::App& app, GlobalOptions& g, int argc, char** argv) {
   app.set_version_flag("--version", version_line());
   app.require_subcommand(1);
   app.fallthrough();  // global options may also follow the subcommand
   app.add_option("--max-memory", g.max_memory,
                  "Refuse runs whose estimated memory exceeds this (e.g. 8G, 512M; 0 = no limit; default: the memory "
                  "available when the run starts)");
+  app.add_option("--ranks", g.ranks,
+                 "Run study, solve, diffuse or bench solve on this many MPI ranks of this machine (vrsph starts "
+                 "mpirun itself; one thread per rank): faster than threads for large solves (docs/performance.md)")
+      ->capture_default_str();
   app.add_flag("--verbose", g.verbose, "Warnings with their full lists (e.g. every row that could not meet its moment "
                                        "conditions); without it one line per kind of condition");
-  app.parse_complete_callback([&app, &g] {
+  app.parse_complete_callback([&app, &g, argc, argv] {
     vrsph::cli::set_verbose(g.verbose);
     vrsph::cli::reject_empty_values(app);
     vrsph::cli::reject_output_over_input(app);
     require_distributed_command(app);
+    vrsph::cli::relaunch_on_ranks(g.ranks, app, argc, argv);  // returns only when already on g.ranks ranks
     if (app.count("--max-memory")) vrsph::set_memory_limit_bytes(vrsph::parse_memory_size(g.max_memory));
   });
 }
@@ -196,7 +200,7 @@ int main(int argc, char** argv) {
   if (const auto failed = join_mpi_world()) return *failed;
   CLI::App app{"vrsph — particle discretisations of elliptic operators on irregular point clouds"};
   GlobalOptions global;
-  add_global_options(app, global);
+  add_global_options(app, global, argc, argv);
   add_commands(app);
   try {
     app.parse(argc, argv);

@@ -20,18 +20,31 @@ void check_sweep_options(const SweepOptions& o) {
                      o.n_start);
   check<ConfigError>(std::isfinite(o.nominal_order) && o.nominal_order > 0, "the sweep's nominal order must be > 0");
   check<ConfigError>(std::isfinite(o.margin) && o.margin >= 1, "the sweep's margin must be >= 1, got ", o.margin);
-  check<ConfigError>(o.min_growth > 1 && o.min_growth <= o.max_growth && std::isfinite(o.max_growth),
-                     "the sweep's growth bounds must satisfy 1 < min <= max, got ", o.min_growth, " and ", o.max_growth);
+  check<ConfigError>(o.min_growth > 1 && (o.max_growth == 0 || o.min_growth <= o.max_growth) && std::isfinite(o.max_growth),
+                     "the sweep's growth bounds must satisfy 1 < min <= max (max 0: by dimension), got ", o.min_growth,
+                     " and ", o.max_growth);
+  check<ConfigError>(o.refine_runs >= 0 && std::isfinite(o.refine_ratio), "the sweep's refinement needs refine_runs >= 0");
   check<ConfigError>(o.max_bytes >= 0 && o.max_seconds >= 0, "the sweep's limits must be >= 0");
 }
 
-// Order in n of the last two runs, or NaN when they do not give one (equal n, no gain).
-double last_order(const std::vector<SweepRun>& runs) {
-  if (runs.size() < 2) return std::numeric_limits<double>::quiet_NaN();
-  const SweepRun& a = runs[runs.size() - 2];
-  const SweepRun& b = runs.back();
-  if (b.n <= a.n || !(a.error > 0) || !(b.error > 0)) return std::numeric_limits<double>::quiet_NaN();
-  return std::log(a.error / b.error) / std::log(static_cast<double>(b.n) / a.n);
+// Order in n fitted (least squares in log-log) to the last three runs, or the last two:
+// errors on disordered clouds scatter from run to run, and the order of one pair can be far
+// from the trend (0.99 between two runs of a third-order method). NaN without two runs.
+double recent_order(const std::vector<SweepRun>& runs) {
+  const std::size_t k = std::min<std::size_t>(3, runs.size());
+  if (k < 2) return std::numeric_limits<double>::quiet_NaN();
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = runs.size() - k; i < runs.size(); ++i) {
+    if (!(runs[i].error > 0)) return std::numeric_limits<double>::quiet_NaN();
+    const double x = std::log(static_cast<double>(runs[i].n)), y = std::log(runs[i].error);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  const double kk = static_cast<double>(k), denom = kk * sxx - sx * sx;
+  if (!(denom > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return -(kk * sxy - sx * sy) / denom;
 }
 
 // Memory of a run with `unknowns`, from the runs so far: affine through the last two where
@@ -67,6 +80,55 @@ int admissible_n(const SweepOptions& o, int n) {
 }
 }  // namespace
 
+namespace {
+// Which runs reached which target: the smallest n among the runs at or below it.
+void assign_runs(SweepResult& result) {
+  for (SweepTarget& t : result.targets) {
+    const SweepRun* best = nullptr;
+    for (const SweepRun& r : result.runs)
+      if (r.error <= t.target && (!best || r.n < best->n)) best = &r;
+    t.reached = best != nullptr;
+    if (best) {
+      t.run = *best;
+      t.reason.clear();
+    }
+  }
+}
+
+// Between the largest run that missed a target and the smallest that reached it with less
+// than half the target's error: the geometric middle, while they are more than refine_ratio
+// apart (a step predicted from a scattered order can land far past the target).
+void bisect_targets(const SweepOptions& options, const std::function<SweepRun(int n)>& run, SweepResult& result) {
+  if (!(options.refine_ratio > 1)) return;
+  for (SweepTarget& t : result.targets)
+    for (int k = 0; k < options.refine_runs; ++k) {
+      assign_runs(result);
+      if (!t.reached) break;
+      const int hit = t.run.n;
+      int miss = 0;
+      for (const SweepRun& r : result.runs)
+        if (r.n < hit && r.error > t.target) miss = std::max(miss, r.n);
+      // Only where the run overshot: an error near the target says it is about the right size.
+      if (miss == 0 || hit <= options.refine_ratio * miss || t.run.error > 0.5 * t.target) break;
+      const int mid = admissible_n(options, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(miss) * hit))));
+      if (mid <= miss || mid >= hit ||
+          std::any_of(result.runs.begin(), result.runs.end(), [&](const SweepRun& r) { return r.n == mid; }))
+        break;
+      try {
+        SweepRun r = run(mid);
+        r.n = mid;
+        result.runs.push_back(r);
+      } catch (const Interrupted&) {
+        throw;
+      } catch (const std::exception&) {
+        break;  // the target stays reached by the larger run
+      }
+    }
+  std::sort(result.runs.begin(), result.runs.end(), [](const SweepRun& a, const SweepRun& b) { return a.n < b.n; });
+  assign_runs(result);
+}
+}  // namespace
+
 SweepResult sweep_to_targets(const SweepOptions& options, const std::function<SweepRun(int n)>& run) {
   check_sweep_options(options);
   SweepResult result;
@@ -92,17 +154,12 @@ SweepResult sweep_to_targets(const SweepOptions& options, const std::function<Sw
     }
     r.n = n;
     result.runs.push_back(r);
-    for (SweepTarget& t : result.targets)
-      if (!t.reached && r.error <= t.target) {
-        t.reached = true;
-        t.run = r;
-      }
+    assign_runs(result);
     if (pending() == 0) break;
     // Next: the resolution the largest target left needs at the observed order.
     double next_target = 0;
     for (const SweepTarget& t : result.targets)
       if (!t.reached) next_target = std::max(next_target, t.target);
-    const double order = last_order(result.runs);
     if (result.runs.size() >= 2) {
       const double gain = result.runs[result.runs.size() - 2].error / r.error;
       stalls = gain < 1.1 ? stalls + 1 : 0;
@@ -113,11 +170,13 @@ SweepResult sweep_to_targets(const SweepOptions& options, const std::function<Sw
         break;
       }
     }
+    const double order = recent_order(result.runs);
     const double p = std::isfinite(order) && order >= 0.5 ? std::min(order, 8.0) : options.nominal_order;
     const double wanted = n * std::pow(r.error / next_target, 1 / p) * options.margin;
-    // Before two runs give an order the step is a probe of at most 1.5: a nominal order
-    // too low for the configuration would jump far past its target.
-    const double max_growth = result.runs.size() < 2 ? std::min(1.5, options.max_growth) : options.max_growth;
+    // At most 16 times the unknowns per step; before two runs give an order, a probe of at
+    // most 1.5 in n: a nominal order too low for the configuration would jump far past its target.
+    const double cap = options.max_growth > 0 ? options.max_growth : std::pow(16.0, 1.0 / options.dim);
+    const double max_growth = result.runs.size() < 2 ? std::min(1.5, cap) : cap;
     const double growth = std::clamp(wanted / n, std::min(options.min_growth, max_growth), max_growth);
     const double next_real = std::ceil(n * growth);
     if (next_real > options.max_n) {
@@ -139,12 +198,12 @@ SweepResult sweep_to_targets(const SweepOptions& options, const std::function<Sw
     if (options.max_seconds > 0 && seconds > options.max_seconds) {
       give_up(detail::concat("not run: the next size (n = ", next, ", about ", static_cast<long long>(unknowns),
                              " unknowns) would take about ", short_number(seconds), " s, over the limit of ",
-                             short_number(options.max_seconds),
-                             " s per run"));
+                             short_number(options.max_seconds), " s per run"));
       break;
     }
     n = next;
   }
+  bisect_targets(options, run, result);
   return result;
 }
 

@@ -319,5 +319,34 @@ class BadInput(unittest.TestCase):
         self.expect(2, 4, "neighbours", "study", "--n", "10", "--h-factor", "0.5", "--solver", "petsc")
 
 
+class RanksOption(unittest.TestCase):
+    """Issue 37: `vrsph --ranks P` starts mpirun itself (one thread per rank) and gives the
+    table of `mpirun -np P vrsph`; it refuses what it cannot do."""
+
+    def test_same_table_as_mpirun_and_as_serial(self):
+        args = ["study", "--cloud", "perturbed", "--n", "20,40", "--solver", "petsc", "--petsc-options", DIRECT]
+        serial = run_json(0, *args)
+        relaunched = run_json(0, "--ranks", "2", *args)
+        self.assertEqual(relaunched["ranks"], 2)
+        self.assertEqual(serial["ranks"], 1)
+        for a, b in zip(serial["rows"], relaunched["rows"]):
+            self.assertEqual(a["N"], b["N"])
+            self.assertTrue(close(a["error_inf"], b["error_inf"], 1e-10, 1e-12), (a["error_inf"], b["error_inf"]))
+        # The option may also follow the command; --ranks 1 is this process.
+        self.assertEqual(run_json(0, "bench", "solve", "--n", "16", "--ranks", "2")["ranks"], 2)
+        self.assertEqual(run_json(0, "--ranks", "1", "study", "--n", "8")["ranks"], 1)
+
+    def test_refusals(self):
+        for args, message in ((["--ranks", "0", "study", "--n", "8"], ">= 1"),
+                              (["--ranks", "4096", "study", "--n", "8"], "cores"),
+                              (["--ranks", "2", "cloud", "--n", "8"], "applies to study, solve, diffuse and bench solve")):
+            p = run(0, *args)
+            self.assertEqual(p.returncode, 2, (args, p.stderr))
+            self.assertIn(message, p.stderr)
+        p = run(2, "--ranks", "3", "study", "--n", "8")
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("give the ranks one way, not both", p.stderr)
+
+
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)

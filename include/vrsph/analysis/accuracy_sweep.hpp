@@ -30,8 +30,17 @@ struct SweepOptions {
   /// The predicted n for the next target is multiplied by this: a prediction just short of
   /// the target costs a whole extra run, one just beyond it a few per cent of time.
   double margin = 1.05;
-  /// Bounds on n_next / n; before two runs have given an order, at most 1.5 (a probe).
-  double min_growth = 1.15, max_growth = 4;
+  /// Bounds on n_next / n (max_growth 0: 16^(1/dim), at most 16 times the unknowns); before
+  /// two runs have given an order, at most 1.5 (a probe). The order is fitted to the last
+  /// three runs (errors on disordered clouds scatter).
+  double min_growth = 1.15, max_growth = 0;
+  /// After the sweep, for each target: runs at the geometric middle between the largest run
+  /// that missed it and the smallest that reached it, while that one's error is below half
+  /// the target and the two differ by more than this factor in n, at most refine_runs times
+  /// (0: no refinement). A step predicted from a
+  /// scattered order can land far past a target; this finds a smaller run that reaches it.
+  double refine_ratio = 1.2;
+  int refine_runs = 4;
   double max_bytes = 0;    ///< memory limit of one run (0: none)
   double max_seconds = 0;  ///< time limit of one run (0: none)
   int max_n = 1 << 20;
@@ -53,13 +62,14 @@ struct SweepResult {
   std::vector<SweepTarget> targets;  ///< in the order given
 };
 
-/// Runs `run` at increasing n until every target is reached, the error stops decreasing
+/// Runs `run` at increasing n until every target is reached (then refines, see
+/// refine_ratio; a target's run is the smallest n that reached it), the error stops decreasing
 /// (two runs in a row gain less than a factor 1.1: the solver's tolerance or round-off), or
 /// the next size would exceed a limit (predicted from the runs so far: memory affine in the
 /// unknowns, time as unknowns^1.1). An exception of `run` ends the sweep and becomes the
 /// reason of the targets left (vrsph::Interrupted is rethrown). Throws ConfigError for bad
 /// options (no targets, a target <= 0 or not finite, n_start < 1, margin < 1, growth bounds
-/// not 1 < min <= max).
+/// not 1 < min <= max (max 0: by dimension), refine_runs < 0).
 SweepResult sweep_to_targets(const SweepOptions& options, const std::function<SweepRun(int n)>& run);
 
 }  // namespace vrsph
