@@ -970,19 +970,25 @@ class CloudFile(unittest.TestCase):
 
     def test_second_order_on_file_clouds(self):
         # [QW]'s rows: second order; the default compact rows: third order or more (O(h^3) truncation).
+        # The order is fitted over four levels: the max-norm error of one disordered cloud scatters
+        # (the default's pairwise orders here are 5.4, 2.65, 4.7: its n = 32 error is the lucky one).
+        levels = (16, 32, 64, 128)
         for profile, low, high in (("qw", 1.7, 2.5), ("default", 2.7, None)):
             errors = []
             with tempfile.TemporaryDirectory() as d:
-                for n in (16, 32, 64):
+                for n in levels:
                     row = run_json("solve", "--cloud-file", self.cloud(d, n), "--method", "vrsph", "--u", self.U,
                                    "--a", self.A, "--method-opt", f"vrsph:profile={profile}")["rows"][0]
                     errors.append(row["error_inf"])
-            orders = [math.log2(errors[k] / errors[k + 1]) for k in range(2)]
-            self.assertEqual(len(errors), 3)
-            for o in orders:
-                self.assertGreater(o, low, msg=f"{profile}: errors {errors}")
-                if high is not None:
-                    self.assertLess(o, high, msg=f"{profile}: errors {errors}")
+            xs = [math.log(n) for n in levels]
+            ys = [math.log(e) for e in errors]
+            mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+            order = -sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+            self.assertGreater(order, low, msg=f"{profile}: errors {errors}")
+            if high is not None:
+                self.assertLess(order, high, msg=f"{profile}: errors {errors}")
+            for a, b in zip(errors, errors[1:]):  # and every refinement gains
+                self.assertLess(b, a, msg=f"{profile}: errors {errors}")
 
     def test_operator_on_a_file_cloud(self):
         with tempfile.TemporaryDirectory() as d:

@@ -162,16 +162,31 @@ struct MonomialTables {
 class CompactRowSolver {
  public:
   CompactRowSolver(const Discretisation& disc, const Field* a, const Eigen::MatrixXd* grad_a, const MonomialTables& t,
-                   int degree, int min_degree, Real tolerance, const CompactWalls& walls, Index max_count,
-                   Stencil& target, CompactRows& out)
+                   int degree, int min_degree, Real tolerance, const CompactWalls& walls, Real inner_support,
+                   Index max_count, Stencil& target, CompactRows& out)
       : disc_(disc), a_(a), grad_a_(grad_a), t_(t), degree_(degree), min_degree_(min_degree), tolerance_(tolerance),
-        walls_(walls), target_(target), out_(out),
+        walls_(walls), inner_support_(inner_support), target_(target), out_(out),
         solver_(static_cast<int>(t.mono[static_cast<std::size_t>(degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2) {}
 
   void solve(Index i) {
     const auto si = static_cast<std::size_t>(i);
     const NeighbourList& nl = disc_.neighbours;
-    column_scales(nl.distances_of(i), scale_);  // the w and μ columns of neighbour j, scaled back below
+    const auto distances = nl.distances_of(i);
+    column_scales(distances, scale_);  // the w and μ columns of neighbour j, scaled back below
+    // First the inner neighbours alone, at the top degree: the most compact positive row
+    // (on a lattice the Mehrstellen-type row of the nearest two shells, 22 times more accurate
+    // on Example 5 than the row NNLS picks from the whole support; on disordered clouds as
+    // accurate, and a smaller system). Where they admit none, the whole support.
+    columns_.clear();
+    if (inner_support_ < 1) {
+      const Real r = inner_support_ * nl.radius(i);
+      for (std::size_t j = 0; j < distances.size(); ++j)
+        if (distances[j] <= r) columns_.push_back(j);
+      if (columns_.size() < distances.size()) try_degree(i, degree_);
+      if (out_.ok[si]) return;
+    }
+    columns_.resize(distances.size());
+    for (std::size_t j = 0; j < distances.size(); ++j) columns_[j] = j;
     // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
     // positive row with the O(h) part of the truncation moved into the average of f).
     for (int deg = degree_; deg >= min_degree_ && !out_.ok[si]; --deg) try_degree(i, deg);
@@ -226,7 +241,7 @@ class CompactRowSolver {
   void try_degree(Index i, int deg) {
     const auto si = static_cast<std::size_t>(i);
     const auto nbr = disc_.neighbours.of(i);
-    const std::size_t cnt = nbr.size();
+    const std::size_t cnt = columns_.size();  // the neighbours this attempt uses
     const bool wall = !walls_.rows.empty() && walls_.rows[si];
     C_ = 2 * cnt + 1 + (wall ? 1 : 0);  // w, μ of the neighbours, μ_ii, the wall flux
     h_ = disc_.neighbours.radius(i);
@@ -237,7 +252,7 @@ class CompactRowSolver {
     std::fill_n(A_.begin() + static_cast<std::ptrdiff_t>((R - 1) * C_), cnt, 0.0);
     b_.assign(R, 0.0);
     b_[R - 1] = 1;
-    for (std::size_t j = 0; j < cnt; ++j) columns(i, nbr[j], deg, j, cnt + j, true, scale_[j]);
+    for (std::size_t k = 0; k < cnt; ++k) columns(i, nbr[columns_[k]], deg, k, cnt + k, true, scale_[columns_[k]]);
     columns(i, i, deg, 0, 2 * cnt, false, 1.0);
     if (wall) wall_column(i, deg, 2 * cnt + 1);
     x_.assign(C_, 0.0);
@@ -253,10 +268,17 @@ class CompactRowSolver {
     out_.ok[si] = 1;
     out_.degree[si] = static_cast<char>(deg);
     out_.residual[si] = res;
-    for (std::size_t j = 0; j < cnt; ++j) {
+    if (cnt < nbr.size())  // the neighbours left out of an inner row weigh nothing
+      for (std::size_t j = 0; j < nbr.size(); ++j) {
+        const auto slot = static_cast<std::size_t>(neighbour_slot(target_, i, static_cast<Index>(j)));
+        target_.values[0][slot] = 0;
+        target_.rhs[slot] = 0;
+      }
+    for (std::size_t k = 0; k < cnt; ++k) {
+      const std::size_t j = columns_[k];
       const auto slot = static_cast<std::size_t>(neighbour_slot(target_, i, static_cast<Index>(j)));
-      target_.values[0][slot] = x_[j] * scale_[j] / (h_ * h_);
-      target_.rhs[slot] = x_[cnt + j] * scale_[j];
+      target_.values[0][slot] = x_[k] * scale_[j] / (h_ * h_);
+      target_.rhs[slot] = x_[cnt + k] * scale_[j];
     }
     out_.mu_self[si] = x_[2 * cnt];
     if (wall) out_.wall_flux[si] = x_[2 * cnt + 1] / h_;
@@ -269,10 +291,12 @@ class CompactRowSolver {
   const int degree_, min_degree_;
   const Real tolerance_;
   const CompactWalls& walls_;
+  const Real inner_support_;
   Stencil& target_;
   CompactRows& out_;
   NnlsSolver solver_;
   std::vector<Real> A_, b_, x_, scale_, vals_;
+  std::vector<std::size_t> columns_;  ///< the neighbours (positions in the list) of the current attempt
   std::array<std::array<Real, 8>, 3> pw_{};
   std::size_t C_ = 0;  ///< columns of the current system
   int rows_ = 0;       ///< its rows
@@ -281,13 +305,16 @@ class CompactRowSolver {
 }  // namespace
 
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a, const Eigen::MatrixXd* grad_a,
-                         int degree, int min_degree, Real tolerance, Stencil& target, const CompactWalls& walls) {
+                         int degree, int min_degree, Real tolerance, Stencil& target, const CompactWalls& walls,
+                         Real inner_support) {
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const Index n = cloud.size();
   const int dim = cloud.dim;
   check<ConfigError>(min_degree >= 3 && min_degree <= degree && degree <= 6, "compact rows: polynomial degrees ", min_degree,
                      "..", degree, " outside 3..6");
+  check<ConfigError>(inner_support > 0 && inner_support <= 1, "compact rows: the inner support must be a fraction in "
+                     "(0, 1] of the support radius, got ", inner_support);
   check<InputError>(!a || a->size() == n, "compact rows: coefficient has ", a ? a->size() : 0, " values for ", n, " particles");
   check<InputError>(!grad_a || (grad_a->rows() == n && grad_a->cols() == dim), "compact rows: grad a must be ", n, " x ", dim);
   check<InputError>(nl.distances.size() == nl.indices.size(), "compact rows need neighbour lists with cached distances");
@@ -308,7 +335,8 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
 #pragma omp parallel
   {
-    CompactRowSolver thread_rows(disc, a, grad_a, tables, degree, min_degree, tolerance, walls, max_count, target, out);
+    CompactRowSolver thread_rows(disc, a, grad_a, tables, degree, min_degree, tolerance, walls, inner_support, max_count,
+                                 target, out);
 #pragma omp for schedule(dynamic, 64)
     for (Index i = 0; i < n; ++i) {
       const auto si = static_cast<std::size_t>(i);

@@ -44,6 +44,9 @@ MethodInfo vrsph_info() {
                    "so that the row is exact on polynomials of degree <= 4: O(h^3) truncation; "
                    "rows where none exists keep the point form; div-a-grad uses grad a when given, else FPM's "
                    "quadratic fit of a)"},
+           {"compact_support", "compact rows: the fraction of the support radius whose neighbours each row tries "
+                               "first, falling back to the whole support where they admit no positive row of degree "
+                               "4 (default 0.8; 1: the whole support only, the rows before issue 37)"},
            {"prefer", "none (the NNLS columns as [QW]; default) | near (columns scaled by (r_min/r_j)^2: NNLS then "
                       "picks the nearest neighbours; same moments, a more compact row)"},
            pair_mean_option()}};
@@ -118,6 +121,9 @@ class Vrsph final : public Method {
     flux_ = choice_of(pinned("flux", "auto", {"auto", "gradient", "balance"}, "gradient"));
     rhs_ = choice_of(pinned("rhs", "auto", {"auto", "point", "compact"}, "point"));
     near_ = pinned("prefer", "none", {"none", "near"}, "none") == "near";
+    compact_support_ = o.get_real("compact_support", 0.8);
+    check<ConfigError>(compact_support_ > 0 && compact_support_ <= 1, "method option compact_support must be a "
+                       "fraction in (0, 1] of the support radius, got ", compact_support_);
   }
   const MethodInfo& info() const override { return info_; }
   bool balances_flux_rows(StencilUse use) const override { return resolve(flux_, use); }
@@ -436,6 +442,7 @@ class Vrsph final : public Method {
   Choice flux_ = Choice::Auto;  // gradient | balance
   Choice rhs_ = Choice::Auto;   // point | compact
   bool near_ = false;     // prefer=near
+  Real compact_support_ = 0.8;  // compact rows: the inner neighbours tried first (fraction of h)
 
   // The compact (Mehrstellen) form of every requested row that admits one (CompactRows::ok).
   // Balance (wall) rows take the compact form too where it exists, with the wall flux c_i
@@ -477,7 +484,7 @@ class Vrsph final : public Method {
       walls = {wall, flux_direction};
     }
     return compact_rows(disc, rows, divagrad ? req.coefficient : nullptr, divagrad ? grad_a : nullptr, 4, 3,
-                        kCompactTolerance, s, walls);
+                        kCompactTolerance, s, walls, compact_support_);
   }
 
   // Completes the compact rows (their weights are in place): the right-hand-side weight of

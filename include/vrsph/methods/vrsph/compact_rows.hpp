@@ -42,8 +42,11 @@ struct CompactWalls {
 /// at the neighbour slots of each row that takes the compact form; the diagonal slots and the
 /// other rows are left untouched (μ_ii is CompactRows::mu_self). Writing in place spares a
 /// copy of two arrays of one value per neighbour pair.
+/// inner_support in (0, 1]: each row first tries, at `degree`, only the neighbours within this
+/// fraction of its support radius (the most compact positive row; the others get weight 0),
+/// and takes the whole support where they admit none (1: the whole support only).
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a,
                          const Eigen::MatrixXd* grad_a, int degree, int min_degree, Real tolerance, Stencil& out,
-                         const CompactWalls& walls = {});
+                         const CompactWalls& walls = {}, Real inner_support = 1);
 
 }  // namespace vrsph
