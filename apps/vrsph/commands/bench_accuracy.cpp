@@ -28,9 +28,9 @@ namespace vrsph::cli {
 
 namespace {
 struct AccuracyBenchArgs {
-  int dim = 2, threads = 0, n_start = 0, repeat = 1, anchor_ranks = 0;
-  std::string cloud = "perturbed", targets, configurations = "vrsph,vrsph-qw", solver = "petsc", petsc_options,
-              anchor, anchor_degrees = "1,2,3", anchor_script;
+  int dim = 2, threads = 0, n_start = 0, repeat = 1;
+  std::string cloud = "perturbed", targets, configurations = "vrsph,vrsph-qw", solver = "petsc", petsc_options;
+  AnchorOptions peer{"", "1,2,3", "", 0};
   std::uint64_t seed = 1;
   double h_factor = 3, max_seconds = 60;
   OutputOptions out;
@@ -227,7 +227,7 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
                      "bench accuracy runs vrsph in one process with --threads (the peer's ranks: --anchor-ranks), "
                      "not under mpirun");
   check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim must be 2 or 3 for bench accuracy, got ", a.dim);
-  check<ConfigError>(a.anchor.empty() || a.anchor == "fenicsx", "--anchor must be fenicsx, got '", a.anchor, "'");
+  check<ConfigError>(a.peer.anchor.empty() || a.peer.anchor == "fenicsx", "--anchor must be fenicsx, got '", a.peer.anchor, "'");
   check<ConfigError>(a.repeat >= 1 && a.repeat <= 20, "--repeat must be in 1..20, got ", a.repeat);
   check<ConfigError>(std::isfinite(a.max_seconds) && a.max_seconds >= 0, "--max-seconds must be >= 0, got ",
                      a.max_seconds);
@@ -241,9 +241,9 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
   for (const std::string& name : parse_name_list(a.configurations, "--configurations"))
     entries.push_back(vrsph_entry(a, name));
   AnchorSetup setup;
-  if (!a.anchor.empty()) {
-    const std::vector<int> degrees = parse_anchor_degrees(a.anchor_degrees);
-    setup = {fenicsx_script(a.anchor_script), a.dim, anchor_ranks(a.anchor_ranks)};
+  if (!a.peer.anchor.empty()) {
+    const std::vector<int> degrees = parse_anchor_degrees(a.peer.degrees);
+    setup = {fenicsx_script(a.peer.script), a.dim, anchor_ranks(a.peer.ranks)};
     warm_up_anchor(setup, degrees);  // also: a missing or broken peer fails here, before any sweep
     for (int k : degrees) entries.push_back(anchor_entry(a, setup, k));
   }
@@ -277,7 +277,7 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
 #else
   meta["threads"] = 1;
 #endif
-  if (!a.anchor.empty()) meta["anchor_ranks"] = setup.ranks;
+  if (!a.peer.anchor.empty()) meta["anchor_ranks"] = setup.ranks;
   meta["max_seconds_per_run"] = a.max_seconds;
   meta["memory_limit_mib"] = static_cast<double>(memory_limit_bytes()) / (1024.0 * 1024.0);
   meta["repeat"] = a.repeat;
@@ -311,12 +311,7 @@ void add_accuracy_bench(CLI::App& bench) {
                   "vrsph's configurations: vrsph (the default rows: rhs=compact), vrsph-compact, vrsph-point "
                   "(rhs=point), vrsph-qw ([QW]'s published rows)")
       ->capture_default_str();
-  cmd->add_option("--anchor", a->anchor, "Race the peer too: fenicsx (Lagrange Pk, CG + BoomerAMG)");
-  cmd->add_option("--anchor-degree", a->anchor_degrees, "The peer's Lagrange degrees (1, 2, 3)")->capture_default_str();
-  cmd->add_option("--anchor-ranks", a->anchor_ranks, "The peer's MPI ranks (0: as many as vrsph's threads)")
-      ->capture_default_str();
-  cmd->add_option("--anchor-script", a->anchor_script,
-                  "The peer's script (default: $VRSPH_ANCHOR_DIR/fenicsx_ex5.py, else ../shared/anchors)");
+  add_anchor_options(*cmd, a->peer, "Race the peer too: fenicsx (Lagrange Pk, CG + BoomerAMG)");
   cmd->add_option("--threads", a->threads, "OpenMP threads of vrsph (0 = all cores)")->capture_default_str();
   cmd->add_option("--solver", a->solver, "vrsph's solver: petsc, auto, umfpack, sparselu, bicgstab")->capture_default_str();
   cmd->add_option("--petsc-options", a->petsc_options, "PETSc options of vrsph's solve");
@@ -331,8 +326,7 @@ void add_accuracy_bench(CLI::App& bench) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot every sweep's max error against seconds (log-log) into this PNG");
   cmd->callback([a, cmd] {
-    for (const char* option : {"--anchor-degree", "--anchor-ranks", "--anchor-script"})
-      check<ConfigError>(!a->anchor.empty() || cmd->count(option) == 0, option, " applies to the peer: add --anchor fenicsx");
+    reject_peer_options_without_peer(*cmd, a->peer);
     run_accuracy_bench(*a);
   });
 }

@@ -29,9 +29,8 @@ namespace vrsph::cli {
 namespace {
 struct SolveBenchArgs {
   int dim = 2, threads = 0;
-  std::string n = "100,200,400", method = "vrsph", cloud = "perturbed", solvers = "petsc", petsc_options, anchor,
-              anchor_script, anchor_degrees = "1";
-  int anchor_ranks = 0;
+  std::string n = "100,200,400", method = "vrsph", cloud = "perturbed", solvers = "petsc", petsc_options;
+  AnchorOptions peer;
   std::vector<std::string> method_opts;
   std::uint64_t seed = 1;
   double h_factor = 3;
@@ -54,7 +53,7 @@ namespace {
 // The study behind the benchmark: [QW] Example 5 on the requested cloud, memory measured.
 BvpStudyParams bench_params(const SolveBenchArgs& a, const Communicator& comm) {
   check<ConfigError>(a.dim == 2 || a.dim == 3, "--dim must be 2 or 3 for bench solve, got ", a.dim);
-  check<ConfigError>(a.anchor.empty() || a.anchor == "fenicsx", "--anchor must be fenicsx, got '", a.anchor, "'");
+  check<ConfigError>(a.peer.anchor.empty() || a.peer.anchor == "fenicsx", "--anchor must be fenicsx, got '", a.peer.anchor, "'");
   check<ConfigError>(!a.baseline || comm.distributed(), "--baseline compares with one rank: run under mpirun with "
                      "more than one rank");
   BvpStudyParams p;
@@ -92,9 +91,9 @@ void write_bench_cloud(const BvpStudyParams& p, int n, std::uint64_t seed, const
 std::vector<AnchorRows> run_anchors(const SolveBenchArgs& a, const BvpStudyParams& p, const std::vector<int>& sizes,
                                     const Communicator& comm) {
   std::vector<AnchorRows> anchor;
-  if (a.anchor.empty()) return anchor;
-  const std::vector<int> degrees = parse_anchor_degrees(a.anchor_degrees);
-  const AnchorSetup setup{fenicsx_script(a.anchor_script), a.dim, anchor_ranks(a.anchor_ranks)};
+  if (a.peer.anchor.empty()) return anchor;
+  const std::vector<int> degrees = parse_anchor_degrees(a.peer.degrees);
+  const AnchorSetup setup{fenicsx_script(a.peer.script), a.dim, anchor_ranks(a.peer.ranks)};
   const bool perturbed = p.cloud == CloudFamily::Perturbed;
   Progress progress;
   std::exception_ptr failure;
@@ -279,7 +278,7 @@ void run_solve_bench(const SolveBenchArgs& a) {
   }
   const std::vector<AnchorRows> anchor = run_anchors(a, p, sizes, comm);
   Table t;
-  t.columns = bench_columns(a.baseline, a.anchor.empty() ? std::vector<int>{} : parse_anchor_degrees(a.anchor_degrees));
+  t.columns = bench_columns(a.baseline, a.peer.anchor.empty() ? std::vector<int>{} : parse_anchor_degrees(a.peer.degrees));
   nlohmann::ordered_json meta;
   meta["benchmark"] = "solve";
   meta["dim"] = a.dim;
@@ -321,19 +320,11 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--h-factor", a->h_factor, "Support radius h = h_factor * dx")->capture_default_str();
-  cmd->add_option("--anchor", a->anchor,
-                  "Run a peer in the same run on the same cores: fenicsx (Lagrange Pk, CG + BoomerAMG), about the "
-                  "same unknowns as each size (round(n/k) cells); on a 2D perturbed cloud with one peer rank P1 solves "
-                  "on our very points and P2, P3 on the peer's own perturbed nodes; on more ranks and in 3D the "
-                  "peer meshes its lattice (it cannot mesh points in parallel)");
-  cmd->add_option("--anchor-degree", a->anchor_degrees, "The peer's Lagrange degrees, comma-separated (1, 2, 3)")
-      ->capture_default_str();
-  cmd->add_option("--anchor-ranks", a->anchor_ranks,
-                  "The peer's MPI ranks (0: as many as vrsph's threads; at most the cores)")
-      ->capture_default_str();
-  cmd->add_option("--anchor-script", a->anchor_script,
-                  "The peer's script (default: $VRSPH_ANCHOR_DIR/fenicsx_ex5.py, else ../shared/anchors next to the "
-                  "source tree)");
+  add_anchor_options(*cmd, a->peer,
+                     "Run a peer in the same run on the same cores: fenicsx (Lagrange Pk, CG + BoomerAMG), about the "
+                     "same unknowns as each size (round(n/k) cells); on a 2D perturbed cloud with one peer rank P1 "
+                     "solves on our very points and P2, P3 on the peer's own perturbed nodes; on more ranks and in 3D "
+                     "the peer meshes its lattice (it cannot mesh points in parallel)");
   cmd->add_flag("--baseline", a->baseline,
                 "Under mpirun: also run each size on rank 0 alone (the others sleep) and report the parallel "
                 "efficiency T_1 / (P T_P) of the build (neighbours, stencils, assembly, partition), of the solve and "
@@ -342,8 +333,7 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "Also plot seconds_total and solver_iterations against N (log-log, reference slopes 1 and 0) into this PNG file");
   cmd->callback([a, cmd] {
-    for (const char* option : {"--anchor-degree", "--anchor-ranks", "--anchor-script"})
-      check<ConfigError>(!a->anchor.empty() || cmd->count(option) == 0, option, " applies to the peer: add --anchor fenicsx");
+    reject_peer_options_without_peer(*cmd, a->peer);
     run_solve_bench(*a);
   });
 }

@@ -71,6 +71,22 @@ std::string describe(int degree, int cells, AnchorMesh mesh) {
 }
 }  // namespace
 
+void add_anchor_options(CLI::App& cmd, AnchorOptions& o, const std::string& what) {
+  cmd.add_option("--anchor", o.anchor, what);
+  cmd.add_option("--anchor-degree", o.degrees, "The peer's Lagrange degrees, comma-separated (1, 2, 3)")
+      ->capture_default_str();
+  cmd.add_option("--anchor-ranks", o.ranks, "The peer's MPI ranks (0: as many as vrsph's threads; at most the cores)")
+      ->capture_default_str();
+  cmd.add_option("--anchor-script", o.script,
+                 "The peer's script (default: $VRSPH_ANCHOR_DIR/fenicsx_ex5.py, else ../shared/anchors next to the "
+                 "source tree)");
+}
+
+void reject_peer_options_without_peer(const CLI::App& cmd, const AnchorOptions& o) {
+  for (const char* option : {"--anchor-degree", "--anchor-ranks", "--anchor-script"})
+    check<ConfigError>(!o.anchor.empty() || cmd.count(option) == 0, option, " applies to the peer: add --anchor fenicsx");
+}
+
 std::string to_string(AnchorMesh mesh) {
   switch (mesh) {
     case AnchorMesh::Structured: return "lattice";

@@ -4,10 +4,24 @@
 // Lagrange Pk elements, PETSc CG + BoomerAMG, serial or on P ranks under mpirun, run as a
 // child process in the same run as vrsph and on the same cores. Shared by `bench solve`
 // and `bench accuracy`.
+#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
 namespace vrsph::cli {
+
+/// The peer's command-line options, the same in `bench solve` and `bench accuracy`.
+struct AnchorOptions {
+  std::string anchor;  ///< "" or fenicsx
+  std::string degrees = "1";
+  std::string script;
+  int ranks = 0;
+};
+/// Adds --anchor, --anchor-degree, --anchor-ranks, --anchor-script to `cmd`; `what` says
+/// what --anchor does in this command.
+void add_anchor_options(CLI::App& cmd, AnchorOptions& o, const std::string& what);
+/// A peer option without --anchor is a ConfigError (it would be silently ignored).
+void reject_peer_options_without_peer(const CLI::App& cmd, const AnchorOptions& o);
 
 /// Which nodes the peer solves on.
 enum class AnchorMesh {
