@@ -667,13 +667,13 @@ class TimeToAccuracy(unittest.TestCase):
         self.assertEqual(r["anchor_p2_mesh"], "own perturbed")
 
     def test_bench_accuracy_finds_the_smallest_run_per_target_and_never_times_a_miss(self):
-        targets = [1e-3, 1e-5, 1e-7]
-        out = run_json("bench", "accuracy", "--dim", "2", "--cloud", "uniform", "--targets", "1e-3,1e-5,1e-7",
+        targets = [1e-3, 1e-6]
+        out = run_json("bench", "accuracy", "--dim", "2", "--cloud", "uniform", "--targets", "1e-3,1e-6",
                        "--configurations", "vrsph", "--threads", "1", "--anchor", "fenicsx", "--anchor-script",
                        FAKE_PEER, "--anchor-degree", "1,2", "--anchor-ranks", "1", "--max-seconds", "5",
                        "--max-memory", "2G")
         rows = out["rows"]
-        self.assertEqual(len(rows), 3 * 3)  # vrsph, fenicsx-p1, fenicsx-p2
+        self.assertEqual(len(rows), 2 * 3)  # vrsph, fenicsx-p1, fenicsx-p2
         for r in rows:
             for key in ("target", "configuration", "N", "seconds", "error_inf", "status"):
                 self.assertIn(key, r)
