@@ -17,7 +17,7 @@ def summary(path):
     rows = doc["rows"]
     configs = list(dict.fromkeys(r["configuration"] for r in rows))
     meshes = {r["configuration"]: r.get("mesh", "") for r in rows}
-    out = [f"{doc['dim']}D {doc['cloud']}, vrsph threads {doc['threads']}, peer ranks {doc.get('anchor_ranks', '-')}"
+    out = [f"### {doc['dim']}D {doc['cloud']}, vrsph threads {doc['threads']}, peer ranks {doc.get('anchor_ranks', '-')}"
            f" (peer mesh: {', '.join(f'{c}: {meshes[c]}' for c in configs if c.startswith('fenicsx'))})", ""]
     out.append("| target | " + " | ".join(configs) + " | best vrsph / best peer |")
     out.append("|---" * (len(configs) + 2) + "|")
