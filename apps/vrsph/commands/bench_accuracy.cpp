@@ -243,7 +243,7 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
   AnchorSetup setup;
   if (!a.peer.anchor.empty()) {
     const std::vector<int> degrees = parse_anchor_degrees(a.peer.degrees);
-    setup = {fenicsx_script(a.peer.script), a.dim, anchor_ranks(a.peer.ranks)};
+    setup = anchor_setup(a.peer, a.dim);
     warm_up_anchor(setup, degrees);  // also: a missing or broken peer fails here, before any sweep
     for (int k : degrees) entries.push_back(anchor_entry(a, setup, k));
   }

@@ -93,7 +93,7 @@ std::vector<AnchorRows> run_anchors(const SolveBenchArgs& a, const BvpStudyParam
   std::vector<AnchorRows> anchor;
   if (a.peer.anchor.empty()) return anchor;
   const std::vector<int> degrees = parse_anchor_degrees(a.peer.degrees);
-  const AnchorSetup setup{fenicsx_script(a.peer.script), a.dim, anchor_ranks(a.peer.ranks)};
+  const AnchorSetup setup = anchor_setup(a.peer, a.dim);
   const bool perturbed = p.cloud == CloudFamily::Perturbed;
   Progress progress;
   std::exception_ptr failure;

@@ -124,6 +124,11 @@ int anchor_ranks(int requested) {
   return ranks;
 }
 
+AnchorSetup anchor_setup(const AnchorOptions& o, int dim) {
+  const int ranks = anchor_ranks(o.ranks);
+  return {fenicsx_script(o.script), dim, ranks};
+}
+
 std::vector<int> parse_anchor_degrees(const std::string& text) {
   std::vector<int> degrees = parse_int_list(text, "--anchor-degree");
   for (int k : degrees)

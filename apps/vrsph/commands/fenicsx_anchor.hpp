@@ -53,6 +53,9 @@ std::string fenicsx_script(const std::string& option);
 /// The peer's ranks: 0 = vrsph's threads; more than the machine's cores is a ConfigError
 /// (the comparison is on the same cores), as is mpirun missing for more than one.
 int anchor_ranks(int requested);
+/// The peer's set-up from its options: the ranks checked first (a ConfigError, whatever the
+/// script), then the script (IoError if it does not exist).
+AnchorSetup anchor_setup(const AnchorOptions& o, int dim);
 /// Pk degrees 1..3 from "1,2,3"; ConfigError otherwise.
 std::vector<int> parse_anchor_degrees(const std::string& text);
 /// Cells per direction that give Pk about the nodes of our n-interval lattice:
