@@ -14,8 +14,6 @@
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
-#include <vrsph/io/csv.hpp>
-#include <vrsph/methods/registry.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "bench_run.hpp"
@@ -58,19 +56,11 @@ std::vector<std::string> vrsph_method_options(const std::string& name) {
 }
 
 BvpStudyParams race_params(const AccuracyBenchArgs& a, const std::string& name) {
-  BvpStudyParams p;
-  p.dim = a.dim;
-  p.cloud = parse_cloud_family(a.cloud);
-  check<ConfigError>(p.cloud == CloudFamily::Uniform || p.cloud == CloudFamily::Perturbed,
-                     "--cloud must be uniform or perturbed for bench accuracy (the peer's node sets)");
-  p.h_factor = a.h_factor;
-  p.measure_memory = true;
-  p.check_m_matrix = false;  // a diagnostic, not part of a user's solve
-  p.method_options = parse_method_options(vrsph_method_options(name), {"vrsph"});
+  BvpStudyParams p =
+      example5_bench_params("bench accuracy", a.dim, a.cloud, a.h_factor, "vrsph", vrsph_method_options(name));
   p.solver.type = parse_solver(a.solver);
   p.solver.petsc_options = a.petsc_options;
   p.solver.dimension = a.dim;
-  (void)builtin_methods().create("vrsph", options_for(p.method_options, "vrsph"));  // ConfigError before any run
   return p;
 }
 
@@ -88,13 +78,7 @@ SweepRun fastest_of(int repeat, F&& once) {
 
 RaceEntry vrsph_entry(const AccuracyBenchArgs& a, const std::string& name) {
   auto p = std::make_shared<BvpStudyParams>(race_params(a, name));
-  // One-time costs (PETSc start-up, first page faults) stay out of the first timed run.
-  try {
-    (void)run_bvp(*p, "vrsph", 8, a.seed, false, nullptr, nullptr);
-  } catch (const Interrupted&) {
-    throw;
-  } catch (const Error&) {
-  }
+  warm_up_run(*p, "vrsph", a.seed);
   RaceEntry e;
   e.name = name;
   e.nominal_order = name == "vrsph-qw" || name == "vrsph-point" ? 2 : 3;
@@ -124,16 +108,7 @@ RaceEntry anchor_entry(const AccuracyBenchArgs& a, const AnchorSetup& setup, int
   const BvpStudyParams p = race_params(a, "vrsph");
   e.run = [=](int n) {
     const TemporaryFile points("vrsph-anchor-cloud", ".csv");
-    if (mesh == AnchorMesh::SamePoints) {
-      // Our very cloud of this n (the one run_bvp makes), for the peer to triangulate.
-      CloudSpec spec;
-      spec.family = p.cloud;
-      spec.box = Domain::unit_box(p.dim);
-      spec.n = n;
-      spec.delta = p.delta;
-      spec.seed = a.seed;
-      write_csv(points.path(), make_study_cloud(spec).cloud);
-    }
+    if (mesh == AnchorMesh::SamePoints) write_bench_cloud(p, n, a.seed, points.path());  // our very cloud
     return fastest_of(a.repeat, [&] {
       const AnchorRun r = run_anchor(setup, degree, n / degree, mesh, points.path());
       SweepRun s;

@@ -3,19 +3,14 @@
 // list of sizes and solvers in one run; optionally the FEniCSx Pk + BoomerAMG peer
 // (../shared/anchors/fenicsx_ex5.py, fenicsx_anchor.hpp) on about the same numbers of
 // unknowns, in the same run and on the same cores, with ratios.
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <exception>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/core/error.hpp>
-#include <vrsph/io/csv.hpp>
-#include <vrsph/methods/registry.hpp>
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "bench_run.hpp"
@@ -56,34 +51,13 @@ BvpStudyParams bench_params(const SolveBenchArgs& a, const Communicator& comm) {
   check<ConfigError>(a.peer.anchor.empty() || a.peer.anchor == "fenicsx", "--anchor must be fenicsx, got '", a.peer.anchor, "'");
   check<ConfigError>(!a.baseline || comm.distributed(), "--baseline compares with one rank: run under mpirun with "
                      "more than one rank");
-  BvpStudyParams p;
-  p.dim = a.dim;
-  p.cloud = parse_cloud_family(a.cloud);
-  check<ConfigError>(p.cloud == CloudFamily::Uniform || p.cloud == CloudFamily::Perturbed,
-                     "--cloud must be uniform or perturbed for bench solve (the peer's node sets)");
-  p.h_factor = a.h_factor;
-  p.measure_memory = true;
-  p.check_m_matrix = false;  // a diagnostic, not part of a user's solve
+  BvpStudyParams p = example5_bench_params("bench solve", a.dim, a.cloud, a.h_factor, a.method, a.method_opts);
   p.communicator = comm;
-  p.method_options = parse_method_options(a.method_opts, {a.method});
-  // ConfigError on an unknown method or option, before any run.
-  (void)builtin_methods().create(a.method, options_for(p.method_options, a.method));
   return p;
 }
 
 // The peer's rows of one size, one per degree.
 using AnchorRows = std::vector<AnchorRun>;
-
-// Our cloud of size n as a CSV file for the peer (the same cloud run_bvp makes).
-void write_bench_cloud(const BvpStudyParams& p, int n, std::uint64_t seed, const std::string& path) {
-  CloudSpec spec;
-  spec.family = p.cloud;
-  spec.box = Domain::unit_box(p.dim);
-  spec.n = n;
-  spec.delta = p.delta;
-  spec.seed = seed;
-  write_csv(path, make_study_cloud(spec).cloud);
-}
 
 // The peer on every size and degree, launched by rank 0 (serial or under its own mpirun)
 // while our other ranks sleep; only rank 0 prints. A failure of the peer is rank 0's;
@@ -187,26 +161,13 @@ std::vector<std::pair<std::string, TableCell>> bench_row(const BvpRun& r, int n,
           {"peak_memory_mib_per_rank", r.peak_memory_mib}};
 }
 
-// Warm-up on a tiny problem: one-time costs (PETSc and MPI start-up, page faults of the
-// libraries) stay out of the table, as the peer's import and form compilation do. Its failure
-// is not reported: a message about n = 8 would name a size nobody asked for; the first size
-// asked for fails with its own message if the cause is general.
-void warm_up(const BvpStudyParams& p, const SolveBenchArgs& a) {
-  try {
-    (void)run_bvp(p, a.method, 8, a.seed, false, nullptr, nullptr);
-  } catch (const Interrupted&) {
-    throw;
-  } catch (const Error&) {
-  }
-}
-
 // Every size with one solver: the rows, and the cost slopes in N into `meta`.
 void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<int>& sizes,
                   const std::vector<AnchorRows>& anchor, const std::string& solver, Table& t, Progress& progress,
                   double& done, double total_runs, nlohmann::ordered_json& meta) {
   const Communicator& comm = p.communicator;
   std::vector<Real> big_n, work, iterations;
-  warm_up(p, a);
+  warm_up_run(p, a.method, a.seed);
   for (std::size_t k = 0; k < sizes.size(); ++k) {
     progress.update(solver + " n=" + std::to_string(sizes[k]), done++ / total_runs);
     // The one-rank baseline first, rank 0 alone, with the other ranks asleep.
