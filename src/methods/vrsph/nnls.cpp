@@ -13,10 +13,11 @@
 // Measured with `vrsph_bench --benchmark_filter=Nnls`: see docs/performance.md. Clang (the
 // fuzz build) does not clone templates and gets the baseline. The clone only changes the
 // instruction selection, so results may differ in the last bits between CPUs (FMA
-// contraction), never between thread counts on one machine.
+// contraction), never between thread counts on one machine. The sanitizer builds compile one
+// copy (the same source; the clones doubled the largest file of that CI stage).
 // The steps are lambdas forced inline: a lambda the compiler leaves out of line is a
 // separate function without the clone's target, and runs the baseline code.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
 #define VRSPH_NNLS_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define VRSPH_NNLS_CLONES
