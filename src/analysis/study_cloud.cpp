@@ -54,8 +54,8 @@ StudyCloud make_part(const CloudSpec& spec, Index& centroid_inside) {
       // The lattice's size from its axes, then only this part of it.
       const bool vertex = spec.layout == Layout::Vertex;
       const int per_axis = vertex ? spec.n + 1 + 2 * ghost_layers : spec.n + 2 * ghost_layers + (ghost_layers == 0 ? 2 : 0);
-      long long whole = 1;
-      for (int k = 0; k < spec.box.dim; ++k) whole *= per_axis;
+      long long whole = 1;  // a periodic axis has n points (lo is hi's image), no ghosts
+      for (int k = 0; k < spec.box.dim; ++k) whole *= spec.box.periodic[static_cast<std::size_t>(k)] ? spec.n : per_axis;
       // (A whole cloud is generated and checked by the lattice generator, n first.)
       check<ConfigError>(parts == 1 || whole < std::numeric_limits<Index>::max(), "the lattice would have ", whole,
                          " particles, more than a 32-bit index can number: reduce --n");
@@ -108,9 +108,6 @@ StudyCloud make_study_cloud(const CloudSpec& spec) {
     check<ConfigError>(!spec.box.any_periodic() || spec.family == CloudFamily::Uniform ||
                            spec.family == CloudFamily::Perturbed,
                        "periodic axes apply to the uniform and perturbed lattices, not to this cloud family");
-    check<ConfigError>(!spec.box.any_periodic() || !comm.distributed(),
-                       "a periodic domain runs on one rank for now (periodic halos across the ranks are not "
-                       "implemented): run without mpirun");
     out = make_part(spec, inside);
   });
   if (spec.family == CloudFamily::Centroids) {

@@ -10,6 +10,13 @@
 //  - halo: leaves = halo entries of the local arrays, roots = the owners' local arrays.
 //    Bcast (REPLACE) is the ghost update.
 // The counts behind the first two come from MPI_Alltoall (one integer per rank pair).
+//
+// A box periodic along some axes: a halo entry may be an image, the owner's particle moved by
+// whole periods (periodic.hpp's shift codes). It is pushed, already moved, to every rank (the
+// owner itself too) whose pieces lie within the halo width of the image; its global number is
+// the original's, and the ghost update copies the original's value to it, as the serial
+// periodic partition does with its images. The local arrays then hold the images explicitly,
+// and their searches run without the minimum image.
 #include <petscsf.h>
 
 #include <algorithm>
@@ -19,6 +26,7 @@
 #include <limits>
 #include <numeric>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/parallel/distributed_cloud.hpp>
 #include "petsc_runtime.hpp"
 
@@ -249,9 +257,10 @@ ChunkShape agree_on_chunks(const PointCloud& chunk, Real halo_width, const Commu
 // PointCloud) carries neither.
 void broadcast_domain(const PointCloud& chunk, int source, const Communicator& comm, PointCloud& local) {
   const Domain& d = chunk.domain;
-  std::array<double, 14> packed{static_cast<double>(static_cast<int>(d.shape)), static_cast<double>(d.dim),
+  std::array<double, 16> packed{static_cast<double>(static_cast<int>(d.shape)), static_cast<double>(d.dim),
                                 d.lo[0], d.lo[1], d.lo[2], d.hi[0], d.hi[1], d.hi[2], d.centre[0], d.centre[1],
-                                d.centre[2], d.radius, chunk.spacing, 0};
+                                d.centre[2], d.radius, chunk.spacing, d.periodic[0] ? 1.0 : 0.0,
+                                d.periodic[1] ? 1.0 : 0.0, d.periodic[2] ? 1.0 : 0.0};
   MPI_Bcast(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, source, mpi_or_self(comm));
   Domain& out = local.domain;
   out.shape = static_cast<Domain::Shape>(static_cast<int>(packed[0]));
@@ -261,6 +270,7 @@ void broadcast_domain(const PointCloud& chunk, int source, const Communicator& c
   out.centre = Vec3(packed[8], packed[9], packed[10]);
   out.radius = packed[11];
   local.spacing = packed[12];
+  for (std::size_t k = 0; k < 3; ++k) out.periodic[k] = packed[13 + k] != 0;
 }
 
 // What travels with a particle: its global number, position, tag and normal.
@@ -305,10 +315,32 @@ Payload chunk_payload(const PointCloud& chunk, Index first_id, bool normals) {
   return p;
 }
 
-// The (owned particle, receiving rank) pairs of the halo: owned particles within halo_width
-// of one of another rank's boxes, each box a stretch of that rank's part of the curve.
-void halo_pairs(const Payload& own, const Vec3& lo, const Vec3& hi, int dim, Real halo_width, MPI_Comm comm, int me,
-                int P, std::vector<std::size_t>& pair_particle, std::vector<int>& pair_rank) {
+// The shift codes of the images of x that can lie within `width` of the box (no_shift first,
+// then the combinations of the periodic faces x is near), as periodic_images picks them.
+std::vector<std::uint8_t> image_codes(const Vec3& x, const Domain& d, Real width) {
+  std::array<std::array<int, 3>, 3> options{};
+  std::array<std::size_t, 3> count{1, 1, 1};
+  for (int k = 0; k < d.dim; ++k) {
+    const auto sk = static_cast<std::size_t>(k);
+    if (!d.periodic[sk]) continue;
+    if (x[k] - d.lo[k] < width) options[sk][count[sk]++] = 1;
+    if (d.hi[k] - x[k] <= width) options[sk][count[sk]++] = -1;
+  }
+  std::vector<std::uint8_t> codes;
+  for (std::size_t a = 0; a < count[0]; ++a)
+    for (std::size_t b = 0; b < count[1]; ++b)
+      for (std::size_t c = 0; c < count[2]; ++c)
+        codes.push_back(static_cast<std::uint8_t>((options[0][a] + 1) + 3 * (options[1][b] + 1) + 9 * (options[2][c] + 1)));
+  return codes;
+}
+
+// The (owned particle, receiving rank, shift) triples of the halo: owned particles, or their
+// periodic images, within halo_width of one of another rank's boxes (of the rank's own boxes
+// for an image), each box a stretch of that rank's part of the curve.
+void halo_pairs(const Payload& own, const Vec3& lo, const Vec3& hi, const Domain& domain, Real halo_width, MPI_Comm comm,
+                int me, int P, std::vector<std::size_t>& pair_particle, std::vector<int>& pair_rank,
+                std::vector<std::uint8_t>& pair_shift) {
+  const int dim = domain.dim;
   const std::size_t n_own = own.size();
   std::vector<Index> by_key(n_own);
   std::iota(by_key.begin(), by_key.end(), 0);
@@ -338,16 +370,22 @@ void halo_pairs(const Payload& own, const Vec3& lo, const Vec3& hi, int dim, Rea
     }
   }
   MPI_Allgather(boxes.data(), 6 * boxes_per_rank, MPI_DOUBLE, all_boxes.data(), 6 * boxes_per_rank, MPI_DOUBLE, comm);
+  const bool periodic = domain.any_periodic();
   for (std::size_t k = 0; k < n_own; ++k) {
-    const Vec3 x = own.position(k);
-    for (int q = 0; q < P; ++q) {
-      if (q == me) continue;
-      bool near = false;
-      for (int b = 0; b < boxes_per_rank && !near; ++b)
-        near = box_distance(x, &all_boxes[6 * (static_cast<std::size_t>(q) * boxes_per_rank + static_cast<std::size_t>(b))]) <= halo_width;
-      if (near) {
-        pair_particle.push_back(k);
-        pair_rank.push_back(q);
+    const std::vector<std::uint8_t> codes =
+        periodic ? image_codes(own.position(k), domain, halo_width) : std::vector<std::uint8_t>{no_shift};
+    for (const std::uint8_t code : codes) {
+      const Vec3 x = own.position(k) + periodic_shift(domain, code);
+      for (int q = 0; q < P; ++q) {
+        if (q == me && code == no_shift) continue;
+        bool near = false;
+        for (int b = 0; b < boxes_per_rank && !near; ++b)
+          near = box_distance(x, &all_boxes[6 * (static_cast<std::size_t>(q) * boxes_per_rank + static_cast<std::size_t>(b))]) <= halo_width;
+        if (near) {
+          pair_particle.push_back(k);
+          pair_rank.push_back(q);
+          pair_shift.push_back(code);
+        }
       }
     }
   }
@@ -364,7 +402,12 @@ std::vector<Index> local_arrays(const Payload& own, const Payload& halo, Distrib
   entries.reserve(own.size() + halo.size());
   for (std::size_t k = 0; k < own.size(); ++k) entries.push_back({own.id[k], k, true});
   for (std::size_t k = 0; k < halo.size(); ++k) entries.push_back({halo.id[k], k, false});
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
+  // By number; a periodic box's images share their original's (owned first, then by slot).
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    if (a.id != b.id) return a.id < b.id;
+    if (a.owned != b.owned) return a.owned;
+    return a.slot < b.slot;
+  });
   const std::size_t n_local = entries.size();
   const bool normals = own.normals;
   dc.global_id.resize(n_local);
@@ -440,7 +483,16 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
   // Halo: owned particles within halo_width of another rank's pieces of the curve.
   std::vector<std::size_t> pair_particle;
   std::vector<int> pair_rank;
-  halo_pairs(own, lo, hi, shape.dim, halo_width, ex->comm, me, P, pair_particle, pair_rank);
+  std::vector<std::uint8_t> pair_shift;
+  const Domain& domain = dc.local.domain;
+  if (domain.any_periodic())
+    for (int k = 0; k < shape.dim; ++k)
+      collective(comm, [&] {
+        check<ConfigError>(!domain.periodic[static_cast<std::size_t>(k)] || halo_width < domain.period(k), "periodic axis ",
+                           "xyz"[k], ": the halo reaches ", halo_width, " across the ranks, beyond one period ",
+                           domain.period(k), "; use a smaller h or a longer box");
+      });
+  halo_pairs(own, lo, hi, domain, halo_width, ex->comm, me, P, pair_particle, pair_rank, pair_shift);
   const Index halo_count = slots_for(ex->comm, P, pair_rank, remote, recv_begin);
   PetscSF push = make_sf(ex->comm, halo_count, remote, nullptr);
   struct Destroy {
@@ -455,7 +507,12 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
   }
   dc.stats.halo_bytes = static_cast<long long>(n_pairs) * (particle_bytes + static_cast<long long>(sizeof(Index)));
   Payload pairs(n_pairs, shape.normals);
-  for (std::size_t p = 0; p < n_pairs; ++p) pairs.copy(p, own, pair_particle[p]);
+  for (std::size_t p = 0; p < n_pairs; ++p) {
+    pairs.copy(p, own, pair_particle[p]);
+    if (pair_shift[p] == no_shift) continue;
+    const Vec3 s = periodic_shift(domain, pair_shift[p]);
+    for (std::size_t c = 0; c < 3; ++c) pairs.xyz[3 * p + c] += s[static_cast<int>(c)];
+  }
   const Payload halo = pairs.sent(push, n_halo);
   const std::vector<Index> halo_slot_to_local = local_arrays(own, halo, dc, *ex);
 

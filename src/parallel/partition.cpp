@@ -90,14 +90,11 @@ void Partition::stage(const std::function<void()>& run) const {
 }
 
 std::unique_ptr<Partition> make_partition(const PointCloud& chunk, Real halo_width, const Communicator& comm) {
-  if (any_rank(comm, chunk.domain.any_periodic())) {
-    check<ConfigError>(!comm.distributed(), "a periodic domain runs on one rank for now (periodic halos across the "
-                                            "ranks are not implemented): run without mpirun");
-    return std::make_unique<PeriodicCloud>(chunk, halo_width);
-  }
 #if VRSPH_HAVE_MPI
+  // Under MPI a periodic box's images are halo entries of the ranks' partition.
   if (comm.distributed()) return partition_over_ranks(chunk, halo_width, comm);
 #endif
+  if (chunk.domain.any_periodic()) return std::make_unique<PeriodicCloud>(chunk, halo_width);
   (void)halo_width;
   (void)comm;
   return std::make_unique<WholeCloud>(chunk);

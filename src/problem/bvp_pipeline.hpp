@@ -107,10 +107,10 @@ SparseMatrix kept_operator_rows(const Partition& part, const Stencil& L);
 /// the rows are freed, and the correction that spreads its defect evenly.
 struct PinnedRow {
   Index particle = -1;                         ///< local; -1: no pin here
-  std::vector<std::pair<Index, Real>> entries; ///< (global particle, L_pj)
+  std::vector<std::pair<Index, Real>> entries; ///< (local particle, L_pj)
   Real rhs = 0;                                ///< f_p, or the compact row's average of f
 };
-PinnedRow pinned_row(const Partition& part, const Stencil& L, const LocalData& data, Index pinned);
+PinnedRow pinned_row(const Stencil& L, const LocalData& data, Index pinned);
 void spread_periodic_defect(const Partition& part, LinearSystem& sys, const PinnedRow& row, const Field& f_owned,
                             const BvpSolveOptions& o, Eigen::VectorXd& x, BvpSolution& s);
 /// u and the local residuals back in the chunk's order; the Neumann solvability warning.

@@ -103,8 +103,6 @@ std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolv
   }
   if (any_rank(comm, chunk.domain.any_periodic())) {
     collective(comm, [&] {
-      check<ConfigError>(!comm.distributed(), "a periodic domain runs on one rank for now (periodic halos across the "
-                                              "ranks are not implemented): run without mpirun");
       check<ConfigError>(!covering && !knn, "a periodic domain takes --h-mode fixed (the covering radius and the knn "
                                             "radii are not computed across periodic faces yet)");
       check_periodic_cloud(chunk, sup.h);

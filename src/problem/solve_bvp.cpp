@@ -121,7 +121,7 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   s.local_residual = rows.L.residual.empty() ? Field::Zero(part->local_size())
                                              : Field(Eigen::Map<const Field>(rows.L.residual.data(), part->local_size()));
   const detail::PinnedRow dropped_row =
-      given.periodic_without_boundary ? detail::pinned_row(*part, rows.L, data, pinned) : detail::PinnedRow{};
+      given.periodic_without_boundary ? detail::pinned_row(rows.L, data, pinned) : detail::PinnedRow{};
   rows = detail::OperatorRows();
   s.seconds_assemble = max_over_ranks(o.communicator, watch.seconds());
   mark(&s.stage_peak_bytes.assemble);

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <set>
 #include <vrsph/analysis/bvp_study.hpp>
@@ -265,12 +266,110 @@ TEST(DistributedSolve, UnsupportedSettingsAreConfigErrors) {
   o.communicator = world();
   o.solver.type = SolverType::UmfPack;
   EXPECT_THROW(solve(part_of(whole, b, e), o), ConfigError);
-  // Periodic halos across the ranks are not implemented: refused, not solved wrongly.
-  BoundaryValueProblem periodic = part_of(whole, b, e);
-  periodic.cloud.domain.set_periodic("x");
-  o.solver = direct_petsc();
-  o.spacing = 0.1;
-  EXPECT_THROW_MSG(solve(periodic, o), ConfigError, "a periodic domain runs on one rank");
+}
+
+namespace {
+PointCloud periodic_box(int dim, int n, const std::string& axes, std::uint64_t seed) {
+  CloudSpec spec;
+  spec.family = CloudFamily::Perturbed;
+  spec.box = Domain::unit_box(dim);
+  spec.box.set_periodic(axes);
+  spec.n = n;
+  spec.seed = seed;
+  return make_study_cloud(spec).cloud;
+}
+
+// Periodic data: u = sin 2πx cos 2πy (times cos 2πz in 3D) as the boundary values, a source
+// with zero mean over a period (a fully periodic problem needs one) and a positive periodic a.
+BoundaryValueProblem periodic_problem_on(const PointCloud& cloud) {
+  constexpr Real pi = std::numbers::pi;
+  BoundaryValueProblem p = problem_on(cloud);
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    const Real u = std::sin(2 * pi * x[0]) * std::cos(2 * pi * x[1]) * (cloud.dim == 3 ? std::cos(2 * pi * x[2]) : 1.0);
+    p.a[i] = 1 + 0.25 * std::sin(2 * pi * x[0]) * std::cos(2 * pi * x[1]);
+    p.f[i] = u;
+    p.g[i] = u;
+  }
+  return p;
+}
+
+// x - y moved by whole periods along the periodic axes into (-period/2, period/2].
+Vec3 minimum_image(Vec3 v, const Domain& d) {
+  for (int k = 0; k < d.dim; ++k)
+    if (d.periodic[static_cast<std::size_t>(k)]) v[k] -= d.period(k) * std::round(v[k] / d.period(k));
+  return v;
+}
+}  // namespace
+
+// A periodic box over the ranks: the halo holds, besides the other ranks' particles, the images
+// of particles (own ones too) across the periodic faces, each numbered as its original and
+// placed where a particle near the opposite face sees it.
+TEST(DistributedCloud, PeriodicImagesAreHaloEntries) {
+  for (const char* axes : {"x", "x,y"}) {
+    const PointCloud full = periodic_box(2, 20, axes, 3);
+    const auto [b, e] = my_slice(full.size());
+    const Real width = 0.16;
+    const DistributedCloud dc = distribute(slice(full, b, e), width, world());
+    EXPECT_EQ(sum_over_ranks(world(), static_cast<long long>(dc.owned_count)), full.size());
+    EXPECT_TRUE(dc.local.domain.any_periodic());
+    long long images = 0;
+    for (Index i = 0; i < dc.local_size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      const Vec3 shift = dc.local.positions[si] - full.positions[static_cast<std::size_t>(dc.global_id[si])];
+      EXPECT_LT(minimum_image(shift, full.domain).norm(), 1e-12) << "entry " << i << " is not its original moved by periods";
+      images += shift.norm() > 0.5;
+      if (dc.owned[si]) {
+        EXPECT_EQ(shift.norm(), 0.0);
+      }
+    }
+    EXPECT_GT(sum_over_ranks(world(), images), 0);
+    for (Index i = 0; i < dc.local_size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (!dc.owned[si]) continue;
+      const Vec3& xi = dc.local.positions[si];
+      for (Index j = 0; j < full.size(); ++j) {
+        const Vec3 v = minimum_image(full.positions[static_cast<std::size_t>(j)] - xi, full.domain);
+        if (v.norm() >= width) continue;
+        const auto [lo, hi] = std::equal_range(dc.global_id.begin(), dc.global_id.end(), j);
+        bool seen = false;
+        for (auto it = lo; it != hi && !seen; ++it)
+          seen = (dc.local.positions[static_cast<std::size_t>(it - dc.global_id.begin())] - (xi + v)).norm() < 1e-12;
+        EXPECT_TRUE(seen) << axes << ": particle " << j << " (or its image) within the halo width of owned particle "
+                          << dc.global_id[si] << " is not in the halo where it sees it";
+      }
+    }
+    // The ghost update gives each image its original's value.
+    Field v(dc.local_size());
+    for (Index i = 0; i < dc.local_size(); ++i) v[i] = dc.owned[static_cast<std::size_t>(i)] ? dc.global_id[static_cast<std::size_t>(i)] : -1;
+    update_halo(dc, v);
+    for (Index i = 0; i < dc.local_size(); ++i) EXPECT_EQ(v[i], dc.global_id[static_cast<std::size_t>(i)]);
+  }
+}
+
+// Partly periodic (Dirichlet on the other faces) and fully periodic boxes (u up to a constant,
+// the pinned particle's defect spread over the ranks), 2D and 3D: as serial.
+TEST(DistributedSolve, PeriodicBoxesAsSerial) {
+  struct Case {
+    const char* method;
+    int dim, n;
+    const char* axes;
+  };
+  for (const Case& c : {Case{"vrsph", 2, 20, "x"}, Case{"vrsph", 2, 20, "x,y"}, Case{"sph", 2, 16, "x,y"},
+                        Case{"fpm", 2, 16, "y"}, Case{"vrsph", 3, 8, "x,y,z"}}) {
+    const PointCloud full = periodic_box(c.dim, c.n, c.axes, 9);
+    const BoundaryValueProblem whole = periodic_problem_on(full);
+    const BvpSolveOptions serial = serial_options(c.method, c.n);
+    const BvpSolution ref = solve(whole, serial);
+    const auto [s, b] = solve_my_part(whole, serial);
+    const Real scale = ref.u.cwiseAbs().maxCoeff();
+    for (Index k = 0; k < s.u.size(); ++k)
+      ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-9 * scale) << c.method << " " << c.dim << "D periodic " << c.axes
+                                                      << " particle " << b + k;
+    EXPECT_EQ(s.m_matrix, ref.m_matrix) << c.method << " " << c.axes;
+    EXPECT_NEAR(s.periodic_source_shift, ref.periodic_source_shift, 1e-9 * std::max(1.0, std::abs(ref.periodic_source_shift)));
+    EXPECT_EQ(s.distribution.ranks, world().size());
+  }
 }
 
 TEST(DistributedStudy, TheStudyTableEqualsTheSerialOne) {
