@@ -95,11 +95,10 @@ py::dict stencil(const py::object& self, const std::string& method_name, const s
     check_support_is_local(radius, cloud_extent(cloud), h_factor);
   }
   const bool periodic = cloud.domain.any_periodic();
-  check<ConfigError>(!periodic || user_list.is_none(), "a neighbour list of your own is not taken on a periodic cloud "
-                     "yet (its pairs carry no periodic images): leave neighbours out");
+  // A list of one's own is taken on a periodic box too: its pairs go to the nearest images.
   const std::shared_ptr<const NeighbourList> neighbours =
-      periodic ? nullptr
-               : user_list.is_none() ? cached_neighbours(self, radius) : user_neighbours(cloud, user_list.cast<py::tuple>(), radius);
+      !user_list.is_none() ? user_neighbours(cloud, user_list.cast<py::tuple>(), radius)
+                           : periodic ? nullptr : cached_neighbours(self, radius);
   Built b = [&] {  // the C++ work without the GIL
     py::gil_scoped_release release;
     Built r;
@@ -108,7 +107,9 @@ py::dict stencil(const py::object& self, const std::string& method_name, const s
     StencilRequest req;
     req.kind = kind;
     if (kind == OperatorKind::DivAGrad) req.coefficient = &a;
-    if (periodic) {  // rows on the periodic images, columns folded back
+    if (periodic && neighbours) {  // rows on the periodic images, columns folded back
+      r.s = periodic_stencil(*method, cloud, *neighbours, kt, r.spacing, req);
+    } else if (periodic) {
       SearchParams sp;
       sp.radius = radius;
       r.s = periodic_stencil(*method, cloud, sp, kt, r.spacing, req);

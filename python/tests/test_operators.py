@@ -172,3 +172,25 @@ def test_a_neighbour_list_of_the_callers_own():
         vrsph.stencil(c, method="vrsph", h=h, neighbours="all of them")
     with pytest.raises(vrsph.ArgumentTypeError, match="indices must be a 1D array of integers"):
         vrsph.stencil(c, method="vrsph", h=h, neighbours=(pairs.indptr, pairs.indices.astype(float)))
+
+
+def test_a_neighbour_list_of_the_callers_own_on_a_periodic_box():
+    # SciPy's periodic k-d tree (boxsize) lists the pairs across the faces; vrsph takes each to
+    # the nearest image and builds the same rows as on its own minimum-image search.
+    scipy_spatial = pytest.importorskip("scipy.spatial")
+    c = vrsph.cloud.perturbed(dim=2, n=20, seed=5, periodic="x,y")
+    h = 3 * c.spacing
+    tree = scipy_spatial.cKDTree(np.asarray(c.points), boxsize=[1.0, 1.0])
+    pairs = tree.sparse_distance_matrix(tree, h * (1 - 1e-12), output_type="coo_matrix").tocsr()
+    pairs.setdiag(0)
+    pairs.eliminate_zeros()
+    for method in ("vrsph", "fpm", "sph"):
+        own = vrsph.stencil(c, method=method, h=h)
+        theirs = vrsph.stencil(c, method=method, h=h, neighbours=(pairs.indptr, pairs.indices, pairs.data))
+        assert abs(own - theirs).max() <= 1e-9 * abs(own).max(), method
+    broken = pairs.tolil()
+    broken[0, broken.rows[0][0]] = 0
+    broken = broken.tocsr()
+    broken.eliminate_zeros()
+    with pytest.raises(vrsph.InputError, match="does not list"):
+        vrsph.stencil(c, method="fpm", h=h, neighbours=broken)

@@ -145,7 +145,8 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     indices)``, ``(indptr, indices, distances)`` or a SciPy sparse matrix whose pattern is the
     list (rows in any order, no self); it is checked against the cloud and the support radius
     (every listed pair closer than it, pairs within both particles' radii in both rows, given
-    distances equal to the positions'), distances are computed where missing."""
+    distances equal to the positions'), distances are computed where missing. On a periodic
+    box each listed pair is taken to the nearest image (e.g. SciPy's ``cKDTree(..., boxsize=...)``)."""
     _check_cloud(cloud)
     operator = _args.text(operator, "operator")
     if operator in ("divergence", "curl", "vector-laplacian", "grad-div"):

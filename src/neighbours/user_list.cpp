@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/neighbours/user_list.hpp>
 #include "two_pass.hpp"
 
@@ -20,6 +21,20 @@ void check_offsets(std::span<const Index> offsets, std::size_t entries, Index n)
   check<InputError>(static_cast<std::size_t>(offsets.back()) == entries, "neighbour list: the offsets end at ",
                     offsets.back(), " but ", entries, " indices are given");
 }
+// The image of x_j that x_i sees on a periodic box (the nearest along each periodic axis; the
+// only one within a support radius below half the period): its shift code, no_shift otherwise.
+std::uint8_t nearest_image(const Domain& d, const Vec3& xi, const Vec3& xj) {
+  int code = 0;
+  for (int k = 2; k >= 0; --k) {
+    int s = 0;
+    if (k < d.dim && d.periodic[static_cast<std::size_t>(k)]) {
+      const Real v = xj[k] - xi[k], half = 0.5 * d.period(k);
+      s = v > half ? -1 : v < -half ? 1 : 0;
+    }
+    code = 3 * code + (s + 1);
+  }
+  return static_cast<std::uint8_t>(code);
+}
 }  // namespace
 
 NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours& user) {
@@ -30,6 +45,7 @@ NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours&
   check<InputError>(user.radii.size() == 1 || user.radii.size() == static_cast<std::size_t>(n), "neighbour list: ",
                     user.radii.size(), " support radii for ", n, " particles (give one, or one per particle)");
   NeighbourList nl;
+  const bool periodic = cloud.domain.any_periodic();
   nl.radii.resize(static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i) {
     const Real h = user.radii[user.radii.size() == 1 ? 0 : static_cast<std::size_t>(i)];
@@ -38,11 +54,26 @@ NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours&
     nl.radii[static_cast<std::size_t>(i)] = h;
   }
   nl.offsets.assign(user.offsets.begin(), user.offsets.end());
+  // A periodic box: each pair's vector to the nearest image (as the search stores it, with its
+  // shift code); the period must exceed twice the largest radius and the particles lie in the box.
+  if (periodic) check_periodic_cloud(cloud, *std::max_element(nl.radii.begin(), nl.radii.end()));
+  const auto image = [&](Index i, Index j, std::uint8_t& code) {
+    const Vec3& xj = cloud.positions[static_cast<std::size_t>(j)];
+    code = periodic ? nearest_image(cloud.domain, cloud.positions[static_cast<std::size_t>(i)], xj) : no_shift;
+    return code == no_shift ? xj : Vec3(xj + periodic_shift(cloud.domain, code));
+  };
   // As the search refuses it: a particle without neighbours has no row (SearchParams's default).
   detail::check_min_neighbours(cloud, nl, nl.radii, SearchParams{}.min_neighbours, false);
   nl.indices.resize(user.indices.size());
   nl.distances.resize(user.indices.size());
-  std::vector<std::pair<Index, Real>> row;
+  if (periodic) nl.shifts.resize(user.indices.size());
+  struct Entry {
+    Index j;
+    Real r;
+    std::uint8_t code;
+    bool operator<(const Entry& o) const { return j < o.j; }
+  };
+  std::vector<Entry> row;
   for (Index i = 0; i < n; ++i) {
     const auto si = static_cast<std::size_t>(i);
     const auto begin = static_cast<std::size_t>(nl.offsets[si]), end = static_cast<std::size_t>(nl.offsets[si + 1]);
@@ -55,20 +86,22 @@ NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours&
       check<InputError>(j != i, "neighbour list: row ", i, " lists the particle itself");
       // As the search computes it (the square root of the squared distance), so that a list
       // found by find_neighbours comes back bitwise equal.
-      const Real r2 = (cloud.positions[static_cast<std::size_t>(j)] - xi).squaredNorm(), r = std::sqrt(r2);
+      std::uint8_t code = no_shift;
+      const Real r2 = (image(i, j, code) - xi).squaredNorm(), r = std::sqrt(r2);
       check<InputError>(r2 < h * h, "neighbour list: particle ", j, " in row ", i, " is at distance ", r,
                         ", not within the row's support radius ", h);
       if (!user.distances.empty())
         check<InputError>(std::abs(user.distances[k] - r) <= 1e-9 * h, "neighbour list: the distance of particle ", j,
                           " in row ", i, " is given as ", user.distances[k], " but the positions give ", r);
-      row.emplace_back(j, r);
+      row.push_back({j, r, code});
     }
     std::sort(row.begin(), row.end());
     for (std::size_t k = 0; k < row.size(); ++k) {
-      check<InputError>(k == 0 || row[k].first != row[k - 1].first, "neighbour list: row ", i, " lists particle ",
-                        row[k].first, " twice");
-      nl.indices[begin + k] = row[k].first;
-      nl.distances[begin + k] = row[k].second;
+      check<InputError>(k == 0 || row[k].j != row[k - 1].j, "neighbour list: row ", i, " lists particle ", row[k].j,
+                        " twice");
+      nl.indices[begin + k] = row[k].j;
+      nl.distances[begin + k] = row[k].r;
+      if (periodic) nl.shifts[begin + k] = row[k].code;
     }
   }
   // A pair within both radii belongs to both rows (gather lists: j in N(i) iff r_ij < h_i).
@@ -77,8 +110,8 @@ NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours&
          k < static_cast<std::size_t>(nl.offsets[static_cast<std::size_t>(i) + 1]); ++k) {
       const Index j = nl.indices[k];
       const Real hj = nl.radius(j);
-      if (!((cloud.positions[static_cast<std::size_t>(j)] - cloud.positions[static_cast<std::size_t>(i)]).squaredNorm() < hj * hj))
-        continue;
+      std::uint8_t code = no_shift;
+      if (!((image(i, j, code) - cloud.positions[static_cast<std::size_t>(i)]).squaredNorm() < hj * hj)) continue;
       const auto other = nl.of(j);
       check<InputError>(std::binary_search(other.begin(), other.end(), i), "neighbour list: row ", i, " lists particle ",
                         j, " but row ", j, " does not list ", i, " although they are ", nl.distances[k],

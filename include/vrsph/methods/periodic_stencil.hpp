@@ -14,5 +14,11 @@ namespace vrsph {
 /// find_neighbours and Method::build do (a period not larger than 2 h: InputError).
 Stencil periodic_stencil(const Method& method, const PointCloud& cloud, const SearchParams& search, KernelType kernel,
                          Real spacing, const StencilRequest& request);
+/// The same from a minimum-image neighbour list over the N particles (find_neighbours on the
+/// periodic cloud, or neighbour_list_from a list of one's own): the rows of the images are that
+/// list moved by their shifts, cut where the images end, as the search of the images cuts them.
+/// InputError for a list of another size or without shift codes.
+Stencil periodic_stencil(const Method& method, const PointCloud& cloud, const NeighbourList& neighbours,
+                         KernelType kernel, Real spacing, const StencilRequest& request);
 
 }  // namespace vrsph

@@ -24,6 +24,9 @@ struct UserNeighbours {
 /// radii listed in one row only (a broken symmetric list); a radius that is not positive and
 /// finite. GeometryError, as the search raises it, for a non-ghost particle without neighbours.
 /// Not checked: pairs missing from both rows (that needs a search of its own).
+/// On a periodic box (Domain::periodic) a pair is taken across the periodic faces to the
+/// nearest image, whose shift code is stored as the minimum-image search stores it; the box is
+/// checked as that search checks it (period above twice the largest radius, particles inside).
 NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours& user);
 
 }  // namespace vrsph

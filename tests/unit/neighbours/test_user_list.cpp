@@ -6,7 +6,9 @@
 #include <vector>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/methods/registry.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/neighbours/user_list.hpp>
 #include "test_util.hpp"
@@ -90,4 +92,65 @@ TEST(UserNeighbours, ListsThatContradictTheCloudAreNamed) {
   std::vector<Index> o3 = off;
   o3[5] = o3[4] - 1;
   EXPECT_THROW_MSG(with(o3, idx), InputError, "the row offsets decrease at particle 4");
+}
+
+// On a periodic box the caller's pairs go to the nearest image: the minimum-image search's
+// list comes back entry for entry (indices, distances and shift codes, bitwise), the periodic
+// stencil built from it equals the one on the library's search, and a pair listed on one side
+// of a periodic face only is named.
+TEST(UserNeighbours, PeriodicBoxPairsTakeTheNearestImage) {
+  PointCloud c = vertex_lattice([] {
+    Domain d = Domain::unit_box(2);
+    d.set_periodic("all");
+    return d;
+  }(), 12);
+  perturb(c, {.delta = 0.3, .seed = 6});
+  const Real h = 3 * c.spacing;
+  SearchParams p;
+  p.radius = h;
+  const NeighbourList ref = find_neighbours(c, p);
+  ASSERT_EQ(ref.shifts.size(), static_cast<std::size_t>(ref.total()));
+  const std::vector<Index> off(ref.offsets.begin(), ref.offsets.end()), idx(ref.indices.begin(), ref.indices.end());
+  const std::vector<Real> radius{h};
+  const NeighbourList nl = neighbour_list_from(c, {off, idx, {}, radius});
+  ASSERT_EQ(nl.offsets, ref.offsets);
+  EXPECT_TRUE(std::equal(nl.indices.begin(), nl.indices.end(), ref.indices.begin()));
+  EXPECT_TRUE(std::equal(nl.distances.begin(), nl.distances.end(), ref.distances.begin()));
+  EXPECT_EQ(nl.shifts, ref.shifts);
+  EXPECT_GT(std::count_if(nl.shifts.begin(), nl.shifts.end(), [](std::uint8_t s) { return s != no_shift; }), 0);
+  for (const char* name : {"vrsph", "fpm", "sph"}) {
+    const auto m = builtin_methods().create(name);
+    for (OperatorKind kind : {OperatorKind::Laplacian, OperatorKind::Gradient}) {
+      StencilRequest req;
+      req.kind = kind;
+      const Stencil a = periodic_stencil(*m, c, p, KernelType::CubicSpline, c.spacing, req);
+      const Stencil b = periodic_stencil(*m, c, nl, KernelType::CubicSpline, c.spacing, req);
+      ASSERT_EQ(a.col, b.col) << name;
+      ASSERT_EQ(a.values.size(), b.values.size());
+      for (std::size_t comp = 0; comp < a.values.size(); ++comp)
+        for (std::size_t k = 0; k < a.values[comp].size(); ++k)
+          ASSERT_NEAR(a.values[comp][k], b.values[comp][k], 1e-9 * std::abs(a.values[comp][k]) + 1e-9) << name << " entry " << k;
+    }
+  }
+  // Row 0 (at a corner of the box) loses a neighbour across a face; that neighbour's row keeps it.
+  Index across = -1, at = -1;
+  for (Index k = ref.offsets[0]; k < ref.offsets[1] && across < 0; ++k)
+    if (ref.shifts[static_cast<std::size_t>(k)] != no_shift) {
+      across = ref.indices[static_cast<std::size_t>(k)];
+      at = k;
+    }
+  ASSERT_GE(across, 0);
+  std::vector<Index> off2 = off, idx2 = idx;
+  idx2.erase(idx2.begin() + at);
+  for (std::size_t i = 1; i < off2.size(); ++i) off2[i] -= 1;
+  EXPECT_THROW_MSG(neighbour_list_from(c, {off2, idx2, {}, radius}), InputError, "but row 0 does not list");
+  // The period must exceed twice the radius, as for the search.
+  const std::vector<Real> too_wide{0.6};
+  EXPECT_THROW_MSG(neighbour_list_from(c, {off, idx, {}, too_wide}), InputError, "larger than twice the support radius");
+  // Not a periodic list: refused by the periodic stencil.
+  NeighbourList plain = nl;
+  plain.shifts.clear();
+  const auto m = builtin_methods().create("sph");
+  EXPECT_THROW_MSG(periodic_stencil(*m, c, plain, KernelType::CubicSpline, c.spacing, {OperatorKind::Laplacian}),
+                   InputError, "no periodic shift codes");
 }
