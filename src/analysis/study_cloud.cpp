@@ -64,8 +64,13 @@ StudyCloud make_part(const CloudSpec& spec, Index& centroid_inside) {
                          : cell_centred_lattice(spec.box, spec.n, ghost_layers == 0, ghost_layers, range);
       out.total = out.cloud.size() + (parts > 1 ? static_cast<Index>(whole) - (range.end - range.begin) : 0);
       out.first = parts > 1 ? range.begin : 0;
+      // A part may hold none of the lattice's boundary particles (a periodic axis's columns):
+      // it perturbs as the whole cloud does.
+      const bool bounded = spec.family == CloudFamily::Perturbed && parts > 1 &&
+                           any_rank(spec.communicator, out.cloud.count(Tag::Dirichlet) + out.cloud.count(Tag::Neumann) > 0);
       if (spec.family == CloudFamily::Perturbed && out.cloud.size() > 0) {
         PerturbOptions o;
+        if (parts > 1) o.bounded = bounded ? 1 : 0;
         o.delta = spec.delta;
         o.seed = spec.seed;
         o.boundary_tangential = spec.perturb_boundary;

@@ -129,7 +129,7 @@ void perturb(PointCloud& cloud, const PerturbOptions& o) {
   check<InputError>(cloud.spacing > 0, "perturbation needs the cloud spacing dx");
   check<ConfigError>(std::isfinite(o.regular_layer) && o.regular_layer >= 0, "regular layer width must be >= 0, got ",
                     o.regular_layer);
-  const bool bounded = cloud.count(Tag::Dirichlet) + cloud.count(Tag::Neumann) > 0;
+  const bool bounded = o.bounded >= 0 ? o.bounded == 1 : cloud.count(Tag::Dirichlet) + cloud.count(Tag::Neumann) > 0;
   const Real amp = o.delta * cloud.spacing;
   // Each particle's step depends only on (seed, particle, axis): threads change nothing.
 #pragma omp parallel for schedule(static) if (cloud.size() > 4096)

@@ -273,19 +273,22 @@ void broadcast_domain(const PointCloud& chunk, int source, const Communicator& c
   for (std::size_t k = 0; k < 3; ++k) out.periodic[k] = packed[13 + k] != 0;
 }
 
-// What travels with a particle: its global number, position, tag and normal.
+// What travels with a particle: its global number, position, tag and normal, and on a
+// periodic box the shift code of the image it is (no_shift: the particle itself).
 struct Payload {
   std::vector<Index> id;
   std::vector<double> xyz, nrm;
-  std::vector<std::uint8_t> tag;
+  std::vector<std::uint8_t> tag, shift;
   bool normals;  ///< (nrm is empty on an empty part even when the cloud has normals)
-  Payload(std::size_t n, bool with_normals) : id(n), xyz(3 * n), nrm(with_normals ? 3 * n : 0), tag(n), normals(with_normals) {}
+  Payload(std::size_t n, bool with_normals)
+      : id(n), xyz(3 * n), nrm(with_normals ? 3 * n : 0), tag(n), shift(n, no_shift), normals(with_normals) {}
   std::size_t size() const { return id.size(); }
   Vec3 position(std::size_t k) const { return {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]}; }
   Vec3 normal(std::size_t k) const { return {nrm[3 * k], nrm[3 * k + 1], nrm[3 * k + 2]}; }
   void copy(std::size_t to, const Payload& from, std::size_t k) {
     id[to] = from.id[k];
     tag[to] = from.tag[k];
+    shift[to] = from.shift[k];
     for (std::size_t c = 0; c < 3; ++c) {
       xyz[3 * to + c] = from.xyz[3 * k + c];
       if (normals) nrm[3 * to + c] = from.nrm[3 * k + c];
@@ -297,6 +300,7 @@ struct Payload {
     reduce(sf, id.data(), out.id.data());
     reduce(sf, xyz.data(), out.xyz.data(), 3);
     reduce(sf, tag.data(), out.tag.data());
+    reduce(sf, shift.data(), out.shift.data());
     if (normals) reduce(sf, nrm.data(), out.nrm.data(), 3);
     return out;
   }
@@ -391,22 +395,37 @@ void halo_pairs(const Payload& own, const Vec3& lo, const Vec3& hi, const Domain
   }
 }
 
-// Local arrays: owned and halo particles by global id. Returns each halo slot's local index.
+// Where periodic_images puts an image among its original's (the loops over x, y, z, each
+// taking shift 0, +1, -1 in that order): the local arrays order images as the serial periodic
+// partition does, so that every row lists its columns in the serial order (VRSPH's NNLS may
+// pick another of its optimal vertices in another column order).
+int image_rank(std::uint8_t code) {
+  int key = 0;
+  for (int k = 0, c = code; k < 3; ++k, c /= 3) {
+    const int s = c % 3 - 1;
+    key = key * 3 + (s == 0 ? 0 : s == 1 ? 1 : 2);
+  }
+  return key;
+}
+
+// Local arrays: owned and halo particles by global id, then a periodic box's images (by their
+// originals' ids). Returns each halo slot's local index.
 std::vector<Index> local_arrays(const Payload& own, const Payload& halo, DistributedCloud& dc, CloudExchange& ex) {
   struct Entry {
     Index id;
     std::size_t slot;  // arrival slot (owned) or halo slot
     bool owned;
+    int image;  // -1: the particle itself; else image_rank of its shift
   };
   std::vector<Entry> entries;
   entries.reserve(own.size() + halo.size());
-  for (std::size_t k = 0; k < own.size(); ++k) entries.push_back({own.id[k], k, true});
-  for (std::size_t k = 0; k < halo.size(); ++k) entries.push_back({halo.id[k], k, false});
-  // By number; a periodic box's images share their original's (owned first, then by slot).
+  for (std::size_t k = 0; k < own.size(); ++k) entries.push_back({own.id[k], k, true, -1});
+  for (std::size_t k = 0; k < halo.size(); ++k)
+    entries.push_back({halo.id[k], k, false, halo.shift[k] == no_shift ? -1 : image_rank(halo.shift[k])});
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    if ((a.image >= 0) != (b.image >= 0)) return a.image < 0;
     if (a.id != b.id) return a.id < b.id;
-    if (a.owned != b.owned) return a.owned;
-    return a.slot < b.slot;
+    return a.image < b.image;  // (one entry per id and shift)
   });
   const std::size_t n_local = entries.size();
   const bool normals = own.normals;
@@ -509,6 +528,7 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
   Payload pairs(n_pairs, shape.normals);
   for (std::size_t p = 0; p < n_pairs; ++p) {
     pairs.copy(p, own, pair_particle[p]);
+    pairs.shift[p] = pair_shift[p];
     if (pair_shift[p] == no_shift) continue;
     const Vec3 s = periodic_shift(domain, pair_shift[p]);
     for (std::size_t c = 0; c < 3; ++c) pairs.xyz[3 * p + c] += s[static_cast<int>(c)];

@@ -8,13 +8,16 @@
 
 namespace vrsph {
 
-Real length_scale(const PointCloud& part, const Communicator& comm) {
+Real length_scale(const PointCloud& part, const Communicator& comm) { return length_scale(part, {}, comm); }
+
+Real length_scale(const PointCloud& part, std::span<const char> counted, const Communicator& comm) {
   Real side = 0;
   for (int k = 0; k < 3; ++k) {
     Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
-    for (const Vec3& x : part.positions) {
-      lo = std::min(lo, x[k]);
-      hi = std::max(hi, x[k]);
+    for (std::size_t i = 0; i < part.positions.size(); ++i) {
+      if (!counted.empty() && !counted[i]) continue;
+      lo = std::min(lo, part.positions[i][k]);
+      hi = std::max(hi, part.positions[i][k]);
     }
     side = std::max(side, max_over_ranks(comm, hi) - min_over_ranks(comm, lo));
   }

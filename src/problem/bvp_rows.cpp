@@ -79,9 +79,12 @@ Real mean_neighbours(const Partition& part, const NeighbourList& nl, const RowMa
 
 // div(a grad) on the interior rows; on the Neumann rows either the same operator (balance
 // rows, VRSPH flux=balance) or the method's gradient for the flux rows.
+// The length unit of the whole cloud, from the owned particles when the partition has a halo:
+// a periodic box's images (serial or over the ranks) lie outside the box, and how far depends
+// on the halo, so the unit is the originals' one, as periodic_stencil takes it.
 Discretisation local_discretisation(const Partition& part, const NeighbourList& nl, KernelType kernel, Real spacing) {
   return {part.local(), nl, kernel, spacing, part.global_size(),
-          part.distributed() ? length_scale(part.local(), part.comm()) : 0};
+          part.has_halo() ? length_scale(part.local(), part.owned(), part.comm()) : 0};
 }
 
 OperatorRows build_operator_rows(const Partition& part, const Method& method, const Discretisation& disc,

@@ -64,6 +64,9 @@ class SameTables(unittest.TestCase):
         self.compare(["study", "--dim", "3", "--periodic", "x,z", "--u", "sin(2*pi*x)*exp(y)*cos(2*pi*z)",
                       "--method", "vrsph", "--cloud", "perturbed", "--n", "8,12", "--solver", "petsc",
                       "--petsc-options", DIRECT], 1e-9, ranks=(2,))
+        self.compare(["study", "--periodic", "y", "--layout", "cells", "--u", "exp(x)*sin(2*pi*y)", "--method", "vrsph",
+                      "--cloud", "perturbed", "--n", "12,24", "--solver", "petsc", "--petsc-options", DIRECT], 1e-9,
+                     ranks=(3, 4))
 
     def test_mixed_3d_direct(self):
         self.compare(["study", "--dim", "3", "--u", "sin(x)*exp(y)+z^2", "--a", "1+x*y", "--neumann", "x1,z0",

@@ -40,6 +40,10 @@ struct PerturbOptions {
   /// Number of the cloud's first particle in the whole cloud (a part made with
   /// ParticleRange): the random steps follow the whole cloud's numbering.
   Index first_index = 0;
+  /// Whether the cloud has boundary particles (then interior steps stay inside the domain):
+  /// -1 from the cloud itself; 0 or 1 given, for a part of a cloud (the whole cloud's answer:
+  /// a part may hold none of the whole cloud's boundary particles).
+  int bounded = -1;
 };
 /// Perturbs Interior and Ghost particles (and, optionally, boundary particles
 /// tangentially). Random numbers are a counter-based hash of (seed, particle,

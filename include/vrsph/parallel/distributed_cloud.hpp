@@ -83,5 +83,8 @@ std::vector<char> reach_over_ranks(const DistributedCloud& dc, std::span<const I
 
 /// length_scale of the whole cloud from every rank's part (collective; a part may be empty).
 Real length_scale(const PointCloud& part, const Communicator& comm);
+/// The same over the particles with counted[i] != 0 only (e.g. the owned ones: a periodic
+/// box's images lie outside the box and would lengthen it).
+Real length_scale(const PointCloud& part, std::span<const char> counted, const Communicator& comm);
 
 }  // namespace vrsph
