@@ -332,14 +332,7 @@ void record_errors(const BvpStudyParams& p, const PointCloud& cloud, const Field
   const Communicator& comm = p.communicator;
   Eigen::MatrixXd err(cloud.size(), 1);
   err.col(0) = U - exact;
-  if (cloud.domain.fully_periodic() && run.neumann_particles == 0 &&
-      sum_over_ranks(comm, static_cast<long long>(cloud.count(Tag::Dirichlet))) == 0) {
-    // u is determined up to a constant (the solve returns the one with zero mean): the
-    // error is that of the best constant shift.
-    const Real mean = sum_over_ranks(comm, err.col(0).sum()) /
-                      static_cast<Real>(std::max<long long>(1, sum_over_ranks(comm, static_cast<long long>(cloud.size()))));
-    err.col(0).array() -= mean;
-  }
+  remove_periodic_constant(err, cloud, comm);  // u up to a constant on a fully periodic box
   const std::vector<Real> vol(static_cast<std::size_t>(cloud.size()), std::pow(cloud.spacing, p.dim));
   run.errors = error_norms_over_ranks(err, unknown_mask(cloud), cloud, run.h, vol, comm, run.first_id);
   Real sum = 0;

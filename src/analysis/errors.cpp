@@ -106,6 +106,16 @@ ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, 
   return norms(err, rows, cloud, near_distance, volumes, nullptr, 0);
 }
 
+void remove_periodic_constant(Eigen::MatrixXd& err, const PointCloud& part, const Communicator& comm) {
+  const long long boundary = sum_over_ranks(comm, static_cast<long long>(part.count(Tag::Dirichlet) + part.count(Tag::Neumann)));
+  if (!any_rank(comm, part.size() > 0 && part.domain.fully_periodic()) || boundary > 0) return;
+  const long long n = sum_over_ranks(comm, static_cast<long long>(part.size()));
+  for (Index c = 0; c < err.cols(); ++c) {
+    const Real mean = sum_over_ranks(comm, err.col(c).sum()) / static_cast<Real>(std::max<long long>(1, n));
+    err.col(c).array() -= mean;
+  }
+}
+
 ErrorReport error_norms_over_ranks(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& part,
                                    Real near_distance, std::span<const Real> volumes, const Communicator& comm,
                                    Index first_id) {

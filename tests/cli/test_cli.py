@@ -968,6 +968,30 @@ class CloudFile(unittest.TestCase):
             self.assertNotIn("error_inf", row2)
             self.assertEqual(row2["unknowns"], row["unknowns"])
 
+    def test_periodic_box_of_a_cloud_file(self):
+        # A periodic cloud written to CSV and read back with --periodic (the unit box, or --box):
+        # the same solve as on the generated cloud, errors up to the constant when fully periodic.
+        u = "sin(2*pi*x)*cos(2*pi*y)"
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "p.csv")
+            run("cloud", "--family", "perturbed", "--n", "16", "--periodic", "x,y", "--output", path)
+            mine = run_json("solve", "--cloud", "perturbed", "--n", "16", "--periodic", "x,y", "--u", u)["rows"][0]
+            theirs = run_json("solve", "--cloud-file", path, "--periodic", "x,y", "--u", u)["rows"][0]
+            self.assertAlmostEqual(theirs["error_inf"] / mine["error_inf"], 1.0, delta=1e-8)
+            self.assertTrue(theirs["mmatrix"])
+            boxed = run_json("solve", "--cloud-file", path, "--periodic", "x,y", "--box", "0,0,1,1", "--u", u)["rows"][0]
+            self.assertEqual(boxed["error_inf"], theirs["error_inf"])
+            # The box's faces wrap: particles outside it along a periodic axis are refused, not wrapped.
+            p = run("solve", "--cloud-file", path, "--periodic", "x,y", "--box", "0,0,0.5,1", "--u", u, check=False)
+            self.assertEqual(p.returncode, 3)  # input error
+            self.assertIn("outside the periodic box", p.stderr)
+            for bad, text in ((["--box", "0,0,1,1"], "--box needs --periodic"),
+                              (["--periodic", "x", "--box", "0,0,1"], "--box takes 4 numbers"),
+                              (["--periodic", "x", "--box", "0,0,0,1"], "upper corner must exceed")):
+                p = run("solve", "--cloud-file", path, "--u", u, *bad, check=False)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn(text, p.stderr)
+
     def test_second_order_on_file_clouds(self):
         # [QW]'s rows: second order; the default compact rows: third order or more (O(h^3) truncation).
         # The order is fitted over four levels: the max-norm error of one disordered cloud scatters

@@ -29,6 +29,7 @@ void reject_generator_options(const CLI::App& cmd, const char* source, bool geom
   for (const char* opt : {"--cloud", "--problem", "--seed", "--delta", "--perturb-boundary", "--regular-layer",
                           "--neumann", "--robin", "--beta", "--periodic"}) {
     if (geometry && (std::string(opt) == "--seed" || std::string(opt) == "--delta")) continue;
+    if (!geometry && std::string(opt) == "--periodic") continue;  // a file's box may wrap (--box)
     check<ConfigError>(cmd.count(opt) == 0, opt, " does not apply with ", source,
                        geometry ? " (the geometry is the domain; --neumann-where tags its boundary)"
                                 : " (the cloud, its tags and normals come from the file)");
@@ -36,6 +37,29 @@ void reject_generator_options(const CLI::App& cmd, const char* source, bool geom
   if (!geometry)
     for (const char* opt : {"--spacing", "--fill", "--neumann-where", "--dirichlet-where"})
       check<ConfigError>(cmd.count(opt) == 0, opt, " needs --geometry");
+  check<ConfigError>(cmd.count("--box") == 0 || cmd.count("--periodic") > 0, "--box needs --periodic (it is the box "
+                     "whose faces wrap; a cloud file's domain is otherwise its particles)");
+}
+
+// --box "x0,y0[,z0],x1,y1[,z1]" (default the unit box) periodic along --periodic: the file's
+// particles must lie in [lo, hi) along those axes, as a generated periodic cloud's do.
+Domain periodic_file_box(const std::string& box, const std::string& axes, int dim) {
+  Domain d = Domain::unit_box(dim);
+  if (!box.empty()) {
+    const std::vector<double> v = parse_real_list(box, "--box");
+    check<ConfigError>(v.size() == static_cast<std::size_t>(2 * dim), "--box takes ", 2 * dim, " numbers for a ", dim,
+                       "D cloud (lower corner, then upper corner), got ", v.size());
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    for (int k = 0; k < dim; ++k) {
+      lo[k] = v[static_cast<std::size_t>(k)];
+      hi[k] = v[static_cast<std::size_t>(dim + k)];
+      check<ConfigError>(std::isfinite(lo[k]) && std::isfinite(hi[k]) && hi[k] > lo[k], "--box: the upper corner must "
+                         "exceed the lower one along ", "xyz"[k], " (", lo[k], " .. ", hi[k], ")");
+    }
+    d = Domain::box(dim, lo, hi);
+  }
+  d.set_periodic(axes);
+  return d;
 }
 
 // This rank's part of the cloud of one run: the file (read in parallel under mpirun, see
@@ -44,7 +68,14 @@ void reject_generator_options(const CLI::App& cmd, const char* source, bool geom
 // boundary, is made whole on every rank, which keeps its slice).
 CloudFilePart load_cloud(const StudyArgs& a, const CloudFileArgs& file, const std::string& path, double spacing,
                          const CLI::App& cmd, const Communicator& comm) {
-  if (file.geometry.empty()) return read_cloud_file_part(path, a.dim_opt->count() ? a.dim : 0, comm);
+  if (file.geometry.empty()) {
+    CloudFilePart part = read_cloud_file_part(path, a.dim_opt->count() ? a.dim : 0, comm);
+    if (!a.periodic.empty()) {
+      const int dim = static_cast<int>(max_over_ranks(comm, static_cast<double>(part.file.cloud.size() ? part.file.cloud.dim : 0)));
+      collective(comm, [&] { part.file.cloud.domain = periodic_file_box(file.box, a.periodic, dim); });
+    }
+    return part;
+  }
   GeometryRequest r;
   r.path = file.geometry;
   r.spacing = spacing;
@@ -159,6 +190,7 @@ FileRun run_on_file(const StudyArgs& a, const CloudFileArgs& file, const std::st
     const PointCloud& c = r.ep.problem.cloud;
     Eigen::MatrixXd err(c.size(), 1);
     err.col(0) = r.s.u - r.ep.exact;
+    remove_periodic_constant(err, c, comm);  // a fully periodic box (--periodic): u up to a constant
     // L2 weights: the file's volumes, else the estimated spacing to the power d.
     if (volumes.empty()) volumes.assign(static_cast<std::size_t>(c.size()), std::pow(r.s.spacing, c.dim));
     // Near the boundary: within one support radius of the nearest tagged boundary particle
@@ -250,6 +282,9 @@ void add_geometry_options(CLI::App* cmd, CloudFileArgs& file, bool study) {
                   "With --geometry: boundary particles where this expression is non-zero are Neumann (e.g. \"z > 0.99\")");
   cmd->add_option("--dirichlet-where", file.dirichlet_where,
                   "With --geometry: only boundary particles where this expression is non-zero are Dirichlet, the rest Neumann");
+  cmd->add_option("--box", file.box,
+                  "With a cloud file and --periodic: the box x0,y0[,z0],x1,y1[,z1] whose faces wrap along the periodic "
+                  "axes (default the unit box; particles must lie in [lo, hi) along them)");
 }
 
 void add_column_options(CLI::App* cmd, CloudFileArgs& file, const std::string& file_option) {

@@ -63,6 +63,8 @@ struct CloudFileArgs {
   // Extra columns of the file used as per-particle values (--u-column ...), and as the
   // particle volumes weighting the L2 error (--volume-column).
   std::string u_column, a_column, f_column, g_column, q_column, volume_column;
+  // --periodic on a cloud file: the box whose faces wrap (default the unit box).
+  std::string box;
 };
 
 /// Adds --geometry, --spacing, --fill, --neumann-where and --dirichlet-where (a list of

@@ -36,6 +36,11 @@ ErrorReport reduce_over_ranks(const ErrorReport& mine, const Communicator& comm,
 ErrorReport error_norms(const Eigen::MatrixXd& err, std::span<const char> rows, const PointCloud& cloud,
                         Real near_distance, std::span<const Real> volumes = {});
 
+/// On a fully periodic box without boundary particles u is known up to a constant (the solve
+/// returns the one with zero mean): removes the mean of err over every rank's particles, so the
+/// norms are those of the best constant shift. Elsewhere err is left as it is. Collective.
+void remove_periodic_constant(Eigen::MatrixXd& err, const PointCloud& part, const Communicator& comm);
+
 /// error_norms of the whole cloud when each rank passes its part, numbered from `first_id`
 /// (collective; serial: error_norms). Without a known domain the near-boundary distance is
 /// to the tagged boundary particles of every rank, gathered on each (a surface's worth).
