@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Periodic images and the minimum-image neighbour search (periodic.hpp).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <vrsph/core/error.hpp>
@@ -50,29 +51,34 @@ PeriodicImages periodic_images(const PointCloud& cloud, Real width) {
   for (Index i = 0; i < cloud.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     const Vec3& x = cloud.positions[si];
-    // Per axis: the shifts that bring an image within `width` of the box (0 always).
-    std::array<std::array<int, 3>, 3> options{};
-    std::array<std::size_t, 3> count{1, 1, 1};
-    for (int k = 0; k < 3; ++k) {
-      options[static_cast<std::size_t>(k)] = {0, 0, 0};
-      if (k >= cloud.dim || !d.periodic[static_cast<std::size_t>(k)]) continue;
-      if (x[k] - d.lo[k] < width) options[static_cast<std::size_t>(k)][count[static_cast<std::size_t>(k)]++] = 1;
-      if (d.hi[k] - x[k] <= width) options[static_cast<std::size_t>(k)][count[static_cast<std::size_t>(k)]++] = -1;
+    for (const std::uint8_t code : image_codes(d, cloud.dim, x, width)) {
+      if (code == no_shift) continue;
+      out.cloud.positions.push_back(x + periodic_shift(d, code));
+      out.cloud.tags.push_back(cloud.tags[si]);
+      if (normals) out.cloud.normals.push_back(cloud.normals[si]);
+      out.image_of.push_back(i);
+      out.shift.push_back(code);
     }
-    for (std::size_t a = 0; a < count[0]; ++a)
-      for (std::size_t b = 0; b < count[1]; ++b)
-        for (std::size_t c = 0; c < count[2]; ++c) {
-          const int sx = options[0][a], sy = options[1][b], sz = options[2][c];
-          if (sx == 0 && sy == 0 && sz == 0) continue;
-          const auto code = static_cast<std::uint8_t>((sx + 1) + 3 * (sy + 1) + 9 * (sz + 1));
-          out.cloud.positions.push_back(x + periodic_shift(d, code));
-          out.cloud.tags.push_back(cloud.tags[si]);
-          if (normals) out.cloud.normals.push_back(cloud.normals[si]);
-          out.image_of.push_back(i);
-          out.shift.push_back(code);
-        }
   }
   return out;
+}
+
+std::vector<std::uint8_t> image_codes(const Domain& d, int dim, const Vec3& x, Real width) {
+  // Per axis: the shifts that bring an image within `width` of the box (0 always).
+  std::array<std::array<int, 3>, 3> options{};
+  std::array<std::size_t, 3> count{1, 1, 1};
+  for (int k = 0; k < std::min(dim, 3); ++k) {
+    const auto sk = static_cast<std::size_t>(k);
+    if (!d.periodic[sk]) continue;
+    if (x[k] - d.lo[k] < width) options[sk][count[sk]++] = 1;
+    if (d.hi[k] - x[k] <= width) options[sk][count[sk]++] = -1;
+  }
+  std::vector<std::uint8_t> codes;
+  for (std::size_t a = 0; a < count[0]; ++a)
+    for (std::size_t b = 0; b < count[1]; ++b)
+      for (std::size_t c = 0; c < count[2]; ++c)
+        codes.push_back(static_cast<std::uint8_t>((options[0][a] + 1) + 3 * (options[1][b] + 1) + 9 * (options[2][c] + 1)));
+  return codes;
 }
 
 Eigen::MatrixXd PeriodicImages::expand(const Eigen::MatrixXd& values) const {

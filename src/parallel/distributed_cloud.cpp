@@ -319,25 +319,6 @@ Payload chunk_payload(const PointCloud& chunk, Index first_id, bool normals) {
   return p;
 }
 
-// The shift codes of the images of x that can lie within `width` of the box (no_shift first,
-// then the combinations of the periodic faces x is near), as periodic_images picks them.
-std::vector<std::uint8_t> image_codes(const Vec3& x, const Domain& d, Real width) {
-  std::array<std::array<int, 3>, 3> options{};
-  std::array<std::size_t, 3> count{1, 1, 1};
-  for (int k = 0; k < d.dim; ++k) {
-    const auto sk = static_cast<std::size_t>(k);
-    if (!d.periodic[sk]) continue;
-    if (x[k] - d.lo[k] < width) options[sk][count[sk]++] = 1;
-    if (d.hi[k] - x[k] <= width) options[sk][count[sk]++] = -1;
-  }
-  std::vector<std::uint8_t> codes;
-  for (std::size_t a = 0; a < count[0]; ++a)
-    for (std::size_t b = 0; b < count[1]; ++b)
-      for (std::size_t c = 0; c < count[2]; ++c)
-        codes.push_back(static_cast<std::uint8_t>((options[0][a] + 1) + 3 * (options[1][b] + 1) + 9 * (options[2][c] + 1)));
-  return codes;
-}
-
 // The (owned particle, receiving rank, shift) triples of the halo: owned particles, or their
 // periodic images, within halo_width of one of another rank's boxes (of the rank's own boxes
 // for an image), each box a stretch of that rank's part of the curve.
@@ -377,7 +358,7 @@ void halo_pairs(const Payload& own, const Vec3& lo, const Vec3& hi, const Domain
   const bool periodic = domain.any_periodic();
   for (std::size_t k = 0; k < n_own; ++k) {
     const std::vector<std::uint8_t> codes =
-        periodic ? image_codes(own.position(k), domain, halo_width) : std::vector<std::uint8_t>{no_shift};
+        periodic ? image_codes(domain, dim, own.position(k), halo_width) : std::vector<std::uint8_t>{no_shift};
     for (const std::uint8_t code : codes) {
       const Vec3 x = own.position(k) + periodic_shift(domain, code);
       for (int q = 0; q < P; ++q) {

@@ -47,5 +47,9 @@ void check_periodic_cloud(const PointCloud& cloud, Real radius);
 /// The cloud with the images of its particles within `width` (less than a period; ConfigError
 /// otherwise) of a periodic face.
 PeriodicImages periodic_images(const PointCloud& cloud, Real width);
+/// The shift codes of x's images within `width` of the box (of a face it is near, along each
+/// periodic axis of the first `dim`), in the order periodic_images lists them: no_shift first,
+/// then loops over x, y, z, each taking the shifts 0, +1, -1 that apply.
+std::vector<std::uint8_t> image_codes(const Domain& domain, int dim, const Vec3& x, Real width);
 
 }  // namespace vrsph
