@@ -53,8 +53,10 @@ Domain periodic_file_box(const std::string& box, const std::string& axes, int di
     for (int k = 0; k < dim; ++k) {
       lo[k] = v[static_cast<std::size_t>(k)];
       hi[k] = v[static_cast<std::size_t>(dim + k)];
-      check<ConfigError>(std::isfinite(lo[k]) && std::isfinite(hi[k]) && hi[k] > lo[k], "--box: the upper corner must "
-                         "exceed the lower one along ", "xyz"[k], " (", lo[k], " .. ", hi[k], ")");
+      check<ConfigError>(hi[k] > lo[k], "--box: the upper corner must exceed the lower one along ", "xyz"[k], " (",
+                         lo[k], " .. ", hi[k], ")");
+      check<ConfigError>(std::isfinite(hi[k] - lo[k]), "--box: the side along ", "xyz"[k], " (", lo[k], " .. ", hi[k],
+                         ") is not a finite length");
     }
     d = Domain::box(dim, lo, hi);
   }
