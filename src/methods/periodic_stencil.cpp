@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/periodic_stencil.hpp>
@@ -54,13 +55,12 @@ Stencil fold(Stencil s, const PeriodicImages& im) {
 
 // The two shifts added (codes per axis in {-1, 0, 1}); no code when a sum leaves that range.
 int combined_shift(std::uint8_t a, std::uint8_t b) {
-  int code = 0;
-  for (int k = 0, ca = a, cb = b, p = 1; k < 3; ++k, ca /= 3, cb /= 3, p *= 3) {
-    const int s = (ca % 3 - 1) + (cb % 3 - 1);
-    if (s < -1 || s > 1) return -1;
-    code += (s + 1) * p;
+  std::array<int, 3> s{};
+  for (int k = 0; k < 3; ++k) {
+    s[static_cast<std::size_t>(k)] = axis_shift(a, k) + axis_shift(b, k);
+    if (s[static_cast<std::size_t>(k)] < -1 || s[static_cast<std::size_t>(k)] > 1) return -1;
   }
-  return code;
+  return shift_code(s[0], s[1], s[2]);
 }
 
 // The images' neighbour list from the originals' minimum-image list: an image's row is its

@@ -13,9 +13,7 @@ namespace vrsph {
 
 Vec3 periodic_shift(const Domain& domain, std::uint8_t code) {
   Vec3 s = Vec3::Zero();
-  int c = code;
-  for (int k = 0; k < 3; ++k, c /= 3)
-    if (k < domain.dim) s[k] = static_cast<Real>(c % 3 - 1) * domain.period(k);
+  for (int k = 0; k < std::min(domain.dim, 3); ++k) s[k] = static_cast<Real>(axis_shift(code, k)) * domain.period(k);
   return s;
 }
 
@@ -37,10 +35,7 @@ void check_periodic_cloud(const PointCloud& cloud, Real radius) {
 
 PeriodicImages periodic_images(const PointCloud& cloud, Real width) {
   const Domain& d = cloud.domain;
-  for (int k = 0; k < cloud.dim; ++k)
-    check<ConfigError>(!d.periodic[static_cast<std::size_t>(k)] || width < d.period(k), "periodic axis ", "xyz"[k],
-                       ": rows read particles up to ", width, " away, beyond one period ", d.period(k),
-                       "; use a smaller h or a longer box");
+  check_image_width(d, cloud.dim, width, "rows read particles up to");
   PeriodicImages out;
   out.cloud = cloud;
   out.originals = cloud.size();
@@ -77,8 +72,15 @@ std::vector<std::uint8_t> image_codes(const Domain& d, int dim, const Vec3& x, R
   for (std::size_t a = 0; a < count[0]; ++a)
     for (std::size_t b = 0; b < count[1]; ++b)
       for (std::size_t c = 0; c < count[2]; ++c)
-        codes.push_back(static_cast<std::uint8_t>((options[0][a] + 1) + 3 * (options[1][b] + 1) + 9 * (options[2][c] + 1)));
+        codes.push_back(shift_code(options[0][a], options[1][b], options[2][c]));
   return codes;
+}
+
+void check_image_width(const Domain& d, int dim, Real width, const char* what) {
+  for (int k = 0; k < std::min(dim, 3); ++k)
+    check<ConfigError>(!d.periodic[static_cast<std::size_t>(k)] || width < d.period(k), "periodic axis ", "xyz"[k],
+                       ": ", what, " ", width, " away, beyond one period ", d.period(k),
+                       "; use a smaller h or a longer box");
 }
 
 Eigen::MatrixXd PeriodicImages::expand(const Eigen::MatrixXd& values) const {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -24,16 +25,13 @@ void check_offsets(std::span<const Index> offsets, std::size_t entries, Index n)
 // The image of x_j that x_i sees on a periodic box (the nearest along each periodic axis; the
 // only one within a support radius below half the period): its shift code, no_shift otherwise.
 std::uint8_t nearest_image(const Domain& d, const Vec3& xi, const Vec3& xj) {
-  int code = 0;
-  for (int k = 2; k >= 0; --k) {
-    int s = 0;
-    if (k < d.dim && d.periodic[static_cast<std::size_t>(k)]) {
+  std::array<int, 3> s{};
+  for (int k = 0; k < std::min(d.dim, 3); ++k)
+    if (d.periodic[static_cast<std::size_t>(k)]) {
       const Real v = xj[k] - xi[k], half = 0.5 * d.period(k);
-      s = v > half ? -1 : v < -half ? 1 : 0;
+      s[static_cast<std::size_t>(k)] = v > half ? -1 : v < -half ? 1 : 0;
     }
-    code = 3 * code + (s + 1);
-  }
-  return static_cast<std::uint8_t>(code);
+  return shift_code(s[0], s[1], s[2]);
 }
 }  // namespace
 

@@ -382,8 +382,8 @@ void halo_pairs(const Payload& own, const Vec3& lo, const Vec3& hi, const Domain
 // pick another of its optimal vertices in another column order).
 int image_rank(std::uint8_t code) {
   int key = 0;
-  for (int k = 0, c = code; k < 3; ++k, c /= 3) {
-    const int s = c % 3 - 1;
+  for (int k = 0; k < 3; ++k) {
+    const int s = axis_shift(code, k);
     key = key * 3 + (s == 0 ? 0 : s == 1 ? 1 : 2);
   }
   return key;
@@ -486,12 +486,7 @@ DistributedCloud distribute(const PointCloud& chunk, Real halo_width, const Comm
   std::vector<std::uint8_t> pair_shift;
   const Domain& domain = dc.local.domain;
   if (domain.any_periodic())
-    for (int k = 0; k < shape.dim; ++k)
-      collective(comm, [&] {
-        check<ConfigError>(!domain.periodic[static_cast<std::size_t>(k)] || halo_width < domain.period(k), "periodic axis ",
-                           "xyz"[k], ": the halo reaches ", halo_width, " across the ranks, beyond one period ",
-                           domain.period(k), "; use a smaller h or a longer box");
-      });
+    collective(comm, [&] { check_image_width(domain, shape.dim, halo_width, "the halo across the ranks reaches"); });
   halo_pairs(own, lo, hi, domain, halo_width, ex->comm, me, P, pair_particle, pair_rank, pair_shift);
   const Index halo_count = slots_for(ex->comm, P, pair_rank, remote, recv_begin);
   PetscSF push = make_sf(ex->comm, halo_count, remote, nullptr);

@@ -16,6 +16,16 @@ namespace vrsph {
 /// Shift code of an image: s = (s_x + 1) + 3 (s_y + 1) + 9 (s_z + 1), each s_k in {-1, 0, 1}
 /// periods; 13 is no shift.
 inline constexpr std::uint8_t no_shift = 13;
+/// The code of the shift by (s_x, s_y, s_z) periods.
+constexpr std::uint8_t shift_code(int sx, int sy, int sz) {
+  return static_cast<std::uint8_t>((sx + 1) + 3 * (sy + 1) + 9 * (sz + 1));
+}
+/// The periods s_k in {-1, 0, 1} along axis k (0, 1, 2) of the shift with this code.
+constexpr int axis_shift(std::uint8_t code, int k) {
+  int c = code;
+  for (; k > 0; --k) c /= 3;
+  return c % 3 - 1;
+}
 /// The displacement of an image with this code in this domain.
 Vec3 periodic_shift(const Domain& domain, std::uint8_t code);
 
@@ -51,5 +61,8 @@ PeriodicImages periodic_images(const PointCloud& cloud, Real width);
 /// periodic axis of the first `dim`), in the order periodic_images lists them: no_shift first,
 /// then loops over x, y, z, each taking the shifts 0, +1, -1 that apply.
 std::vector<std::uint8_t> image_codes(const Domain& domain, int dim, const Vec3& x, Real width);
+/// ConfigError unless `width` (how far rows read: the images' or a halo's width) is less than
+/// every periodic axis's period among the first `dim`; `what` names that width in the message.
+void check_image_width(const Domain& domain, int dim, Real width, const char* what);
 
 }  // namespace vrsph
