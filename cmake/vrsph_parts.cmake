@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # The optional parts of vrsph. The core (clouds, neighbours, kernels, every method, stencils,
-# assembly, Eigen's solvers, the BVP solve) needs Eigen and nanoflann (and nlohmann-json's
-# headers) only. Each part below is ON by default when its package is installed, OFF otherwise;
+# assembly, Eigen's solvers, the BVP solve, tables in Markdown/CSV/JSON, VTU output) needs
+# Eigen and nanoflann only. Each part below is ON by default when its package is installed, OFF otherwise;
 # asking for a part whose package is missing stops the configuration naming the Debian package.
 # A feature of a part that is OFF throws vrsph::FeatureUnavailable at run time ("vrsph was
 # built without X; rebuild with -DVRSPH_WITH_X=ON"): never a link error.
@@ -15,6 +15,9 @@
 #   SUITESPARSE  UMFPACK, the default direct solver (else Eigen SparseLU)  UMFPACK GPL-2+                libsuitesparse-dev
 #   MUPARSER     expressions for problem data (u = "sin(pi*x)")            BSD-2 (Expat in Debian)       libmuparser-dev
 #   VTK_XML      reading VTU/VTP cloud files (pugixml, zlib)               MIT, Zlib                     libpugixml-dev zlib1g-dev
+#   JSON         reading GeoJSON geometry files, the FEniCSx peer's        MIT (nlohmann-json)           nlohmann-json3-dev
+#                reports (writing JSON needs no part)
+#   TOML         the CLI's problem files (--config)                        MIT (toml++)                  libtomlplusplus-dev
 #   OPENMP       threads in the per-particle loops                         GCC runtime exception         g++
 # A binary linked with CGAL or UMFPACK is bound by the GPL whatever vrsph's own BSD-3 licence
 # says: configure with -DVRSPH_WITH_CGAL=OFF -DVRSPH_WITH_SUITESPARSE=OFF for a permissive one.
@@ -91,6 +94,13 @@ if(pugixml_FOUND AND ZLIB_FOUND)
   set(_found ON)
 endif()
 vrsph_part(VTK_XML "${_found}" "reading VTU/VTP cloud files (pugixml, zlib)" "libpugixml-dev zlib1g-dev")
+
+find_package(nlohmann_json 3.10 QUIET)
+vrsph_part(JSON "${nlohmann_json_FOUND}" "nlohmann-json: reading GeoJSON geometry files and the FEniCSx peer's reports"
+           "nlohmann-json3-dev")
+
+find_package(tomlplusplus QUIET)
+vrsph_part(TOML "${tomlplusplus_FOUND}" "toml++: the CLI's problem files (--config)" "libtomlplusplus-dev")
 
 find_package(OpenMP QUIET)
 vrsph_part(OPENMP "${OpenMP_CXX_FOUND}" "OpenMP threads in the per-particle loops" "g++")

@@ -57,11 +57,21 @@ void validate_output(const OutputOptions& out);
 
 /// Writes the table in the chosen format to stdout or the output file, and the plot if asked.
 /// plot_x/plot_y name the columns to plot (log-log), grouped by plot_group.
-void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
+void emit(const Table& table, const OutputOptions& out, const Json& extra, const std::string& plot_x,
           const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog = true);
+// A JSON text as `extra` would be one string value, not merged members: build a Json.
+template <class... Rest>
+void emit(const Table&, const OutputOptions&, const char*, Rest&&...) = delete;
+template <class... Rest>
+void emit(const Table&, const OutputOptions&, const std::string&, Rest&&...) = delete;
 /// The plot part of emit alone: plot_y against plot_x per plot_group of `table` into png.
-void plot_table(const Table& table, const std::string& extra_json, const std::string& png, const std::string& plot_x,
+void plot_table(const Table& table, const Json& extra, const std::string& png, const std::string& plot_x,
                 const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog);
+
+template <class... Rest>
+void plot_table(const Table&, const char*, Rest&&...) = delete;
+template <class... Rest>
+void plot_table(const Table&, const std::string&, Rest&&...) = delete;
 
 /// "8,16,32" -> {8,16,32}; throws ConfigError naming the option on bad input.
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);

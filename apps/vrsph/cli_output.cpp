@@ -145,12 +145,12 @@ std::string pvtu_path(const std::string& vtu) {
   return vtu.substr(0, vtu.size() - 4) + ".pvtu";
 }
 
-void emit(const Table& table, const OutputOptions& out, const std::string& extra_json, const std::string& plot_x,
+void emit(const Table& table, const OutputOptions& out, const Json& extra, const std::string& plot_x,
           const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   validate_output(out);
   if (!communicator().is_root()) return;  // rank 0 speaks for all
   const TableFormat fmt = parse_table_format(out.format);
-  const std::string text = format_table(fmt == TableFormat::Markdown ? displayed_columns(table, out) : table, fmt, extra_json);
+  const std::string text = format_table(fmt == TableFormat::Markdown ? displayed_columns(table, out) : table, fmt, extra);
   if (out.output.empty()) {
     std::cout << text;
     check_stream(std::cout, "the table to standard output");
@@ -158,13 +158,13 @@ void emit(const Table& table, const OutputOptions& out, const std::string& extra
     write_file(out.output, "output file", [&](std::ostream& f) { f << text; });
   }
   if (out.plot.empty()) return;
-  plot_table(table, extra_json, out.plot, plot_x, plot_y, plot_group, plot_title, loglog);
+  plot_table(table, extra, out.plot, plot_x, plot_y, plot_group, plot_title, loglog);
 }
 
-void plot_table(const Table& table, const std::string& extra_json, const std::string& png, const std::string& plot_x,
+void plot_table(const Table& table, const Json& extra, const std::string& png, const std::string& plot_x,
                 const std::string& plot_y, const std::string& plot_group, const std::string& plot_title, bool loglog) {
   const TemporaryFile data("vrsph-plot", ".json");
-  write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra_json); });
+  write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << to_json(table, extra); });
   const std::string options = " --x " + plot_x + " --y " + plot_y + " --group " + plot_group + " --title " +
                               shell_quote(plot_title) + (loglog ? "" : " --linear");
   run_python(find_plot_script(), data.path(), png, options);

@@ -2,13 +2,24 @@
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
-#include <toml++/toml.h>
+#include <vrsph/config.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/features.hpp>
 #include <vrsph/io/input_file.hpp>
 #include "problem_file.hpp"
+#if VRSPH_HAVE_TOML
+#include <toml++/toml.h>
+#endif
 
 namespace vrsph::cli {
 
+CLI::Option* add_config_option(CLI::App* cmd, std::string& path) {
+  return cmd->add_option("--config", path,
+                         "Problem file (TOML): keys are this command's long options without the dashes, tables only "
+                         "group them; command-line options win; paths are relative to the file");
+}
+
+#if VRSPH_HAVE_TOML
 namespace {
 std::string location(const std::string& path, const toml::source_region& src) {
   return path + ":" + std::to_string(src.begin.line);
@@ -48,11 +59,6 @@ void collect(const toml::table& t, const std::string& path, std::vector<Entry>& 
 }
 }  // namespace
 
-CLI::Option* add_config_option(CLI::App* cmd, std::string& path) {
-  return cmd->add_option("--config", path,
-                         "Problem file (TOML): keys are this command's long options without the dashes, tables only "
-                         "group them; command-line options win; paths are relative to the file");
-}
 
 namespace {
 // Every option that names a file, read or written: relative to the problem file's directory.
@@ -117,5 +123,10 @@ void apply_problem_file(CLI::App& cmd, const std::string& path) {
     }
   }
 }
+#else
+void apply_problem_file(CLI::App&, const std::string& path) {
+  require_part("TOML", "the problem file '" + path + "' (--config)");
+}
+#endif
 
 }  // namespace vrsph::cli

@@ -226,7 +226,7 @@ py::dict report(const Result& r, const Table& t) {
     for (std::size_t c = 0; c < t.columns.size(); ++c) d[py::str(t.columns[c])] = cell(row[c]);
     rows.append(d);
   }
-  py::dict out = py::module_::import("json").attr("loads")(metadata_json(r));
+  py::dict out = py::module_::import("json").attr("loads")(metadata_json(r).dump());
   out["rows"] = rows;
   return out;
 }

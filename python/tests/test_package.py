@@ -11,7 +11,7 @@ import vrsph
 def test_version_and_parts():
     assert vrsph.__version__.count(".") == 2
     names = [p["name"] for p in vrsph.parts()]
-    assert names == ["PETSC", "MPI", "CGAL", "CLP", "SUITESPARSE", "MUPARSER", "VTK_XML", "OPENMP"]
+    assert names == ["PETSC", "MPI", "CGAL", "CLP", "SUITESPARSE", "MUPARSER", "VTK_XML", "JSON", "TOML", "OPENMP"]
     assert all(p["licence"] and p["packages"] for p in vrsph.parts())
     assert issubclass(vrsph.FeatureUnavailable, vrsph.ConfigError)
 

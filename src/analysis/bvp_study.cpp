@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <nlohmann/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/compatibility.hpp>
 #include <vrsph/analysis/convergence.hpp>
@@ -514,9 +513,9 @@ Table to_table(const BvpStudyResult& r) {
   return t;
 }
 
-std::string metadata_json(const BvpStudyResult& r) {
+Json metadata_json(const BvpStudyResult& r) {
   const auto& p = r.params;
-  nlohmann::ordered_json j;
+  Json j;
   j["problem"] = p.problem;
   j["dim"] = p.dim;
   j["cloud"] = to_string(p.cloud);
@@ -543,11 +542,11 @@ std::string metadata_json(const BvpStudyResult& r) {
     j["f"] = p.f.empty() ? "div(a grad u) of u and a" : p.f;
     j["g"] = p.g.empty() ? "u" : p.g;
   }
-  nlohmann::ordered_json fit = nlohmann::ordered_json::object();
-  for (const auto& [m, o] : r.fitted_order_inf) fit[m] = std::isfinite(o) ? nlohmann::ordered_json(o) : nlohmann::ordered_json();
+  Json fit = Json::object();  // a NaN order is null
+  for (const auto& [m, o] : r.fitted_order_inf) fit[m] = o;
   j["fitted_order_inf"] = fit;
   j["warnings"] = r.warnings;
-  return j.dump();
+  return j;
 }
 
 }  // namespace vrsph

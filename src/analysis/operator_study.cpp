@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/functions.hpp>
@@ -354,9 +353,9 @@ Table to_table(const OperatorStudyResult& r) {
   return t;
 }
 
-std::string metadata_json(const OperatorStudyResult& r) {
+Json metadata_json(const OperatorStudyResult& r) {
   const auto& p = r.params;
-  nlohmann::ordered_json j;
+  Json j;
   j["problem"] = p.problem;
   j["dim"] = p.dim;
   j["operator"] = std::string(p.vector_op ? to_string(*p.vector_op) : to_string(p.op));
@@ -370,10 +369,10 @@ std::string metadata_json(const OperatorStudyResult& r) {
   j["regular_layer"] = p.regular_layer;
   j["function"] = test_function_of(p);
   j["evaluated"] = evaluates_boundary(p) ? "all particles (boundary included)" : "interior particles";
-  nlohmann::ordered_json fit = nlohmann::ordered_json::object();
-  for (const auto& [m, o] : r.fitted_order_inf) fit[m] = std::isfinite(o) ? nlohmann::ordered_json(o) : nlohmann::ordered_json();
+  Json fit = Json::object();  // a NaN order is null
+  for (const auto& [m, o] : r.fitted_order_inf) fit[m] = o;
   j["fitted_order_inf"] = fit;
-  return j.dump();
+  return j;
 }
 
 }  // namespace vrsph

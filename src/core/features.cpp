@@ -23,6 +23,9 @@ const std::vector<Part>& parts() {
        VRSPH_HAVE_MUPARSER != 0},
       {"VTK_XML", "reading VTU/VTP cloud files", "MIT (pugixml), Zlib", "libpugixml-dev zlib1g-dev",
        VRSPH_HAVE_VTK_XML != 0},
+      {"JSON", "reading GeoJSON geometry files and the FEniCSx peer's reports", "MIT (nlohmann-json)",
+       "nlohmann-json3-dev", VRSPH_HAVE_JSON != 0},
+      {"TOML", "the CLI's problem files (--config)", "MIT (toml++)", "libtomlplusplus-dev", VRSPH_HAVE_TOML != 0},
       {"OPENMP", "threads in the per-particle loops", "GCC runtime library exception", "g++", VRSPH_HAVE_OPENMP != 0},
   };
   return all;

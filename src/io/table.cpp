@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <algorithm>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/table.hpp>
 
@@ -77,30 +79,31 @@ std::string to_csv(const Table& t) {
   return os.str();
 }
 
-std::string to_json(const Table& t, const std::string& extra) {
-  nlohmann::ordered_json j = extra.empty() ? nlohmann::ordered_json::object() : nlohmann::ordered_json::parse(extra);
-  auto rows = nlohmann::ordered_json::array();
+Json json_rows(const Table& t) {
+  Json rows = Json::array();
   for (const auto& r : t.rows) {
-    nlohmann::ordered_json o = nlohmann::ordered_json::object();
-    for (std::size_t k = 0; k < r.size(); ++k) {
-      const auto& c = r[k];
-      const auto& name = t.columns[k];
-      if (std::holds_alternative<long long>(c)) o[name] = std::get<long long>(c);
-      else if (std::holds_alternative<double>(c)) {
-        const double v = std::get<double>(c);
-        if (std::isfinite(v)) o[name] = v;
-        else o[name] = nullptr;  // JSON has no NaN: first-row orders are null
-      } else if (std::holds_alternative<std::string>(c)) o[name] = std::get<std::string>(c);
-      else if (std::holds_alternative<bool>(c)) o[name] = std::get<bool>(c);
-      else o[name] = nullptr;
-    }
+    Json o = Json::object();
+    for (std::size_t k = 0; k < r.size(); ++k)
+      std::visit(
+          [&](const auto& v) {
+            using V = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<V, std::monostate>) o[t.columns[k]] = nullptr;
+            else o[t.columns[k]] = v;  // a NaN is null: JSON has none (first-row orders)
+          },
+          r[k]);
     rows.push_back(std::move(o));
   }
-  j["rows"] = std::move(rows);
+  return rows;
+}
+
+std::string to_json(const Table& t, const Json& extra) {
+  Json j = Json::object();
+  j.merge(extra);
+  j["rows"] = json_rows(t);
   return j.dump(2) + "\n";
 }
 
-std::string format_table(const Table& t, TableFormat f, const std::string& extra) {
+std::string format_table(const Table& t, TableFormat f, const Json& extra) {
   switch (f) {
     case TableFormat::Markdown: return to_markdown(t);
     case TableFormat::Csv: return to_csv(t);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <vrsph/reproduce/heterogeneous_study.hpp>
 #include <vrsph/cloud/box_faces.hpp>
 #include <vrsph/cloud/generate.hpp>
@@ -383,10 +382,10 @@ Table krylov_history_table(const HeterogeneousStudyResult& r) {
   return t;
 }
 
-std::string metadata_json(const HeterogeneousStudyResult& r) {
+Json metadata_json(const HeterogeneousStudyResult& r) {
   const auto& p = r.params;
   const auto& f = p.field;
-  nlohmann::ordered_json j;
+  Json j;
   j["problem"] = p.problem;
   j["substitute_for_spe10"] = p.problem != "spe10";
   j["dim"] = p.dim;
@@ -413,7 +412,7 @@ std::string metadata_json(const HeterogeneousStudyResult& r) {
   to.flow_axis = p.flow_axis;
   j["tpfa_outlet_flux"] = r.reference.size() ? tpfa_boundary_flux(f, r.reference, to, true) : 0.0;
   if (!p.krylov.preconditioners.empty()) {
-    nlohmann::ordered_json k;
+    Json k;
     k["ksp"] = "gmres";
     k["restart"] = p.krylov.restart;
     k["rtol"] = p.krylov.rtol;
@@ -425,7 +424,7 @@ std::string metadata_json(const HeterogeneousStudyResult& r) {
     j["krylov"] = k;
   }
   j["warnings"] = r.warnings;
-  return j.dump();
+  return j;
 }
 
 }  // namespace vrsph

@@ -71,7 +71,23 @@ class Parts(unittest.TestCase):
         first = p.stdout.splitlines()[0]
         self.assertRegex(first, r"^vrsph \d+\.\d+\.\d+ \(BSD-3-Clause\)$")
         self.assertIn("built without:", p.stdout)
-        self.assertLessEqual(self.built, {"PETSC", "MPI", "CGAL", "CLP", "SUITESPARSE", "MUPARSER", "VTK_XML", "OPENMP"})
+        self.assertLessEqual(self.built, {"PETSC", "MPI", "CGAL", "CLP", "SUITESPARSE", "MUPARSER", "VTK_XML", "JSON", "TOML", "OPENMP"})
+
+    def test_json_output_needs_no_part(self):
+        """Writing JSON is the core's own (vrsph/io/json.hpp): tables and metadata in every build."""
+        p = run("operator", "--problem", "qw-trunc", "--method", "sph", "--operator", "gradient", "--cloud", "uniform",
+                "--n", "8,16", "--format", "json")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        doc = json.loads(p.stdout)
+        self.assertEqual([r["n"] for r in doc["rows"]], [8, 16])
+        self.assertEqual(doc["dim"], 2)
+        self.assertIsNone(doc["rows"][0]["order_inf"])  # the first row has no order: null, not NaN
+        self.assertIsInstance(doc["rows"][0]["error_inf"], float)
+        self.assertIn("fitted_order_inf", doc)
+        p = run("methods", "--format", "json")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        rows = json.loads(p.stdout)
+        self.assertTrue(all(r["reference"] is None or r["reference"]["year"] > 1900 for r in rows))
 
     def test_core_solve_works_in_every_build(self):
         p = run("solve", "--n", "16", "--format", "json")
@@ -140,6 +156,9 @@ class Parts(unittest.TestCase):
         self.case("CGAL", ("cloud", "--family", "centroids", "--n", "8"))
         vtu = self.file("c.vtu", '<?xml version="1.0"?><VTKFile type="UnstructuredGrid"></VTKFile>\n')
         self.case("VTK_XML", ("cloud", "--input", vtu))
+        square = self.file("square.geojson", '{"type": "Polygon", "coordinates": [[[0,0],[1,0],[1,1],[0,1],[0,0]]]}')
+        self.case("JSON", ("cloud", "--geometry", square, "--spacing", "0.25"))
+        self.case("TOML", ("solve", "--config", self.file("p.toml", "n = 12\n")))
         # The regularity report needs CGAL's Voronoi cells before Clp's LP: the first part missing is named.
         self.case("CLP" if "CGAL" in self.built else "CGAL",
                   ("cloud", "--family", "perturbed", "--n", "6", "--regularity", "--dn-method", "lp"))

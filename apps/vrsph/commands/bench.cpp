@@ -7,7 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <fstream>
 #include <sstream>
 #include <iostream>
@@ -141,12 +141,16 @@ void add_volumes_bench(CLI::App& bench) {
       row("fast NNLS only (sample)", static_cast<double>(sample.size()), t_fast_sample);
       row("textbook NNLS only (sample)", static_cast<double>(sample.size()), t_ref);
     }
-    std::ostringstream extra;
-    extra << "{\"benchmark\":\"volumes\",\"particles\":" << static_cast<long long>(N) << ",\"seconds\":" << t_vol
-          << ",\"particles_per_second\":" << N / t_vol << ",\"neighbours_mean\":" << static_cast<double>(nl.total()) / static_cast<double>(sc.cloud.size())
-          << ",\"textbook_speedup\":" << (t_fast_sample > 0 ? t_ref / t_fast_sample : 0.0)
-          << ",\"max_residual_difference\":" << max_diff << ",\"peak_memory_mib\":" << peak_memory_mib() << "}";
-    emit(t, a->out, extra.str(), "", "", "", "");
+    const Json extra = Json::object(
+        {{"benchmark", "volumes"},
+         {"particles", static_cast<long long>(N)},
+         {"seconds", t_vol},
+         {"particles_per_second", N / t_vol},
+         {"neighbours_mean", static_cast<double>(nl.total()) / static_cast<double>(sc.cloud.size())},
+         {"textbook_speedup", t_fast_sample > 0 ? t_ref / t_fast_sample : 0.0},
+         {"max_residual_difference", max_diff},
+         {"peak_memory_mib", peak_memory_mib()}});
+    emit(t, a->out, extra, "", "", "", "");
   });
 }
 
@@ -189,7 +193,7 @@ void add_stencils_bench(CLI::App& bench) {
     Table t;
     t.columns = {"method", "h_factor", "particles", "repeat", "threads", "seconds", "seconds_per_build", "ratio_to_sph",
                  "paper_seconds", "paper_ratio_to_sph"};
-    nlohmann::ordered_json per_method = nlohmann::ordered_json::object();
+    Json per_method = Json::object();
     for (double kappa : kappas) {
       SearchParams sp;
       sp.radius = kappa * sc.dx;
@@ -218,14 +222,14 @@ void add_stencils_bench(CLI::App& bench) {
                    {"repeat", static_cast<long long>(a->repeat)}, {"threads", static_cast<long long>(a->threads)},
                    {"seconds", seconds[m]}, {"seconds_per_build", seconds[m] / a->repeat},
                    {"ratio_to_sph", seconds[m] / seconds["sph"]}, {"paper_seconds", ps}, {"paper_ratio_to_sph", pr}});
-        if (kappa == kappas.front()) per_method[m] = {{"seconds", seconds[m]}, {"ratio_to_sph", seconds[m] / seconds["sph"]}};
+        if (kappa == kappas.front()) per_method[m] = Json::object({{"seconds", seconds[m]}, {"ratio_to_sph", seconds[m] / seconds["sph"]}});
       }
     }
-    nlohmann::ordered_json extra;
+    Json extra;
     extra["benchmark"] = "stencils";
     extra["methods"] = per_method;
     extra["peak_memory_mib"] = peak_memory_mib();
-    emit(t, a->out, extra.dump(), "", "", "", "");
+    emit(t, a->out, extra, "", "", "", "");
   });
 }
 
@@ -262,8 +266,7 @@ void add_bench_command(CLI::App& app) {
                  {"particles_per_second", static_cast<double>(sc.cloud.size()) / s},
                  {"ratio_to_cell_list", s / base}});
     }
-    emit(t, a->out, "{\"benchmark\":\"neighbours\",\"peak_memory_mib\":" + std::to_string(peak_memory_mib()) + "}", "", "",
-         "", "");
+    emit(t, a->out, Json::object({{"benchmark", "neighbours"}, {"peak_memory_mib", peak_memory_mib()}}), "", "", "", "");
   });
   add_volumes_bench(*bench);
   add_stencils_bench(*bench);

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/analysis/accuracy_sweep.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/core/error.hpp>
@@ -241,7 +241,7 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
     results.push_back({e.name, e.mesh, sweep_to_targets(o, run)});
   }
 
-  nlohmann::ordered_json meta;
+  Json meta;
   meta["benchmark"] = "accuracy";
   meta["problem"] = "qw-ex5";
   meta["dim"] = a.dim;
@@ -257,15 +257,15 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
   meta["memory_limit_mib"] = static_cast<double>(memory_limit_bytes()) / (1024.0 * 1024.0);
   meta["repeat"] = a.repeat;
   const Table sweeps = sweep_table(results);
-  meta["sweep"] = nlohmann::json::parse(to_json(sweeps)).at("rows");
+  meta["sweep"] = json_rows(sweeps);
   meta["seconds_bench"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   OutputOptions table_only = a.out;
   table_only.plot.clear();
-  emit(race_table(results, targets), table_only, meta.dump(), "", "", "", "");
+  emit(race_table(results, targets), table_only, meta, "", "", "", "");
   if (!a.out.plot.empty()) {
     // Reference: second order at a cost linear in N (error ~ seconds^(-2/d)).
     const std::string slopes = a.dim == 2 ? "error_inf:-1" : "error_inf:-0.6667";
-    plot_table(sweeps, "", a.out.plot, "seconds", slopes, "configuration",
+    plot_table(sweeps, Json(), a.out.plot, "seconds", slopes, "configuration",
                "Example 5 " + std::to_string(a.dim) + "D " + a.cloud + ": max error against seconds to solution",
                true);
   }

@@ -7,7 +7,7 @@
 #include <exception>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/core/error.hpp>
@@ -164,7 +164,7 @@ std::vector<std::pair<std::string, TableCell>> bench_row(const BvpRun& r, int n,
 // Every size with one solver: the rows, and the cost slopes in N into `meta`.
 void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<int>& sizes,
                   const std::vector<AnchorRows>& anchor, const std::string& solver, Table& t, Progress& progress,
-                  double& done, double total_runs, nlohmann::ordered_json& meta) {
+                  double& done, double total_runs, Json& meta) {
   const Communicator& comm = p.communicator;
   std::vector<Real> big_n, work, iterations;
   warm_up_run(p, a.method, a.seed);
@@ -240,7 +240,7 @@ void run_solve_bench(const SolveBenchArgs& a) {
   const std::vector<AnchorRows> anchor = run_anchors(a, p, sizes, comm);
   Table t;
   t.columns = bench_columns(a.baseline, a.peer.anchor.empty() ? std::vector<int>{} : parse_anchor_degrees(a.peer.degrees));
-  nlohmann::ordered_json meta;
+  Json meta;
   meta["benchmark"] = "solve";
   meta["dim"] = a.dim;
   meta["cloud"] = a.cloud;
@@ -261,7 +261,7 @@ void run_solve_bench(const SolveBenchArgs& a) {
   }
   meta["peak_memory_mib"] = max_over_ranks(comm, peak_memory_mib());
   meta["ranks"] = comm.size();
-  emit(t, a.out, meta.dump(), "N", "seconds_total:1,solver_iterations:0", "solver",
+  emit(t, a.out, meta, "N", "seconds_total:1,solver_iterations:0", "solver",
        "Example 5 " + std::to_string(a.dim) + "D " + a.cloud + ": seconds and solver iterations to solution");
 }
 }  // namespace

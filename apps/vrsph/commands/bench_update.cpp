@@ -6,7 +6,7 @@
 // divergence of the velocity (applied from the gradient stencil in both), their ratio, the
 // warm-start hit rate, and the operators' errors of both paths on the same fields.
 #include <cmath>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
@@ -217,7 +217,7 @@ void run_update_bench(const UpdateArgs& a) {
   row("stencils (laplacian + gradient)", run.update.stencils, run.fresh.stencils);
   row("divergence (apply)", run.update.divergence, run.fresh.divergence);
   row("total", run.update.total(), run.fresh.total());
-  nlohmann::ordered_json extra;
+  Json extra;
   extra["benchmark"] = "update";
   extra["method"] = a.method;
   extra["h_factor"] = a.h_factor;
@@ -227,7 +227,7 @@ void run_update_bench(const UpdateArgs& a) {
   extra["periodic"] = a.periodic;
   extra["first_build_seconds"] = run.first_build;
   extra["peak_memory_mib"] = peak_memory_mib();
-  emit(t, a.out, extra.dump(), "", "", "", "");
+  emit(t, a.out, extra, "", "", "", "");
 }
 }  // namespace
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <cmath>
 #include <iostream>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/free_surface.hpp>
 #include <vrsph/core/features.hpp>
@@ -344,7 +344,7 @@ void print_report(const Table& t, const std::string& format) {
     std::cout << format_table(t, parse_table_format(format));
     return;
   }
-  nlohmann::ordered_json j;
+  Json j;
   for (const auto& row : t.rows) {
     const auto& name = std::get<std::string>(row[0]);
     std::visit([&](const auto& v) {

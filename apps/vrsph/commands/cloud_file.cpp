@@ -5,7 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/errors.hpp>
 #include <vrsph/core/error.hpp>
@@ -385,7 +385,7 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
   t.columns.insert(t.columns.end(), base_columns.begin(), base_columns.end());
   t.columns.insert(t.columns.end(), {"error_inf", "order_inf", "error_l2", "order_l2", "error_inf_interior",
                                      "error_inf_boundary", "seconds_total"});
-  nlohmann::ordered_json fitted = nlohmann::ordered_json::object();
+  Json fitted = Json::object();
   Progress progress;
   double done = 0;
   for (const auto& m : methods) {
@@ -414,7 +414,7 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
     }
     if (sizes.size() > 1) fitted[m] = least_squares_order(sizes, einf);
   }
-  nlohmann::ordered_json meta;
+  Json meta;
   if (geometry) {
     meta["geometry"] = file.geometry;
     meta["fill"] = file.fill;
@@ -423,7 +423,7 @@ void study_cloud_files(const StudyArgs& a, const CloudFileArgs& file, const CLI:
   }
   meta["fitted_order_inf"] = fitted;
   meta["u"] = a.u;
-  emit(t, a.out, meta.dump(), "spacing", "error_inf", "method", geometry ? file.geometry : "cloud files " + file.pattern);
+  emit(t, a.out, meta, "spacing", "error_inf", "method", geometry ? file.geometry : "cloud files " + file.pattern);
 }
 
 }  // namespace vrsph::cli

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/reproduce/spe_problems.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/output_file.hpp>
@@ -197,12 +197,12 @@ void run_diffuse(DiffuseArgs& a, const CLI::App& cmd, const std::string& custom)
   }
   if (!a.history.empty())
     write_file(a.history, "error history", [&](std::ostream& f) { f << "nu,t,error_inf\n" << history; });
-  nlohmann::json meta;
+  Json meta;
   meta["problem"] = a.problem;
   meta["particles"] = problem.cloud.size();
   meta["neumann_particles"] = problem.cloud.count(Tag::Neumann);
   if (is_custom) meta["u"] = a.u;
-  emit(t, a.out, meta.dump(), "t", "log10_error", "nu", (is_custom ? "custom, " : "plate flow, ") + a.scheme, false);
+  emit(t, a.out, meta, "t", "log10_error", "nu", (is_custom ? "custom, " : "plate flow, ") + a.scheme, false);
 }
 }  // namespace
 

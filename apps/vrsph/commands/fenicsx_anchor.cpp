@@ -10,12 +10,16 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <sstream>
+#include <vrsph/config.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/core/features.hpp>
 #include "../cli_common.hpp"
 #ifdef _OPENMP
 #include <omp.h>
+#endif
+#if VRSPH_HAVE_JSON
+#include <nlohmann/json.hpp>
 #endif
 
 namespace vrsph::cli {
@@ -125,6 +129,8 @@ int anchor_ranks(int requested) {
 }
 
 AnchorSetup anchor_setup(const AnchorOptions& o, int dim) {
+  // The peer reports in JSON lines: refused before any run when they cannot be read.
+  require_part("JSON", "--anchor fenicsx (the peer's reports are JSON)");
   const int ranks = anchor_ranks(o.ranks);
   return {fenicsx_script(o.script), dim, ranks};
 }
@@ -182,6 +188,7 @@ AnchorRun run_anchor(const AnchorSetup& setup, int degree, int cells, AnchorMesh
   run.degree = degree;
   run.cells = cells;
   run.mesh = mesh;
+#if VRSPH_HAVE_JSON
   bool found = false;
   std::istringstream lines(out);
   std::string line;
@@ -206,6 +213,9 @@ AnchorRun run_anchor(const AnchorSetup& setup, int degree, int cells, AnchorMesh
     throw IoError(detail::concat("the FEniCSx anchor (", what, ", ", setup.script,
                                  ") printed a line that is not its JSON result: ", e.what()));
   }
+#else
+  const bool found = false;  // not reached: anchor_setup required the part
+#endif
   check<IoError>(found, "the FEniCSx anchor (", what, ", ", setup.script,
                  ") did not print its JSON line (nodes, total, error_inf, iterations)");
   check<IoError>(std::isfinite(run.error_inf) && std::isfinite(run.seconds_total),

@@ -14,7 +14,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/cavity.hpp>
@@ -134,12 +134,12 @@ void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, 
     }
     add_orders(t, first, nxs, errors);
   }
-  nlohmann::ordered_json extra;
+  Json extra;
   extra["case"] = "projection";
   extra["jitter"] = a.cloud == "lattice" ? 0.0 : a.jitter;
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
-  emit(t, a.out, extra.dump(), "nx", "error_u_inf:-1/-2", "method", "frozen-cloud projection: max velocity error");
+  emit(t, a.out, extra, "nx", "error_u_inf:-1/-2", "method", "frozen-cloud projection: max velocity error");
 }
 
 void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
@@ -203,7 +203,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
     }
     add_orders(t, first, nxs, errors);
   }
-  nlohmann::ordered_json extra;
+  Json extra;
   extra["case"] = "taylor-green";
   extra["exact_solution"] = a.dim == 2 ? "Taylor-Green vortex" : "Beltrami (ABC) flow";
   extra["re"] = a.re;
@@ -214,7 +214,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
-  emit(t, a.out, extra.dump(), "nx", "error_u_mean:-1/-2,error_p_mean:-1/-2", "method", "Taylor-Green: mean velocity and pressure errors");
+  emit(t, a.out, extra, "nx", "error_u_mean:-1/-2,error_p_mean:-1/-2", "method", "Taylor-Green: mean velocity and pressure errors");
   failed.raise_if_any();
 }
 
@@ -311,7 +311,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
     const std::string csv = profile_csv(profiles, a.re);
     write_file(a.profile_output, "centre-line profiles", [&csv](std::ostream& f) { f << csv; });
   }
-  nlohmann::ordered_json extra;
+  Json extra;
   extra["case"] = "cavity";
   extra["reference"] = "Ghia, Ghia & Shin, J. Comput. Phys. 48 (1982) 387-411, Tables I-II";
   extra["converged_reference"] = "Taylor-Hood P2-P1, 128 x 128 crossed cells (scripts/cavity_reference.py)";
@@ -323,7 +323,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
-  emit(t, a.out, extra.dump(), "nx",
+  emit(t, a.out, extra, "nx",
        "ghia_max_deviation_u:-1/-2,ghia_max_deviation_v:-1/-2,reference_max_deviation_u,reference_max_deviation_v",
        "method", "lid-driven cavity: largest centre-line deviation from Ghia et al. and a converged solution");
   failed.raise_if_any();

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/flow/dam_break.hpp>
 #include <vrsph/flow/tank.hpp>
 #include "../vtu_series.hpp"
@@ -103,7 +103,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
     }
     add_orders(t, first, nxs, errors);
   }
-  nlohmann::ordered_json extra;
+  Json extra;
   extra["case"] = "hydrostatic";
   extra["exact_pressure"] = "g (H - y), unit density";
   extra["gravity"] = a.gravity;
@@ -117,7 +117,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
-  emit(t, a.out, extra.dump(), "nx", "bottom_pressure_error:-1/-2,max_speed_after_ramp", "method",
+  emit(t, a.out, extra, "nx", "bottom_pressure_error:-1/-2,max_speed_after_ramp", "method",
        "hydrostatic tank: bottom pressure error and spurious speed");
   failed.raise_if_any();
 }
@@ -193,14 +193,14 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       if (!r.stopped.empty()) failed.messages.push_back(r.stopped);  // its samples kept, the command fails
     }
   }
-  nlohmann::ordered_json extra;
+  Json extra;
   extra["case"] = "dam-break";
   extra["geometry"] = "column L x 2L, tank 4L wide, L = g = 1, T = t (2 g / L)^(1/2)";
-  extra["references"] = {"Martin & Moyce, Phil. Trans. R. Soc. A 244 (1952) 312-324, Fig. 3 (n^2 = 2, a = 1.125 in and 2.25 in)",
-                         "Koshizuka & Oka, Nucl. Sci. Eng. 123 (1996) 421-434 (MPS)"};
-  nlohmann::ordered_json curves = nlohmann::ordered_json::array();
+  extra["references"] = Json::array({"Martin & Moyce, Phil. Trans. R. Soc. A 244 (1952) 312-324, Fig. 3 (n^2 = 2, a = 1.125 in and 2.25 in)",
+                         "Koshizuka & Oka, Nucl. Sci. Eng. 123 (1996) 421-434 (MPS)"});
+  Json curves = Json::array();
   for (const SurgeCurve& c : dam_break_references())
-    curves.push_back({{"name", c.name}, {"t_star", c.t_star}, {"z_over_l", c.z_over_l}});
+    curves.push_back(Json::object({{"name", c.name}, {"t_star", c.t_star}, {"z_over_l", c.z_over_l}}));
   extra["reference_curves"] = curves;
   extra["t_end"] = t_end;
   extra["cfl"] = a.cfl;
@@ -211,10 +211,10 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
   extra["peak_memory_mib"] = peak_memory_mib();
   OutputOptions table_only = a.out;
   table_only.plot.clear();  // the front against T beside the references: a plot of its own
-  emit(t, table_only, extra.dump(), "", "", "", "");
+  emit(t, table_only, extra, "", "", "", "");
   if (!a.out.plot.empty() && communicator().rank() == 0) {
     const TemporaryFile data("vrsph-dam-break", ".json");
-    write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << to_json(t, extra.dump()); });
+    write_file(data.path(), "temporary plot data", [&](std::ostream& f) { f << to_json(t, extra); });
     run_plot_script("plot_dam_break.py", data.path(), a.out.plot);
   }
   failed.raise_if_any();

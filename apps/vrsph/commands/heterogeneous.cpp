@@ -3,7 +3,7 @@
 // permeability field, every method against the TPFA reference, and the Krylov study of
 // [SPE] Figs. 11-12 (--krylov).
 #include <iostream>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/reproduce/heterogeneous_study.hpp>
 #include <vrsph/reproduce/problem_defaults.hpp>
 #include <vrsph/core/error.hpp>
@@ -161,7 +161,7 @@ HeterogeneousStudyParams heterogeneous_params(const StudyArgs& a, const Heteroge
 // The methods' table; the Krylov table (into the JSON, a file of its own, or after the
 // methods' table), the residual histories, their plot and the fields.
 void report_heterogeneous(const HeterogeneousStudyResult& r, const StudyArgs& a, const HeterogeneousArgs& h) {
-  auto meta = nlohmann::ordered_json::parse(metadata_json(r));
+  Json meta = metadata_json(r);
   meta["peak_memory_mib"] = peak_memory_mib();
   OutputOptions out = a.out;
   out.plot.clear();
@@ -174,10 +174,10 @@ void report_heterogeneous(const HeterogeneousStudyResult& r, const StudyArgs& a,
     if (!h.krylov_output.empty()) {
       if (root) write_file(h.krylov_output, "Krylov study table", [&](std::ostream& f) { f << text; });
     } else if (format == TableFormat::Json) {
-      meta["krylov_rows"] = nlohmann::ordered_json::parse(text)["rows"];
+      meta["krylov_rows"] = json_rows(krylov_table(r));
     }
   }
-  emit(to_table(r), out, meta.dump(), "", "", "", "");
+  emit(to_table(r), out, meta, "", "", "", "");
   if (!root) return;
   if (!r.krylov.empty() && h.krylov_output.empty() && format != TableFormat::Json) {
     std::cout << "\nKrylov study: GMRES(" << r.params.krylov.restart << "), right preconditioning, rtol "

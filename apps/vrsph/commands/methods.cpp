@@ -3,7 +3,7 @@
 #include <iostream>
 #include <string_view>
 #include <vector>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/core/references.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -23,9 +23,14 @@ std::string choice_defaults(const std::string& method) {
   return out;
 }
 
-nlohmann::ordered_json to_json(const Reference& r) {
-  return {{"key", r.key},     {"authors", r.authors},       {"title", r.title},       {"venue", r.venue},
-          {"year", r.year},   {"identifier", r.identifier}, {"citation", r.citation()}};
+Json to_json(const Reference& r) {
+  return Json::object({{"key", r.key},
+                       {"authors", r.authors},
+                       {"title", r.title},
+                       {"venue", r.venue},
+                       {"year", r.year},
+                       {"identifier", r.identifier},
+                       {"citation", r.citation()}});
 }
 
 // "Qiao & Wei 2025 (arXiv:2503.15188)" per publication the method cites: a table cell.
@@ -58,27 +63,27 @@ void add_methods_command(CLI::App& app) {
     const auto methods = builtin_methods().list();
     if (*format == "json") {
       // A plain JSON list of method objects.
-      auto list = nlohmann::ordered_json::array();
+      auto list = Json::array();
       for (const auto& m : methods) {
-        nlohmann::ordered_json o;
+        Json o;
         o["name"] = m.name;
         // `reference`: the publication the method comes from (the first one its source cites);
         // `references`: every publication it cites, that one first.
         const auto cited = references_cited_in(m.source);
         o["source"] = m.source;
-        o["reference"] = cited.empty() ? nlohmann::ordered_json() : to_json(cited.front());
-        auto all = nlohmann::ordered_json::array();
+        o["reference"] = cited.empty() ? Json() : to_json(cited.front());
+        auto all = Json::array();
         for (const Reference& r : cited) all.push_back(to_json(r));
         o["references"] = all;
         o["description"] = m.description;
         o["claimed_order"] = m.claimed_order;
-        auto ops = nlohmann::ordered_json::array();
+        auto ops = Json::array();
         for (auto k : m.operators) ops.push_back(std::string(to_string(k)));
         o["operators"] = ops;
-        auto opts = nlohmann::ordered_json::object();
+        auto opts = Json::object();
         for (const auto& [k, v] : m.options) opts[k] = v;
         o["options"] = opts;
-        auto profiles = nlohmann::ordered_json::object();
+        auto profiles = Json::object();
         for (const auto& [k, v] : m.profiles) profiles[k] = v;
         o["profiles"] = profiles;
         o["defaults"] = choice_defaults(m.name);

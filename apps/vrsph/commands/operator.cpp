@@ -95,7 +95,7 @@ void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
                {"error_inf", e_in}, {"error_inf_boundary", e_b}, {"max_local_residual", local.max_relative},
                {"infeasible", static_cast<long long>(local.infeasible)}});
   }
-  emit(t, a.out, "{}", "h", "error_inf", "method", "operator on " + a.cloud_file);
+  emit(t, a.out, Json(), "h", "error_inf", "method", "operator on " + a.cloud_file);
 }
 
 // `vrsph operator --at points.csv`: [IM] (2)-(4) of gpm at arbitrary points, against the
@@ -166,8 +166,7 @@ void operator_at_points(const OperatorArgs& a, const CLI::App& cmd) {
     for (int k = 0; k < cloud.dim; ++k) row.emplace_back(std::string("gradient_") + "xyz"[k], r.gradient(e, k));
     t.add_row(row);
   }
-  emit(t, a.out, R"j({"evaluation": "gpm at points", "reference": "[IM] (2)-(4)"})j", "", "", "",
-       "");
+  emit(t, a.out, Json::object({{"evaluation", "gpm at points"}, {"reference", "[IM] (2)-(4)"}}), "", "", "", "");
 }
 
 // `vrsph operator --problem im-table1`: [IM] Table 1 / Fig. 5 (reproduce/im_table1.hpp).
@@ -203,7 +202,10 @@ void operator_im_table1(const OperatorArgs& a, const CLI::App& cmd) {
                {"theoretical_order", nan_to_empty(im_theoretical_order(r.weight, r.m))}, {"volume_bias", r.volume_bias},
                {"error_integral", r.error_integral}, {"seconds", r.seconds}});
   }
-  emit(t, a.out, R"j({"problem": "im-table1", "reference": "[IM] Table 1 (Imoto, JJIAM 37 (2020), doi:10.1007/s13160-020-00407-1)"})j", "h", "error_rel",
+  emit(t, a.out,
+       Json::object({{"problem", "im-table1"},
+                     {"reference", "[IM] Table 1 (Imoto, JJIAM 37 (2020), doi:10.1007/s13160-020-00407-1)"}}),
+       "h", "error_rel",
        "series", "[IM] Table 1: relative max-norm error against h");
 }
 void add_operator_options(CLI::App* cmd, OperatorArgs& a) {

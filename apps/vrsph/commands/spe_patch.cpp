@@ -57,8 +57,8 @@ void run_spe_patch_command(const SpePatchArgs& a, const CLI::App& cmd, int dim, 
                             (a.rotated ? " rotated" : "") + " " + std::to_string(dim) + "D";
   OutputOptions no_plot = out;
   no_plot.plot.clear();
-  emit(summary_table(r), no_plot, "{\"problem\":\"spe-patch\",\"test\":\"" + a.test + "\"}", "", "", "", "");
-  if (!out.plot.empty()) plot_table(profile, "{}", out.plot, "x", "value", "variant", title, false);
+  emit(summary_table(r), no_plot, Json::object({{"problem", "spe-patch"}, {"test", a.test}}), "", "", "", "");
+  if (!out.plot.empty()) plot_table(profile, Json(), out.plot, "x", "value", "variant", title, false);
 }
 
 }  // namespace vrsph::cli

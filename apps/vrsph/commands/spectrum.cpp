@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/reproduce/problem_defaults.hpp>
 #include <vrsph/reproduce/spectrum.hpp>
 #include <vrsph/core/error.hpp>
@@ -22,11 +22,6 @@ struct SpectrumArgs {
   OutputOptions out;
 };
 
-nlohmann::ordered_json finite_or_null(const std::vector<Real>& v) {
-  nlohmann::ordered_json a = nlohmann::ordered_json::array();
-  for (Real x : v) a.push_back(std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json());
-  return a;
-}
 
 SpectrumParams spectrum_params(const SpectrumArgs& a, const std::string& method, const MethodOptions& options,
                                CloudFamily family) {
@@ -86,7 +81,7 @@ void run_spectrum(const SpectrumArgs& a) {
                      "vrsph spectrum: --cloud must be uniform or perturbed");
   Table t;
   t.columns = {"method", "mode", "n_over_N", "omega_ratio"};
-  nlohmann::ordered_json meta, spectra = nlohmann::ordered_json::object(), imag = nlohmann::ordered_json::object();
+  Json meta, spectra = Json::object(), imag = Json::object();
   std::vector<std::string> warnings;
   const auto params_of = [&](const std::string& m) { return spectrum_params(a, m, options_for(options, m), family); };
   double each = seconds_per_spectrum(a, params_of(methods.front()), methods.size() + 1);
@@ -102,8 +97,8 @@ void run_spectrum(const SpectrumArgs& a) {
       each = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     ++done;
-    if (meta.find("omega_ratio") == meta.end()) meta["omega_ratio"] = finite_or_null(s.omega_ratio);
-    spectra[m] = finite_or_null(s.omega_ratio);
+    if (!meta.contains("omega_ratio")) meta["omega_ratio"] = Json(s.omega_ratio);  // not finite: null
+    spectra[m] = Json(s.omega_ratio);
     imag[m] = s.max_imag_relative;
     collect_spectrum_warnings(m, s, warnings);
     add_spectrum_rows(t, m, s.omega_ratio);
@@ -114,7 +109,7 @@ void run_spectrum(const SpectrumArgs& a) {
     fem = fem_lumped_spectrum(a.n);
   }
   add_spectrum_rows(t, "fem-lumped", fem.omega_ratio);
-  meta["fem_ratio"] = finite_or_null(fem.omega_ratio);
+  meta["fem_ratio"] = Json(fem.omega_ratio);
   meta["spectra"] = spectra;
   meta["max_imag_relative"] = imag;
   meta["n"] = a.n;
@@ -124,7 +119,7 @@ void run_spectrum(const SpectrumArgs& a) {
   meta["cloud"] = a.cloud;
   meta["warnings"] = warnings;
   for (const auto& w : warnings) std::cerr << "vrsph: warning: " << w << '\n';
-  emit(t, a.out, meta.dump(), "n_over_N", "omega_ratio", "method",
+  emit(t, a.out, meta, "n_over_N", "omega_ratio", "method",
        "normalised spectrum, " + std::to_string(a.n - 1) + " unknowns", false);
 }
 }  // namespace

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // `vrsph stability`: von Neumann growth factors of a method's Laplacian ([SPE] Fig. 5) and the
 // statistics of the monotonicity diagnostic ξ ([SPE] Fig. 6).
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/analysis/stability.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/output_file.hpp>
@@ -23,13 +23,13 @@ struct StabilityArgs {
 
 // The λ clouds for share/plot_stability.py: at most `cap` points per method (evenly strided).
 void plot_growth_factors(const StabilityResult& r, const std::string& png, const std::string& title) {
-  nlohmann::json j;
+  Json j;
   j["title"] = title;
   for (const auto& row : r.rows) {
-    nlohmann::json pts = nlohmann::json::array();
+    Json pts = Json::array();
     const std::size_t cap = 40000, stride = std::max<std::size_t>(1, row.samples.size() / cap);
     for (std::size_t s = 0; s < row.samples.size(); s += stride)
-      pts.push_back({row.samples[s].real(), row.samples[s].imag(), row.sample_is_boundary[s] ? 1 : 0});
+      pts.push_back(Json::array({row.samples[s].real(), row.samples[s].imag(), row.sample_is_boundary[s] ? 1 : 0}));
     j["methods"][row.method] = pts;
   }
   const TemporaryFile data("vrsph-stability", ".json");
@@ -71,7 +71,7 @@ void add_stability_command(CLI::App& app) {
       const std::vector<int> counts = a->neighbours.empty() ? std::vector<int>{4, 8, 16, 32, 64, 125, 250, 500}
                                                             : parse_int_list(a->neighbours, "--neighbours");
       const auto rows = xi_statistics(a->dim, counts, a->configurations, a->seed);
-      emit(to_table(rows), a->out, "{\"figure\":\"[SPE] Fig. 6\"}", "neighbours", "xi_mean", "sets", "|xi| ([SPE] Fig. 6)");
+      emit(to_table(rows), a->out, Json::object({{"figure", "[SPE] Fig. 6"}}), "neighbours", "xi_mean", "sets", "|xi| ([SPE] Fig. 6)");
       return;
     }
     for (const char* opt : {"--neighbours", "--configurations"})
@@ -96,7 +96,7 @@ void add_stability_command(CLI::App& app) {
     const StabilityResult r = run_stability(p);
     OutputOptions table_only = a->out;
     table_only.plot.clear();
-    emit(to_table(r), table_only, "{\"figure\":\"[SPE] Fig. 5\"}", "", "", "", "");
+    emit(to_table(r), table_only, Json::object({{"figure", "[SPE] Fig. 5"}}), "", "", "", "");
     if (!a->out.plot.empty())
       plot_growth_factors(r, a->out.plot, detail::concat("growth factors, ", a->cloud, ", tau = ", a->tau));
   });

@@ -2,7 +2,7 @@
 // `vrsph study` (convergence of a boundary value problem over a refinement list) and
 // `vrsph solve` (one problem, fields to VTU).
 #include <iostream>
-#include <nlohmann/json.hpp>
+#include <vrsph/io/json.hpp>
 #include <vrsph/reproduce/published_problems.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/reproduce/heterogeneous_study.hpp>
@@ -185,9 +185,10 @@ std::string solve_summary(Table t, const std::string& format, const std::vector<
     t.rows.front().push_back(static_cast<long long>(warnings.size()));
     return format_table(t, f);
   }
-  auto j = nlohmann::ordered_json::parse(format_table(t, f));
-  j["rows"][0]["warnings"] = warnings;
-  j["rows"][0]["infeasible_particles"] = infeasible;
+  Json j = Json::object();
+  j["rows"] = json_rows(t);
+  j["rows"].at(0)["warnings"] = warnings;
+  j["rows"].at(0)["infeasible_particles"] = infeasible;
   return j.dump(2) + "\n";
 }
 
@@ -247,10 +248,10 @@ void add_study_command(CLI::App& app) {
     p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
     const BvpStudyResult r = run_bvp_study(p);
     print_warnings(r.warnings, false);  // the rows of a study's runs are not kept: no list
-    auto meta = nlohmann::ordered_json::parse(metadata_json(r));
+    Json meta = metadata_json(r);
     meta["peak_memory_mib"] = max_over_ranks(p.communicator, peak_memory_mib());
     meta["ranks"] = p.communicator.size();
-    emit(to_table(r), a->out, meta.dump(), "h", "error_inf", "method",
+    emit(to_table(r), a->out, meta, "h", "error_inf", "method",
          p.problem + " " + a->cloud + " " + std::to_string(p.dim) + "D");
   });
 }

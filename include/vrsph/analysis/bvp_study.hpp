@@ -176,6 +176,6 @@ Real support_factor(const BvpStudyParams& params);
 BvpRun run_bvp(const BvpStudyParams& params, const std::string& method, int n, std::uint64_t seed, bool keep_fields,
                std::vector<std::string>* warnings = nullptr, PointCloud* cloud_out = nullptr);
 Table to_table(const BvpStudyResult& result);
-std::string metadata_json(const BvpStudyResult& result);
+Json metadata_json(const BvpStudyResult& result);
 
 }  // namespace vrsph

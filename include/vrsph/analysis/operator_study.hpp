@@ -88,7 +88,7 @@ struct OperatorStudyResult {
 /// Throws ConfigError/InputError for bad parameters before any work is done.
 OperatorStudyResult run_operator_study(const OperatorStudyParams& params);
 Table to_table(const OperatorStudyResult& result);
-/// Problem/parameter metadata as a JSON object text (merged into --format json output).
-std::string metadata_json(const OperatorStudyResult& result);
+/// Problem/parameter metadata as a JSON object (merged into --format json output).
+Json metadata_json(const OperatorStudyResult& result);
 
 }  // namespace vrsph

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The optional parts of this build (PETSc, MPI, CGAL, Clp, SuiteSparse, muParser, VTK XML
-// reading, OpenMP; cmake/vrsph_parts.cmake) and the one way a feature of a missing part fails.
+// reading, JSON reading, TOML problem files, OpenMP; cmake/vrsph_parts.cmake) and the one way a feature of a missing part fails.
 #include <string>
 #include <string_view>
 #include <vector>

@@ -6,6 +6,7 @@
 #include <string>
 #include <variant>
 #include <vector>
+#include <vrsph/io/json.hpp>
 
 namespace vrsph {
 
@@ -24,8 +25,16 @@ TableFormat parse_table_format(const std::string& name);
 
 std::string to_markdown(const Table& t);
 std::string to_csv(const Table& t);
-/// extra: a JSON object text merged at top level (e.g. problem metadata); may be empty.
-std::string to_json(const Table& t, const std::string& extra_json_object = "");
-std::string format_table(const Table& t, TableFormat f, const std::string& extra_json_object = "");
+/// The rows as a JSON array of objects {column: value}; an empty cell or a NaN is null.
+Json json_rows(const Table& t);
+/// {...extra's members, "rows": json_rows(t)}: extra (e.g. problem metadata) is an object or
+/// null; throws ConfigError otherwise.
+std::string to_json(const Table& t, const Json& extra = {});
+std::string format_table(const Table& t, TableFormat f, const Json& extra = {});
+// A JSON text as `extra` would become one string value, not merged members: build a Json.
+std::string to_json(const Table&, const char*) = delete;
+std::string to_json(const Table&, const std::string&) = delete;
+std::string format_table(const Table&, TableFormat, const char*) = delete;
+std::string format_table(const Table&, TableFormat, const std::string&) = delete;
 
 }  // namespace vrsph

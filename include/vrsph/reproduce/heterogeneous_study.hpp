@@ -127,6 +127,6 @@ Table krylov_table(const HeterogeneousStudyResult& result);
 /// The residual histories as a long table: method, preconditioner, iteration, residual.
 Table krylov_history_table(const HeterogeneousStudyResult& result);
 /// The field statistics and settings, as a JSON object.
-std::string metadata_json(const HeterogeneousStudyResult& result);
+Json metadata_json(const HeterogeneousStudyResult& result);
 
 }  // namespace vrsph

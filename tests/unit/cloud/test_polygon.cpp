@@ -17,6 +17,7 @@ const char* plate = R"({"type": "Feature", "geometry": {"type": "Polygon", "coor
 }  // namespace
 
 TEST(Polygon, FillsWithOutwardNormalsAndKeepsInteriorOffTheBoundary) {
+  VRSPH_REQUIRE_PART("JSON");  // GeoJSON (Features checks the refusal without it)
   const Polygon p = parse_geojson_polygon(plate, "plate.geojson");
   ASSERT_EQ(p.rings.size(), 2u);
   EXPECT_TRUE(inside_polygon(p, Vec3(0.3, 0.5, 0)));
@@ -44,6 +45,7 @@ TEST(Polygon, FillsWithOutwardNormalsAndKeepsInteriorOffTheBoundary) {
 }
 
 TEST(Polygon, BadGeometriesAreNamed) {
+  VRSPH_REQUIRE_PART("JSON");  // GeoJSON (Features checks the refusal without it)
   EXPECT_THROW_MSG(parse_geojson_polygon("{", "g.json"), InputError, "g.json: not valid JSON");
   // A number beyond double's range (found by the geojson fuzzer: nlohmann's out_of_range).
   EXPECT_THROW_MSG(parse_geojson_polygon("11e41441", "g.json"), InputError, "g.json: not valid JSON");
@@ -101,6 +103,7 @@ std::size_t interior_within(const PointCloud& c, const Vec3& lo, const Vec3& hi)
 // A ring inside a hole bounds an island: filled, with normals out of the island (issue 31:
 // it used to be left empty with its ring particles floating in the void, then refused).
 TEST(Polygon, AnIslandInAHoleIsFilled) {
+  VRSPH_REQUIRE_PART("JSON");  // GeoJSON (Features checks the refusal without it)
   const char* nested = R"({"type": "Polygon", "coordinates": [
     [[0,0],[3,0],[3,3],[0,3]], [[0.5,0.5],[2.5,0.5],[2.5,2.5],[0.5,2.5]], [[1,1],[2,1],[2,2],[1,2]]]})";
   const Polygon p = parse_geojson_polygon(nested, "island.geojson");
@@ -120,6 +123,7 @@ TEST(Polygon, AnIslandInAHoleIsFilled) {
 // A MultiPolygon: two parts side by side, and one inside the other's hole; the same domain as
 // the nested Polygon above.
 TEST(Polygon, MultiPolygonPartsApartOrInHoles) {
+  VRSPH_REQUIRE_PART("JSON");  // GeoJSON (Features checks the refusal without it)
   const char* two = R"({"type": "Feature", "geometry": {"type": "MultiPolygon", "coordinates": [
     [[[0,0],[1,0],[1,1],[0,1]]], [[[2,0],[3,0],[3,1],[2,1]]]]}})";
   const Polygon p = parse_geojson_polygon(two, "two.geojson");

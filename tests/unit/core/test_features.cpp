@@ -5,6 +5,7 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/analysis/voronoi_deviation.hpp>
 #include <vrsph/cloud/generate.hpp>
+#include <vrsph/cloud/polygon.hpp>
 #include <vrsph/cloud/surface.hpp>
 #include <vrsph/config.hpp>
 #include <vrsph/core/features.hpp>
@@ -50,8 +51,10 @@ TEST(Features, PartsListMatchesTheGeneratedConfiguration) {
   EXPECT_EQ(built_with("SUITESPARSE"), VRSPH_HAVE_SUITESPARSE != 0);
   EXPECT_EQ(built_with("MUPARSER"), VRSPH_HAVE_MUPARSER != 0);
   EXPECT_EQ(built_with("VTK_XML"), VRSPH_HAVE_VTK_XML != 0);
+  EXPECT_EQ(built_with("JSON"), VRSPH_HAVE_JSON != 0);
+  EXPECT_EQ(built_with("TOML"), VRSPH_HAVE_TOML != 0);
   EXPECT_FALSE(built_with("NOPE"));
-  EXPECT_EQ(parts().size(), 8u);
+  EXPECT_EQ(parts().size(), 10u);
   for (const Part& p : parts()) EXPECT_FALSE(p.licence.empty() || p.packages.empty()) << p.name;
   EXPECT_EQ(version(), VRSPH_VERSION_STRING);
   EXPECT_EQ(VRSPH_HAVE_PETSC, VRSPH_HAVE_MPI);  // configured together (cmake/vrsph_parts.cmake)
@@ -72,6 +75,7 @@ TEST(Features, EachFeatureWorksOrSaysWhichPartIsMissing) {
   expect_part("CGAL", [] { (void)read_closed_surface("/nonexistent/solid.stl"); });
   expect_part("MUPARSER", [] { (void)make_expression_function("x*y", 2); });
   expect_part("VTK_XML", [] { (void)parse_vtk_cloud("<VTKFile/>", "tiny.vtu"); });
+  expect_part("JSON", [] { (void)parse_geojson_polygon(R"({"type": "Polygon"})", "tiny.geojson"); });
   expect_part("CLP", [] {
     const PointCloud c = cell_centred_lattice(Domain::unit_box(1), 8, false, 0);
     const std::vector<Real> v(8, 0.125);

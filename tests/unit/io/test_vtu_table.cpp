@@ -58,9 +58,10 @@ TEST(Table, FormatsMarkdownCsvAndJson) {
   t.add_row({{"n", 16LL}, {"error", 0.125}, {"order", 2.0}});
   EXPECT_NE(to_markdown(t).find("| 16 | 1.2500e-01 | 2.0000e+00 |"), std::string::npos);
   EXPECT_NE(to_csv(t).find("8,0.5,\n"), std::string::npos);
-  const std::string j = to_json(t, "{\"problem\":\"x\"}");
+  const std::string j = to_json(t, Json::object({{"problem", "x"}}));
   EXPECT_NE(j.find("\"problem\": \"x\""), std::string::npos);
   EXPECT_NE(j.find("\"order\": null"), std::string::npos);
+  EXPECT_THROW_MSG(to_json(t, Json("x")), ConfigError, "must be an object");
   EXPECT_THROW_MSG(parse_table_format("xml"), ConfigError, "unknown output format 'xml'");
   EXPECT_THROW_MSG(t.add_row({{"nope", 1LL}}), ConfigError, "no column 'nope'");
 }
