@@ -2,12 +2,14 @@
 // `vrsph solve --cloud-file` and `vrsph study --cloud-file-pattern`: boundary value
 // problems on the user's own clouds (CSV with tags and normals), data from expressions
 // evaluated at the file's points, each solve one library call (problem/).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <sstream>
 #include <vrsph/io/json.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/analysis/errors.hpp>
+#include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
 #include <vrsph/core/stopwatch.hpp>
@@ -57,7 +59,13 @@ Domain periodic_file_box(const std::string& box, const std::string& axes, int di
                          lo[k], " .. ", hi[k], ")");
       check<ConfigError>(std::isfinite(hi[k] - lo[k]), "--box: the side along ", "xyz"[k], " (", lo[k], " .. ", hi[k],
                          ") is not a finite length");
+      // As for the particles themselves (validate): beyond that, spacings and volumes overflow.
+      check<ConfigError>(std::max(std::abs(lo[k]), std::abs(hi[k])) <= max_coordinate, "--box: the corner along ",
+                         "xyz"[k], " (", lo[k], " .. ", hi[k], ") is beyond +-", max_coordinate, " (rescale the cloud)");
     }
+    Real volume = 1;
+    for (int k = 0; k < dim; ++k) volume *= hi[k] - lo[k];
+    check<ConfigError>(std::isfinite(volume), "--box: the box's volume overflows a double (rescale the cloud)");
     d = Domain::box(dim, lo, hi);
   }
   d.set_periodic(axes);
