@@ -36,8 +36,14 @@ Field left_null_vector(const CsrMatrix& A, const SolverOptions& options, Index p
   return y;
 }
 
-PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned, Field spread)
-    : n_(static_cast<Index>(A.rows())), pinned_(pinned) {
+PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Index pinned, Field spread) {
+  options_ = options;
+  prepare(std::move(A), pinned, std::move(spread), nullptr);
+}
+
+void PressurePoisson::prepare(CsrMatrix A, Index pinned, Field spread, const PressurePoisson* previous) {
+  n_ = static_cast<Index>(A.rows());
+  pinned_ = pinned;
   check<InputError>(A.rows() == A.cols() && n_ > 1, "pressure Poisson: the matrix must be square over at least two "
                     "particles, got ", A.rows(), " x ", A.cols());
   check<InputError>(pinned_ >= 0 && pinned_ < n_, "pressure Poisson: pinned particle ", pinned_, " outside 0..", n_ - 1);
@@ -57,15 +63,20 @@ PressurePoisson::PressurePoisson(CsrMatrix A, const SolverOptions& options, Inde
   check<InputError>(spread.size() == n_ && spread.allFinite(), "pressure Poisson: ", spread.size(),
                     " spreading weights for ", n_, " particles (or not finite)");
   pin_row(A, pinned_);  // row_ keeps the original row for the defect
-  solver_ = std::make_unique<PreparedSolver>(A, options);
+  if (previous) {
+    solver_ = previous->solver_;
+    matrix_ = std::make_shared<const CsrMatrix>(std::move(A));
+  } else {
+    solver_ = std::make_shared<const PreparedSolver>(A, options_);
+  }
   spread_pinned_ = spread[pinned_];
   Field unit = std::move(spread);
   unit[pinned_] = 0;
   z_.resize(0);
-  setup_ = solver_->solve(unit, z_);
+  setup_ = run(unit, z_);
   check<NumericalError>(setup_.success, "pressure Poisson: the unit-source solve failed (", setup_.solver, ": ",
                         setup_.message, "); a direct solver (umfpack) may solve what the iterative one could not");
-  setup_.seconds_setup = solver_->seconds_setup();
+  setup_.seconds_setup = matrix_ ? 0.0 : solver_->seconds_setup();
   sigma_ = pinned_defect(z_, spread_pinned_);
   check<NumericalError>(std::isfinite(sigma_) && sigma_ != 0, "pressure Poisson: a unit source leaves no defect at the "
                         "pinned particle (sigma = ", sigma_, "); the rows are not a consistent Laplacian");
@@ -78,13 +89,56 @@ PressurePoisson PressurePoisson::regular(CsrMatrix A, const SolverOptions& optio
                     "pressure Poisson: the matrix has a non-finite entry");
   PressurePoisson p;
   p.regular_ = true;
+  p.options_ = options;
   p.n_ = static_cast<Index>(A.rows());
   A.prune(0.0);
   A.makeCompressed();
-  p.solver_ = std::make_unique<PreparedSolver>(A, options);
+  p.solver_ = std::make_shared<const PreparedSolver>(A, options);
   p.setup_.seconds_setup = p.solver_->seconds_setup();
   p.setup_.success = true;
   return p;
+}
+
+PressurePoisson PressurePoisson::nearby(CsrMatrix A, const PressurePoisson& previous, const SolverOptions& options,
+                                        Index pinned, Field spread) {
+  check<InputError>(previous.can_precondition(), "pressure Poisson: a nearby equation needs a previous one solved by a "
+                    "factorisation, got ", previous.solver_ ? previous.solver_->solver() : std::string("none"));
+  check<InputError>(A.rows() == previous.n_ && A.cols() == previous.n_, "pressure Poisson: a nearby matrix of ",
+                    A.rows(), " x ", A.cols(), " for a previous one over ", previous.n_, " particles");
+  PressurePoisson p;
+  p.options_ = options;
+  if (!previous.regular_) {
+    p.prepare(std::move(A), pinned, std::move(spread), &previous);
+    return p;
+  }
+  check<InputError>(Field(Eigen::Map<const Field>(A.valuePtr(), A.nonZeros())).allFinite(),
+                    "pressure Poisson: the matrix has a non-finite entry");
+  p.regular_ = true;
+  p.n_ = previous.n_;
+  A.prune(0.0);
+  A.makeCompressed();
+  p.solver_ = previous.solver_;
+  p.matrix_ = std::make_shared<const CsrMatrix>(std::move(A));
+  p.setup_.success = true;
+  return p;
+}
+
+SolveReport PressurePoisson::run(const Field& b, Field& x) const {
+  if (!matrix_) return solver_->solve(b, x);
+  const Field guess = x;
+  SolveReport r = solver_->solve_nearby(*matrix_, b, x, nearby_rtol, nearby_max_iterations);
+  ++nearby_solves_;
+  nearby_iterations_ += r.iterations;
+  if (r.success) return r;
+  // The factorisation of an earlier matrix no longer fits this one: this matrix's own, from
+  // now on for every solve.
+  solver_ = std::make_shared<const PreparedSolver>(*matrix_, options_);
+  matrix_.reset();
+  x = guess;
+  SolveReport own = solver_->solve(b, x);
+  own.seconds_setup = solver_->seconds_setup();
+  own.iterations += r.iterations;
+  return own;
 }
 
 PressurePoisson::~PressurePoisson() = default;
@@ -103,7 +157,7 @@ PressurePoisson::Result PressurePoisson::solve(const Field& r, Field& p) const {
   if (regular_) {
     Result out;
     if (p.size() != n_) p.resize(0);
-    out.report = solver_->solve(r, p);
+    out.report = run(r, p);
     check<NumericalError>(out.report.success, "pressure Poisson: the solve failed (", out.report.solver, ": ",
                           out.report.message, ")");
     return out;
@@ -115,7 +169,7 @@ PressurePoisson::Result PressurePoisson::solve(const Field& r, Field& p) const {
   else
     p.array() -= p[pinned_];  // a previous pressure: the pinned solution is zero at the pin
   Result out;
-  out.report = solver_->solve(b, p);
+  out.report = run(b, p);
   check<NumericalError>(out.report.success, "pressure Poisson: the solve failed (", out.report.solver, ": ",
                         out.report.message, ")");
   // x1 - (ρ/σ) z meets every equation with r - λ w, λ = ρ/σ (the dropped one included).

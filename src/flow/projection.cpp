@@ -174,11 +174,16 @@ Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen
 }
 
 PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
-                                 const SolverOptions& options, bool has_surface) {
-  if (has_surface) return PressurePoisson::regular(std::move(matrix), options);
+                                 const SolverOptions& options, bool has_surface, const PressurePoisson* previous) {
+  const bool near = previous && previous->can_precondition() && previous->size() == matrix.rows() &&
+                    previous->is_regular() == has_surface;
+  if (has_surface)
+    return near ? PressurePoisson::nearby(std::move(matrix), *previous, options)
+                : PressurePoisson::regular(std::move(matrix), options);
   // Periodic boxes and balance rows (Laplacian rows at the walls too, positive left null vector):
   // the defect spread evenly. Gradient rows: along the left null vector (pressure_poisson.hpp).
-  if (walls.empty() || !wall_flux.empty()) return PressurePoisson(std::move(matrix), options);
+  if (walls.empty() || !wall_flux.empty())
+    return near ? PressurePoisson::nearby(std::move(matrix), *previous, options) : PressurePoisson(std::move(matrix), options);
   Index pinned = 0;
   while (pinned < matrix.rows() && walls.is_wall[static_cast<std::size_t>(pinned)]) ++pinned;
   check<ConfigError>(pinned < matrix.rows(), "flow: every particle is a wall; there is no fluid");

@@ -439,6 +439,20 @@ class Flow(unittest.TestCase):
             self.assertLess(rows[1]["error_u_mean"], rows[0]["error_u_mean"] / 2.5)
             self.assertGreater(rows[1]["order_p_mean"], 1.5)
 
+    def test_lagrangian_solvers_and_a_reused_factorisation_agree(self):
+        # The pressure solve is a means, not a model: UMFPACK, PETSc and UMFPACK's factorisation
+        # preconditioning the next stages' matrices give the same flow to the solvers' tolerance.
+        errors = {}
+        for name, extra in (("umfpack", ["--solver", "umfpack"]), ("petsc", ["--solver", "petsc"]),
+                            ("reused", ["--solver", "umfpack", "--reuse-factorisation", "true"])):
+            row = run_json("flow", "--case", "taylor-green", "--frame", "lagrangian", "--nx", "24", "--t-end", "0.03",
+                           "--threads", "1", *extra)["rows"][0]
+            errors[name] = row["error_u_mean"]
+            if name == "reused":  # BiCGSTAB iterations of the nearby solves, not one per direct solve
+                self.assertGreater(row["ppe_iterations_per_step"], 7)
+        for name in ("petsc", "reused"):
+            self.assertAlmostEqual(errors[name] / errors["umfpack"], 1.0, delta=1e-8)
+
     def test_projection_rows_and_vtu_series(self):
         out = run_json("flow", "--case", "projection", "--method", "vrsph,sph", "--nx", "16,32")
         self.assertEqual([r["method"] for r in out["rows"]], ["vrsph", "vrsph", "sph", "sph"])

@@ -70,6 +70,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   o.gradient = a.gradient;
   o.solver.type = parse_solver(a.solver);
   o.allow_unstable = a.allow_unstable;
+  o.reuse_factorisation = a.reuse_factorisation;
   o.hyperviscosity = a.hyperviscosity;
   o.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
   return o;
@@ -418,6 +419,10 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--shift-coefficient", a->shift_coefficient, "beta (xu) or A (lind); 0: 0.04 and 2")->capture_default_str();
   cmd->add_flag("--allow-unstable", a->allow_unstable, "Warn instead of refusing a time step beyond the stability limit");
   cmd->add_option("--solver", a->solver, "Pressure Poisson solver: auto | umfpack | sparselu | bicgstab | petsc")->capture_default_str();
+  cmd->add_option("--reuse-factorisation", a->reuse_factorisation,
+                  "Lagrangian, direct solvers: an earlier stage's factorisation preconditions BiCGSTAB on the next "
+                  "pressure matrices until it needs more than 30 iterations (false: factorise every stage)")
+      ->capture_default_str();
   cmd->add_option("--vtu-series", a->vtu_series, "Write velocity and pressure of the first method's finest run as "
                                                  "PREFIX_NNNN.vtu and PREFIX.pvd (the end, and every --vtu-every steps)");
   cmd->add_option("--vtu-every", a->vtu_every, "Steps between VTU files (0: the end only)")->capture_default_str();

@@ -31,6 +31,7 @@ struct FlowArgs {
   bool shifting_given = false;  // --shifting on the command line (the dam break defaults to xu)
   std::uint64_t seed = 1;
   bool allow_unstable = false;
+  bool reuse_factorisation = false;  // FlowOptions::reuse_factorisation
   OutputOptions out;
 };
 

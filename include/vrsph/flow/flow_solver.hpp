@@ -53,6 +53,10 @@ std::string to_string(FlowFrame f);
 std::string to_string(FlowScheme s);
 
 /// SolverOptions with the iteration cap of the pressure solves (1000).
+/// The largest pressure equation `auto` solves directly in the Lagrangian frame (in a build
+/// with PETSc; else SolverOptions' own limit): 1000 particles in 2D, 500 in 3D.
+constexpr Index lagrangian_direct_limit(int dim) { return dim == 3 ? 500 : 1000; }
+
 inline SolverOptions pressure_solver_defaults() {
   SolverOptions o;
   o.max_iterations = 1000;
@@ -79,6 +83,13 @@ struct FlowOptions {
   /// matrix AMG cannot handle — FPM's Laplacian at 6.5e4 particles ran GMRES for minutes —
   /// fails with the solver's message instead; VRSPH's need 10–25).
   SolverOptions solver = pressure_solver_defaults();
+  /// Lagrangian, direct solvers: one stage's factorisation preconditions BiCGSTAB on the next
+  /// stages' pressure matrices (PressurePoisson::nearby) until it needs more than 30
+  /// iterations; then the matrix of the moment is factorised. Off by default: measured on the
+  /// Taylor-Green vortex (docs/flow.md) it is 16 % slower in 2D up to 1.7e4 particles, 2x
+  /// faster at 6.6e4 and 3.2x faster in 3D at 3375, but GMRES + BoomerAMG, auto's choice there
+  /// with PETSc, is faster still; it pays with a direct solver in 3D (a build without PETSc).
+  bool reuse_factorisation = false;
   bool allow_unstable = false;  ///< step() warns instead of refusing a time step beyond the limits
   /// Eulerian stabilisation: the term -c U dx³ L(L u) added to F (c this coefficient, U the
   /// velocity scale, dx the spacing), a hyperviscosity that damps the grid-scale modes a

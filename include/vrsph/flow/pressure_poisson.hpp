@@ -13,7 +13,9 @@
 // Neumann rows of walls can make large (docs/flow.md, "Walls").
 // The pinned matrix is factorised (or its preconditioner built) once, with the unit-source
 // solution the spreading needs; every right-hand side after that costs one solve. Rebuild it
-// when the matrix changes (particles that move).
+// when the matrix changes (particles that move) — or build it "nearby" a previous one: the
+// previous factorisation then preconditions BiCGSTAB on the new matrix (a few triangular solves
+// instead of a new factorisation; PreparedSolver::solve_nearby).
 #include <memory>
 #include <vrsph/solve/solver.hpp>
 
@@ -36,6 +38,23 @@ class PressurePoisson {
   /// A non-singular A (Dirichlet rows: a free surface where p = 0): solve() solves A p = r as it
   /// is, with no pin, no shift and no mean removed. Throws as PreparedSolver.
   static PressurePoisson regular(CsrMatrix A, const SolverOptions& options);
+  /// The same equation for a new matrix A close to `previous`'s (the next stage of moving
+  /// particles), solved by BiCGSTAB preconditioned with previous's factorisation, which is
+  /// shared, not copied: A's own is made only if a solve does not converge within
+  /// nearby_max_iterations (then every later solve uses it). `previous` must be of the same
+  /// kind (regular or pinned) and size and be a factorisation (can_precondition()).
+  static PressurePoisson nearby(CsrMatrix A, const PressurePoisson& previous, const SolverOptions& options,
+                                Index pinned = 0, Field spread = {});
+  /// A direct solver's set-up: cheap to apply to a nearby matrix's solves (nearby()).
+  bool can_precondition() const { return solver_ && solver_->direct(); }
+  /// The most BiCGSTAB iterations a nearby solve may take before the matrix is factorised.
+  static constexpr int nearby_max_iterations = 30;
+  /// The relative residual nearby solves reach (a factorisation's own is about 1e-15).
+  static constexpr Real nearby_rtol = 1e-12;
+  /// Solves preconditioned by another matrix's factorisation so far (0: factorised itself),
+  /// and their BiCGSTAB iterations.
+  int nearby_solves() const { return nearby_solves_; }
+  int nearby_iterations() const { return nearby_iterations_; }
   ~PressurePoisson();
   PressurePoisson(PressurePoisson&&) noexcept;
   PressurePoisson& operator=(PressurePoisson&&) noexcept;
@@ -54,11 +73,19 @@ class PressurePoisson {
 
  private:
   PressurePoisson() = default;
+  void prepare(CsrMatrix A, Index pinned, Field spread, const PressurePoisson* previous);
+  /// One solve of the pinned (or regular) matrix: by its factorisation, or nearby.
+  SolveReport run(const Field& b, Field& x) const;
   bool regular_ = false;
   Real pinned_defect(const Field& x, Real rhs) const;
   Index n_ = 0, pinned_ = 0;
   std::vector<std::pair<Index, Real>> row_;  ///< the pinned particle's row of A
-  std::unique_ptr<PreparedSolver> solver_;
+  SolverOptions options_;
+  /// The factorisation of this matrix, or (nearby, matrix_ set) of a previous one's.
+  mutable std::shared_ptr<const PreparedSolver> solver_;
+  /// Nearby: the pinned matrix itself, until a solve needs its own factorisation.
+  mutable std::shared_ptr<const CsrMatrix> matrix_;
+  mutable int nearby_solves_ = 0, nearby_iterations_ = 0;
   Field z_;  ///< the pinned solution for the source w (z_p = 0)
   Real spread_pinned_ = 1;  ///< w at the pinned particle
   Real sigma_ = 0;

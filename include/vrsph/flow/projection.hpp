@@ -84,8 +84,13 @@ Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen
 /// more factorisation, of the transpose, at set-up). `matrix`: the equation's (moved in:
 /// PressurePoisson pins it in place); `wall_flux`: PressureEquation's.
 /// With a free surface (`has_surface`) the equation is regular: PressurePoisson::regular.
+/// `previous`: the equation of the previous positions; where it is a factorisation of the same
+/// kind, the new one is solved nearby (PressurePoisson::nearby: no factorisation while the old
+/// one preconditions within its iteration cap). Gradient rows at walls always factorise (their
+/// left null vector needs the transpose's factorisation).
 PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
-                                 const SolverOptions& options, bool has_surface = false);
+                                 const SolverOptions& options, bool has_surface = false,
+                                 const PressurePoisson* previous = nullptr);
 
 struct Projected {
   Eigen::MatrixXd u;  ///< w - G φ

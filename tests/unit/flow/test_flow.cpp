@@ -79,6 +79,89 @@ TEST(PressurePoisson, MeetsEveryEquationUpToOneConstantWhateverThePin) {
   EXPECT_LT((A * s - A * target).cwiseAbs().maxCoeff(), 1e-8 * (A * target).cwiseAbs().maxCoeff());
 }
 
+TEST(PressurePoisson, NearbyEquationsSolvedWithTheOldFactorisationEqualTheirOwn) {
+  // The particles of a periodic vortex cloud moved by 0.05 dx: the old matrix's factorisation
+  // preconditions the new one's solves; the result is the new equation's, not the old one's.
+  const PointCloud c = flow_cloud(16);
+  Operators ops = flow_ops(c);
+  const CsrMatrix A = laplacian_matrix(ops);
+  std::vector<Vec3> moved = c.positions;
+  const Real dx = 1.0 / 16;
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    moved[i] += 0.05 * dx * Vec3(std::sin(7.0 * static_cast<Real>(i)), std::cos(5.0 * static_cast<Real>(i)), 0);
+    for (int k = 0; k < 2; ++k) moved[i][k] -= std::floor(moved[i][k]);  // back into the periodic box
+  }
+  ops.update(moved);
+  const CsrMatrix B = laplacian_matrix(ops);
+  SolverOptions direct;
+  direct.type = SolverType::SparseLU;
+  const PressurePoisson old_one(A, direct), own(B, direct);
+  const PressurePoisson near = PressurePoisson::nearby(B, old_one, direct);
+  EXPECT_TRUE(old_one.can_precondition());
+  const Field r = Field::Random(B.rows());
+  Field p_own, p_near, p_old;
+  const Real shift_own = own.solve(r, p_own).shift, shift_near = near.solve(r, p_near).shift;
+  (void)old_one.solve(r, p_old);
+  EXPECT_LT((p_near - p_own).cwiseAbs().maxCoeff(), 1e-9 * p_own.cwiseAbs().maxCoeff());
+  EXPECT_NEAR(shift_near, shift_own, 1e-9 * std::abs(shift_own));
+  EXPECT_GT((p_old - p_own).cwiseAbs().maxCoeff(), 1e-4 * p_own.cwiseAbs().maxCoeff());  // the move matters
+  EXPECT_EQ(near.nearby_solves(), 2);  // the unit source and r, none factorised
+  EXPECT_LE(near.nearby_iterations(), 2 * 10);
+  EXPECT_TRUE(near.can_precondition());
+
+  // A matrix far from the old one (the moved one with its particles renumbered): the nearby
+  // solve gives up within its cap and the new matrix is factorised; the answer is its own.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, Index> shuffle(B.rows());
+  for (Index i = 0; i < B.rows(); ++i) shuffle.indices()[i] = static_cast<Index>((i * 37 + 11) % B.rows());  // 37: coprime to 256
+  const CsrMatrix F = CsrMatrix(shuffle * B * shuffle.transpose());
+  const PressurePoisson far_own(F, direct);
+  const PressurePoisson far_near = PressurePoisson::nearby(F, old_one, direct);
+  Field q_own, q_near;
+  (void)far_own.solve(r, q_own);
+  (void)far_near.solve(r, q_near);
+  EXPECT_LT((q_near - q_own).cwiseAbs().maxCoeff(), 1e-9 * q_own.cwiseAbs().maxCoeff());
+  EXPECT_EQ(far_near.nearby_solves(), 1);  // the unit source's gave up; r's used F's own factorisation
+  EXPECT_GE(far_near.nearby_iterations(), PressurePoisson::nearby_max_iterations);
+
+  // An iterative solver's set-up preconditions nothing; sizes must agree.
+  SolverOptions iterative;
+  iterative.type = SolverType::BiCGSTAB;
+  const PressurePoisson ilu(A, iterative);
+  EXPECT_FALSE(ilu.can_precondition());
+  EXPECT_THROW_MSG((void)PressurePoisson::nearby(B, ilu, direct), InputError, "solved by a factorisation");
+  const Operators small = flow_ops(flow_cloud(8));
+  EXPECT_THROW_MSG((void)PressurePoisson::nearby(laplacian_matrix(small), old_one, direct), InputError,
+                   "a nearby matrix of 64 x 64");
+}
+
+TEST(PressurePoisson, NearbySolveOfThePreparedSolverReportsWhatItReached) {
+  const Operators ops = flow_ops(flow_cloud(12));
+  CsrMatrix A = laplacian_matrix(ops);
+  for (Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) -= 1.0;  // non-singular: A - I
+  SolverOptions direct;
+  direct.type = SolverType::SparseLU;
+  const PreparedSolver lu(A, direct);
+  EXPECT_TRUE(lu.direct());
+  CsrMatrix B = A;
+  for (Index i = 0; i < B.rows(); ++i) B.coeffRef(i, i) *= 1.0 + 0.01 * std::sin(static_cast<Real>(i));
+  const Field b = Field::Random(B.rows());
+  Field x;
+  const SolveReport r = lu.solve_nearby(B, b, x, 1e-12, 50);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_LT((B * x - b).norm(), 1e-11 * b.norm());
+  EXPECT_LE(r.iterations, 10);
+  EXPECT_NE(r.solver.find("bicgstab preconditioned by sparselu"), std::string::npos) << r.solver;
+  // One iteration cannot reach 1e-14 on a matrix 30 % away: a failed report, not a silent answer.
+  CsrMatrix C = A;
+  for (Index i = 0; i < C.rows(); ++i) C.coeffRef(i, i) *= 1.3 + 0.3 * std::sin(static_cast<Real>(i));
+  Field y;
+  const SolveReport f = lu.solve_nearby(C, b, y, 1e-14, 1);
+  EXPECT_FALSE(f.success);
+  EXPECT_NE(f.message.find("true relative residual"), std::string::npos) << f.message;
+  EXPECT_THROW_MSG((void)lu.solve_nearby(C, Field::Zero(3), y, 1e-12, 10), InputError, "of size 3");
+  EXPECT_THROW_MSG((void)lu.solve_nearby(CsrMatrix(3, 3), b, y, 1e-12, 10), InputError, "a nearby matrix of 3 x 3");
+}
+
 TEST(PressurePoisson, RefusesWhatIsNoLaplacian) {
   CsrMatrix A(3, 3);
   A.insert(0, 0) = 1;  // a row that does not sum to zero
