@@ -47,6 +47,9 @@ class Json {
   /// The member `key` of an object, inserted as null if absent (a null value becomes an empty
   /// object first); throws ConfigError on an array or a scalar.
   Json& operator[](std::string_view key);
+  /// j[0] would convert 0 to a null key pointer: arrays are indexed with at().
+  template <std::integral T>
+  Json& operator[](T) = delete;
   /// The member `key`, or nullptr (also when this is not an object).
   const Json* find(std::string_view key) const;
   bool contains(std::string_view key) const { return find(key) != nullptr; }
