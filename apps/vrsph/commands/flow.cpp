@@ -354,7 +354,13 @@ void run_flow(FlowArgs& a) {
   }
   (void)parse_flow_frame(a.frame);
   (void)parse_flow_scheme(a.scheme);
-  (void)parse_solver(a.solver);
+  const SolverType solver = parse_solver(a.solver);
+  check<ConfigError>(!a.reuse_factorisation || solver == SolverType::Auto || solver == SolverType::UmfPack ||
+                         solver == SolverType::SparseLU,
+                     "--reuse-factorisation reuses a direct solver's factorisation; --solver ", a.solver,
+                     " has none (give umfpack, sparselu or auto)");
+  check<ConfigError>(!a.reuse_factorisation || a.frame == "lagrangian", "--reuse-factorisation applies to the "
+                     "lagrangian frame (the eulerian one factorises its pressure matrix once)");
   (void)parse_kernel(a.kernel);
   (void)parse_shifting(a.shifting);
   check<ConfigError>(a.vtu_every >= 0, "--vtu-every must be >= 0");
