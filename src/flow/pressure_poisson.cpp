@@ -83,20 +83,29 @@ void PressurePoisson::prepare(CsrMatrix A, Index pinned, Field spread, const Pre
 }
 
 PressurePoisson PressurePoisson::regular(CsrMatrix A, const SolverOptions& options) {
+  PressurePoisson p;
+  p.options_ = options;
+  p.prepare_regular(std::move(A), nullptr);
+  return p;
+}
+
+void PressurePoisson::prepare_regular(CsrMatrix A, const PressurePoisson* previous) {
   check<InputError>(A.rows() == A.cols() && A.rows() > 0, "pressure Poisson: the matrix must be square, got ", A.rows(),
                     " x ", A.cols());
   check<InputError>(Field(Eigen::Map<const Field>(A.valuePtr(), A.nonZeros())).allFinite(),
                     "pressure Poisson: the matrix has a non-finite entry");
-  PressurePoisson p;
-  p.regular_ = true;
-  p.options_ = options;
-  p.n_ = static_cast<Index>(A.rows());
+  regular_ = true;
+  n_ = static_cast<Index>(A.rows());
   A.prune(0.0);
   A.makeCompressed();
-  p.solver_ = std::make_shared<const PreparedSolver>(A, options);
-  p.setup_.seconds_setup = p.solver_->seconds_setup();
-  p.setup_.success = true;
-  return p;
+  if (previous) {
+    solver_ = previous->solver_;
+    matrix_ = std::make_shared<const CsrMatrix>(std::move(A));
+  } else {
+    solver_ = std::make_shared<const PreparedSolver>(A, options_);
+    setup_.seconds_setup = solver_->seconds_setup();
+  }
+  setup_.success = true;
 }
 
 PressurePoisson PressurePoisson::nearby(CsrMatrix A, const PressurePoisson& previous, const SolverOptions& options,
@@ -107,19 +116,8 @@ PressurePoisson PressurePoisson::nearby(CsrMatrix A, const PressurePoisson& prev
                     A.rows(), " x ", A.cols(), " for a previous one over ", previous.n_, " particles");
   PressurePoisson p;
   p.options_ = options;
-  if (!previous.regular_) {
-    p.prepare(std::move(A), pinned, std::move(spread), &previous);
-    return p;
-  }
-  check<InputError>(Field(Eigen::Map<const Field>(A.valuePtr(), A.nonZeros())).allFinite(),
-                    "pressure Poisson: the matrix has a non-finite entry");
-  p.regular_ = true;
-  p.n_ = previous.n_;
-  A.prune(0.0);
-  A.makeCompressed();
-  p.solver_ = previous.solver_;
-  p.matrix_ = std::make_shared<const CsrMatrix>(std::move(A));
-  p.setup_.success = true;
+  if (previous.regular_) p.prepare_regular(std::move(A), &previous);
+  else p.prepare(std::move(A), pinned, std::move(spread), &previous);
   return p;
 }
 

@@ -79,18 +79,21 @@ std::string to_csv(const Table& t) {
   return os.str();
 }
 
+Json json_cell(const TableCell& c) {
+  return std::visit(
+      [](const auto& v) {
+        using V = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<V, std::monostate>) return Json();
+        else return Json(v);  // a NaN is null: JSON has none (first-row orders)
+      },
+      c);
+}
+
 Json json_rows(const Table& t) {
   Json rows = Json::array();
   for (const auto& r : t.rows) {
     Json o = Json::object();
-    for (std::size_t k = 0; k < r.size(); ++k)
-      std::visit(
-          [&](const auto& v) {
-            using V = std::decay_t<decltype(v)>;
-            if constexpr (std::is_same_v<V, std::monostate>) o[t.columns[k]] = nullptr;
-            else o[t.columns[k]] = v;  // a NaN is null: JSON has none (first-row orders)
-          },
-          r[k]);
+    for (std::size_t k = 0; k < r.size(); ++k) o[t.columns[k]] = json_cell(r[k]);
     rows.push_back(std::move(o));
   }
   return rows;

@@ -345,14 +345,7 @@ void print_report(const Table& t, const std::string& format) {
     return;
   }
   Json j;
-  for (const auto& row : t.rows) {
-    const auto& name = std::get<std::string>(row[0]);
-    std::visit([&](const auto& v) {
-      using V = std::decay_t<decltype(v)>;
-      if constexpr (std::is_same_v<V, std::monostate>) j[name] = nullptr;
-      else j[name] = v;
-    }, row[1]);
-  }
+  for (const auto& row : t.rows) j[std::get<std::string>(row[0])] = json_cell(row[1]);
   std::cout << j.dump(2) << '\n';
 }
 

@@ -169,12 +169,13 @@ void report_heterogeneous(const HeterogeneousStudyResult& r, const StudyArgs& a,
                      "flux_error_vs_tpfa", "mmatrix", "min_u", "max_u", "monotone", "solver_iterations"};
   const bool root = communicator().is_root();  // rank 0 writes for all
   const TableFormat format = parse_table_format(a.out.format);
+  const Table krylov = r.krylov.empty() ? Table{} : krylov_table(r);
   if (!r.krylov.empty()) {
-    const std::string text = format_table(krylov_table(r), format);
     if (!h.krylov_output.empty()) {
-      if (root) write_file(h.krylov_output, "Krylov study table", [&](std::ostream& f) { f << text; });
+      if (root)
+        write_file(h.krylov_output, "Krylov study table", [&](std::ostream& f) { f << format_table(krylov, format); });
     } else if (format == TableFormat::Json) {
-      meta["krylov_rows"] = json_rows(krylov_table(r));
+      meta["krylov_rows"] = json_rows(krylov);
     }
   }
   emit(to_table(r), out, meta, "", "", "", "");
@@ -182,7 +183,7 @@ void report_heterogeneous(const HeterogeneousStudyResult& r, const StudyArgs& a,
   if (!r.krylov.empty() && h.krylov_output.empty() && format != TableFormat::Json) {
     std::cout << "\nKrylov study: GMRES(" << r.params.krylov.restart << "), right preconditioning, rtol "
               << r.params.krylov.rtol << " on the true residual, zero initial guess\n\n"
-              << format_table(krylov_table(r), format);
+              << format_table(krylov, format);
     check_stream(std::cout, "the Krylov table to standard output");
   }
   if (!h.history.empty())

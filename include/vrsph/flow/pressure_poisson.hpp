@@ -73,7 +73,9 @@ class PressurePoisson {
 
  private:
   PressurePoisson() = default;
+  // The set-ups of the pinned and of the regular equation; `previous`: solved nearby it.
   void prepare(CsrMatrix A, Index pinned, Field spread, const PressurePoisson* previous);
+  void prepare_regular(CsrMatrix A, const PressurePoisson* previous);
   /// One solve of the pinned (or regular) matrix: by its factorisation, or nearby.
   SolveReport run(const Field& b, Field& x) const;
   bool regular_ = false;

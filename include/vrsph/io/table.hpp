@@ -25,7 +25,9 @@ TableFormat parse_table_format(const std::string& name);
 
 std::string to_markdown(const Table& t);
 std::string to_csv(const Table& t);
-/// The rows as a JSON array of objects {column: value}; an empty cell or a NaN is null.
+/// One cell as a JSON value: an empty cell or a NaN is null.
+Json json_cell(const TableCell& c);
+/// The rows as a JSON array of objects {column: json_cell}.
 Json json_rows(const Table& t);
 /// {...extra's members, "rows": json_rows(t)}: extra (e.g. problem metadata) is an object or
 /// null; throws ConfigError otherwise.
