@@ -30,6 +30,7 @@ struct UpdateArgs {
   int dim = 2, n = 1000, steps = 10, threads = 0;
   double h_factor = 3, move = 0.1, skin = 0.2;
   std::string method = "vrsph";
+  std::vector<std::string> method_opts;
   bool warm_start = true;
   bool periodic = false;
   std::uint64_t seed = 1;
@@ -140,6 +141,8 @@ UpdateRun run_steps(const UpdateArgs& a) {
   const Real dt = a.move * sc.dx / (a.dim == 3 && !a.periodic ? 2.0 : 1.0);  // the largest speed is 1 (2 in 3D)
   OperatorsOptions o;
   o.method = a.method;
+  if (auto per_method = parse_method_options(a.method_opts, {a.method}); per_method.contains(a.method))
+    o.method_options = per_method.at(a.method);
   o.h_factor = a.h_factor;
   o.skin = a.skin;
   o.warm_start = a.warm_start;
@@ -148,7 +151,7 @@ UpdateRun run_steps(const UpdateArgs& a) {
   Stopwatch build_watch;
   Operators ops(sc.cloud, o);
   run.first_build = build_watch.seconds();
-  const auto method = builtin_methods().create(a.method);
+  const auto method = builtin_methods().create(a.method, o.method_options);
   PointCloud fresh_cloud = sc.cloud;
   std::vector<Vec3> x = sc.cloud.positions;
   Progress progress;
@@ -220,6 +223,9 @@ void run_update_bench(const UpdateArgs& a) {
   Json extra;
   extra["benchmark"] = "update";
   extra["method"] = a.method;
+  std::string options;
+  for (const auto& item : a.method_opts) options += (options.empty() ? "" : " ") + item;
+  extra["method_options"] = options;
   extra["h_factor"] = a.h_factor;
   extra["move_per_step_dx"] = a.move;
   extra["skin_fraction"] = a.skin;
@@ -242,6 +248,7 @@ void add_update_bench(CLI::App& bench) {
   cmd->add_option("--move", a->move, "Largest displacement per step, in dx (sets the time step)")->capture_default_str();
   cmd->add_option("--skin", a->skin, "Verlet skin as a fraction of the support radius")->capture_default_str();
   cmd->add_option("--method", a->method, "Method (any with a Laplacian and a gradient)")->capture_default_str();
+  cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value (repeatable)");
   cmd->add_option("--warm-start", a->warm_start, "Start VRSPH's NNLS from each row's previous active set")->capture_default_str();
   cmd->add_flag("--periodic", a->periodic, "A fully periodic box moved by the Taylor-Green field (else the unit box and "
                                           "a cellular flow)");

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <cmath>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/gradient_consistency.hpp>
 #include <vrsph/methods/taylor/fpm.hpp>
 #include <vrsph/methods/taylor/local_system.hpp>
 
@@ -15,7 +16,9 @@ std::vector<std::pair<std::string, std::string>> common_options(bool with_varian
   auto o = taylor::corrected_method_options();
   o.emplace_back("gradient_order",
                  "1 (default: gradient from the linear fit, [QW](2.15)) | 2 (from the quadratic fit: exact for quadratics, "
-                 "second-order one-sided gradients, e.g. for Neumann rows)");
+                 "second-order one-sided gradients, e.g. for Neumann rows) | 3 (the quadratic fit's rows raised to "
+                 "exactness on cubics by their smallest kernel-weighted change: O(h^3) inside; a row whose cubic fit "
+                 "is singular keeps the quadratic one)");
   if (with_variant)
     o.emplace_back("variant", "liu (default: Hessian of W as test functions) | qw ([QW](2.18), 1D only: Y_ij instead of W'')");
   return o;
@@ -27,7 +30,9 @@ class TaylorProjection final : public Method {
  public:
   TaylorProjection(MethodInfo info, TestFunctions tests, const MethodOptions& o) : info_(std::move(info)), tests_(tests) {
     volume_ = o.get_choice("volume", "dx", {"dx", "shepard"});
-    quadratic_gradient_ = o.get_choice("gradient_order", "1", {"1", "2"}) == "2";
+    const std::string order = o.get_choice("gradient_order", "1", {"1", "2", "3"});
+    quadratic_gradient_ = order != "1";
+    cubic_gradient_ = order == "3";
     if (tests_ != TestFunctions::KernelTimesMonomials &&
         o.get_choice("variant", "liu", {"liu", "qw"}) == "qw")
       tests_ = TestFunctions::KernelDerivativesQw;
@@ -118,6 +123,7 @@ class TaylorProjection final : public Method {
     }
     if (req.kind != OperatorKind::Value) set_difference_diagonal(s);
     taylor::enforce_condition(s, policy_, cloud);
+    if (cubic_gradient_ && traits(req.kind).derivative_order == 1) raise_to_cubic_exactness(disc, req, s);
     return s;
   }
 
@@ -165,6 +171,7 @@ class TaylorProjection final : public Method {
   TestFunctions tests_;
   std::string volume_;
   bool quadratic_gradient_ = false;  ///< value/gradient from the second-order (quadratic) fit
+  bool cubic_gradient_ = false;      ///< gradient_order=3: those rows raised to cubic exactness
   taylor::SingularPolicy policy_;
 };
 

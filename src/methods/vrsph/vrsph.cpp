@@ -8,6 +8,7 @@
 #include <cmath>
 #include <optional>
 #include <set>
+#include <vrsph/methods/gradient_consistency.hpp>
 #include <vrsph/methods/pair_mean.hpp>
 #include <vrsph/stencil/apply.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -19,7 +20,8 @@ MethodInfo vrsph_info() {
   MethodInfo info{"vrsph",
           "[QW] §4-5",
           "volume-reconstruction SPH: per-particle NNLS volumes satisfying the moment conditions (4.1)/(4.2)",
-          "O(h^2) gradient and Laplacian on uniform, perturbed and centroid particles; O(h^2) Poisson; -L an M-matrix",
+          "O(h^3) gradient inside (gradient_order=3; [QW]'s rows O(h^2)), O(h^2) Laplacian on uniform, perturbed and "
+          "centroid particles; O(h^2) Poisson (O(h^3) with the default compact rows); -L an M-matrix",
           {OperatorKind::Dx, OperatorKind::Dy, OperatorKind::Dz, OperatorKind::Gradient, OperatorKind::Laplacian,
            OperatorKind::DivAGrad},
           {{"nnls_tolerance", "NNLS tolerance; default 10 eps ||A||_1 max(m,n)"},
@@ -28,7 +30,7 @@ MethodInfo vrsph_info() {
                     "smaller system; default) | full (the literal 3/12/30 rows)"},
            {"profile", "default (our best correct rows: rhs and flux chosen by the use, see rhs/flux; default) | qw ([QW]'s "
                        "published rows everywhere: rhs=point, flux=gradient, boundary=nnls, prefer=none; what the "
-                       "reproductions of [QW]'s tables pin)"},
+                       "reproductions of [QW]'s tables pin; also gradient_order=2)"},
            {"boundary", "nnls (rows whose moment conditions no v >= 0 meets keep the NNLS best fit: [QW]; default) | "
                         "signed (such rows get exact moments with few, small negative volumes: second order up to "
                         "the wall, the M-matrix sign structure lost in those rows)"},
@@ -47,13 +49,16 @@ MethodInfo vrsph_info() {
            {"compact_support", "compact rows: the fraction of the support radius whose neighbours each row tries "
                                "first, falling back to the whole support where they admit no positive row of degree "
                                "4 (default 0.8; 1: the whole support only, the rows before issue 37)"},
+           {"gradient_order", "3 (default: gradient, dx, dy, dz rows raised to exactness on cubics by the smallest "
+                              "kernel-weighted change of [QW]'s row, O(h^3) inside; a row whose cubic fit is singular "
+                              "keeps [QW]'s row) | 2 ([QW]'s rows v_j grad W_ij: exact on quadratics, O(h^2))"},
            {"prefer", "none (the NNLS columns as [QW]; default) | near (columns scaled by (r_min/r_j)^2: NNLS then "
                       "picks the nearest neighbours; same moments, a more compact row)"},
            pair_mean_option()}};
-  info.profiles = {{"default", "rhs=auto flux=auto boundary=nnls prefer=none: boundary value problems get compact "
-                                "rows and balance Neumann rows (third/second order, -L an M-matrix), operator values "
-                                "the point rows"},
-                    {"qw", "rhs=point flux=gradient boundary=nnls prefer=none: [QW] as "
+  info.profiles = {{"default", "rhs=auto flux=auto boundary=nnls prefer=none gradient_order=3: boundary value problems "
+                                "get compact rows and balance Neumann rows (third/second order, -L an M-matrix), operator "
+                                "values the point rows, gradients exact on cubics"},
+                    {"qw", "rhs=point flux=gradient boundary=nnls prefer=none gradient_order=2: [QW] as "
                            "published"}};
   info.monotone = true;
   info.tensor_mobility = true;  // div(M grad u) by anisotropic moment targets (beyond [QW], docs/methods.md)
@@ -114,13 +119,14 @@ class Vrsph final : public Method {
                             const char* qw_value) {
       const std::string v = o.get_choice(key, qw_ ? qw_value : fallback, allowed);
       check<ConfigError>(!qw_ || v == qw_value, "method option ", key, "=", v, " contradicts profile=qw ([QW]'s rows are "
-                         "rhs=point, flux=gradient, boundary=nnls, prefer=none); drop one of the two");
+                         "rhs=point, flux=gradient, boundary=nnls, prefer=none, gradient_order=2); drop one of the two");
       return v;
     };
     signed_ = pinned("boundary", "nnls", {"nnls", "signed"}, "nnls") == "signed";
     flux_ = choice_of(pinned("flux", "auto", {"auto", "gradient", "balance"}, "gradient"));
     rhs_ = choice_of(pinned("rhs", "auto", {"auto", "point", "compact"}, "point"));
     near_ = pinned("prefer", "none", {"none", "near"}, "none") == "near";
+    cubic_gradient_ = pinned("gradient_order", "3", {"2", "3"}, "2") == "3";
     compact_support_ = o.get_real("compact_support", 0.8);
     check<ConfigError>(compact_support_ > 0 && compact_support_ <= 1, "method option compact_support must be a "
                        "fraction in (0, 1] of the support radius, got ", compact_support_);
@@ -212,7 +218,9 @@ class Vrsph final : public Method {
     // a third of the pattern {i} ∪ N_i: NNLS keeps about one neighbour per moment row), so the
     // weights, their memory and every product with the stencil shrink alike. A fresh build keeps
     // the neighbour-list pattern that the rest of the library (rhs weights, studies) shares.
-    const bool sparse = state && whole_rows;
+    // Cubic gradient rows spread their correction over every neighbour: the full pattern.
+    const bool cubic = cubic_gradient_ && traits(req.kind).derivative_order == 1;
+    const bool sparse = state && whole_rows && !cubic;
     if (!sparse) fill_stencil_pattern(disc.neighbours, req.kind, disc.cloud.dim, info_.name, s, !whole_rows);
     std::optional<CompactRows> compact_form;
     std::vector<char> point_rows;  // empty: every requested row
@@ -248,6 +256,7 @@ class Vrsph final : public Method {
     if (signed_) s.negative_volumes = std::move(vol.negative);
     if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
     if (!whole_rows) set_difference_diagonal(s);
+    if (cubic) raise_to_cubic_exactness(disc, req, s);
   }
 
   // The Neumann particles that take balance rows (wall) and their conormals (the unit
@@ -442,6 +451,7 @@ class Vrsph final : public Method {
   Choice flux_ = Choice::Auto;  // gradient | balance
   Choice rhs_ = Choice::Auto;   // point | compact
   bool near_ = false;     // prefer=near
+  bool cubic_gradient_ = true;  // gradient_order=3
   Real compact_support_ = 0.8;  // compact rows: the inner neighbours tried first (fraction of h)
 
   // The compact (Mehrstellen) form of every requested row that admits one (CompactRows::ok).

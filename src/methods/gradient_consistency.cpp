@@ -1,0 +1,215 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vrsph/core/error.hpp>
+#include <vrsph/methods/gradient_consistency.hpp>
+
+namespace vrsph {
+
+namespace {
+
+// Exponents of the monomials of degree 1..3 in `dim` variables, degree by degree.
+std::vector<std::array<int, 3>> cubic_exponents(int dim) {
+  std::vector<std::array<int, 3>> out;
+  for (int deg = 1; deg <= 3; ++deg)
+    for (int a0 = deg; a0 >= 0; --a0)
+      for (int a1 = deg - a0; a1 >= 0; --a1) {
+        const std::array<int, 3> a{a0, a1, deg - a0 - a1};
+        if ((dim < 2 && a[1]) || (dim < 3 && a[2])) continue;
+        out.push_back(a);
+      }
+  return out;
+}
+
+// The component arrays of `s` and the axis each differentiates.
+std::vector<std::pair<std::size_t, int>> components_and_axes(OperatorKind kind, int dim) {
+  switch (kind) {
+    case OperatorKind::Gradient: {
+      std::vector<std::pair<std::size_t, int>> out;
+      for (int c = 0; c < dim; ++c) out.emplace_back(static_cast<std::size_t>(c), c);
+      return out;
+    }
+    case OperatorKind::Dx: return {{0, 0}};
+    case OperatorKind::Dy: return {{0, 1}};
+    case OperatorKind::Dz: return {{0, 2}};
+    default: break;
+  }
+  throw ConfigError("cubic exactness applies to first-derivative stencils (gradient, dx, dy, dz)");
+}
+
+// A^-1 of the symmetric positive definite A (its lower triangle read) through its symmetric equilibration (unit
+// diagonal: the monomials' scales differ by h^-1 ... h^-3 and the test should see geometry, not
+// units) and a Cholesky factorisation written out for the fixed size (Eigen's LLT and rcond run
+// generic triangular-solve kernels that took half the time of these rows). False when A is not
+// positive definite or the equilibrated matrix's 1-norm condition number exceeds max_condition.
+template <int M>
+bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<Real, M, M>& inverse, Real max_condition) {
+  std::array<Real, static_cast<std::size_t>(M)> scale{};
+  for (int a = 0; a < M; ++a) {
+    if (!(A(a, a) > 0) || !std::isfinite(A(a, a))) return false;
+    scale[static_cast<std::size_t>(a)] = 1 / std::sqrt(A(a, a));
+  }
+  Eigen::Matrix<Real, M, M> L = Eigen::Matrix<Real, M, M>::Zero();
+  for (int j = 0; j < M; ++j) {
+    Real d = 1;  // the equilibrated diagonal
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > 0)) return false;
+    L(j, j) = std::sqrt(d);
+    for (int i = j + 1; i < M; ++i) {
+      Real v = A(i, j) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(j)];
+      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
+      L(i, j) = v / L(j, j);
+    }
+  }
+  // L^-1 by forward substitution, then (L L^T)^-1 = L^-T L^-1.
+  Eigen::Matrix<Real, M, M> Li = Eigen::Matrix<Real, M, M>::Zero();
+  for (int c = 0; c < M; ++c) {
+    Li(c, c) = 1 / L(c, c);
+    for (int i = c + 1; i < M; ++i) {
+      Real v = 0;
+      for (int k = c; k < i; ++k) v -= L(i, k) * Li(k, c);
+      Li(i, c) = v / L(i, i);
+    }
+  }
+  const Eigen::Matrix<Real, M, M> Bi = Li.transpose() * Li;
+  Real norm = 0, norm_inv = 0;  // 1-norms of the equilibrated matrix and of its inverse
+  for (int c = 0; c < M; ++c) {
+    Real col = 0;
+    for (int i = 0; i < M; ++i)
+      col += std::abs(i >= c ? A(i, c) : A(c, i)) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(c)];
+    norm = std::max(norm, col);
+    norm_inv = std::max(norm_inv, Bi.col(c).cwiseAbs().sum());
+  }
+  if (!(norm * norm_inv <= max_condition)) return false;
+  for (int c = 0; c < M; ++c)
+    for (int i = 0; i < M; ++i)
+      inverse(i, c) = Bi(i, c) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(c)];
+  return true;
+}
+
+// The rows of raise_to_cubic_exactness with M monomials (1D: 3, 2D: 9, 3D: 19) as a
+// compile-time size: the per-row systems are small and fixed-size Eigen code is several times
+// faster than dynamic-size code on them.
+template <int M>
+GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRequest& req, Stencil& s,
+                                     const std::vector<std::pair<std::size_t, int>>& parts, Real max_condition) {
+  const PointCloud& cloud = disc.cloud;
+  const auto exponents = cubic_exponents(cloud.dim);
+  std::array<int, 3> first_degree{};  // position of e_axis among the monomials
+  for (int a = 0; a < M; ++a) {
+    const auto& e = exponents[static_cast<std::size_t>(a)];
+    if (e[0] + e[1] + e[2] == 1) first_degree[e[1] ? 1 : e[2] ? 2 : 0] = a;
+  }
+  using Square = Eigen::Matrix<Real, M, M>;
+  using Columns = Eigen::Matrix<Real, M, Eigen::Dynamic, Eigen::ColMajor, M, 3>;
+  const auto comps = static_cast<Eigen::Index>(parts.size());
+  Index raised = 0;
+  std::vector<Index> kept;
+#pragma omp parallel reduction(+ : raised)
+  {
+    std::vector<Index> kept_here;
+    // Per thread, grown to the largest row and never shrunk (no allocation per row).
+    Eigen::Matrix<Real, M, Eigen::Dynamic> P;  // M x K: the neighbours' scaled monomials times sqrt(W)
+    Eigen::VectorXd root_w;                    // K: sqrt of each neighbour's kernel weight W(r) / W(0)
+    std::vector<Index> slots;                  // K: each neighbour's slot in the stencil row
+    Columns R(M, comps);
+#pragma omp for schedule(dynamic, 256)
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (!row_requested(cloud, req, i) || (!s.local_failure.empty() && s.local_failure[si])) continue;
+      const auto nbr = disc.neighbours.of(i);
+      const auto dist = disc.neighbours.distances_of(i);
+      const Real h = disc.neighbours.radius(i);
+      const Kernel ker = disc.kernel_at(i);
+      const Real w0 = ker.W(0);
+      const auto n = static_cast<Eigen::Index>(nbr.size());
+      if (P.cols() < n) {
+        P.resize(M, n);
+        root_w.resize(n);
+      }
+      slots.resize(nbr.size());
+      // Only neighbours inside the support (W > 0) take part: a Verlet list holds some beyond it.
+      Eigen::Index K = 0;
+      const Vec3& xi = cloud.positions[si];
+      for (Eigen::Index k = 0; k < n; ++k) {
+        const Real w = ker.W(dist[static_cast<std::size_t>(k)]) / w0;
+        if (!(w > 0)) continue;
+        const Vec3 q = (disc.neighbour_position(i, static_cast<Index>(k)) - xi) / h;
+        std::array<std::array<Real, 4>, 3> pw{};  // q_c^0 ... q_c^3
+        for (int c = 0; c < 3; ++c) pw[static_cast<std::size_t>(c)] = {1, q[c], q[c] * q[c], q[c] * q[c] * q[c]};
+        const Real sw = std::sqrt(w);
+        for (int a = 0; a < M; ++a) {
+          const auto& e = exponents[static_cast<std::size_t>(a)];
+          P(a, K) = sw * pw[0][static_cast<std::size_t>(e[0])] * pw[1][static_cast<std::size_t>(e[1])] *
+                    pw[2][static_cast<std::size_t>(e[2])];
+        }
+        root_w[K] = sw;
+        slots[static_cast<std::size_t>(K)] = neighbour_slot(s, i, static_cast<Index>(k));
+        ++K;
+      }
+      if (K < M) {
+        kept_here.push_back(i);
+        continue;
+      }
+      const auto Pw = P.leftCols(K);
+      Square A = Square::Zero();  // Pw Pw^T, its lower triangle (the rest is never read)
+      for (Eigen::Index k = 0; k < K; ++k) {
+        const Real* p = Pw.col(k).data();
+        for (int b = 0; b < M; ++b)
+          for (int a = b; a < M; ++a) A(a, b) += p[a] * p[b];
+      }
+      Square Ainv;
+      if (!equilibrated_spd_inverse<M>(A, Ainv, max_condition)) {
+        kept_here.push_back(i);
+        continue;
+      }
+      // R = b - P g per component: the derivative of x^α along `axis` at x_i in the scaled
+      // variables is 1/h for α = e_axis and 0 otherwise (P g: Pw times sqrt(W)^-1 g).
+      R.setZero(M, comps);
+      for (Eigen::Index c = 0; c < comps; ++c) {
+        const auto& [array, axis] = parts[static_cast<std::size_t>(c)];
+        R(first_degree[static_cast<std::size_t>(axis)], c) = 1 / h;
+        const std::vector<Real>& g = s.values[array];
+        for (Eigen::Index k = 0; k < K; ++k)
+          R.col(c) -= (g[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])] / root_w[k]) * Pw.col(k);
+      }
+      R = (Ainv * R).eval();
+      // δ_k = W_k p_k · y = sqrt(W_k) (Pw_k · y).
+      const auto diag = static_cast<std::size_t>(s.diag[si]);
+      for (Eigen::Index c = 0; c < comps; ++c) {
+        std::vector<Real>& g = s.values[parts[static_cast<std::size_t>(c)].first];
+        Real added = 0;
+        for (Eigen::Index k = 0; k < K; ++k) {
+          const Real dk = root_w[k] * Pw.col(k).dot(R.col(c));
+          g[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])] += dk;
+          added += dk;
+        }
+        g[diag] -= added;
+      }
+      ++raised;
+    }
+#pragma omp critical(vrsph_gradient_consistency_kept)
+    kept.insert(kept.end(), kept_here.begin(), kept_here.end());
+  }
+  std::sort(kept.begin(), kept.end());
+  return {raised, std::move(kept)};
+}
+
+}  // namespace
+
+GradientConsistencyReport raise_to_cubic_exactness(const Discretisation& disc, const StencilRequest& req, Stencil& s,
+                                                   Real max_condition) {
+  const int dim = disc.cloud.dim;
+  const auto parts = components_and_axes(s.kind, dim);
+  for (const auto& [c, axis] : parts)
+    check<ConfigError>(axis < dim, "cubic exactness: a derivative along axis ", axis, " in ", dim, "D");
+  switch (dim) {
+    case 1: return raise_rows<3>(disc, req, s, parts, max_condition);
+    case 2: return raise_rows<9>(disc, req, s, parts, max_condition);
+    default: return raise_rows<19>(disc, req, s, parts, max_condition);
+  }
+}
+
+}  // namespace vrsph
