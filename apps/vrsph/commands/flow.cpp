@@ -10,6 +10,7 @@
 //                       (flow_free_surface.cpp, flow/tank.hpp);
 //  --case dam-break     a water column released in a tank, its surge front against Martin &
 //                       Moyce's experiments and Koshizuka & Oka's MPS (flow/dam_break.hpp).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -45,11 +46,21 @@ std::unique_ptr<VtuSeries> series_for(const FlowArgs& a, const std::vector<std::
   return std::make_unique<VtuSeries>(a.vtu_series);
 }
 
+// The method of `method`'s first-derivative rows in a flow when it is another one (flow_operators:
+// auto pairs VRSPH with FPM), else empty.
+std::string gradient_method_of(const std::string& gradient, const std::string& method) {
+  if (gradient == "own") return {};
+  if (gradient == "auto") return method == "vrsph" ? "fpm" : "";
+  return gradient == method ? "" : gradient;
+}
+
 OperatorsOptions operators_for(const FlowArgs& a, const std::string& method,
                                const std::map<std::string, MethodOptions>& options) {
   OperatorsOptions o;
   o.method = method;
   o.method_options = options_for(options, method);
+  if (const std::string g = gradient_method_of(a.gradient, method); !g.empty())
+    o.gradient_method_options = options_for(options, g);
   o.h_factor = a.h_factor;
   o.kernel = parse_kernel(a.kernel);
   return o;
@@ -364,7 +375,22 @@ void run_flow(FlowArgs& a) {
   (void)parse_kernel(a.kernel);
   (void)parse_shifting(a.shifting);
   check<ConfigError>(a.vtu_every >= 0, "--vtu-every must be >= 0");
-  const auto options = parse_method_options(a.method_opts, methods);
+  // --method-opt METHOD:key=value also reaches the flows' gradient method (--gradient fpm, or
+  // auto's fpm beside vrsph) when it is not one of --method; key=value alone stays with --method's.
+  std::vector<std::string> gradient_only, own_items, gradient_items;
+  for (const auto& m : methods)
+    if (const std::string g = gradient_method_of(a.gradient, m);
+        !g.empty() && std::find(methods.begin(), methods.end(), g) == methods.end() &&
+        std::find(gradient_only.begin(), gradient_only.end(), g) == gradient_only.end())
+      gradient_only.push_back(g);
+  for (const auto& item : a.method_opts) {
+    const auto colon = item.find(':');
+    const bool to_gradient = colon != std::string::npos && colon < item.find('=') &&
+                             std::find(gradient_only.begin(), gradient_only.end(), item.substr(0, colon)) != gradient_only.end();
+    (to_gradient ? gradient_items : own_items).push_back(item);
+  }
+  auto options = parse_method_options(own_items, methods);
+  options.merge(parse_method_options(gradient_items, gradient_only));
   validate_columns(a.out, a.flow_case == "projection" ? projection_columns
                          : a.flow_case == "cavity"   ? cavity_columns
                          : hydrostatic               ? hydrostatic_columns
@@ -396,7 +422,8 @@ void add_flow_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--gradient", a->gradient, "First derivatives: auto (vrsph: fpm gradient_order=2; others: own) | own | "
                                              "a method name")->capture_default_str();
-  cmd->add_option("--method-opt", a->method_opts, "key=value or method:key=value options of the methods");
+  cmd->add_option("--method-opt", a->method_opts, "key=value or method:key=value options of the methods (method: also "
+                  "the gradient's method, e.g. fpm:gradient_order=3 beside vrsph)");
   cmd->add_option("--nx", a->nx, "Particles per unit period along each axis (cavity: intervals per side; hydrostatic: across the tank; dam-break: across the column), "
                                  "comma-separated (a refinement)")->capture_default_str();
   cmd->add_option("--cloud", a->cloud, "perturbed (a jittered lattice) | lattice")->capture_default_str();

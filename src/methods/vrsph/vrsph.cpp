@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <algorithm>
 #include <array>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/uninitialized.hpp>
@@ -256,7 +257,18 @@ class Vrsph final : public Method {
     if (signed_) s.negative_volumes = std::move(vol.negative);
     if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
     if (!whole_rows) set_difference_diagonal(s);
-    if (cubic) raise_to_cubic_exactness(disc, req, s);
+    if (cubic) {
+      // A raised row meets every gradient moment condition (it is exact on cubics): its NNLS
+      // residual no longer describes it, and a row the NNLS could not fit is not infeasible now.
+      const GradientConsistencyReport raised = raise_to_cubic_exactness(disc, req, s);
+      for (Index i = 0; i < cloud.size(); ++i) {
+        const auto si = static_cast<std::size_t>(i);
+        if (si < s.residual.size() && row_requested(cloud, req, i) &&
+            !(si < s.local_failure.size() && s.local_failure[si]) &&
+            !std::binary_search(raised.kept.begin(), raised.kept.end(), i))
+          s.residual[si] = 0;
+      }
+    }
   }
 
   // The Neumann particles that take balance rows (wall) and their conormals (the unit

@@ -80,6 +80,12 @@ TEST(GradientConsistency, VrsphDefaultIsQwRowsRaisedAndExactOnCubics) {
     EXPECT_LT(worst_cubic_error(c.cloud, def, report.kept), 1e-8) << "dim " << dim;
     // [QW]'s rows are not (their O(h^2) error is the cubic's third derivatives).
     EXPECT_GT(worst_cubic_error(c.cloud, qw, {}), 1e-3) << "dim " << dim;
+    // A raised row meets its moment conditions: its NNLS residual is cleared.
+    for (Index i = 0; i < c.cloud.size(); ++i) {
+      if (!std::binary_search(report.kept.begin(), report.kept.end(), i)) {
+        EXPECT_EQ(def.residual[static_cast<std::size_t>(i)], 0);
+      }
+    }
     // A kept row is the row it was.
     for (Index i : report.kept)
       for (Index p = qw.row_begin(i); p < qw.row_end(i); ++p)
