@@ -74,8 +74,11 @@ class SameTables(unittest.TestCase):
                       "--petsc-options", DIRECT], 1e-10, ranks=(2,))
 
     def test_robin_and_tensor_mobility_direct(self):
+        # FPM's default Robin rows are exact on cubics: one-sided rows with larger weights of both
+        # signs, so the ranks' other summation order shows at 1.3e-9 relative (measured; 1e-10
+        # with the linear fit's rows).
         self.compare(["study", "--u", "x*y+exp(x)", "--robin", "x1,y0", "--beta", "1+x", "--method", "vrsph,fpm",
-                      "--cloud", "perturbed", "--n", "12,24", "--solver", "petsc", "--petsc-options", DIRECT], 1e-10,
+                      "--cloud", "perturbed", "--n", "12,24", "--solver", "petsc", "--petsc-options", DIRECT], 1e-8,
                      ranks=(2,))
         self.compare(["study", "--u", "sin(x)*cos(y)", "--mobility", "1+x^2,2+y", "--method", "m-sph,vrsph",
                       "--cloud", "perturbed", "--n", "12,24", "--solver", "petsc", "--petsc-options", DIRECT], 1e-10,

@@ -15,10 +15,10 @@ using taylor::SmallVector;
 std::vector<std::pair<std::string, std::string>> common_options(bool with_variant) {
   auto o = taylor::corrected_method_options();
   o.emplace_back("gradient_order",
-                 "1 (default: gradient from the linear fit, [QW](2.15)) | 2 (from the quadratic fit: exact for quadratics, "
-                 "second-order one-sided gradients, e.g. for Neumann rows) | 3 (the quadratic fit's rows raised to "
-                 "exactness on cubics by their smallest kernel-weighted change: O(h^3) inside; a row whose cubic fit "
-                 "is singular keeps the quadratic one)");
+                 "3 (default: the quadratic fit's gradient rows raised to exactness on cubics by their smallest "
+                 "kernel-weighted change: O(h^3) inside; a row whose cubic fit is singular keeps the quadratic one) | "
+                 "2 (from the quadratic fit: exact for quadratics, second-order one-sided gradients) | 1 (from the "
+                 "linear fit, [QW](2.15) as published: O(h) on perturbed particles; what the reproductions pin)");
   if (with_variant)
     o.emplace_back("variant", "liu (default: Hessian of W as test functions) | qw ([QW](2.18), 1D only: Y_ij instead of W'')");
   return o;
@@ -30,7 +30,7 @@ class TaylorProjection final : public Method {
  public:
   TaylorProjection(MethodInfo info, TestFunctions tests, const MethodOptions& o) : info_(std::move(info)), tests_(tests) {
     volume_ = o.get_choice("volume", "dx", {"dx", "shepard"});
-    const std::string order = o.get_choice("gradient_order", "1", {"1", "2", "3"});
+    const std::string order = o.get_choice("gradient_order", "3", {"1", "2", "3"});
     quadratic_gradient_ = order != "1";
     cubic_gradient_ = order == "3";
     if (tests_ != TestFunctions::KernelTimesMonomials &&
@@ -182,8 +182,9 @@ MethodInfo fpm_info() {
           "[QW] (2.13)-(2.19); [AAR] (27)-(30); [LL]",
           "finite particle method: Taylor expansion projected on W and its derivatives (per-particle 1+d or "
           "(d+1)(d+2)/2 system)",
-          "exact for linear (gradient) / quadratic (Laplacian) fields; O(h) gradient and Laplacian on irregular "
-          "particles and at boundaries ([QW] Figs. 3, 4, 6); [AAR]: first derivative O(h^2) inside, O(h) at the boundary",
+          "gradient exact for cubics (default gradient_order=3: O(h^3) inside; gradient_order=1 as published: exact for "
+          "linears, O(h) on irregular particles, [QW] Figs. 3, 6; [AAR]: O(h^2) inside, O(h) at the boundary); Laplacian "
+          "exact for quadratics, O(h) on irregular particles ([QW] Fig. 4)",
           taylor::every_operator(),
           common_options(true)});
 }
@@ -192,7 +193,8 @@ MethodInfo kgf_info() {
   return taylor::with_coefficient_gradient({"kgf",
           "[QW] §2.2; [HLLP]",
           "kernel-gradient-free SPH: FPM with test functions W_ij (x_j - x_i)^alpha (weighted least squares)",
-          "exact for linear/quadratic fields; gradient and Laplacian O(h) on perturbed particles ([QW] Figs. 3, 4)",
+          "gradient exact for cubics (default gradient_order=3; gradient_order=1 as published: O(h) on perturbed particles, "
+          "[QW] Fig. 3); Laplacian exact for quadratics, O(h) on perturbed particles ([QW] Fig. 4)",
           taylor::every_operator(),
           common_options(false)});
 }
