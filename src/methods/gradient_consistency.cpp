@@ -103,7 +103,9 @@ GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRe
     if (e[0] + e[1] + e[2] == 1) first_degree[e[1] ? 1 : e[2] ? 2 : 0] = a;
   }
   using Square = Eigen::Matrix<Real, M, M>;
-  using Columns = Eigen::Matrix<Real, M, Eigen::Dynamic, Eigen::ColMajor, M, 3>;
+  // Right-hand sides: one column per component (unused columns stay zero); fixed size so that
+  // the product with A^-1 is unrolled rather than a general matrix product.
+  using Columns = Eigen::Matrix<Real, M, 3>;
   const auto comps = static_cast<Eigen::Index>(parts.size());
   Index raised = 0;
   std::vector<Index> kept;
@@ -114,7 +116,7 @@ GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRe
     Eigen::Matrix<Real, M, Eigen::Dynamic> P;  // M x K: the neighbours' scaled monomials
     std::vector<Real> weight;                  // K: W(r) / W(0)
     std::vector<Index> slots;                  // K: each neighbour's slot in the stencil row
-    Columns R(M, comps);
+    Columns R;
 #pragma omp for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
       const auto si = static_cast<std::size_t>(i);
@@ -171,7 +173,7 @@ GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRe
       }
       // R = b - P g per component, over every neighbour the row has: the derivative of x^α along
       // `axis` at x_i in the scaled variables is 1/h for α = e_axis and 0 otherwise.
-      R.setZero(M, comps);
+      R.setZero();
       for (Eigen::Index c = 0; c < comps; ++c) {
         const auto& [array, axis] = parts[static_cast<std::size_t>(c)];
         R(first_degree[static_cast<std::size_t>(axis)], c) = 1 / h;
@@ -181,7 +183,7 @@ GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRe
           if (gk != 0) R.col(c) -= gk * P.col(k);
         }
       }
-      R = (Ainv * R).eval();
+      const Columns Y = Ainv * R;
       // δ_k = W_k p_k · y.
       const auto diag = static_cast<std::size_t>(s.diag[si]);
       for (Eigen::Index c = 0; c < comps; ++c) {
@@ -190,7 +192,7 @@ GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRe
         for (Eigen::Index k = 0; k < K; ++k) {
           const Real w = weight[static_cast<std::size_t>(k)];
           if (w == 0) continue;
-          const Real dk = w * P.col(k).dot(R.col(c));
+          const Real dk = w * P.col(k).dot(Y.col(c));
           g[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])] += dk;
           added += dk;
         }
