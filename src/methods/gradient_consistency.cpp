@@ -5,23 +5,11 @@
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/gradient_consistency.hpp>
+#include <vrsph/methods/monomials.hpp>
 
 namespace vrsph {
 
 namespace {
-
-// Exponents of the monomials of degree 1..3 in `dim` variables, degree by degree.
-std::vector<std::array<int, 3>> cubic_exponents(int dim) {
-  std::vector<std::array<int, 3>> out;
-  for (int deg = 1; deg <= 3; ++deg)
-    for (int a0 = deg; a0 >= 0; --a0)
-      for (int a1 = deg - a0; a1 >= 0; --a1) {
-        const std::array<int, 3> a{a0, a1, deg - a0 - a1};
-        if ((dim < 2 && a[1]) || (dim < 3 && a[2])) continue;
-        out.push_back(a);
-      }
-  return out;
-}
 
 // The component arrays of `s` and the axis each differentiates.
 std::vector<std::pair<std::size_t, int>> components_and_axes(OperatorKind kind, int dim) {
@@ -96,7 +84,7 @@ template <int M>
 GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRequest& req, Stencil& s,
                                      const std::vector<std::pair<std::size_t, int>>& parts, Real max_condition) {
   const PointCloud& cloud = disc.cloud;
-  const auto exponents = cubic_exponents(cloud.dim);
+  const auto exponents = monomial_exponents(cloud.dim, 3);
   std::array<int, 3> first_degree{};  // position of e_axis among the monomials
   for (int a = 0; a < M; ++a) {
     const auto& e = exponents[static_cast<std::size_t>(a)];

@@ -7,6 +7,7 @@
 #include <span>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/interrupt.hpp>
+#include <vrsph/methods/monomials.hpp>
 #include <vrsph/methods/vrsph/compact_rows.hpp>
 #include <vrsph/methods/vrsph/moments.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
@@ -16,18 +17,6 @@ namespace vrsph {
 namespace {
 constexpr Real kPolishBelow = 1e-6;   // residuals NNLS left that the polish is tried on,
 constexpr Real kPolishAbove = 1e-13;  // above round-off (most rows: the polish would be a no-op)
-
-std::vector<std::array<int, 3>> monomials(int dim, int degree) {
-  std::vector<std::array<int, 3>> out;
-  for (int deg = 1; deg <= degree; ++deg)
-    for (int a0 = deg; a0 >= 0; --a0)
-      for (int a1 = deg - a0; a1 >= 0; --a1) {
-        const std::array<int, 3> a{a0, a1, deg - a0 - a1};
-        if ((dim < 2 && a[1]) || (dim < 3 && a[2])) continue;
-        out.push_back(a);
-      }
-  return out;
-}
 
 // e^alpha with the powers of e's coordinates tabulated (pw[k][p] = e_k^p).
 Real monomial(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int, 3>& a) {
@@ -149,7 +138,7 @@ struct MonomialTables {
   MonomialTables(int dim, int min_degree, int degree)
       : mono(static_cast<std::size_t>(degree) + 1), table(static_cast<std::size_t>(degree) + 1) {
     for (int d = min_degree; d <= degree; ++d) {
-      mono[static_cast<std::size_t>(d)] = monomials(dim, d);
+      mono[static_cast<std::size_t>(d)] = monomial_exponents(dim, d);
       table[static_cast<std::size_t>(d)] = operator_table(dim, d, mono[static_cast<std::size_t>(d)]);
     }
   }
