@@ -74,9 +74,18 @@ TEST(GradientConsistency, VrsphDefaultIsQwRowsRaisedAndExactOnCubics) {
     // The method's default is exactly this correction of [QW]'s rows.
     const Stencil def = c.build("vrsph", OperatorKind::Gradient, {});
     for (int k = 0; k < dim; ++k) EXPECT_EQ(def.values[static_cast<std::size_t>(k)], raised.values[static_cast<std::size_t>(k)]);
-    // Almost every row is raised (the lattice's corners may not be), and each is exact on the cubic.
+    // Every row at least a support from the faces is raised; near the faces (no ghost layers here)
+    // some one-sided rows are worse conditioned than 1e4 and keep [QW]'s row (measured: 16 of 289
+    // in 2D, 148 of 729 in 3D). Each raised row is exact on the cubic.
     EXPECT_EQ(report.raised + static_cast<Index>(report.kept.size()), c.cloud.size()) << "dim " << dim;
-    EXPECT_LE(static_cast<Index>(report.kept.size()), c.cloud.size() / 20) << "dim " << dim;
+    EXPECT_LE(static_cast<Index>(report.kept.size()), c.cloud.size() / 4) << "dim " << dim;
+    const Real h = 3.2 * c.cloud.spacing;
+    for (Index i : report.kept) {
+      const Vec3& x = c.cloud.positions[static_cast<std::size_t>(i)];
+      bool near_face = false;
+      for (int k = 0; k < dim; ++k) near_face = near_face || x[k] < h || x[k] > 1 - h;
+      EXPECT_TRUE(near_face) << "dim " << dim << ": interior row " << i << " kept";
+    }
     EXPECT_LT(worst_cubic_error(c.cloud, def, report.kept), 1e-8) << "dim " << dim;
     // [QW]'s rows are not (their O(h^2) error is the cubic's third derivatives).
     EXPECT_GT(worst_cubic_error(c.cloud, qw, {}), 1e-3) << "dim " << dim;
