@@ -29,8 +29,8 @@ std::vector<std::pair<std::size_t, int>> components_and_axes(OperatorKind kind, 
 
 // A^-1 of the symmetric positive definite A (its lower triangle read) through its symmetric equilibration (unit
 // diagonal: the monomials' scales differ by h^-1 ... h^-3 and the test should see geometry, not
-// units) and a Cholesky factorisation written out for the fixed size (Eigen's LLT and rcond run
-// generic triangular-solve kernels that took half the time of these rows). False when A is not
+// units) and a Cholesky factorisation written out for the fixed size (Eigen's LLT and rcond ran
+// generic triangular-solve kernels that took about half the time of these rows, perf). False when A is not
 // positive definite or the equilibrated matrix's 1-norm condition number exceeds max_condition.
 template <int M>
 bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<Real, M, M>& inverse, Real max_condition) {
@@ -78,8 +78,8 @@ bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<
 }
 
 // The rows of raise_to_cubic_exactness with M monomials (1D: 3, 2D: 9, 3D: 19) as a
-// compile-time size: the per-row systems are small and fixed-size Eigen code is several times
-// faster than dynamic-size code on them.
+// compile-time size: the per-row systems are small, and fixed-size code spared about an eighth
+// of the update step's stencil time on 10^5 moving 2D particles against dynamic sizes.
 template <int M>
 GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRequest& req, Stencil& s,
                                      const std::vector<std::pair<std::size_t, int>>& parts, Real max_condition) {

@@ -16,7 +16,8 @@ std::vector<std::pair<std::string, std::string>> common_options(bool with_varian
   auto o = taylor::corrected_method_options();
   o.emplace_back("gradient_order",
                  "3 (default: the quadratic fit's gradient rows raised to exactness on cubics by their smallest "
-                 "kernel-weighted change: O(h^3) inside; a row whose cubic fit is singular keeps the quadratic one) | "
+                 "kernel-weighted change: O(h^3) inside; a row whose cubic fit is singular or worse conditioned than 1e4 "
+                 "keeps the quadratic one) | "
                  "2 (from the quadratic fit: exact for quadratics, second-order one-sided gradients) | 1 (from the "
                  "linear fit, [QW](2.15) as published: O(h) on perturbed particles; what the reproductions pin)");
   if (with_variant)

@@ -51,8 +51,9 @@ MethodInfo vrsph_info() {
                                "first, falling back to the whole support where they admit no positive row of degree "
                                "4 (default 0.8; 1: the whole support only, the rows before issue 37)"},
            {"gradient_order", "3 (default: gradient, dx, dy, dz rows raised to exactness on cubics by the smallest "
-                              "kernel-weighted change of [QW]'s row, O(h^3) inside; a row whose cubic fit is singular "
-                              "keeps [QW]'s row) | 2 ([QW]'s rows v_j grad W_ij: exact on quadratics, O(h^2))"},
+                              "kernel-weighted change of [QW]'s row, O(h^3) inside; a row whose cubic fit is singular or "
+                              "worse conditioned than 1e4 keeps [QW]'s row) | 2 ([QW]'s rows v_j grad W_ij: exact on "
+                              "quadratics, O(h^2))"},
            {"prefer", "none (the NNLS columns as [QW]; default) | near (columns scaled by (r_min/r_j)^2: NNLS then "
                       "picks the nearest neighbours; same moments, a more compact row)"},
            pair_mean_option()}};
