@@ -195,3 +195,23 @@ def test_a_neighbour_list_of_the_callers_own_on_a_periodic_box():
         assert abs(own - theirs).max() <= 1e-9 * abs(own).max(), method
     with pytest.raises(vrsph.InputError, match="does not list"):
         vrsph.stencil(c, method="fpm", h=h, neighbours=_one_sided(pairs))
+
+
+def test_default_gradients_are_exact_on_cubics_and_the_published_rows_one_option_away():
+    # VRSPH's and FPM's default gradient rows are raised to exactness on cubics (docs/methods.md,
+    # "Gradient rows exact on cubics"); gradient_order=2 / 1 give [QW]'s rows, exact on
+    # quadratics / linears only.
+    c = vrsph.cloud.perturbed(dim=2, n=20, seed=3)
+    x, y = c.points[:, 0], c.points[:, 1]
+    interior = c.tags == vrsph.INTERIOR
+    u = x**3 - 2 * x * x * y + 3 * y**3 + x * y
+    exact_x, exact_y = 3 * x * x - 4 * x * y + y, -2 * x * x + 9 * y * y + x
+    for method, published in (("vrsph", 2), ("fpm", 1)):
+        gx, gy = vrsph.stencil(c, method=method, operator="gradient", diagnostics=True).matrices
+        assert np.abs((gx @ u - exact_x)[interior]).max() < 1e-8, method
+        assert np.abs((gy @ u - exact_y)[interior]).max() < 1e-8, method
+        px, _ = vrsph.stencil(c, method=method, operator="gradient", options={"gradient_order": published},
+                              diagnostics=True).matrices
+        assert np.abs((px @ u - exact_x)[interior]).max() > 1e-4, method
+    with pytest.raises(vrsph.ConfigError, match="contradicts profile=qw"):
+        vrsph.stencil(c, method="vrsph", operator="gradient", options={"profile": "qw", "gradient_order": 3})
