@@ -63,12 +63,7 @@ void PressurePoisson::prepare(CsrMatrix A, Index pinned, Field spread, const Pre
   check<InputError>(spread.size() == n_ && spread.allFinite(), "pressure Poisson: ", spread.size(),
                     " spreading weights for ", n_, " particles (or not finite)");
   pin_row(A, pinned_);  // row_ keeps the original row for the defect
-  if (previous) {
-    solver_ = previous->solver_;
-    matrix_ = std::make_shared<const CsrMatrix>(std::move(A));
-  } else {
-    solver_ = std::make_shared<const PreparedSolver>(A, options_);
-  }
+  set_up_solver(std::move(A), previous);
   spread_pinned_ = spread[pinned_];
   Field unit = std::move(spread);
   unit[pinned_] = 0;
@@ -76,7 +71,7 @@ void PressurePoisson::prepare(CsrMatrix A, Index pinned, Field spread, const Pre
   setup_ = run(unit, z_);
   check<NumericalError>(setup_.success, "pressure Poisson: the unit-source solve failed (", setup_.solver, ": ",
                         setup_.message, "); a direct solver (umfpack) may solve what the iterative one could not");
-  setup_.seconds_setup = matrix_ ? 0.0 : solver_->seconds_setup();
+  setup_.seconds_setup = own_setup_seconds();
   sigma_ = pinned_defect(z_, spread_pinned_);
   check<NumericalError>(std::isfinite(sigma_) && sigma_ != 0, "pressure Poisson: a unit source leaves no defect at the "
                         "pinned particle (sigma = ", sigma_, "); the rows are not a consistent Laplacian");
@@ -98,14 +93,18 @@ void PressurePoisson::prepare_regular(CsrMatrix A, const PressurePoisson* previo
   n_ = static_cast<Index>(A.rows());
   A.prune(0.0);
   A.makeCompressed();
+  set_up_solver(std::move(A), previous);
+  setup_.seconds_setup = own_setup_seconds();
+  setup_.success = true;
+}
+
+void PressurePoisson::set_up_solver(CsrMatrix A, const PressurePoisson* previous) {
   if (previous) {
     solver_ = previous->solver_;
     matrix_ = std::make_shared<const CsrMatrix>(std::move(A));
   } else {
     solver_ = std::make_shared<const PreparedSolver>(A, options_);
-    setup_.seconds_setup = solver_->seconds_setup();
   }
-  setup_.success = true;
 }
 
 PressurePoisson PressurePoisson::nearby(CsrMatrix A, const PressurePoisson& previous, const SolverOptions& options,

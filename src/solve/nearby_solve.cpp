@@ -32,14 +32,12 @@ class PreparedPreconditioner {
     Eigen::VectorXd rhs = b, x;
     const SolveReport r = prepared->solve(rhs, x);
     if (!r.success) failed = true;  // BiCGSTAB then stops with a failed report (below)
-    ++applications;
     return x;
   }
   Eigen::ComputationInfo info() { return Eigen::Success; }
 
   const PreparedSolver* prepared = nullptr;
   mutable bool failed = false;
-  mutable int applications = 0;
 };
 }  // namespace
 

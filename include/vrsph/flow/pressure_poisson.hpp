@@ -76,6 +76,10 @@ class PressurePoisson {
   // The set-ups of the pinned and of the regular equation; `previous`: solved nearby it.
   void prepare(CsrMatrix A, Index pinned, Field spread, const PressurePoisson* previous);
   void prepare_regular(CsrMatrix A, const PressurePoisson* previous);
+  /// solver_ (and, nearby, matrix_) for the final matrix A: previous's factorisation, or A's own.
+  void set_up_solver(CsrMatrix A, const PressurePoisson* previous);
+  /// This equation's own set-up time: 0 while it borrows a previous factorisation.
+  double own_setup_seconds() const { return matrix_ ? 0.0 : solver_->seconds_setup(); }
   /// One solve of the pinned (or regular) matrix: by its factorisation, or nearby.
   SolveReport run(const Field& b, Field& x) const;
   bool regular_ = false;
