@@ -35,10 +35,12 @@ py::array_t<Real> array_of(const Eigen::MatrixXd& m) {
 
 FlowOptions flow_options(const std::string& frame, const std::string& method, const std::string& gradient, double nu,
                          const std::string& scheme, double h_factor, const std::string& kernel, const py::dict& options,
-                         const std::string& shifting, double shift_coefficient, bool allow_unstable) {
+                         const std::string& shifting, double shift_coefficient, bool allow_unstable,
+                         const std::string& viscosity) {
   FlowOptions o;
   o.frame = parse_flow_frame(frame);
   o.scheme = parse_flow_scheme(scheme);
+  o.viscosity = parse_flow_viscosity(viscosity);
   o.operators.method = method;
   o.operators.method_options = method_options_from(options);
   o.operators.h_factor = h_factor;
@@ -68,6 +70,8 @@ py::dict report_dict(const FlowStepReport& r) {
   d["seconds_update"] = r.seconds_update;
   d["seconds_ppe"] = r.seconds_ppe;
   d["seconds_rhs"] = r.seconds_rhs;
+  d["seconds_viscous"] = r.seconds_viscous;
+  d["viscous_iterations"] = r.viscous_iterations;
   d["warnings"] = r.warnings;
   return d;
 }
@@ -77,11 +81,11 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
                                         const std::string& scheme, double h_factor, const std::string& kernel,
                                         const py::dict& options, const std::string& shifting, double shift_coefficient,
                                         bool allow_unstable, const py::object& wall_velocity, const py::object& body_force,
-                                        bool free_surface, double body_force_ramp) {
+                                        bool free_surface, double body_force_ramp, const std::string& viscosity) {
   const PointCloud& c = as_cloud(cloud);
   const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
   FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
-                               allow_unstable);
+                               allow_unstable, viscosity);
   if (!body_force.is_none()) {
     const Eigen::MatrixXd g = matrix_from(body_force, 1, c.dim, "body_force");
     o.body_force.head(c.dim) = g.row(0).transpose();
@@ -103,14 +107,14 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
 
 py::dict cavity(int nx, double re, const std::string& method, const std::string& gradient, double jitter,
                 std::uint64_t seed, double t_end, double steady_tolerance, double cfl, double h_factor,
-                const py::dict& options) {
+                const py::dict& options, const std::string& viscosity) {
   CavityRunOptions o;
   o.cloud = {nx, jitter, seed};
   o.re = re;
   o.t_end = t_end;
   o.steady_tolerance = steady_tolerance;
   o.cfl = cfl;
-  o.flow = flow_options("eulerian", method, gradient, 0, "rk3", h_factor, "cubic", options, "none", 0, false);
+  o.flow = flow_options("eulerian", method, gradient, 0, "rk3", h_factor, "cubic", options, "none", 0, false, viscosity);
   CavityRunRow r;
   {
     py::gil_scoped_release release;
@@ -141,13 +145,15 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
 
 py::dict taylor_green(int nx, int dim, const std::string& frame, const std::string& method, const std::string& gradient,
                       double t_end, double re, double cfl, double jitter, std::uint64_t seed, const std::string& scheme,
-                      double h_factor, const py::dict& options, const std::string& shifting, double shift_coefficient) {
+                      double h_factor, const py::dict& options, const std::string& shifting, double shift_coefficient,
+                      const std::string& viscosity) {
   VortexRunOptions o;
   o.cloud = {dim, nx, jitter, seed};
   o.vortex.Re = re;
   o.t_end = t_end;
   o.cfl = cfl;
-  o.flow = flow_options(frame, method, gradient, 0, scheme, h_factor, "cubic", options, shifting, shift_coefficient, false);
+  o.flow = flow_options(frame, method, gradient, 0, scheme, h_factor, "cubic", options, shifting, shift_coefficient, false,
+                        viscosity);
   VortexRunRow r;
   {
     py::gil_scoped_release release;
@@ -179,7 +185,7 @@ void bind_flow(py::module_& m) {
       .def(py::init(&make_solver), py::arg("cloud"), py::arg("velocity"), py::arg("frame"), py::arg("method"),
            py::arg("gradient"), py::arg("nu"), py::arg("scheme"), py::arg("h_factor"), py::arg("kernel"), py::arg("options"),
            py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"), py::arg("wall_velocity"),
-           py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"))
+           py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"), py::arg("viscosity"))
       .def("step", [](FlowSolver& s, double dt) {
         FlowStepReport r;
         {
@@ -216,7 +222,7 @@ void bind_flow(py::module_& m) {
     o.t_end = t_end;
     o.gravity = gravity;
     o.ramp = ramp;
-    o.flow = flow_options(frame, method, "auto", 0.01, "rk3", h_factor, "cubic", options, "none", 0, false);
+    o.flow = flow_options(frame, method, "auto", 0.01, "rk3", h_factor, "cubic", options, "none", 0, false, "explicit");
     HydrostaticRow r;
     {
       py::gil_scoped_release release;
@@ -252,7 +258,7 @@ void bind_flow(py::module_& m) {
     o.seed = seed;
     o.t_star_end = t_star_end;
     o.cfl = cfl;
-    o.flow = flow_options("lagrangian", method, "auto", 0.01, "rk3", h_factor, "cubic", options, shifting, 0, false);
+    o.flow = flow_options("lagrangian", method, "auto", 0.01, "rk3", h_factor, "cubic", options, shifting, 0, false, "explicit");
     DamBreakRun r;
     {
       py::gil_scoped_release release;
@@ -286,10 +292,10 @@ void bind_flow(py::module_& m) {
      py::arg("cfl"), py::arg("h_factor"), py::arg("options"));
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
-        py::arg("options"));
+        py::arg("options"), py::arg("viscosity"));
   m.def("_taylor_green", &taylor_green, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("gradient"),
         py::arg("t_end"), py::arg("re"), py::arg("cfl"), py::arg("jitter"), py::arg("seed"), py::arg("scheme"),
-        py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"));
+        py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"), py::arg("viscosity"));
 }
 
 }  // namespace vrsph::python

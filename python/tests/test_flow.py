@@ -95,3 +95,24 @@ def test_dam_break_front_and_references():
     assert row["max_outside_experiments"] < 0.25
     with pytest.raises(vrsph.ConfigError, match="unknown shifting"):
         vrsph.dam_break(nx=10, shifting="sideways")
+
+
+def test_implicit_viscosity_steps_beyond_the_explicit_limit():
+    # nu = 1: the explicit limit is ~dx^2/nu; the implicit (IMEX) flow takes a step 20 times
+    # longer and still decays like the vortex (exp(-8 pi^2 nu t)).
+    c = vrsph.cloud.perturbed(dim=2, n=16, delta=0.2, seed=2, periodic="x,y")
+    x = np.asarray(c.points)[:, :2]
+    explicit = vrsph.Flow(c, _vortex(x), nu=1.0)
+    implicit = vrsph.Flow(c, _vortex(x), nu=1.0, viscosity="implicit")
+    limit = explicit.stable_time_step(1.0)
+    assert implicit.stable_time_step(1.0) > 20 * limit
+    with pytest.raises(vrsph.ConfigError, match="stability limit"):
+        explicit.step(20 * limit)
+    report = implicit.step(20 * limit)
+    assert report["viscous_iterations"] > 0 and report["seconds_viscous"] > 0
+    decay = np.exp(-8 * np.pi ** 2 * implicit.time)
+    assert abs(np.abs(implicit.velocity).max() - decay) < 0.05 * decay
+    row = vrsph.taylor_green(nx=16, t_end=0.05, viscosity="implicit")
+    assert row["error_u_mean"] < 2 * vrsph.taylor_green(nx=16, t_end=0.05)["error_u_mean"]
+    with pytest.raises(vrsph.ConfigError, match="explicit, implicit"):
+        vrsph.Flow(c, _vortex(x), viscosity="crank-nicolson")

@@ -282,7 +282,9 @@ class Flow:
     stays) or "lagrangian" (particles move with the flow, walls stay; ``shifting`` "none", "xu"
     or "lind"). ``body_force``: g (dim values), reached over ``body_force_ramp``;
     ``free_surface``: p = 0 on the detected surface (docs/free_surface.md), ``free_surface``
-    the property: the flags. ``method`` builds the Laplacian (pressure Poisson, viscous term);
+    the property: the flags. ``viscosity``: "explicit" (in the Runge-Kutta rate, dt limited like
+    dx²/nu) or "implicit" (IMEX stages, dt limited by the explicit terms only; docs/flow.md).
+    ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""
 
@@ -290,7 +292,7 @@ class Flow:
                  nu: float = 0.01, scheme: str = "rk3", h_factor: float = 3.0, kernel: str = "cubic",
                  options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
                  allow_unstable: bool = False, wall_velocity: Any = None, body_force: Any = None,
-                 free_surface: bool = False, body_force_ramp: float = 0.0):
+                 free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit"):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -302,7 +304,8 @@ class Flow:
                                      None if wall_velocity is None else np.asarray(wall_velocity, dtype=float),
                                      None if body_force is None else np.asarray(body_force, dtype=float).reshape(1, -1),
                                      _args.flag(free_surface, "free_surface"),
-                                     _args.number(body_force_ramp, "body_force_ramp", minimum=0.0))
+                                     _args.number(body_force_ramp, "body_force_ramp", minimum=0.0),
+                                     _args.text(viscosity, "viscosity"))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))
@@ -336,7 +339,7 @@ class Flow:
 
 def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str = "auto", jitter: float = 0.2,
            seed: int = 1, t_end: float = 100.0, steady_tol: float = 1e-4, cfl: float = 0.25, h_factor: float = 3.0,
-           options: Mapping[str, Any] | None = None) -> dict:
+           options: Mapping[str, Any] | None = None, viscosity: str = "explicit") -> dict:
     """One row of ``vrsph flow --case cavity``: the lid-driven cavity (Re 100 or 1000) on the unit
     square with ``nx`` intervals per side, run until steady; the largest centre-line deviations
     from Ghia et al. (1982), the values at their points and the profiles on 101 points."""
@@ -345,13 +348,14 @@ def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str
                           _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
                           _args.number(t_end, "t_end", positive=True),
                           _args.number(steady_tol, "steady_tol", positive=True), _args.number(cfl, "cfl", positive=True),
-                          _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"))
+                          _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"),
+                          _args.text(viscosity, "viscosity"))
 
 
 def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
                  t_end: float = 1.0, re: float = 100.0, cfl: float = 0.25, jitter: float = 0.2, seed: int = 1,
                  scheme: str = "rk3", h_factor: float = 3.0, options: Mapping[str, Any] | None = None,
-                 shifting: str = "none", shift_coefficient: float = 0.0) -> dict:
+                 shifting: str = "none", shift_coefficient: float = 0.0, viscosity: str = "explicit") -> dict:
     """One row of ``vrsph flow --case taylor-green`` (2D Taylor-Green, 3D Beltrami vortex): the
     errors at ``t_end`` on the periodic unit box with ``nx`` particles per period."""
     return _vrsph._taylor_green(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
@@ -361,7 +365,8 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                                 _args.integer(seed, "seed", minimum=0), _args.text(scheme, "scheme"),
                                 _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"),
                                 _args.text(shifting, "shifting"),
-                                _args.number(shift_coefficient, "shift_coefficient", minimum=0.0))
+                                _args.number(shift_coefficient, "shift_coefficient", minimum=0.0),
+                                _args.text(viscosity, "viscosity"))
 
 
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,

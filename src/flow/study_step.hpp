@@ -39,7 +39,7 @@ inline Real next_study_step(const FlowSolver& solver, const char* what, Real fix
 
 /// The costs of a study's steps: PPE iterations and seconds per stage, summed, then per step.
 struct StepCosts {
-  double iterations = 0, update = 0, ppe = 0, rhs = 0;
+  double iterations = 0, update = 0, ppe = 0, rhs = 0, viscous = 0;
   Index steps = 0;
   void add(const FlowStepReport& r) {
     ++steps;
@@ -47,9 +47,10 @@ struct StepCosts {
     update += r.seconds_update;
     ppe += r.seconds_ppe;
     rhs += r.seconds_rhs;
+    viscous += r.seconds_viscous;
   }
   /// A study row's steps and per-step costs (its fields steps, seconds_per_step, seconds_update,
-  /// seconds_ppe, seconds_rhs, ppe_iterations_per_step), `seconds` the wall time of the steps.
+  /// seconds_ppe, seconds_rhs, seconds_viscous, ppe_iterations_per_step), `seconds` the wall time of the steps.
   template <class Row>
   void write(Row& row, double seconds) const {
     const auto n = static_cast<double>(std::max<Index>(steps, 1));
@@ -58,6 +59,7 @@ struct StepCosts {
     row.seconds_update = update / n;
     row.seconds_ppe = ppe / n;
     row.seconds_rhs = rhs / n;
+    row.seconds_viscous = viscous / n;
     row.ppe_iterations_per_step = iterations / n;
   }
 };

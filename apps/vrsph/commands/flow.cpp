@@ -77,6 +77,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   FlowOptions o;
   o.frame = parse_flow_frame(a.frame);
   o.scheme = parse_flow_scheme(a.scheme);
+  o.viscosity = parse_flow_viscosity(a.viscosity);
   o.operators = operators_for(a, method, options);
   o.gradient = a.gradient;
   o.solver.type = parse_solver(a.solver);
@@ -105,16 +106,16 @@ const std::vector<std::string> projection_columns = {
     "error_phi_inf", "max_div_before", "max_div_after", "order_u_inf", "order_u_l2", "order_phi_inf",
     "solver_iterations", "seconds"};
 const std::vector<std::string> taylor_green_columns = {
-    "case", "method", "gradient", "frame", "scheme", "dim", "nx", "particles", "t", "steps", "dt",
+    "case", "method", "gradient", "frame", "scheme", "viscosity", "dim", "nx", "particles", "t", "steps", "dt",
     "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
     "order_u_mean", "order_u_inf", "order_p_mean", "kinetic_energy", "min_spacing", "max_spacing",
-    "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "status"};
+    "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
 
 const std::vector<std::string> cavity_columns = {
     "case", "method", "gradient", "re", "nx", "particles", "t", "steps", "dt", "steady", "steady_residual",
     "ghia_max_deviation_u", "ghia_max_deviation_v", "order_ghia_u", "order_ghia_v", "reference_max_deviation_u",
     "reference_max_deviation_v", "order_reference_u", "order_reference_v", "max_div_u", "kinetic_energy",
-    "ppe_iterations_per_step", "seconds_setup", "seconds_per_step", "seconds_ppe", "seconds_rhs", "status"};
+    "ppe_iterations_per_step", "seconds_setup", "seconds_per_step", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
 
 void run_projection(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
                     const std::map<std::string, MethodOptions>& options) {
@@ -203,14 +204,14 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
       const OperatorsOptions ops = flow_operators(o.flow);
       t.add_row({{"case", std::string("taylor-green")}, {"method", m},
                  {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"frame", a.frame},
-                 {"scheme", a.scheme}, {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
+                 {"scheme", a.scheme}, {"viscosity", a.viscosity}, {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
                  {"particles", static_cast<long long>(r.particles)}, {"t", r.t}, {"steps", static_cast<long long>(r.steps)},
                  {"dt", r.dt}, {"error_u_mean", r.errors.error_u_mean}, {"error_u_inf", r.errors.error_u_inf},
                  {"error_p_mean", r.errors.error_p_mean}, {"error_p_inf", r.errors.error_p_inf},
                  {"decay_rate_error", r.errors.decay_rate_error}, {"max_div_u", r.max_div_u},
                  {"kinetic_energy", r.kinetic_energy}, {"min_spacing", r.min_spacing}, {"max_spacing", r.max_spacing},
                  {"ppe_iterations_per_step", r.ppe_iterations_per_step}, {"seconds_per_step", r.seconds_per_step},
-                 {"seconds_update", r.seconds_update}, {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs},
+                 {"seconds_update", r.seconds_update}, {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"seconds_viscous", r.seconds_viscous},
                  {"status", std::string("ok")}});
     }
     add_orders(t, first, nxs, errors);
@@ -314,7 +315,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
                  {"reference_max_deviation_v", r.reference_max_deviation_v}, {"max_div_u", r.max_div_u},
                  {"kinetic_energy", r.kinetic_energy}, {"ppe_iterations_per_step", r.ppe_iterations_per_step},
                  {"seconds_setup", r.seconds_setup}, {"seconds_per_step", r.seconds_per_step},
-                 {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"status", std::string("ok")}});
+                 {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"seconds_viscous", r.seconds_viscous}, {"status", std::string("ok")}});
       profiles.emplace_back(detail::concat(m, " nx=", n), r);
     }
     add_orders(t, first, nxs, errors);
@@ -365,6 +366,8 @@ void run_flow(FlowArgs& a) {
   }
   (void)parse_flow_frame(a.frame);
   (void)parse_flow_scheme(a.scheme);
+  check<ConfigError>(parse_flow_viscosity(a.viscosity) == FlowViscosity::Explicit || a.flow_case != "projection",
+                     "--viscosity implicit applies to the cases that take time steps; --case projection takes none");
   const SolverType solver = parse_solver(a.solver);
   check<ConfigError>(!a.reuse_factorisation || solver == SolverType::Auto || solver == SolverType::UmfPack ||
                          solver == SolverType::SparseLU,
@@ -446,6 +449,10 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--dt", a->dt, "A fixed time step instead of --cfl (refused beyond the stability limit unless "
                                  "--allow-unstable)");
   cmd->add_option("--scheme", a->scheme, "rk3 (SSP, third order) | rk2 (Heun), a projection per stage")->capture_default_str();
+  cmd->add_option("--viscosity", a->viscosity,
+                  "explicit (in the Runge-Kutta rate; dt limited like dx^2/nu) | implicit (IMEX: ARS(4,4,3) with rk3, "
+                  "ARS(2,2,2) with rk2; one (I - a dt nu L) solve per stage and component, dt limited by the explicit terms)")
+      ->capture_default_str();
   cmd->add_option("--hyperviscosity", a->hyperviscosity, "Eulerian: -c U dx^3 L(L u) added (0: none)")->capture_default_str();
   cmd->add_option("--shifting", a->shifting, "Lagrangian particle shifting: none | xu (Xu 2009) | lind (Lind 2012, "
                                              "Fickian)")->capture_default_str();

@@ -18,7 +18,7 @@ namespace vrsph::cli {
 
 struct FlowArgs {
   std::string flow_case = "taylor-green", frame = "eulerian", methods = "vrsph", gradient = "auto", nx = "32,64",
-              cloud = "perturbed", scheme = "rk3", shifting = "none", solver = "auto", vtu_series, kernel = "cubic",
+              cloud = "perturbed", scheme = "rk3", viscosity = "explicit", shifting = "none", solver = "auto", vtu_series, kernel = "cubic",
               profile_output;
   std::vector<std::string> method_opts;
   int dim = 2, vtu_every = 0, threads = 0;

@@ -28,7 +28,7 @@ const std::vector<std::string> hydrostatic_columns = {
     "case", "method", "gradient", "frame", "dim", "nx", "particles", "water_particles", "t", "steps", "dt",
     "bottom_pressure", "bottom_pressure_error", "order_bottom_pressure", "pressure_profile_error", "max_speed",
     "max_speed_after_ramp", "surface_particles", "surface_rise", "surface_drop", "max_div_u", "ppe_iterations_per_step",
-    "seconds_setup", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "status"};
+    "seconds_setup", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
 
 void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
                           const std::map<std::string, MethodOptions>& options) {
@@ -99,7 +99,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
                  {"surface_drop", r.surface_drop}, {"max_div_u", r.max_div_u},
                  {"ppe_iterations_per_step", r.ppe_iterations_per_step}, {"seconds_setup", r.seconds_setup},
                  {"seconds_per_step", r.seconds_per_step}, {"seconds_update", r.seconds_update},
-                 {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"status", std::string("ok")}});
+                 {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"seconds_viscous", r.seconds_viscous}, {"status", std::string("ok")}});
     }
     add_orders(t, first, nxs, errors);
   }

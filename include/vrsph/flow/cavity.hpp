@@ -52,6 +52,7 @@ struct CavityRunRow {
   double ppe_iterations_per_step = 0;
   double seconds_setup = 0;       ///< operators, factorisation, the first projection
   double seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last three per step
+  double seconds_viscous = 0;  ///< per step: the implicit viscous set-ups and solves
   /// Centre-line profiles on 101 evenly spaced points: u(0.5, s_k) and v(s_k, 0.5), s_k = k / 100.
   std::vector<Real> line, u_line, v_line;
 };

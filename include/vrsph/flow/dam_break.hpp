@@ -65,6 +65,7 @@ struct DamBreakRun {
   Real max_outside_experiments = 0;
   double ppe_iterations_per_step = 0;
   double seconds_setup = 0, seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
+  double seconds_viscous = 0;  ///< per step: the implicit viscous set-ups and solves
 };
 /// Runs the dam break. ConfigError for bad settings (an Eulerian frame); a step that fails
 /// (NumericalError, or GeometryError within a step) ends the run with `stopped` set.

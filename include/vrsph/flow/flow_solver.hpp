@@ -13,9 +13,14 @@
 // and each step ends with the approximate projection of the new velocity (projection.hpp), which
 // removes the divergence the stages left instead of letting it drift. Heun's RK2 and Shu–Osher's
 // SSP-RK3 keep their order in time for the velocity (projecting the state at every stage instead
-// was first order in time in the Lagrangian frame: docs/flow.md). The viscous term is explicit:
-// step() refuses a time step beyond the stability limits of the scheme (bounds from Gershgorin
-// discs of the operators, below) unless FlowOptions::allow_unstable. Eulerian advection uses the
+// was first order in time in the Lagrangian frame: docs/flow.md). The viscous term is explicit
+// by default; FlowViscosity::Implicit takes it implicitly instead, by the IMEX Runge–Kutta
+// schemes of Ascher, Ruuth & Spiteri (ARS(4,4,3) for RK3, ARS(2,2,2) for RK2;
+// implicit_viscosity.hpp): each stage solves (I - a dt ν L) U = R, the rest of the rate
+// (advection, pressure, body force) explicit with the same pressure per stage, and the time
+// step is then limited by the explicit terms only. step() refuses a time step beyond the
+// stability limits of the scheme (bounds from Gershgorin discs of the operators, below) unless
+// FlowOptions::allow_unstable. Eulerian advection uses the
 // gradient as it is, without upwinding: the viscosity of the Reynolds numbers measured damps what a
 // non-skew gradient excites (docs/flow.md); a hyperviscosity is available, and a run that blows up
 // is stopped with its step.
@@ -37,6 +42,7 @@
 #include <limits>
 #include <memory>
 #include <vrsph/analysis/free_surface.hpp>
+#include <vrsph/flow/implicit_viscosity.hpp>
 #include <vrsph/flow/pressure_poisson.hpp>
 #include <vrsph/flow/projection.hpp>
 #include <vrsph/flow/shifting.hpp>
@@ -46,11 +52,14 @@ namespace vrsph {
 
 enum class FlowFrame { Eulerian, Lagrangian };
 enum class FlowScheme { RK2, RK3 };
-/// "eulerian" | "lagrangian"; "rk2" | "rk3". ConfigError otherwise.
+enum class FlowViscosity { Explicit, Implicit };
+/// "eulerian" | "lagrangian"; "rk2" | "rk3"; "explicit" | "implicit". ConfigError otherwise.
 FlowFrame parse_flow_frame(const std::string& name);
 FlowScheme parse_flow_scheme(const std::string& name);
+FlowViscosity parse_flow_viscosity(const std::string& name);
 std::string to_string(FlowFrame f);
 std::string to_string(FlowScheme s);
+std::string to_string(FlowViscosity v);
 
 /// SolverOptions with the iteration cap of the pressure solves (1000).
 /// The largest pressure equation `auto` solves directly in the Lagrangian frame (in a build
@@ -66,6 +75,10 @@ inline SolverOptions pressure_solver_defaults() {
 struct FlowOptions {
   FlowFrame frame = FlowFrame::Eulerian;
   FlowScheme scheme = FlowScheme::RK3;
+  /// Explicit: the viscous term in the Runge–Kutta rate (its stability bound limits dt, as
+  /// ~dx²/ν); Implicit: ARS IMEX stages (one solve of (I - a dt ν L) per stage and component;
+  /// implicit_viscosity.hpp says how), dt limited by the explicit terms only.
+  FlowViscosity viscosity = FlowViscosity::Explicit;
   Real nu = 0.01;               ///< kinematic viscosity, >= 0
   Vec3 body_force = Vec3::Zero();  ///< g (components beyond the dimension must be 0)
   /// The velocity of each wall particle (tag Dirichlet), given its index and position; empty:
@@ -120,8 +133,9 @@ struct FlowStepReport {
   Real max_div_u = 0;          ///< max |D u| after the step
   Real cfl = 0;                ///< dt max|u| / dx
   Real advective_number = 0;   ///< dt × a bound of the advection operator's spectral radius (Eulerian)
-  Real viscous_number = 0;     ///< dt × a bound of the viscous (and hyperviscous) term's spectral radius
+  Real viscous_number = 0;     ///< dt × a bound of the explicit viscous (and hyperviscous) terms' spectral radius
   int ppe_iterations = 0;      ///< over the step's stages
+  int viscous_iterations = 0;  ///< implicit viscosity: solver iterations over the step's stages and components
   Real ppe_shift = 0;          ///< largest |λ| of the step's projections (PressurePoisson)
   Real min_spacing = 0;        ///< smallest nearest-neighbour distance / dx
   Real max_spacing = 0;        ///< largest nearest-neighbour distance / dx (a hole grows it)
@@ -129,6 +143,7 @@ struct FlowStepReport {
   Real force_number = 0;       ///< free surface: dt / (0.25 (dx/|g|)^½), at most 1
   Index surface_particles = 0; ///< free surface: flagged particles after the step
   double seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
+  double seconds_viscous = 0;  ///< implicit viscosity: set-ups and solves
   std::vector<std::string> warnings;
 };
 
@@ -189,6 +204,16 @@ class FlowSolver {
   void wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const;  ///< at walls: Σ_a G_a G_a u
   Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, FlowStepReport* r) const;
   Eigen::MatrixXd rate(const Eigen::MatrixXd& u, Real t, FlowStepReport& r);
+  /// The IMEX split of the rate: the explicit part (advection, pressure, body force,
+  /// hyperviscosity) and ν L u at the fluid particles (zero at walls).
+  std::pair<Eigen::MatrixXd, Eigen::MatrixXd> imex_rates(const Eigen::MatrixXd& u, Real t, FlowStepReport& r);
+  /// The velocity at the end of an IMEX step from un (Lagrangian: the particles moved as the
+  /// explicit stages say).
+  /// Moves the particles (Lagrangian) to x^n + dt Σ a_j U_j for the given (a_j, U_j).
+  using StageMove = std::function<void(const std::vector<std::pair<Real, const Eigen::MatrixXd*>>&)>;
+  Eigen::MatrixXd imex_step(const Eigen::MatrixXd& un, Real dt, const StageMove& move, FlowStepReport& r);
+  const ImexTableau& imex_tableau() const;  ///< ARS(4,4,3) for RK3, ARS(2,2,2) for RK2
+  const ImplicitViscosity& viscous_solver(Real c, FlowStepReport& r);
   void move_to(const std::vector<Vec3>& x, FlowStepReport& r);
   void factorise_pressure();  ///< the pressure equation of the current operators into ppe_ (and eq_'s wall fluxes)
   void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
@@ -199,6 +224,7 @@ class FlowSolver {
   FlowOptions options_;
   std::unique_ptr<Operators> ops_;
   std::unique_ptr<PressurePoisson> ppe_;
+  std::unique_ptr<ImplicitViscosity> viscous_;  ///< implicit viscosity: the current positions' and dt's
   PressureEquation eq_;  ///< its walls, wall fluxes and surface (the matrix is moved into ppe_)
   FreeSurface surface_;
   Eigen::MatrixXd u_;

@@ -77,6 +77,7 @@ struct VortexRunRow {
   Real min_spacing = 0, max_spacing = 0;  ///< over the whole run (nearest-neighbour distance / dx)
   double ppe_iterations_per_step = 0;
   double seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last three per step
+  double seconds_viscous = 0;  ///< per step: the implicit viscous set-ups and solves
 };
 /// A vortex run from its exact velocity at t = 0. Throws as FlowSolver.
 VortexRunRow run_periodic_vortex(const VortexRunOptions& options);

@@ -58,6 +58,7 @@ struct HydrostaticRow {
   Real max_div_u = 0;
   double ppe_iterations_per_step = 0;
   double seconds_setup = 0, seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
+  double seconds_viscous = 0;  ///< per step: the implicit viscous set-ups and solves
   std::vector<Real> line_y, line_p, line_exact;  ///< the centre line's profile
 };
 /// Runs the tank from rest to t_end. Throws as FlowSolver; ConfigError for bad settings;
