@@ -147,15 +147,23 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   if (options_.free_surface) {
     // Above the water the walls' particles stand in a line, and a splash's droplets hold a few
     // particles: their least-squares rows are singular. They are left zero (no pressure gradient
-    // acts on a lone droplet; a dry wall's rows are not used).
+    // acts on a lone droplet; a dry wall's rows are not used). Nearly singular rows count too: a
+    // 3D wall particle above the water sees the wall's plane and the water's flat top row, whose
+    // quadratic fit is singular until the water moves by 1e-7 dx; its condition then falls from
+    // 1e18 through the methods' default limit of 1e12, and the row's weights of ~1e6 threw the
+    // water out of the tank within a step (docs/free_surface.md). Healthy rows, one-sided ones at
+    // a box's corners included, stay below 2e3 (FPM, perturbed boxes, 2D and 3D): 1e6 is the limit.
     for (auto* m : {&options_.operators.method_options, &options_.operators.gradient_method_options}) {
       const std::string& name = m == &options_.operators.method_options || options_.operators.gradient_method.empty()
                                     ? options_.operators.method
                                     : options_.operators.gradient_method;
       const MethodInfo& info = builtin_methods().info(name);
-      const bool declares = std::any_of(info.options.begin(), info.options.end(),
-                                        [](const auto& kv) { return kv.first == "on_singular"; });
-      if (declares && !m->values().contains("on_singular")) m->set("on_singular", "warn");
+      const auto declares = [&info](const char* key) {
+        return std::any_of(info.options.begin(), info.options.end(), [key](const auto& kv) { return kv.first == key; });
+      };
+      if (declares("on_singular") && !m->values().contains("on_singular")) m->set("on_singular", "warn");
+      if (declares("max_condition") && !m->values().contains("max_condition"))
+        m->set("max_condition", detail::concat(free_surface_max_condition));
     }
   }
   check<ConfigError>(options_.shifting.kind == Shifting::None || options_.frame == FlowFrame::Lagrangian,

@@ -61,6 +61,10 @@ std::string to_string(FlowFrame f);
 std::string to_string(FlowScheme s);
 std::string to_string(FlowViscosity v);
 
+/// Free surfaces: the largest condition number of a least-squares row (FPM's, the flow's
+/// gradient) that is used; rows beyond it are left zero (FlowSolver).
+constexpr Real free_surface_max_condition = 1e6;
+
 /// SolverOptions with the iteration cap of the pressure solves (1000).
 /// The largest pressure equation `auto` solves directly in the Lagrangian frame (in a build
 /// with PETSc; else SolverOptions' own limit): 1000 particles in 2D, 500 in 3D.
