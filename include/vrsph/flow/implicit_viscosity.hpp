@@ -10,6 +10,7 @@
 // matrix at every stage); beyond, the pressure's SolverOptions set it up once (a factorisation
 // or AMG), which a fixed cloud at a fixed time step then reuses for every stage and component.
 #include <memory>
+#include <vector>
 #include <vrsph/flow/projection.hpp>
 #include <vrsph/solve/solver.hpp>
 

@@ -154,6 +154,31 @@ TEST(ImplicitViscosity, StokesCavityRunsAtStepsTheExplicitSchemeRefuses) {
     EXPECT_EQ(im.velocity().row(i), cavity_lid_velocity(c.positions[static_cast<std::size_t>(i)]).head(2).transpose());
 }
 
+TEST(ImplicitViscosity, SolvesWithAndWithoutItsSetUp) {
+  // Diagonally dominant systems by Jacobi-preconditioned BiCGSTAB, the others by the pressure's
+  // solver (set up once): both meet (I - c L) U = R.
+  FlowCloudSpec spec;
+  spec.nx = 16;
+  const PointCloud c = periodic_flow_cloud(spec);
+  const Operators ops(c, flow_operators({}));
+  const CsrMatrix L = laplacian_matrix(ops);
+  Real bound = 0;
+  for (Index i = 0; i < L.rows(); ++i) bound = std::max(bound, L.row(i).cwiseAbs().sum());
+  Eigen::MatrixXd R(c.size(), 2);
+  for (Index i = 0; i < c.size(); ++i) {
+    const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+    R.row(i) << std::sin(2 * std::numbers::pi * x[0]) + 0.3, std::cos(2 * std::numbers::pi * (x[0] + x[1]));
+  }
+  for (const Real coefficient : {0.5 * ImplicitViscosity::jacobi_limit / bound, 20 * ImplicitViscosity::jacobi_limit / bound}) {
+    const ImplicitViscosity v(ops, {}, coefficient, pressure_solver_defaults());
+    EXPECT_EQ(v.jacobi(), coefficient * bound <= ImplicitViscosity::jacobi_limit);
+    const Eigen::MatrixXd U = v.solve(R);
+    const Eigen::MatrixXd residual = U - coefficient * (L * U) - R;
+    EXPECT_LT(residual.norm(), 1e-8 * R.norm()) << coefficient * bound;
+    EXPECT_GT(v.iterations(), 0);
+  }
+}
+
 TEST(ImplicitViscosity, RefusesBadValues) {
   EXPECT_THROW_MSG(parse_flow_viscosity("crank-nicolson"), ConfigError, "known: explicit, implicit");
   EXPECT_EQ(to_string(parse_flow_viscosity("implicit")), "implicit");
