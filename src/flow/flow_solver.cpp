@@ -305,7 +305,10 @@ Real FlowSolver::stable_time_step(Real safety) const {
 }
 
 Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u, Real t) const {
-  Eigen::MatrixXd lap = ops_->apply(VectorOperator::VectorLaplacian, u);
+  return forces(u, t, ops_->apply(VectorOperator::VectorLaplacian, u));
+}
+
+Eigen::MatrixXd FlowSolver::forces(const Eigen::MatrixXd& u, Real t, Eigen::MatrixXd lap) const {
   wall_laplacian(u, lap);
   Eigen::MatrixXd f = options_.nu * lap;
   if (gamma_ > 0) f -= gamma_ * ops_->apply(VectorOperator::VectorLaplacian, lap);
@@ -363,8 +366,9 @@ Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, Real t, FlowStepRepor
 std::pair<Eigen::MatrixXd, Eigen::MatrixXd> FlowSolver::imex_rates(const Eigen::MatrixXd& u, Real t,
                                                                     FlowStepReport& r) {
   Stopwatch watch;
-  Eigen::MatrixXd f = forces(u, t);
-  Eigen::MatrixXd viscous = options_.nu * ops_->apply(VectorOperator::VectorLaplacian, u);
+  const Eigen::MatrixXd lap = ops_->apply(VectorOperator::VectorLaplacian, u);
+  Eigen::MatrixXd f = forces(u, t, lap);
+  Eigen::MatrixXd viscous = options_.nu * lap;
   for (const Index i : eq_.walls.index) viscous.row(i).setZero();
   const Eigen::MatrixXd adv = advection(*ops_, u);
   // The pressure balances the explicit part: ∇²p = ∇·(g - (u·∇)u) inside (∇·ν∇²u vanishes for a

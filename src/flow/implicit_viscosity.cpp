@@ -67,8 +67,6 @@ ImplicitViscosity::ImplicitViscosity(const Operators& ops, const Walls& walls, R
   if (c * bound > jacobi_limit) solver_ = std::make_unique<PreparedSolver>(matrix_, options);
 }
 
-double ImplicitViscosity::seconds_setup() const { return solver_ ? solver_->seconds_setup() : 0.0; }
-
 Eigen::MatrixXd ImplicitViscosity::solve(const Eigen::MatrixXd& R, const Eigen::MatrixXd& guess) const {
   check<InputError>(R.rows() == matrix_.rows(), "flow: a viscous right-hand side of ", R.rows(), " rows for ",
                     matrix_.rows(), " particles");

@@ -203,6 +203,8 @@ class FlowSolver {
   Real advective_bound(const Eigen::MatrixXd& u) const;
   Real viscous_rate() const;
   Eigen::MatrixXd forces(const Eigen::MatrixXd& u, Real t) const;  ///< ν L u (- hyperviscosity) + g(t)
+  /// The same from lap = L u (the vector Laplacian's rows; the walls' are replaced here).
+  Eigen::MatrixXd forces(const Eigen::MatrixXd& u, Real t, Eigen::MatrixXd lap) const;
   Real force_limit() const;  ///< free surface: 0.25 (dx/|g|)^½, else infinity
   void detect_surface();     ///< surface_ of the current positions
   void wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const;  ///< at walls: Σ_a G_a G_a u
@@ -211,10 +213,10 @@ class FlowSolver {
   /// The IMEX split of the rate: the explicit part (advection, pressure, body force,
   /// hyperviscosity) and ν L u at the fluid particles (zero at walls).
   std::pair<Eigen::MatrixXd, Eigen::MatrixXd> imex_rates(const Eigen::MatrixXd& u, Real t, FlowStepReport& r);
-  /// The velocity at the end of an IMEX step from un (Lagrangian: the particles moved as the
-  /// explicit stages say).
   /// Moves the particles (Lagrangian) to x^n + dt Σ a_j U_j for the given (a_j, U_j).
   using StageMove = std::function<void(const std::vector<std::pair<Real, const Eigen::MatrixXd*>>&)>;
+  /// The velocity at the end of an IMEX step from un (Lagrangian: the particles moved as the
+  /// explicit stages say).
   Eigen::MatrixXd imex_step(const Eigen::MatrixXd& un, Real dt, const StageMove& move, FlowStepReport& r);
   const ImexTableau& imex_tableau() const;  ///< ARS(4,4,3) for RK3, ARS(2,2,2) for RK2
   const ImplicitViscosity& viscous_solver(Real c, FlowStepReport& r);

@@ -47,7 +47,6 @@ class ImplicitViscosity {
   Real coefficient() const { return c_; }
   bool jacobi() const { return !solver_; }  ///< BiCGSTAB with the diagonal preconditioner (no set-up)
   int iterations() const { return iterations_; }  ///< over the solves so far
-  double seconds_setup() const;
 
  private:
   Real c_ = 0;
