@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The flow layer's convergence studies (flow_study.hpp).
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vrsph/analysis/study_cloud.hpp>
@@ -134,7 +135,9 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
   check<ConfigError>(std::isfinite(o.dt) && o.dt >= 0, "flow: the time step must be finite and >= 0, got ", o.dt);
   const Real dt_target = o.dt > 0 ? o.dt : o.cfl * dx / vortex.max_speed(0);
   detail::check_study_length("flow", o.t_end, dt_target);
-  const Real dt_cfl = o.t_end / std::ceil(o.t_end / dt_target - 1e-9);
+  // At least one step: a run shorter than one CFL step is that one step (the count was 0 and the
+  // step -inf for t_end < 1e-9 dt_target).
+  const Real dt_cfl = o.t_end / std::max(1.0, std::ceil(o.t_end / dt_target - 1e-9));
   VortexRunRow row;
   row.nx = o.cloud.nx;
   row.particles = static_cast<Index>(solver.positions().size());

@@ -250,6 +250,19 @@ TEST(FlowSolver, RefusesWhatItCannotRun) {
   EXPECT_THROW_MSG(FlowSolver(c, u, o), ConfigError, "body force along axis 2");
 }
 
+TEST(FlowSolver, ARunShorterThanOneStepTakesThatOneStep) {
+  // t_end far below the CFL step: one step of t_end (it was a step of -inf, reported as an
+  // instability).
+  VortexRunOptions o;
+  o.cloud.nx = 8;
+  o.t_end = 1e-12;
+  const VortexRunRow r = run_periodic_vortex(o);
+  EXPECT_EQ(r.steps, 1);
+  EXPECT_EQ(r.t, 1e-12);
+  EXPECT_EQ(r.dt, 1e-12);
+  EXPECT_LT(r.errors.error_u_inf, 0.1);
+}
+
 TEST(FlowSolver, RefusesAnUnstableStepAndKeepsItsState) {
   const PointCloud c = flow_cloud(8);
   FlowSolver s(c, vortex_at(c), {});
