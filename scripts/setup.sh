@@ -4,7 +4,7 @@
 # nothing is to do). Run as root (or with sudo available).
 set -euo pipefail
 packages=(
-  cmake ninja-build g++ pkg-config
+  cmake ninja-build g++ clang libclang-rt-dev pkg-config
   libeigen3-dev libnanoflann-dev libcli11-dev libtomlplusplus-dev libmuparser-dev nlohmann-json3-dev libcgal-dev
   libsuitesparse-dev coinor-libclp-dev libpugixml-dev zlib1g-dev libgtest-dev libbenchmark-dev petsc-dev openmpi-bin
   python3 python3-numpy python3-matplotlib python3-dev pybind11-dev python3-scipy python3-pytest

@@ -3,7 +3,7 @@
 # Installs dependencies, builds, and runs the tests (.ci/run calls this). Two tiers:
 #
 #   bash scripts/test.sh          the default (CI; about 14 minutes on 2 cores, packages installed):
-#     1. the core configuration (no optional part but muParser: preset core-asan) under
+#     1. the core configuration (no optional part but muParser: preset core-asan, clang) under
 #        AddressSanitizer + UndefinedBehaviorSanitizer: the unit and error tests and cli_parts,
 #        which checks that every feature of a missing part says so;
 #     2. the Release build with every part: every test except the long tier.

@@ -103,7 +103,7 @@ PolygonSoup parse_binary_stl(const std::string& b, const std::string& name) {
     for (int v = 0; v < 3; ++v) {
       float c[3];
       std::memcpy(c, rec + 12 + 12 * v, 12);
-      const Vec3 x(c[0], c[1], c[2]);
+      const Vec3 x(static_cast<double>(c[0]), static_cast<double>(c[1]), static_cast<double>(c[2]));
       check<InputError>(x.allFinite(), name, ": binary STL facet ", f, " has a coordinate that is not finite");
       face.push_back(merge(x));
     }

@@ -89,7 +89,9 @@ void collective_or_abort(const Communicator& comm, const std::function<void()>& 
   // Every rank failed alike: agree as `collective` does (all ranks are here, so the
   // communicator is free). Otherwise the others wait inside the stage: end them all.
   if (every_rank_stops_here(3.0)) {
-    collective(comm, [&] { detail::rethrow(kind, message); });
+    // Named copies: a lambda may capture structured bindings only from C++20 compilers
+    // that implement P1091 (GCC 8+, clang 16+; the fuzz preset's clang 14 does not).
+    collective(comm, [k = kind, m = message] { detail::rethrow(k, m); });
   }
   const int code = detail::exit_code(kind);
   const char* what = code == 2 ? "configuration error" : code == 3 ? "input error" : code == 4 ? "geometry error"

@@ -224,7 +224,7 @@ TEST(PeriodicDiffusion, EverySchemeConvergesOnAPeriodicBox) {
       o.kernel = KernelType::CubicSpline;
       o.scheme = scheme;
       o.dt = 0.1 / (n * n);  // ν = dt / dx² = 0.1
-      o.t_end = 0.01;
+      o.t_end = 0.004;
       const DiffusionResult r = diffuse(diffusion_from_expressions(make_study_cloud(spec).cloud, e), o);
       errors.push_back(r.error_inf.back());
     }

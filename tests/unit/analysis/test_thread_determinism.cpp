@@ -77,7 +77,8 @@ TEST(ThreadDeterminism, CloudGenerationAndNeighbourSearch) {
       SearchParams sp;
       sp.radius = 3 * one.dx;
       sp.backend = backend;
-      const auto [a, b] = with_one_and_two_threads([&] { return find_neighbours(one.cloud, sp); });
+      const auto& cloud = one.cloud;  // a structured binding: clang 14 cannot capture it
+      const auto [a, b] = with_one_and_two_threads([&] { return find_neighbours(cloud, sp); });
       EXPECT_TRUE(same_bits(a.offsets, b.offsets));
       EXPECT_TRUE(same_bits(a.indices, b.indices));
       EXPECT_TRUE(same_bits(a.distances, b.distances));
@@ -149,7 +150,8 @@ TEST(ThreadDeterminism, SamplingExpressionsAndErrorNorms) {
       with_one_and_two_threads([&] { return Eigen::MatrixXd(sample_exact(OperatorKind::DivAGrad, *u, a.get(), sc.cloud)); });
   EXPECT_EQ(0, std::memcmp(e1.data(), e2.data(), sizeof(Real) * static_cast<std::size_t>(e1.size())));
   const std::vector<char> rows(static_cast<std::size_t>(sc.cloud.size()), 1);
-  const auto [n1, n2] = with_one_and_two_threads([&] { return error_norms(e1 * 1e-3, rows, sc.cloud, 3 * sc.dx); });
+  const Eigen::MatrixXd& exact = e1;  // a structured binding: clang 14 cannot capture it
+  const auto [n1, n2] = with_one_and_two_threads([&] { return error_norms(exact * 1e-3, rows, sc.cloud, 3 * sc.dx); });
   EXPECT_EQ(n1.all.linf, n2.all.linf);
   EXPECT_EQ(n1.all.l2, n2.all.l2);
   EXPECT_EQ(n1.near_boundary.rms, n2.near_boundary.rms);
