@@ -290,6 +290,9 @@ TEST(SpeDiffusion, ExplicitBoundRefusedUnlessAllowedAndInstabilityShows) {
   const DiffusionResult r = plate(TimeScheme::Explicit, 0.5, 2, 0.1, true);
   EXPECT_TRUE(r.diverged || r.report_error.back() > 1);
   EXPECT_FALSE(r.warnings.empty());
+  // The operator's own limit (power iteration) finds that bound: ν = dt_limit / ℓ² = 0.377.
+  const Real ell = 1.001 * 0.1;
+  EXPECT_NEAR(r.dt_limit / (ell * ell), 0.38, 0.02);
 }
 
 TEST(SpeDiffusion, ImplicitStableAtLargeStepsWithFirstAndSecondOrderInTime) {

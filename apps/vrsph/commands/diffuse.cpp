@@ -137,7 +137,8 @@ void add_rows(Table& t, const DiffusionOptions& o, const DiffusionResult& r, dou
                {"steps", static_cast<long long>(r.steps)}, {"particles", static_cast<long long>(r.particles)},
                {"seconds", r.seconds}, {"seconds_setup", r.seconds_setup},
                {"seconds_factorisation", r.seconds_factorisation}, {"seconds_per_step", r.seconds_per_step},
-               {"solver", r.solver}, {"solver_iterations", r.solver_iterations}});
+               {"solver", r.solver}, {"solver_iterations", r.solver_iterations},
+               {"dt_limit", r.dt_limit > 0 ? r.dt_limit : std::nan("")}});
   }
 }
 
@@ -179,7 +180,7 @@ void run_diffuse(DiffuseArgs& a, const CLI::App& cmd, const std::string& custom)
   const bool paper_columns = !is_custom && o.scheme == TimeScheme::Explicit && std::abs(a.dx - 0.1) < 1e-12;
   Table t;
   t.columns = {"scheme", "nu", "dt", "t", "error_inf", "log10_error", "paper_log10_error", "steps", "particles",
-               "seconds", "seconds_setup", "seconds_factorisation", "seconds_per_step", "solver", "solver_iterations"};
+               "seconds", "seconds_setup", "seconds_factorisation", "seconds_per_step", "solver", "solver_iterations", "dt_limit"};
   std::string history;
   Progress progress;
   for (std::size_t run = 0; run < nus.size(); ++run) {

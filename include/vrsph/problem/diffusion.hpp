@@ -14,8 +14,9 @@
 //
 // Stability number ν = Δt max(a) / ℓ_min² (METHODS §3.7.9: Δt/(Re h̃²_min), ℓ the kernel's
 // smoothing length, the support over the kernel's support-per-smoothing-length ratio). The
-// explicit scheme refuses ν above `nu_limit` (default 0.25, the bound [SPE] Table 1 reports)
-// unless allow_unstable, which runs it anyway with a warning (the stability study).
+// explicit scheme refuses ν above `nu_limit` (default 0.25, the bound [SPE] Table 1 reports),
+// and a Δt above 2/ρ(L) measured on the operator (DiffusionResult::dt_limit), unless
+// allow_unstable, which runs it anyway with a warning (the stability study).
 // Neumann particles carry the flux row n·M (G u) = q(x, t) of the method's gradient G at
 // every time (as in the steady solve): implicit schemes solve it with the step, the
 // explicit one solves the Neumann block after each step.
@@ -75,6 +76,9 @@ struct DiffusionResult {
   Field u;                      ///< at t_end (under MPI: at this rank's particles)
   Index steps = 0;
   Real dt = 0, nu = 0, smoothing_length_min = 0;
+  /// Explicit scheme: 2 / ρ, ρ the largest |eigenvalue| of L over the interior rows (power
+  /// iteration); a step above it (2 % margin) is refused like ν above nu_limit. 0 otherwise.
+  Real dt_limit = 0;
   std::vector<Real> times;      ///< t_0 = 0, t_1, ... (with an exact solution)
   std::vector<Real> error_inf;  ///< max over the unknowns (interior, Neumann) of |u - exact| at each time
   std::vector<Real> report_error;  ///< at DiffusionOptions::report_times

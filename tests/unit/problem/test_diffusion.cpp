@@ -98,6 +98,36 @@ TEST(Diffusion, GrowingModesAreDetectedNotReported) {
   EXPECT_NE(r.warnings.back().find("grew beyond 1e8 times its data"), std::string::npos);
 }
 
+TEST(Diffusion, ExplicitStepsBeyondTheOperatorsOwnLimitAreRefused) {
+  VRSPH_REQUIRE_PART("MUPARSER");
+  // VRSPH with a 2 dx support on a perturbed periodic 48² cloud: one row is about four times the
+  // others (ρ(L) dx² = 26.6 against 6-9 on the 32² and 64² clouds), so dt = 0.1 dx² diverged
+  // although ν = 0.1 is far inside [SPE]'s bound of 0.25. The operator's own limit refuses it.
+  CloudSpec spec;
+  spec.family = CloudFamily::Perturbed;
+  spec.box = Domain::unit_box(2);
+  spec.box.set_periodic("all");
+  spec.n = 48;
+  DiffusionExpressions e;
+  e.u = "exp(-8*pi^2*t)*sin(2*pi*x)*cos(2*pi*y)";
+  const DiffusionProblem p = diffusion_from_expressions(make_study_cloud(spec).cloud, e);
+  const Real dx = 1.0 / spec.n;
+  DiffusionOptions o = options(TimeScheme::Explicit, 0.1 * dx * dx, 0.006, "vrsph");
+  o.kernel = KernelType::CubicSpline;
+  o.allow_unstable = false;
+  EXPECT_THROW_MSG(diffuse(p, o), ConfigError, "unstable on this operator");
+  o.allow_unstable = true;
+  const DiffusionResult beyond = diffuse(p, o);
+  EXPECT_TRUE(beyond.diverged);
+  EXPECT_NEAR(beyond.dt_limit / (dx * dx), 2 / 26.63, 0.002);
+  // Just inside the limit the same cloud runs and converges to the solution.
+  o.allow_unstable = false;
+  o.dt = 0.95 * beyond.dt_limit;
+  const DiffusionResult inside = diffuse(p, o);
+  EXPECT_FALSE(inside.diverged);
+  EXPECT_LT(inside.report_error.back(), 1e-2);
+}
+
 TEST(Diffusion, ExpressionProblemsDeriveTheSourceAndNameMissingData) {
   VRSPH_REQUIRE_PART("MUPARSER");  // its data are expressions
   DiffusionExpressions e;
