@@ -135,6 +135,12 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
   check<ConfigError>(std::isfinite(o.dt) && o.dt >= 0, "flow: the time step must be finite and >= 0, got ", o.dt);
   const Real dt_target = o.dt > 0 ? o.dt : o.cfl * dx / vortex.max_speed(0);
   detail::check_study_length("flow", o.t_end, dt_target);
+  // The errors are relative to the exact field, which decays like e^{bt}: once that is below
+  // round-off (b t < ln 1e-12) they measure nothing, and below the smallest double they were inf.
+  const Real decay = vortex.decay_rate() * o.t_end;
+  check<ConfigError>(decay > std::log(1e-12), "flow: at Re = ", vortex.Re, " the vortex decays by e^", decay,
+                     " by t = ", o.t_end, ", below round-off: the relative errors would measure nothing (a larger "
+                     "Re or an earlier t_end)");
   // At least one step: a run shorter than one CFL step is that one step (the count was 0 and the
   // step -inf for t_end < 1e-9 dt_target).
   const Real dt_cfl = o.t_end / std::max(1.0, std::ceil(o.t_end / dt_target - 1e-9));
