@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs dependencies, builds, and runs the tests (.ci/run calls this). Two tiers:
 #
-#   bash scripts/test.sh          the default (CI; about 14 minutes on 2 cores, packages installed):
+#   bash scripts/test.sh          the default (CI; about 11 minutes on 2 cores, packages installed):
 #     1. the core configuration (no optional part but muParser: preset core-asan, clang) under
 #        AddressSanitizer + UndefinedBehaviorSanitizer: the unit and error tests and cli_parts,
 #        which checks that every feature of a missing part says so;
