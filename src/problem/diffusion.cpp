@@ -2,11 +2,11 @@
 #include <algorithm>
 #include <memory>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/problem/diffusion.hpp>
+#include <vrsph/stencil/properties.hpp>
 #include "diffusion_stepper.hpp"
 
 namespace vrsph {
@@ -89,44 +89,6 @@ void check_diffusion(const DiffusionProblem& p, const DiffusionOptions& o) {
   });
 }
 
-// The largest |λ| of what the explicit step multiplies by Δt: L on the interior rows and
-// columns (the Dirichlet and Neumann values are data or solved for; the halo's columns are left
-// out, so under MPI each rank estimates its own block and the largest counts). Power iteration
-// from a fixed pseudo-random start, 60 steps: the top of an M-matrix's spectrum is real, and a
-// particle whose row dwarfs the others (a near neighbour with a large volume) is an isolated
-// eigenvalue found in a few steps; a cluster (a lattice's checkerboard modes) is estimated from
-// below by at most its width.
-Real interior_spectral_radius(const detail::DiffusionOperator& op) {
-  const Stencil& L = op.L;
-  const auto& interior = op.masks.interior;
-  const Index n = std::min<Index>(L.rows(), static_cast<Index>(interior.size()));
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n), y(n);
-  std::uint64_t state = 0x9E3779B97F4A7C15ull;
-  for (Index i = 0; i < n; ++i) {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    if (interior[static_cast<std::size_t>(i)]) x[i] = 0.5 + static_cast<double>(state >> 11) * 0x1.0p-53;
-  }
-  Real rho = 0;
-  for (int step = 0; step < 60; ++step) {
-    const Real norm = x.norm();
-    if (!(norm > 0)) return 0;
-    x /= norm;
-    y.setZero();
-    for (Index i = 0; i < n; ++i) {
-      if (!interior[static_cast<std::size_t>(i)]) continue;
-      Real s = 0;
-      for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
-        const Index j = L.col[static_cast<std::size_t>(k)];
-        if (j < n && interior[static_cast<std::size_t>(j)]) s += L.values[0][static_cast<std::size_t>(k)] * x[j];
-      }
-      y[i] = s;
-    }
-    rho = y.norm();
-    std::swap(x, y);
-  }
-  return rho;
-}
-
 // The stability number ν = Δt max(a) / ℓ_min² and the explicit scheme's bounds: [SPE]'s ν ≤
 // nu_limit, and Δt ρ(L) ≤ 2 on the operator itself. The second catches what ν cannot: on a
 // disordered cloud one row can be many times the others (measured: VRSPH, support 2 dx, a
@@ -140,7 +102,9 @@ void stability_number(const detail::DiffusionOperator& op, const DiffusionOption
   const Real a_max = max_over_ranks(op.part->comm(), local_max);
   r.nu = o.dt * a_max / (r.smoothing_length_min * r.smoothing_length_min);
   if (o.scheme != TimeScheme::Explicit) return;
-  const Real rho = max_over_ranks(op.part->comm(), interior_spectral_radius(op));
+  // ρ of L over the interior rows and columns (the Dirichlet and Neumann values are data or solved
+  // for; under MPI each rank's block without the halo columns, the largest counting).
+  const Real rho = max_over_ranks(op.part->comm(), spectral_radius(op.L, op.masks.interior));
   r.dt_limit = rho > 0 ? 2 / rho : std::numeric_limits<Real>::infinity();
   std::string msg;
   if (r.nu > o.nu_limit) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <vrsph/core/error.hpp>
@@ -179,6 +180,37 @@ std::vector<MonomialResidual> monomial_residuals(const Stencil& s, const PointCl
         out.push_back({a, worst});
       }
   return out;
+}
+
+Real spectral_radius(const Stencil& s, std::span<const char> active, int iterations) {
+  check<ConfigError>(iterations > 0, "spectral_radius: iterations must be positive, got ", iterations);
+  const Index n = std::min<Index>(s.rows(), static_cast<Index>(active.size()));
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n), y(n);
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;  // a fixed start: the same estimate every run
+  for (Index i = 0; i < n; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    if (active[static_cast<std::size_t>(i)]) x[i] = 0.5 + static_cast<double>(state >> 11) * 0x1.0p-53;
+  }
+  const std::vector<Real>& v = s.values[0];
+  Real rho = 0;
+  for (int step = 0; step < iterations; ++step) {
+    const Real norm = x.norm();
+    if (!(norm > 0)) return 0;
+    x /= norm;
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      Real sum = 0;
+      if (active[static_cast<std::size_t>(i)])
+        for (Index k = s.row_begin(i); k < s.row_end(i); ++k) {
+          const Index j = s.col[static_cast<std::size_t>(k)];
+          if (j < n && active[static_cast<std::size_t>(j)]) sum += v[static_cast<std::size_t>(k)] * x[j];
+        }
+      y[i] = sum;
+    }
+    rho = y.norm();
+    std::swap(x, y);
+  }
+  return rho;
 }
 
 }  // namespace vrsph

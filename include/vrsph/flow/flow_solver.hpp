@@ -137,7 +137,7 @@ struct FlowStepReport {
   Real max_div_u = 0;          ///< max |D u| after the step
   Real cfl = 0;                ///< dt max|u| / dx
   Real advective_number = 0;   ///< dt × a bound of the advection operator's spectral radius (Eulerian)
-  Real viscous_number = 0;     ///< dt × a bound of the explicit viscous (and hyperviscous) terms' spectral radius
+  Real viscous_number = 0;     ///< dt × the explicit viscous (and hyperviscous) terms' spectral radius (Eulerian: measured; Lagrangian: Gershgorin bound)
   int ppe_iterations = 0;      ///< over the step's stages
   int viscous_iterations = 0;  ///< implicit viscosity: solver iterations over the step's stages and components
   Real ppe_shift = 0;          ///< largest |λ| of the step's projections (PressurePoisson)

@@ -46,6 +46,14 @@ using ChainClosure = std::function<std::vector<char>(std::span<const Index> offs
 MMatrixReport check_m_matrix(const Stencil& s, std::span<const char> unknown, Real tol, std::span<const char> rows,
                              const ChainClosure& close);
 
+/// The largest |eigenvalue| of component 0 restricted to the active rows and columns (active[i]
+/// = 1; the other columns count as data), by `iterations` power iterations from a fixed
+/// pseudo-random start: what an explicit step's Δt must stay below 2/ρ of. Not a bound: an
+/// isolated eigenvalue (one dominant row) is found in a few steps, a cluster (a lattice's
+/// checkerboard modes) is estimated from below by at most its width, and a strongly non-normal
+/// matrix can be over-estimated. Deterministic for a given stencil and mask.
+Real spectral_radius(const Stencil& s, std::span<const char> active, int iterations = 60);
+
 /// The method's local problems (Stencil::residual, e.g. VRSPH's NNLS) over selected rows.
 /// Relative residual = ||A v - b|| / sqrt(d) (|b| = sqrt(d)); a row is infeasible when it
 /// exceeds `tolerance` or its local solve failed (then listed with residual +inf).

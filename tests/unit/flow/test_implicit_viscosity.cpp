@@ -127,9 +127,9 @@ TEST(ImplicitViscosity, ConvergesAtItsOrderInTimeAndStaysStableBeyondTheExplicit
 }
 
 TEST(ImplicitViscosity, StokesCavityRunsAtStepsTheExplicitSchemeRefuses) {
-  // Re = 1 (ν = 1): the explicit limit is ~dx²; the implicit run takes steps 30 times longer and
-  // reaches the kinetic energy of a fine explicit run within a few per cent (measured: 3.3 % below
-  // at nx = 16).
+  // Re = 1 (ν = 1): the explicit limit is ~dx²; the implicit run takes steps 15 times longer (30
+  // times the limit of the Gershgorin bound used before ρ(L) was measured) and reaches the kinetic
+  // energy of a fine explicit run within a few per cent (measured: 3.3 % below at nx = 16).
   const PointCloud c = cavity_cloud({16, 0.2, 1});
   FlowOptions o;
   o.nu = 1;
@@ -137,13 +137,13 @@ TEST(ImplicitViscosity, StokesCavityRunsAtStepsTheExplicitSchemeRefuses) {
   const Eigen::MatrixXd rest = Eigen::MatrixXd::Zero(c.size(), 2);
   FlowSolver ex(c, rest, o);
   const Real limit = ex.stable_time_step(0.9);
-  EXPECT_THROW_MSG(ex.step(30 * limit), ConfigError, "stability limit");
+  EXPECT_THROW_MSG(ex.step(15 * limit), ConfigError, "stability limit");
   const int fine_steps = static_cast<int>(std::ceil(0.5 / limit));
   for (int k = 0; k < fine_steps; ++k) ex.step(0.5 / fine_steps);
   o.viscosity = FlowViscosity::Implicit;
   FlowSolver im(c, rest, o);
-  EXPECT_GT(im.stable_time_step(0.9), 30 * limit);
-  const int coarse_steps = std::max(10, fine_steps / 30);
+  EXPECT_GT(im.stable_time_step(0.9), 15 * limit);
+  const int coarse_steps = std::max(10, fine_steps / 15);
   for (int k = 0; k < coarse_steps; ++k) im.step(0.5 / coarse_steps);
   EXPECT_GT(im.last().viscous_iterations, 0);
   EXPECT_NEAR(im.last().kinetic_energy / ex.last().kinetic_energy, 1.0, 0.06);

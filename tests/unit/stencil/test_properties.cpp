@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <Eigen/Eigenvalues>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -88,4 +89,54 @@ TEST(Properties, MonomialResidualsOfSph) {
   // x^2: SPH Laplacian is not exact on a lattice at h = 3 dx (discretisation error), but close.
   EXPECT_GT(res[3].max_residual, 1e-6);
   EXPECT_LT(res[3].max_residual, 0.05);  // |L x^2 - 2| (order 2, degree 2: no scaling)
+}
+
+namespace {
+// The periodic second difference on n points (spacing 1), with row `big` scaled by `factor`.
+Stencil periodic_second_difference(Index n, Index big = -1, Real factor = 1) {
+  Stencil s;
+  s.kind = OperatorKind::Laplacian;
+  s.dim = 1;
+  s.values.assign(1, {});
+  for (Index i = 0; i < n; ++i) {
+    const Real f = i == big ? factor : 1;
+    for (const auto& [j, w] : {std::pair{(i + n - 1) % n, 1.0}, std::pair{i, -2.0}, std::pair{(i + 1) % n, 1.0}}) {
+      if (j == i) s.diag.push_back(static_cast<Index>(s.col.size()));
+      s.col.push_back(j);
+      s.values[0].push_back(f * w);
+    }
+    s.row_ptr.push_back(static_cast<Index>(s.col.size()));
+  }
+  return s;
+}
+}  // namespace
+
+TEST(SpectralRadius, ClusteredTopFromBelowWithinItsWidthAndAnIsolatedRowExactly) {
+  // Eigenvalues -4 sin²(πk/n): ρ = 4 at k = n/2 with neighbours 4 cos²(π/n) below it, a cluster
+  // power iteration approaches from below.
+  const Index n = 64;
+  const std::vector<char> all(static_cast<std::size_t>(n), 1);
+  const Real rho = spectral_radius(periodic_second_difference(n), all);
+  EXPECT_LE(rho, 4 * (1 + 1e-12));
+  EXPECT_GT(rho, 0.98 * 4);
+  // One row ten times the others: an isolated eigenvalue near -20, found to round-off.
+  const Stencil one = periodic_second_difference(n, 7, 10);
+  const Real isolated = spectral_radius(one, all);
+  // F T (F the row scales, T symmetric) has the eigenvalues of the symmetric F^½ T F^½.
+  const Stencil plain = periodic_second_difference(n);
+  Eigen::MatrixXd sym = Eigen::MatrixXd::Zero(n, n);
+  auto scale = [](Index i) { return i == 7 ? std::sqrt(10.0) : 1.0; };
+  for (Index i = 0; i < n; ++i)
+    for (Index k = plain.row_begin(i); k < plain.row_end(i); ++k) {
+      const Index j = plain.col[static_cast<std::size_t>(k)];
+      sym(i, j) += scale(i) * plain.values[0][static_cast<std::size_t>(k)] * scale(j);
+    }
+  const Real exact = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym).eigenvalues().cwiseAbs().maxCoeff();
+  EXPECT_NEAR(isolated, exact, 1e-8 * exact);
+  // Inactive rows and columns are data: only the active block counts.
+  std::vector<char> half(static_cast<std::size_t>(n), 0);
+  for (Index i = 0; i < 7; ++i) half[static_cast<std::size_t>(i)] = 1;  // row 7 (the big one) left out
+  EXPECT_LT(spectral_radius(one, half), 4);
+  EXPECT_EQ(spectral_radius(one, half), spectral_radius(one, half));  // deterministic
+  EXPECT_THROW(spectral_radius(one, all, 0), ConfigError);
 }
