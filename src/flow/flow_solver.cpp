@@ -9,10 +9,10 @@
 #include <vrsph/core/features.hpp>
 #include <vrsph/core/stopwatch.hpp>
 #include <vrsph/flow/flow_solver.hpp>
-#include <vrsph/stencil/properties.hpp>
 #include <vrsph/flow/projection.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/stencil/apply.hpp>
+#include <vrsph/stencil/properties.hpp>
 
 namespace vrsph {
 
