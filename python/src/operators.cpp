@@ -9,6 +9,7 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/references.hpp>
 #include <vrsph/kernels/kernel.hpp>
+#include <vrsph/methods/hessian_rows.hpp>
 #include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -114,7 +115,7 @@ py::dict stencil(const py::object& self, const std::string& method_name, const s
       sp.radius = radius;
       r.s = periodic_stencil(*method, cloud, sp, kt, r.spacing, req);
     } else {
-      r.s = method->build({cloud, *neighbours, kt, r.spacing}, req);
+      r.s = build_stencil(*method, {cloud, *neighbours, kt, r.spacing}, req);
     }
     // Infeasible rows, as the studies count them: a failed local solve, or a relative local
     // residual above the tolerance; listed in row order.

@@ -41,7 +41,7 @@ def test_update_without_warm_start_equals_a_fresh_stencil():
 
 def test_warm_updates_stay_exact_on_quadratics_and_linear_fields():
     c = vrsph.cloud.perturbed(dim=2, n=24, seed=5)
-    ops = vrsph.Operators(c, operators=("laplacian", "divergence", "curl"))
+    ops = vrsph.Operators(c, operators=("laplacian", "divergence", "curl", "grad-div"))
     x = np.asarray(c.points)
     hits = rows = 0
     for _ in range(3):
@@ -57,11 +57,43 @@ def test_warm_updates_stay_exact_on_quadratics_and_linear_fields():
     U = np.column_stack([2 * p[:, 0] + p[:, 1], 3 * p[:, 0] - p[:, 1]])  # div 1, curl 3 - 1 = 2
     assert np.max(np.abs(ops.apply("divergence", U)[interior] - 1)) < 1e-7
     assert np.max(np.abs(ops.apply("curl", U)[interior] - 2)) < 1e-7
-    gd = ops.apply("grad-div", U)  # div U = 1: its gradient 0 where the rows read only exact values
+    gd = ops.apply("grad-div", U)  # the Hessian rows are exact on quadratics at every particle (corners too)
+    assert gd.shape == (len(p), 2) and np.max(np.abs(gd)) < 1e-6
+    gdc = ops.apply("grad-div-composed", U)  # div U = 1: its gradient 0 where the rows read only exact values
     deep = (p > 0.35).all(axis=1) & (p < 0.65).all(axis=1)
-    assert gd.shape == (len(p), 2) and np.max(np.abs(gd[deep])) < 1e-6
-    M = vrsph.stencil(vrsph.cloud.from_arrays(p, np.asarray(c.tags), c.normals), operator="grad-div", h=ops.radius)
-    assert len(M) == 2 and len(M[0]) == 2
+    assert gdc.shape == (len(p), 2) and np.max(np.abs(gdc[deep])) < 1e-6
+    for name in ("grad-div", "grad-div-composed"):
+        M = vrsph.stencil(vrsph.cloud.from_arrays(p, np.asarray(c.tags), c.normals), operator=name, h=ops.radius)
+        assert len(M) == 2 and len(M[0]) == 2
+
+
+def test_hessian_rows_are_exact_on_quartics_and_give_grad_div():
+    c = vrsph.cloud.perturbed(dim=2, n=20, seed=3)
+    p = np.asarray(c.points)
+    x, y = p[:, 0], p[:, 1]
+    H = vrsph.stencil(c, method="sph", operator="hessian")  # the same rows for every method
+    assert len(H) == 3
+    # Rows whose support is whole are exact on quartics; a face's half support (about 14 inside
+    # 3 dx, as many as a quartic's monomials) on cubics; a corner's (8) on quadratics.
+    corners = np.array([[0, 0], [0, 1], [1, 0], [1, 1]])
+    far = np.min(np.linalg.norm(p[:, None, :] - corners[None], axis=2), axis=1) > 0.2
+    inner = (p > 0.16).all(axis=1) & (p < 0.84).all(axis=1)
+    u = x**4 + x**2 * y**2 + y**3
+    exact = (12 * x**2 + 2 * y**2, 4 * x * y, 2 * x**2 + 6 * y)  # xx, xy, yy
+    cubic = x**3 - 2 * x**2 * y + y**3
+    for k, want in enumerate((6 * x - 4 * y, -4 * x, 6 * y)):
+        assert np.max(np.abs(H[k] @ u - exact[k])[inner]) < 1e-8 * np.max(np.abs(exact[k]))
+        assert np.max(np.abs(H[k] @ cubic - want)[far]) < 1e-6
+    q = x**2 - 3 * x * y + 2 * y**2
+    for k, want in enumerate((2, -3, 4)):
+        assert np.max(np.abs(H[k] @ q - want)) < 1e-6
+    U = np.column_stack([x**3, x * y**2])  # div U = 3x² + 2xy: grad (6x + 2y, 2x)
+    ops = vrsph.Operators(c, operators=("hessian", "grad-div"))
+    want = np.column_stack([6 * x + 2 * y, 2 * x])
+    assert np.max(np.abs(ops.apply("grad-div", U) - want)[far]) < 1e-7
+    M = vrsph.stencil(c, operator="grad-div")
+    got = np.column_stack([M[b][0] @ U[:, 0] + M[b][1] @ U[:, 1] for b in range(2)])
+    assert np.max(np.abs(got - want)[far]) < 1e-7
 
 
 def test_bad_updates_are_refused_and_change_nothing():

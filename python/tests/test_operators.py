@@ -73,7 +73,7 @@ def test_div_a_grad_takes_a_callable_coefficient_and_bad_arguments_raise():
     with pytest.raises(vrsph.ConfigError, match="unknown method"):
         vrsph.stencil(c, method="nope")
     with pytest.raises(ValueError):  # ConfigError is a ValueError too
-        vrsph.stencil(c, operator="hessian")
+        vrsph.stencil(c, operator="jacobian")
     with pytest.raises(vrsph.InputError, match=r"coefficient: expected shape \(121,\)"):
         vrsph.stencil(c, method="sph", operator="div-a-grad", coefficient=np.ones(5))
     with pytest.raises(vrsph.ConfigError, match="exceeds the extent"):

@@ -128,15 +128,18 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
             coefficient: Data = None, infeasible_tol: float = 1e-6, diagnostics: bool = False,
             neighbours: Any = None) -> "scipy.sparse.csr_matrix | tuple[scipy.sparse.csr_matrix, ...] | Stencil":
     """The stencil of ``method`` for ``operator`` (value, dx, dy, dz, gradient, laplacian,
-    div-a-grad) on every non-ghost particle, as ``scipy.sparse.csr_matrix`` (N x N); the
-    gradient as a tuple of ``dim`` matrices sharing one pattern.
+    div-a-grad, hessian) on every non-ghost particle, as ``scipy.sparse.csr_matrix`` (N x N); the
+    gradient as a tuple of ``dim`` matrices sharing one pattern, the Hessian as a tuple of
+    dim (dim + 1) / 2 (the second derivatives xx, xy, yy; in 3D xx, xy, xz, yy, yz, zz), rows exact on
+    polynomials of degree 4 built the same way for every method (on its neighbours and kernel).
 
     Vector fields U (N x dim), from the same rows: ``"divergence"`` gives the tuple D with
     div U = sum_c D[c] @ U[:, c] (the gradient's matrices); ``"curl"`` in 2D the tuple C with
     curl U = C[0] @ U[:, 0] + C[1] @ U[:, 1] (that is (-G_y, G_x)), in 3D the gradient's tuple
     G (curl U = (G_y U_z - G_z U_y, G_z U_x - G_x U_z, G_x U_y - G_y U_x)); ``"vector-laplacian"``
     the Laplacian L, applied to each component (L @ U); ``"grad-div"`` the tuple of tuples M with
-    (grad div U)_b = sum_c M[b][c] @ U[:, c], M[b][c] = G_b @ G_c (the gradient rows twice).
+    (grad div U)_b = sum_c M[b][c] @ U[:, c], M[b][c] the Hessian's d_b d_c rows;
+    ``"grad-div-composed"`` the same from the method's gradient rows twice, M[b][c] = G_b @ G_c.
 
     The support radius is ``h`` if given, else ``h_factor`` x the cloud's spacing.
     ``coefficient`` (div-a-grad only): a in div(a grad u), as values, a callable of the
@@ -149,17 +152,18 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     box each listed pair is taken to the nearest image (e.g. SciPy's ``cKDTree(..., boxsize=...)``)."""
     _check_cloud(cloud)
     operator = _args.text(operator, "operator")
-    if operator in ("divergence", "curl", "vector-laplacian", "grad-div"):
+    if operator in _VECTOR_BASE:
         if diagnostics:
-            raise ConfigError(f"diagnostics=True applies to the stencil itself: ask for operator "
-                              f"{'laplacian' if operator == 'vector-laplacian' else 'gradient'}")
-        base = stencil(cloud, method, "laplacian" if operator == "vector-laplacian" else "gradient", h, h_factor,
-                       kernel, options, coefficient, infeasible_tol, False, neighbours)
+            raise ConfigError(f"diagnostics=True applies to the stencil itself: ask for operator {_VECTOR_BASE[operator]}")
+        base = stencil(cloud, method, _VECTOR_BASE[operator], h, h_factor, kernel, options, coefficient, infeasible_tol,
+                       False, neighbours)
         if operator == "curl":
             if cloud.dim == 1:
                 raise ConfigError("the curl needs 2 or 3 dimensions, got 1")
             return (-base[1], base[0]) if cloud.dim == 2 else base
         if operator == "grad-div":
+            return _grad_div_from_hessian(base, cloud.dim)
+        if operator == "grad-div-composed":
             return tuple(tuple((gb @ gc).tocsr() for gc in base) for gb in base)
         return base
     user_list = _args.neighbour_list(neighbours, "neighbours", len(cloud))
@@ -176,10 +180,21 @@ def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h:
     if s.rhs is not None:
         raise ConfigError("these rows (vrsph rhs=compact) come with right-hand-side weights: L u = M f, not f; "
                           "call stencil(..., diagnostics=True) and use .matrix and .rhs")
-    return s.matrices if operator == "gradient" else s.matrices[0]
+    return s.matrices if operator in ("gradient", "hessian") else s.matrices[0]
 
 
-_VECTOR_BASE = {"divergence": "gradient", "curl": "gradient", "vector-laplacian": "laplacian", "grad-div": "gradient"}
+_VECTOR_BASE = {"divergence": "gradient", "curl": "gradient", "vector-laplacian": "laplacian", "grad-div": "hessian",
+                "grad-div-composed": "gradient"}
+
+
+def _hessian_component(b: int, c: int, dim: int) -> int:
+    """The Hessian tuple's entry holding d_b d_c (xx, xy, yy; xx, xy, xz, yy, yz, zz)."""
+    b, c = min(b, c), max(b, c)
+    return b * dim - b * (b - 1) // 2 + (c - b)
+
+
+def _grad_div_from_hessian(hessian: tuple, dim: int) -> tuple:
+    return tuple(tuple(hessian[_hessian_component(b, c, dim)] for c in range(dim)) for b in range(dim))
 
 
 class Operators:
@@ -187,9 +202,9 @@ class Operators:
     time step at a fraction of the cost of new stencils (the neighbour list kept with a Verlet
     skin, storage reused, VRSPH's NNLS started from each row's previous volumes).
 
-    ``operators``: the stencils kept — "laplacian", "gradient", "dx"/"dy"/"dz", and the vector
-    operators "divergence", "curl", "grad-div" (from the gradient) and "vector-laplacian" (from
-    the Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
+    ``operators``: the stencils kept — "laplacian", "gradient", "dx"/"dy"/"dz", "hessian", and the
+    vector operators "divergence", "curl", "grad-div-composed" (from the gradient), "grad-div" (from
+    the Hessian) and "vector-laplacian" (from the Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
     Verlet skin as a fraction of the support radius; ``warm_start=False`` makes every update
     equal a fresh build bit for bit (with it VRSPH's rows meet the same moment conditions but may
     pick other volumes). On a periodic cloud the rows that read only pair vectors (VRSPH's point
@@ -248,17 +263,21 @@ class Operators:
             if self._ops.dim == 1:
                 raise ConfigError("the curl needs 2 or 3 dimensions, got 1")
             return (-m[1], m[0]) if self._ops.dim == 2 else m
-        return m if base == "gradient" else m[0]
+        if operator == "grad-div":
+            return _grad_div_from_hessian(m, self._ops.dim)
+        return m if base in ("gradient", "hessian") else m[0]
 
     def apply(self, operator: str, values: Any) -> np.ndarray:
         operator = _args.text(operator, "operator")
         u = np.asarray(values, dtype=float)
         s = self.stencil(operator)
         dim, n = self._ops.dim, self._ops.n
-        if operator in ("divergence", "curl", "vector-laplacian", "grad-div"):
+        if operator in _VECTOR_BASE:
             if u.shape != (n, dim):
                 raise InputError(f"{operator}: values of shape {u.shape} for an ({n}, {dim}) vector field")
-            if operator in ("divergence", "grad-div"):
+            if operator == "grad-div":
+                return np.column_stack([sum(s[b][c] @ u[:, c] for c in range(dim)) for b in range(dim)])
+            if operator in ("divergence", "grad-div-composed"):
                 d = sum(s[c] @ u[:, c] for c in range(dim))
                 return d if operator == "divergence" else np.column_stack([g @ d for g in s])
             if operator == "vector-laplacian":

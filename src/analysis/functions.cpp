@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <numbers>
@@ -326,6 +327,21 @@ Eigen::MatrixXd sample_gradient(const ScalarFunction& u, const PointCloud& cloud
   return out;
 }
 
+namespace {
+// ∂_b ∂_c u at x: fourth-order central differences of the gradient's component c along b (step
+// 1e-3 of max(length_scale, |x_b|), as the gradient's own differences: truncation ~1e-12 |u^(5)|).
+Real second_derivative(const ScalarFunction& u, const Vec3& x, std::pair<int, int> axes) {
+  const auto [b, c] = axes;
+  const Real e = 1e-3 * std::max<Real>(u.length_scale, std::abs(x[b]));
+  auto g = [&](Real t) {
+    Vec3 y = x;
+    y[b] += t;
+    return u.gradient(y)[c];
+  };
+  return (-g(2 * e) + 8 * g(e) - 8 * g(-e) + g(-2 * e)) / (12 * e);
+}
+}  // namespace
+
 Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunction* a, const Vec3& x, int component) {
   switch (kind) {
     case OperatorKind::Value: return u.value(x);
@@ -334,6 +350,7 @@ Real exact_operator(OperatorKind kind, const ScalarFunction& u, const ScalarFunc
     case OperatorKind::Dz: return u.gradient(x)[2];
     case OperatorKind::Gradient: return u.gradient(x)[component];
     case OperatorKind::Laplacian: return u.laplacian(x);
+    case OperatorKind::Hessian: return second_derivative(u, x, hessian_axes(component, u.dim));
     case OperatorKind::DivAGrad:
       check<ConfigError>(a != nullptr, "exact div(a grad u) needs the coefficient a");
       return a->value(x) * u.laplacian(x) + a->gradient(x).dot(u.gradient(x));

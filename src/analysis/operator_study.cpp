@@ -7,6 +7,7 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/analysis/footprint.hpp>
 #include <vrsph/analysis/operator_study.hpp>
+#include <vrsph/methods/hessian_rows.hpp>
 #include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
@@ -41,7 +42,7 @@ void validate_params(const OperatorStudyParams& p) {
   for (int n : p.n) check<ConfigError>(n >= 1 && n <= 20000, "refinement level n = ", n, " outside 1..20000");
   for (const auto& m : p.methods) {
     const auto& info = builtin_methods().info(m);  // throws for unknown names
-    check<ConfigError>(info.supports(p.op), "method ", m, " does not provide operator ", to_string(p.op));
+    check<ConfigError>(info.provides(p.op), "method ", m, " does not provide operator ", to_string(p.op));
     (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");
@@ -155,7 +156,7 @@ Eigen::MatrixXd vector_exact(VectorOperator op, const StudyFunctions& fn, const 
       for (int c = 0; c < dim; ++c) out(i, c) = fn.components[static_cast<std::size_t>(c)]->laplacian(x);
       continue;
     }
-    if (op == VectorOperator::GradDiv) {
+    if (op == VectorOperator::GradDiv || op == VectorOperator::GradDivComposed) {
       for (int b = 0; b < dim; ++b) out(i, b) = grad_div_component(fn, x, dim, b);
       continue;
     }
@@ -264,7 +265,7 @@ OperatorStudyRow study_level(const OperatorStudyParams& p, const Domain& box, co
     req.coefficient = &a_values;
   }
   const Stencil s = cloud.domain.any_periodic() ? periodic_stencil(method, cloud, sp, p.kernel, cloud.spacing, req)
-                                                : method.build(disc, req);
+                                                : build_stencil(method, disc, req);
   row.seconds_stencil = watch.seconds();
 
   watch.restart();

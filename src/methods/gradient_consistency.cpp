@@ -1,11 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <Eigen/Core>
-#include <algorithm>
-#include <array>
-#include <cmath>
+#include "cubic_rows.hpp"
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/gradient_consistency.hpp>
-#include <vrsph/methods/monomials.hpp>
 
 namespace vrsph {
 
@@ -27,187 +23,25 @@ std::vector<std::pair<std::size_t, int>> components_and_axes(OperatorKind kind, 
   throw ConfigError("cubic exactness applies to first-derivative stencils (gradient, dx, dy, dz)");
 }
 
-// A^-1 of the symmetric positive definite A (its lower triangle read) through its symmetric equilibration (unit
-// diagonal: the monomials' scales differ by h^-1 ... h^-3 and the test should see geometry, not
-// units) and a Cholesky factorisation written out for the fixed size (Eigen's LLT and rcond ran
-// generic triangular-solve kernels that took about half the time of these rows, perf). False when A is not
-// positive definite or the equilibrated matrix's 1-norm condition number exceeds max_condition.
-template <int M>
-bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<Real, M, M>& inverse, Real max_condition) {
-  std::array<Real, static_cast<std::size_t>(M)> scale{};
-  for (int a = 0; a < M; ++a) {
-    if (!(A(a, a) > 0) || !std::isfinite(A(a, a))) return false;
-    scale[static_cast<std::size_t>(a)] = 1 / std::sqrt(A(a, a));
-  }
-  Eigen::Matrix<Real, M, M> L = Eigen::Matrix<Real, M, M>::Zero();
-  for (int j = 0; j < M; ++j) {
-    Real d = 1;  // the equilibrated diagonal
-    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
-    if (!(d > 0)) return false;
-    L(j, j) = std::sqrt(d);
-    for (int i = j + 1; i < M; ++i) {
-      Real v = A(i, j) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(j)];
-      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
-      L(i, j) = v / L(j, j);
-    }
-  }
-  // L^-1 by forward substitution, then (L L^T)^-1 = L^-T L^-1.
-  Eigen::Matrix<Real, M, M> Li = Eigen::Matrix<Real, M, M>::Zero();
-  for (int c = 0; c < M; ++c) {
-    Li(c, c) = 1 / L(c, c);
-    for (int i = c + 1; i < M; ++i) {
-      Real v = 0;
-      for (int k = c; k < i; ++k) v -= L(i, k) * Li(k, c);
-      Li(i, c) = v / L(i, i);
-    }
-  }
-  const Eigen::Matrix<Real, M, M> Bi = Li.transpose() * Li;
-  Real norm = 0, norm_inv = 0;  // 1-norms of the equilibrated matrix and of its inverse
-  for (int c = 0; c < M; ++c) {
-    Real col = 0;
-    for (int i = 0; i < M; ++i)
-      col += std::abs(i >= c ? A(i, c) : A(c, i)) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(c)];
-    norm = std::max(norm, col);
-    norm_inv = std::max(norm_inv, Bi.col(c).cwiseAbs().sum());
-  }
-  if (!(norm * norm_inv <= max_condition)) return false;
-  for (int c = 0; c < M; ++c)
-    for (int i = 0; i < M; ++i)
-      inverse(i, c) = Bi(i, c) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(c)];
-  return true;
-}
-
-// The rows of raise_to_cubic_exactness with M monomials (1D: 3, 2D: 9, 3D: 19) as a
-// compile-time size: the per-row systems are small, and fixed-size code spared about an eighth
-// of the update step's stencil time on 10^5 moving 2D particles against dynamic sizes.
-template <int M>
-GradientConsistencyReport raise_rows(const Discretisation& disc, const StencilRequest& req, Stencil& s,
-                                     const std::vector<std::pair<std::size_t, int>>& parts, Real max_condition) {
-  const PointCloud& cloud = disc.cloud;
-  const auto exponents = monomial_exponents(cloud.dim, 3);
-  std::array<int, 3> first_degree{};  // position of e_axis among the monomials
-  for (int a = 0; a < M; ++a) {
-    const auto& e = exponents[static_cast<std::size_t>(a)];
-    if (e[0] + e[1] + e[2] == 1) first_degree[e[1] ? 1 : e[2] ? 2 : 0] = a;
-  }
-  using Square = Eigen::Matrix<Real, M, M>;
-  // Right-hand sides: one column per component (unused columns stay zero); fixed size so that
-  // the product with A^-1 is unrolled rather than a general matrix product.
-  using Columns = Eigen::Matrix<Real, M, 3>;
-  const auto comps = static_cast<Eigen::Index>(parts.size());
-  Index raised = 0;
-  std::vector<Index> kept;
-#pragma omp parallel reduction(+ : raised)
-  {
-    std::vector<Index> kept_here;
-    // Per thread, grown to the largest row and never shrunk (no allocation per row).
-    Eigen::Matrix<Real, M, Eigen::Dynamic> P;  // M x K: the neighbours' scaled monomials
-    std::vector<Real> weight;                  // K: W(r) / W(0)
-    std::vector<Index> slots;                  // K: each neighbour's slot in the stencil row
-    Columns R;
-#pragma omp for schedule(dynamic, 256)
-    for (Index i = 0; i < cloud.size(); ++i) {
-      const auto si = static_cast<std::size_t>(i);
-      if (!row_requested(cloud, req, i) || (!s.local_failure.empty() && s.local_failure[si])) continue;
-      const auto nbr = disc.neighbours.of(i);
-      const auto dist = disc.neighbours.distances_of(i);
-      const Real h = disc.neighbours.radius(i);
-      const Kernel ker = disc.kernel_at(i);
-      const Real w0 = ker.W(0);
-      const auto n = static_cast<Eigen::Index>(nbr.size());
-      if (P.cols() < n) P.resize(M, n);
-      weight.resize(nbr.size());
-      slots.resize(nbr.size());
-      // Neighbours inside the support: a Verlet list holds some beyond it, where every row's
-      // weight is zero. (Giving the correction to the nearer ones only, r < 0.8 h, cost 3D rows
-      // a third of their accuracy and 2D rows near walls a factor 7: measured, not kept.)
-      Eigen::Index K = 0, near = 0;
-      const Vec3& xi = cloud.positions[si];
-      for (Eigen::Index k = 0; k < n; ++k) {
-        const Real r = dist[static_cast<std::size_t>(k)];
-        if (!(r < h)) continue;
-        const Vec3 q = (disc.neighbour_position(i, static_cast<Index>(k)) - xi) / h;
-        std::array<std::array<Real, 4>, 3> pw{};  // q_c^0 ... q_c^3
-        for (int c = 0; c < 3; ++c) pw[static_cast<std::size_t>(c)] = {1, q[c], q[c] * q[c], q[c] * q[c] * q[c]};
-        for (int a = 0; a < M; ++a) {
-          const auto& e = exponents[static_cast<std::size_t>(a)];
-          P(a, K) = pw[0][static_cast<std::size_t>(e[0])] * pw[1][static_cast<std::size_t>(e[1])] *
-                    pw[2][static_cast<std::size_t>(e[2])];
-        }
-        const Real w = ker.W(r) / w0;
-        weight[static_cast<std::size_t>(K)] = w;
-        near += w > 0 ? 1 : 0;
-        slots[static_cast<std::size_t>(K)] = neighbour_slot(s, i, static_cast<Index>(k));
-        ++K;
-      }
-      if (near < M) {
-        kept_here.push_back(i);
-        continue;
-      }
-      Square A = Square::Zero();  // Σ_k W_k p_k p_k^T, its lower triangle
-      for (Eigen::Index k = 0; k < K; ++k) {
-        const Real w = weight[static_cast<std::size_t>(k)];
-        if (w == 0) continue;
-        const Real* p = P.col(k).data();
-        for (int b = 0; b < M; ++b) {
-          const Real wb = w * p[b];
-          for (int a = b; a < M; ++a) A(a, b) += p[a] * wb;
-        }
-      }
-      Square Ainv;
-      if (!equilibrated_spd_inverse<M>(A, Ainv, max_condition)) {
-        kept_here.push_back(i);
-        continue;
-      }
-      // R = b - P g per component, over every neighbour the row has: the derivative of x^α along
-      // `axis` at x_i in the scaled variables is 1/h for α = e_axis and 0 otherwise.
-      R.setZero();
-      for (Eigen::Index c = 0; c < comps; ++c) {
-        const auto& [array, axis] = parts[static_cast<std::size_t>(c)];
-        R(first_degree[static_cast<std::size_t>(axis)], c) = 1 / h;
-        const std::vector<Real>& g = s.values[array];
-        for (Eigen::Index k = 0; k < K; ++k) {
-          const Real gk = g[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])];
-          if (gk != 0) R.col(c) -= gk * P.col(k);
-        }
-      }
-      const Columns Y = Ainv * R;
-      // δ_k = W_k p_k · y.
-      const auto diag = static_cast<std::size_t>(s.diag[si]);
-      for (Eigen::Index c = 0; c < comps; ++c) {
-        std::vector<Real>& g = s.values[parts[static_cast<std::size_t>(c)].first];
-        Real added = 0;
-        for (Eigen::Index k = 0; k < K; ++k) {
-          const Real w = weight[static_cast<std::size_t>(k)];
-          if (w == 0) continue;
-          const Real dk = w * P.col(k).dot(Y.col(c));
-          g[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])] += dk;
-          added += dk;
-        }
-        g[diag] -= added;
-      }
-      ++raised;
-    }
-#pragma omp critical(vrsph_gradient_consistency_kept)
-    kept.insert(kept.end(), kept_here.begin(), kept_here.end());
-  }
-  std::sort(kept.begin(), kept.end());
-  return {raised, std::move(kept)};
-}
-
 }  // namespace
 
 GradientConsistencyReport raise_to_cubic_exactness(const Discretisation& disc, const StencilRequest& req, Stencil& s,
                                                    Real max_condition) {
   const int dim = disc.cloud.dim;
-  const auto parts = components_and_axes(s.kind, dim);
-  for (const auto& [c, axis] : parts)
+  std::vector<cubic_rows::Target> targets;
+  for (const auto& [array, axis] : components_and_axes(s.kind, dim)) {
     check<ConfigError>(axis < dim, "cubic exactness: a derivative along axis ", axis, " in ", dim, "D");
-  switch (dim) {
-    case 1: return raise_rows<3>(disc, req, s, parts, max_condition);
-    case 2: return raise_rows<9>(disc, req, s, parts, max_condition);
-    default: return raise_rows<19>(disc, req, s, parts, max_condition);
+    std::array<int, 3> alpha{};
+    alpha[static_cast<std::size_t>(axis)] = 1;  // the derivative of x_axis along axis is 1/h in scaled variables
+    targets.push_back({array, cubic_rows::monomial_index(dim, alpha), 1, 1});
   }
+  cubic_rows::Outcome o;
+  switch (dim) {
+    case 1: o = cubic_rows::correct_rows<3, 3>(disc, req, s, targets, max_condition); break;
+    case 2: o = cubic_rows::correct_rows<9, 3>(disc, req, s, targets, max_condition); break;
+    default: o = cubic_rows::correct_rows<19, 3>(disc, req, s, targets, max_condition); break;
+  }
+  return {o.corrected, std::move(o.kept)};
 }
 
 }  // namespace vrsph

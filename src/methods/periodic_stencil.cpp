@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/hessian_rows.hpp>
 #include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/neighbours/periodic.hpp>
 
@@ -127,7 +128,7 @@ Stencil build_on_images(const Method& method, const PointCloud& cloud, const Per
     req.mobility = &mobility;
   }
   const Discretisation disc{im.cloud, nl, kernel, spacing, n, length_scale(cloud)};
-  return fold(method.build(disc, req), im);
+  return fold(build_stencil(method, disc, req), im);
 }
 
 // The images within the rows' reach of a periodic face.

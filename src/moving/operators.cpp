@@ -5,6 +5,7 @@
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
+#include <vrsph/methods/hessian_rows.hpp>
 #include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/moving/operators.hpp>
@@ -21,7 +22,7 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
   for (const OperatorKind k : options_.operators) {
     check<ConfigError>(k != OperatorKind::DivAGrad, "operators: div-a-grad needs a coefficient at the moving particles, "
                        "which Operators does not take yet; keep the laplacian (and the gradient)");
-    check<ConfigError>(method_of(k).info().supports(k), "operators: method ", method_of(k).info().name, " has no ",
+    check<ConfigError>(method_of(k).info().provides(k), "operators: method ", method_of(k).info().name, " has no ",
                        to_string(k), " operator");
     const bool repeated = std::count(options_.operators.begin(), options_.operators.end(), k) > 1;
     check<ConfigError>(!repeated, "operators: ", to_string(k), " asked for twice");
@@ -105,6 +106,10 @@ void Operators::update_stencils(const NeighbourList& nl) {
     // A periodic box whose rows need more than pair vectors: built afresh on the periodic images,
     // columns folded back. Otherwise (VRSPH's point rows) the minimum-image list serves directly.
     const Method& method = method_of(k.kind);
+    if (k.kind == OperatorKind::Hessian) {  // rows read only pair vectors: the minimum-image list serves
+      k.stencil = hessian_rows(disc, req, method.info().name);
+      continue;
+    }
     if (!nl.shifts.empty() && !method.reads_periodic_pairs(req)) {
       k.stencil = periodic_stencil(method, cloud_, search_params(), options_.kernel, spacing_, req);
       continue;

@@ -11,6 +11,7 @@ const std::vector<OperatorTraits>& operator_catalogue() {
       {OperatorKind::Dy, "dy", 1, false},             {OperatorKind::Dz, "dz", 1, false},
       {OperatorKind::Gradient, "gradient", 1, true},  {OperatorKind::Laplacian, "laplacian", 2, false},
       {OperatorKind::DivAGrad, "div-a-grad", 2, false},
+      {OperatorKind::Hessian, "hessian", 2, true},
   };
   return list;
 }
@@ -32,9 +33,26 @@ OperatorKind parse_operator(std::string_view name) {
     known += std::string(t.name) + ", ";
   }
   throw ConfigError("unknown operator '" + std::string(name) + "' (known: " + known +
-                    "first-derivative, second-derivative; on vector fields: divergence, curl, vector-laplacian)");
+                    "first-derivative, second-derivative; on vector fields: divergence, curl, vector-laplacian, grad-div, "
+                    "grad-div-composed)");
 }
 
-int components(OperatorKind kind, int dim) { return traits(kind).vector_valued ? dim : 1; }
+int components(OperatorKind kind, int dim) {
+  if (kind == OperatorKind::Hessian) return dim * (dim + 1) / 2;
+  return traits(kind).vector_valued ? dim : 1;
+}
+
+int hessian_component(int b, int c, int dim) {
+  if (b > c) std::swap(b, c);
+  // Rows b' < b hold dim - b' components each: xx, xy, xz | yy, yz | zz.
+  return b * dim - b * (b - 1) / 2 + (c - b);
+}
+
+std::pair<int, int> hessian_axes(int component, int dim) {
+  for (int b = 0; b < dim; ++b)
+    for (int c = b; c < dim; ++c)
+      if (hessian_component(b, c, dim) == component) return {b, c};
+  throw ConfigError(detail::concat("the Hessian in ", dim, "D has no component ", component));
+}
 
 }  // namespace vrsph

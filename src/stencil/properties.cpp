@@ -126,7 +126,7 @@ LocalResidualSummary summarise_local_residuals(const Stencil& s, std::span<const
 
 namespace {
 // Exact value at x_i of the operator applied to (x - x_i)^alpha, component c.
-Real exact_on_centred_monomial(OperatorKind kind, const std::array<int, 3>& a, int c) {
+Real exact_on_centred_monomial(OperatorKind kind, const std::array<int, 3>& a, int c, int dim) {
   const int deg = a[0] + a[1] + a[2];
   switch (kind) {
     case OperatorKind::Value: return deg == 0 ? 1 : 0;
@@ -138,6 +138,13 @@ Real exact_on_centred_monomial(OperatorKind kind, const std::array<int, 3>& a, i
     }
     case OperatorKind::Gradient: return deg == 1 && a[static_cast<std::size_t>(c)] == 1 ? 1 : 0;
     case OperatorKind::Laplacian: return deg == 2 && (a[0] == 2 || a[1] == 2 || a[2] == 2) ? 2 : 0;
+    case OperatorKind::Hessian: {  // ∂_b ∂_c of x^α: 2 for x_b², 1 for x_b x_c (b ≠ c)
+      const auto [b, e] = hessian_axes(c, dim);
+      std::array<int, 3> pair{};
+      ++pair[static_cast<std::size_t>(b)];
+      ++pair[static_cast<std::size_t>(e)];
+      return a == pair ? (b == e ? 2 : 1) : 0;
+    }
     case OperatorKind::DivAGrad: break;
   }
   throw ConfigError(detail::concat("monomial residuals are not defined for operator ", to_string(kind)));
@@ -171,7 +178,7 @@ std::vector<MonomialResidual> monomial_residuals(const Stencil& s, const PointCl
               const Vec3 d = cloud.positions[static_cast<std::size_t>(s.col[static_cast<std::size_t>(k)])] - xi;
               acc += v[static_cast<std::size_t>(k)] * std::pow(d[0], a[0]) * std::pow(d[1], a[1]) * std::pow(d[2], a[2]);
             }
-            const Real r = (acc - exact_on_centred_monomial(s.kind, a, c)) *
+            const Real r = (acc - exact_on_centred_monomial(s.kind, a, c, s.dim)) *
                            std::pow(row_scale[static_cast<std::size_t>(i)], order - deg);
             norm2 += r * r;
           }

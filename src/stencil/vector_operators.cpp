@@ -11,6 +11,7 @@ std::optional<VectorOperator> parse_vector_operator(std::string_view name) {
   if (name == "curl") return VectorOperator::Curl;
   if (name == "vector-laplacian") return VectorOperator::VectorLaplacian;
   if (name == "grad-div") return VectorOperator::GradDiv;
+  if (name == "grad-div-composed") return VectorOperator::GradDivComposed;
   return std::nullopt;
 }
 
@@ -20,17 +21,20 @@ std::string_view to_string(VectorOperator op) {
     case VectorOperator::Curl: return "curl";
     case VectorOperator::VectorLaplacian: return "vector-laplacian";
     case VectorOperator::GradDiv: return "grad-div";
+    case VectorOperator::GradDivComposed: return "grad-div-composed";
   }
   return "?";
 }
 
 OperatorKind base_operator(VectorOperator op) {
-  return op == VectorOperator::VectorLaplacian ? OperatorKind::Laplacian : OperatorKind::Gradient;
+  if (op == VectorOperator::VectorLaplacian) return OperatorKind::Laplacian;
+  return op == VectorOperator::GradDiv ? OperatorKind::Hessian : OperatorKind::Gradient;
 }
 
 int output_components(VectorOperator op, int dim) {
   if (op == VectorOperator::Divergence) return 1;
-  if (op == VectorOperator::VectorLaplacian || op == VectorOperator::GradDiv) return dim;
+  if (op == VectorOperator::VectorLaplacian || op == VectorOperator::GradDiv || op == VectorOperator::GradDivComposed)
+    return dim;
   check<ConfigError>(dim >= 2, "the curl needs 2 or 3 dimensions, got ", dim);
   return dim == 2 ? 1 : 3;
 }
@@ -46,12 +50,19 @@ Eigen::MatrixXd apply_vector(VectorOperator op, const Stencil& base, const Eigen
     for (int c = 0; c < dim; ++c) out.col(c) = apply_component(base, Field(U.col(c)), 0);
     return out;
   }
+  if (op == VectorOperator::GradDiv) {  // (grad div U)_b = Σ_c ∂_b ∂_c U_c
+    for (int c = 0; c < dim; ++c) {
+      const Eigen::MatrixXd h = apply(base, Field(U.col(c)));  // every ∂_a ∂_e U_c
+      for (int b = 0; b < dim; ++b) out.col(b) += h.col(hessian_component(b, c, dim));
+    }
+    return out;
+  }
   // d[c](:, b) = G_b U_c: every first derivative of every component.
   std::array<Eigen::MatrixXd, 3> d;
   for (int c = 0; c < dim; ++c) d[static_cast<std::size_t>(c)] = apply(base, Field(U.col(c)));
-  if (op == VectorOperator::Divergence || op == VectorOperator::GradDiv) {
+  if (op == VectorOperator::Divergence || op == VectorOperator::GradDivComposed) {
     for (int c = 0; c < dim; ++c) out.col(0) += d[static_cast<std::size_t>(c)].col(c);
-    if (op == VectorOperator::GradDiv) out = apply(base, Field(out.col(0)));  // G (div U)
+    if (op == VectorOperator::GradDivComposed) out = apply(base, Field(out.col(0)));  // G (div U)
   } else if (dim == 2) {
     out.col(0) = d[1].col(0) - d[0].col(1);
   } else {

@@ -14,6 +14,7 @@
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/gpm/gpm.hpp>
 #include <vrsph/methods/gpm/gpm_at.hpp>
+#include <vrsph/methods/hessian_rows.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/problem/boundary_value_problem.hpp>
@@ -79,7 +80,7 @@ void operator_on_cloud_file(const OperatorArgs& a, const CLI::App& cmd) {
     StencilRequest req;
     req.kind = op;
     if (op == OperatorKind::DivAGrad) req.coefficient = &coefficient;
-    const Stencil s = method->build({cloud, nl, parse_kernel(a.kernel), dx}, req);
+    const Stencil s = build_stencil(*method, {cloud, nl, parse_kernel(a.kernel), dx}, req);
     Eigen::MatrixXd target = exact;
     if (!s.rhs.empty()) target.col(0) = average_rhs(s, Field(exact.col(0)));  // compact rows: against the average
     const Eigen::MatrixXd err = apply(s, values) - target;
@@ -216,8 +217,9 @@ void add_operator_options(CLI::App* cmd, OperatorArgs& a) {
   a.dim_opt = cmd->add_option("--dim", a.dim, "Dimension 1, 2 or 3 (aar-derivative: 1)")->capture_default_str();
   cmd->add_option("--method", a.methods, "Comma-separated method names (see `vrsph methods`)")->capture_default_str();
   cmd->add_option("--method-opt", a.method_opts, "Method option key=value, or method:key=value for one method (repeatable)");
-  cmd->add_option("--operator", a.op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, first-derivative, second-derivative; "
-                  "on a vector field --u \"u_x,u_y[,u_z]\": divergence, curl, vector-laplacian, grad-div (the gradient rows twice)")
+  cmd->add_option("--operator", a.op, "value, dx, dy, dz, gradient, laplacian, div-a-grad, hessian (rows exact on cubics, the same for every "
+                  "method), first-derivative, second-derivative; on a vector field --u \"u_x,u_y[,u_z]\": divergence, curl, "
+                  "vector-laplacian, grad-div (from the hessian rows), grad-div-composed (the method's gradient rows twice)")
       ->capture_default_str();
   cmd->add_option("--cloud", a.cloud, "Cloud family: uniform, perturbed, centroids, disk")->capture_default_str();
   cmd->add_option("--n", a.n, "Refinement list: intervals per direction, dx = side/n")->capture_default_str();

@@ -40,7 +40,9 @@ struct MethodInfo {
   /// monotone matrix: SPH/Morris, VRSPH, Brookshaw, M-SPH); the BVP layer warns, naming the
   /// rows, when a stencil of such a method has negative ones all the same.
   bool monotone = false;
-  bool supports(OperatorKind k) const;
+  bool supports(OperatorKind k) const;  ///< method.build makes it
+  /// build_stencil makes it: supports(), or the Hessian (hessian_rows on the method's neighbours and kernel).
+  bool provides(OperatorKind k) const { return k == OperatorKind::Hessian || supports(k); }
 };
 
 /// Everything a method may look at. Row i uses the support radius neighbours.radius(i)

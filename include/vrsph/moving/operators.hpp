@@ -30,7 +30,8 @@ struct OperatorsOptions {
   KernelType kernel = KernelType::CubicSpline;
   Real h_factor = 3;  ///< support radius = h_factor x spacing (estimate_spacing: the cloud's, else from its nearest distances)
   Real radius = 0;    ///< > 0: this support radius instead
-  /// The stencils kept: Laplacian, Gradient, Dx/Dy/Dz (operators without a coefficient).
+  /// The stencils kept: Laplacian, Gradient, Dx/Dy/Dz, Hessian (operators without a coefficient; the
+  /// Hessian rows are hessian_rows', rebuilt at every update: they keep nothing from one to the next).
   std::vector<OperatorKind> operators = {OperatorKind::Laplacian, OperatorKind::Gradient};
   StencilUse use = StencilUse::Values;
   Real skin = 0.2;         ///< Verlet skin as a fraction of the support radius (0: search every update)

@@ -83,6 +83,7 @@ class Sph final : public Method {
             s.values[0][slot] = -v[j] * pair_sum(mean_, a[i], a[static_cast<Eigen::Index>(j)]) * ker.dW_over_r(r);
             break;
           }
+          case OperatorKind::Hessian: break;  // hessian_rows builds it for every method (check_request refuses it here)
         }
       }
       if (req.kind == OperatorKind::Value)

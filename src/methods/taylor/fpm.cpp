@@ -154,6 +154,7 @@ class TaylorProjection final : public Method {
         s.values[0][slot] = req.kind == OperatorKind::Laplacian ? lap : (*req.coefficient)[i] * lap + adv;
         break;
       }
+      case OperatorKind::Hessian: break;  // hessian_rows builds it for every method (check_request refuses it here)
     }
   }
   Real test_function(const Kernel& ker, const Vec3& xji, Real r, const std::array<int, 3>& alpha) const {

@@ -10,6 +10,7 @@
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/periodic_stencil.hpp>
+#include <vrsph/methods/hessian_rows.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/moving/operators.hpp>
 #include <vrsph/neighbours/search.hpp>
@@ -82,6 +83,7 @@ TEST_P(MovingOperatorsCold, EveryUpdateEqualsAFreshBuild) {
   OperatorsOptions o;
   o.method = GetParam();
   o.warm_start = false;
+  o.operators = {OperatorKind::Laplacian, OperatorKind::Gradient, OperatorKind::Hessian};
   Operators ops(sc.cloud, o);
   const auto method = builtin_methods().create(GetParam());
   for (int step = 0; step < 6; ++step) {
@@ -91,8 +93,8 @@ TEST_P(MovingOperatorsCold, EveryUpdateEqualsAFreshBuild) {
     sp.radius = ops.radius();
     const NeighbourList nl = find_neighbours(ops.cloud(), sp);
     const Discretisation disc{ops.cloud(), nl, KernelType::CubicSpline, ops.spacing()};
-    for (const OperatorKind k : {OperatorKind::Laplacian, OperatorKind::Gradient})
-      expect_same_stencil(ops.stencil(k), method->build(disc, {k}));
+    for (const OperatorKind k : {OperatorKind::Laplacian, OperatorKind::Gradient, OperatorKind::Hessian})
+      expect_same_stencil(ops.stencil(k), build_stencil(*method, disc, {k}));
   }
   EXPECT_GE(ops.stats().updates, 6);
   EXPECT_LT(ops.stats().searches, 7);  // the skin saved searches
