@@ -70,8 +70,8 @@ LocalResidualSummary summarise_local_residuals(const Stencil& s, std::span<const
 /// particle, made dimensionless by the row's support radius s_i:
 ///   max over rows of | sum_j L_ij (x_j - x_i)^alpha - exact_alpha | * s_i^(order - |alpha|),
 /// where exact_alpha is the operator applied to the monomial at x_i (1 for d/dx_k of
-/// x_k, 2 for the Laplacian of x_k^2, ...). Only for Value, Dx/Dy/Dz, Gradient (Euclidean
-/// norm over components) and Laplacian.
+/// x_k, 2 for the Laplacian of x_k^2, ...). Only for Value, Dx/Dy/Dz, Gradient and Hessian
+/// (Euclidean norm over components) and Laplacian.
 struct MonomialResidual {
   std::array<int, 3> exponent;
   Real max_residual;
