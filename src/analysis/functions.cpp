@@ -331,7 +331,7 @@ namespace {
 // ∂_b ∂_c u at x: fourth-order central differences of the gradient's component c along b (step
 // 1e-3 of max(length_scale, |x_b|), as the gradient's own differences: truncation ~1e-12 |u^(5)|).
 Real second_derivative(const ScalarFunction& u, const Vec3& x, std::pair<int, int> axes) {
-  const auto [b, c] = axes;
+  const int b = axes.first, c = axes.second;  // (not a structured binding: clang 14 cannot capture one)
   const Real e = 1e-3 * std::max<Real>(u.length_scale, std::abs(x[b]));
   auto g = [&](Real t) {
     Vec3 y = x;
