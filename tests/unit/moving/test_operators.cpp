@@ -156,13 +156,15 @@ TEST_P(MovingOperatorsWarm, VrsphRowsStayExactAndMonotone) {
 INSTANTIATE_TEST_SUITE_P(Dimensions, MovingOperatorsWarm, ::testing::Values(2, 3));
 
 // On a periodic box, rows that read positions beyond their pair vectors (SPH) are built on the
-// images at every update, bit for bit what periodic_stencil gives; FPM's rows with v = dx^d read
-// the minimum-image list and equal those rows to round-off (the summation order differs).
+// images at every update, bit for bit what periodic_stencil gives; FPM's rows with v = dx^d and
+// the Hessian rows read the minimum-image list and equal those rows to round-off (the summation
+// order differs).
 TEST(MovingOperators, PeriodicBoxesBuildOnTheImagesOrReadTheMinimumImages) {
   for (const std::string name : {"sph", "fpm"}) {
     const StudyCloud sc = operators_cloud(2, "x,y");
     OperatorsOptions o;
     o.method = name;
+    o.operators = {OperatorKind::Laplacian, OperatorKind::Gradient, OperatorKind::Hessian};
     Operators ops(sc.cloud, o);
     const auto method = builtin_methods().create(name);
     for (int step = 0; step < 3; ++step) {
@@ -176,6 +178,12 @@ TEST(MovingOperators, PeriodicBoxesBuildOnTheImagesOrReadTheMinimumImages) {
       } else {
         const SparseMatrix a(as_eigen(ops.stencil(OperatorKind::Laplacian))), b(as_eigen(images));
         EXPECT_LT((a - b).norm(), 1e-10 * b.norm()) << "step " << step;
+      }
+      const Stencil hessian =
+          periodic_stencil(*method, ops.cloud(), sp, KernelType::CubicSpline, ops.spacing(), {OperatorKind::Hessian});
+      for (int c = 0; c < 3; ++c) {
+        const SparseMatrix a(as_eigen(ops.stencil(OperatorKind::Hessian), c)), b(as_eigen(hessian, c));
+        EXPECT_LT((a - b).norm(), 1e-10 * b.norm()) << name << " step " << step << " component " << c;
       }
     }
   }
