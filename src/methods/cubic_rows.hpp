@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The moving-least-squares correction shared by the rows exact on cubic polynomials: a given
-// row's weights w_ik (one per stencil component and neighbour) get the smallest change δ_ik in
-// the kernel-weighted norm Σ_k |δ_ik|² / W(r_ik) that makes the row exact on every monomial of
-// degree 1 ... 3 around x_i:
+// The moving-least-squares correction shared by the rows exact on polynomials: a given row's
+// weights w_ik (one per stencil component and neighbour) get the smallest change δ_ik in the
+// kernel-weighted norm Σ_k |δ_ik|² / W(r_ik) that makes the row exact on every monomial of
+// degree 1 ... Degree around x_i (3 for the gradient rows, 2 ... 4 for the Hessian rows):
 //   δ_ik = W(r_ik) Σ_a P_ak y_a,  (P Ω Pᵀ) y = b - P w,  P_ak = ((x_k - x_i) / h)^α_a,
 // b the exact derivative of each monomial at x_i, the diagonal kept at -Σ_k (exact on constants).
 // Given rows of zeros this is the moving-least-squares derivative itself (hessian_rows).
@@ -19,7 +19,7 @@
 namespace vrsph::cubic_rows {
 
 /// One component of the stencil and the derivative it approximates: the monomial x^α (by its
-/// position among monomial_exponents(dim, 3)) whose derivative at x_i is `value` / h^order in
+/// position among monomial_exponents(dim, Degree)) whose derivative at x_i is `value` / h^order in
 /// the variables scaled by the support radius h; every other monomial's is 0.
 struct Target {
   std::size_t array = 0;
@@ -37,7 +37,7 @@ inline int monomial_index(int dim, const std::array<int, 3>& alpha, int degree =
 }
 
 struct Outcome {
-  Index corrected = 0;       ///< rows now exact on cubics
+  Index corrected = 0;       ///< rows now exact on the monomials up to Degree
   std::vector<Index> kept;   ///< requested rows left as they were (too few neighbours, ill-conditioned), ascending
 };
 
@@ -91,7 +91,7 @@ bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<
   return true;
 }
 
-// The correction with M monomials (1D: 3, 2D: 9, 3D: 19) as a compile-time size: the per-row
+// The correction with M monomials (degree 3: 1D 3, 2D 9, 3D 19) as a compile-time size: the per-row
 // systems are small, and fixed-size code spared about an eighth of the update step's stencil
 // time on 10^5 moving 2D particles against dynamic sizes. C: columns of the right-hand side
 // (at least targets.size(); fixed so that the product with A^-1 is unrolled).
