@@ -107,14 +107,15 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
 
 py::dict cavity(int nx, double re, const std::string& method, const std::string& gradient, double jitter,
                 std::uint64_t seed, double t_end, double steady_tolerance, double cfl, double h_factor,
-                const py::dict& options, const std::string& viscosity) {
+                const py::dict& options, const std::string& viscosity, const std::string& frame,
+                const std::string& shifting, int wall_layers) {
   CavityRunOptions o;
-  o.cloud = {nx, jitter, seed};
+  o.cloud = {nx, jitter, seed, wall_layers};
   o.re = re;
   o.t_end = t_end;
   o.steady_tolerance = steady_tolerance;
   o.cfl = cfl;
-  o.flow = flow_options("eulerian", method, gradient, 0, "rk3", h_factor, "cubic", options, "none", 0, false, viscosity);
+  o.flow = flow_options(frame, method, gradient, 0, "rk3", h_factor, "cubic", options, shifting, 0, false, viscosity);
   CavityRunRow r;
   {
     py::gil_scoped_release release;
@@ -129,6 +130,8 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
   d["dt"] = r.dt;
   d["steady"] = r.steady;
   d["steady_residual"] = r.steady_residual;
+  d["average_time"] = r.average_time;
+  d["profile_fluctuation"] = r.profile_fluctuation;
   d["ghia_max_deviation_u"] = r.ghia_max_deviation_u;
   d["ghia_max_deviation_v"] = r.ghia_max_deviation_v;
   d["reference_max_deviation_u"] = r.reference_max_deviation_u;
@@ -292,7 +295,7 @@ void bind_flow(py::module_& m) {
      py::arg("cfl"), py::arg("h_factor"), py::arg("options"));
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
-        py::arg("options"), py::arg("viscosity"));
+        py::arg("options"), py::arg("viscosity"), py::arg("frame"), py::arg("shifting"), py::arg("wall_layers"));
   m.def("_taylor_green", &taylor_green, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("gradient"),
         py::arg("t_end"), py::arg("re"), py::arg("cfl"), py::arg("jitter"), py::arg("seed"), py::arg("scheme"),
         py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"), py::arg("viscosity"));

@@ -234,18 +234,23 @@ void FlowSolver::factorise_pressure() {
   // A free surface: p = 0 there, and the walls' rows carry the water's pressure to them
   // (extrapolated rows: exact for the hydrostatic pressure on either side of the surface, and
   // they hold up the water at a column's foot, where a wall's balance row over a quarter support
-  // could not; docs/free_surface.md).
+  // could not; docs/free_surface.md). Walls in the Lagrangian frame take them too: with balance
+  // rows the fluid particle next to a lid's corner was flung off within 25 steps (the cavity,
+  // docs/flow.md), with these the water keeps off the walls by itself.
+  const bool extrapolated = options_.free_surface || (options_.frame == FlowFrame::Lagrangian && !eq_.walls.empty());
   PressureEquation eq =
-      options_.free_surface
-          ? extrapolated_pressure_equation(*ops_, eq_.walls,
-                                           std::vector<char>(surface_.surface.begin(), surface_.surface.end()))
-          : pressure_equation(*ops_, eq_.walls);
+      extrapolated ? extrapolated_pressure_equation(
+                         *ops_, eq_.walls,
+                         options_.free_surface ? std::vector<char>(surface_.surface.begin(), surface_.surface.end())
+                                               : std::vector<char>())
+                   : pressure_equation(*ops_, eq_.walls);
   eq_.wall_flux = std::move(eq.wall_flux);
   eq_.surface = std::move(eq.surface);
   eq_.wall_offset = std::move(eq.wall_offset);
   const PressurePoisson* previous = options_.reuse_factorisation ? ppe_.get() : nullptr;
   ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(std::move(eq.matrix), eq_.walls, eq_.wall_flux,
-                                                            options_.solver, eq_.has_surface(), previous));
+                                                            options_.solver, eq_.has_surface(), previous,
+                                                            !eq_.wall_offset.empty()));
 }
 
 void FlowSolver::detect_surface() {

@@ -111,7 +111,8 @@ PressureEquation pressure_equation(const Operators& ops, const Walls& walls) {
 PressureEquation extrapolated_pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface) {
   const PointCloud& cloud = ops.cloud();
   const Index n = cloud.size();
-  check<InputError>(static_cast<Index>(surface.size()) == n, "pressure equation: ", surface.size(),
+  const bool free_surface = !surface.empty();
+  check<InputError>(!free_surface || static_cast<Index>(surface.size()) == n, "pressure equation: ", surface.size(),
                     " free-surface flags for ", n, " particles");
   PressureEquation eq;
   eq.walls = walls;
@@ -122,11 +123,23 @@ PressureEquation extrapolated_pressure_equation(const Operators& ops, const Wall
   t.reserve(static_cast<std::size_t>(L.nonZeros()));
   for (Index i = 0; i < n; ++i) {
     if (walls.empty() || !walls.is_wall[static_cast<std::size_t>(i)]) {
-      if (surface[static_cast<std::size_t>(i)]) t.emplace_back(i, i, 1.0);
+      if (free_surface && surface[static_cast<std::size_t>(i)]) t.emplace_back(i, i, 1.0);
       else
         for (CsrMatrix::InnerIterator it(L, i); it; ++it) t.emplace_back(i, it.col(), it.value());
     }
   }
+  // The wall rows are scaled like the fluid's Laplacian rows (their mean |diagonal|): an iterative
+  // solver equilibrates the rows anyway, but the true residual it is checked by (solver.hpp) sums
+  // both kinds, and rows 1/dx² apart left 1e-6 of it after a converged solve (the Lagrangian
+  // cavity at nx = 64).
+  Real scale = 0;
+  Index fluid = 0;
+  for (Index i = 0; i < n; ++i)
+    if (walls.empty() || !walls.is_wall[static_cast<std::size_t>(i)]) {
+      scale += std::abs(L.coeff(i, i));
+      ++fluid;
+    }
+  scale = fluid > 0 && scale > 0 ? scale / static_cast<Real>(fluid) : 1.0;
   const NeighbourList& nl = ops.neighbours();
   const Discretisation disc{cloud, nl, ops.options().kernel, ops.spacing()};
   for (const Index w : walls.index) {
@@ -143,13 +156,23 @@ PressureEquation extrapolated_pressure_equation(const Operators& ops, const Wall
       sum += weight;
       offset += weight * (cloud.positions[static_cast<std::size_t>(w)] - disc.neighbour_position(w, k));
     }
-    t.emplace_back(w, w, 1.0);
-    if (sum <= 0) {  // no water in the support: the air's p = 0
+    if (sum <= 0 && free_surface) {  // no water in the support: the air's p = 0
+      t.emplace_back(w, w, 1.0);
       eq.surface[static_cast<std::size_t>(w)] = 1;
       continue;
     }
-    for (const auto& [f, weight] : row) t.emplace_back(w, f, -weight / sum);
-    eq.wall_offset[static_cast<std::size_t>(w)] = offset / sum;
+    t.emplace_back(w, w, scale);
+    if (sum <= 0) {
+      // A closed box has no air: a wall beyond the water's reach (an outer layer's corner) takes
+      // the mean of its neighbours, a row that keeps the constants in the null space.
+      const Index count = nl.count(w);
+      check<GeometryError>(count > 0, "pressure equation: wall particle ", w, " has no neighbour");
+      for (Index k = 0; k < count; ++k)
+        t.emplace_back(w, nl.of(w)[static_cast<std::size_t>(k)], -scale / static_cast<Real>(count));
+      continue;
+    }
+    for (const auto& [f, weight] : row) t.emplace_back(w, f, -scale * weight / sum);
+    eq.wall_offset[static_cast<std::size_t>(w)] = scale * offset / sum;
   }
   eq.matrix = CsrMatrix(n, n);
   eq.matrix.setFromTriplets(t.begin(), t.end());
@@ -174,7 +197,8 @@ Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen
 }
 
 PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
-                                 const SolverOptions& options, bool has_surface, const PressurePoisson* previous) {
+                                 const SolverOptions& options, bool has_surface, const PressurePoisson* previous,
+                                 bool extrapolated) {
   const bool near = previous && previous->can_precondition() && previous->size() == matrix.rows() &&
                     previous->is_regular() == has_surface;
   if (has_surface)
@@ -187,6 +211,17 @@ PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std
   Index pinned = 0;
   while (pinned < matrix.rows() && walls.is_wall[static_cast<std::size_t>(pinned)]) ++pinned;
   check<ConfigError>(pinned < matrix.rows(), "flow: every particle is a wall; there is no fluid");
+  if (extrapolated) {
+    // The wall rows p_w = Σ_f ω_wf p_f eliminated leave the fluid a Laplacian whose off-diagonal
+    // entries stay non-negative (ω ≥ 0): its left null vector is positive, so the defect is
+    // spread over the fluid evenly, and the wall rows hold exactly. (Along the whole matrix's
+    // left null vector instead, its transposed solve failed where BoomerAMG meets rows 1/dx²
+    // apart in scale.)
+    Field spread = Field::Ones(matrix.rows());
+    for (const Index w : walls.index) spread[w] = 0;
+    return near ? PressurePoisson::nearby(std::move(matrix), *previous, options, pinned, std::move(spread))
+                : PressurePoisson(std::move(matrix), options, pinned, std::move(spread));
+  }
   Field y = left_null_vector(matrix, options, pinned);
   return PressurePoisson(std::move(matrix), options, pinned, std::move(y));
 }

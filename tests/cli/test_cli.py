@@ -519,8 +519,20 @@ class Flow(unittest.TestCase):
             self.assertEqual(sum(1 for l in lines if l.startswith("p2-p1 n=128,")), 34)
             self.assertIn("reference_max_deviation_v", row)
             self.assertEqual(sum(1 for l in lines if l.startswith("vrsph nx=16,")), 202)
+        # The Lagrangian cavity (Xu shifting, three wall layers): its profiles are the mean of the
+        # samples every 0.5 over the last 4.5 time units, settled by t = 10 (the same to 5e-3 at
+        # t = 20 and 40, measured).
+        out = run_json("flow", "--case", "cavity", "--frame", "lagrangian", "--shifting", "xu", "--nx", "16",
+                       "--t-end", "10.5", "--threads", "1")
+        (row,) = out["rows"]
+        self.assertEqual((row["frame"], row["status"], out["shifting"]), ("lagrangian", "ok", "xu"))
+        self.assertAlmostEqual(row["average_time"], 4.5)
+        self.assertGreater(row["profile_fluctuation"], 0)
+        self.assertLess(row["profile_fluctuation"], 0.03)  # measured 8.1e-3
+        self.assertLess(max(row["ghia_max_deviation_u"], row["ghia_max_deviation_v"]), 0.08)  # measured 0.053
         for args, message in ((["--re", "400"], "Re = 100 and 1000"), (["--dim", "3"], "two-dimensional"),
-                              (["--frame", "lagrangian"], "eulerian frame"), (["--steady-tol", "0"], "--steady-tol")):
+                              (["--wall-layers", "9"], "--wall-layers must be in [1, 8]"),
+                              (["--steady-tol", "0"], "--steady-tol")):
             result = run("flow", "--case", "cavity", "--nx", "8", *args, check=False)
             self.assertEqual(result.returncode, 2, result.stderr)
             self.assertIn(message, result.stderr)

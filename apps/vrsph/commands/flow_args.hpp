@@ -22,6 +22,7 @@ struct FlowArgs {
               profile_output;
   std::vector<std::string> method_opts;
   int dim = 2, vtu_every = 0, threads = 0;
+  int wall_layers = 0;  // 0: the case's own (cavity 1 eulerian / 3 lagrangian, hydrostatic 1, dam break 3)
   double t_end = 0, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0,
          steady_tol = 1e-4;
   // Free-surface cases (flow_free_surface.cpp): |g|, its ramp time, the water's depth and width

@@ -62,6 +62,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
       o.tank.depth = depth;
       o.tank.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
       o.tank.seed = a.seed;
+      if (a.wall_layers > 0) o.tank.wall_layers = a.wall_layers;
       o.gravity = a.gravity;
       o.ramp = ramp;
       o.t_end = t_end;
@@ -151,6 +152,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       o.nx = n;
       o.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
       o.seed = a.seed;
+      if (a.wall_layers > 0) o.wall_layers = a.wall_layers;
       o.t_star_end = t_end * std::sqrt(2.0);
       o.cfl = a.cfl;
       o.flow = flow_options_for(a, m, options);

@@ -31,7 +31,9 @@
 // equation at the wall, n·∇p = n·(ν∇²u - (u·∇)u + g) (the wall does not accelerate), with the
 // wall's ν∇²u from the gradient applied twice (its own Laplacian row would be one-sided); the
 // projection's is n·∇φ = 0. In the Lagrangian frame the wall particles stay where they are (a
-// sliding wall's velocity is a boundary value, not a motion).
+// sliding wall's velocity is a boundary value, not a motion), and the walls' pressure rows are
+// extrapolated from the fluid instead (projection.hpp; as with a free surface), which keeps
+// the moving fluid off the walls; give such walls a full support (several layers).
 //
 // Free surfaces (FlowOptions::free_surface): the fluid particles free_surface.hpp's detection
 // flags (at the start and, Lagrangian, after every move) take p = 0 and φ = 0; the body force

@@ -62,16 +62,21 @@ struct PressureEquation {
   std::vector<Real> wall_flux;
   /// Per particle, 1 on a free surface (an identity row: p = 0); empty: no free surface.
   std::vector<char> surface;
-  /// Extrapolated wall rows: per particle, Σ_f ω_wf (x_w - x_f) at walls (0 elsewhere; empty:
-  /// balance or gradient rows). The row's right-hand side is a_w · this.
+  /// Extrapolated wall rows: per particle, s Σ_f ω_wf (x_w - x_f) at walls, s the rows' scale
+  /// (0 elsewhere; empty: balance or gradient rows). The row's right-hand side is a_w · this.
   std::vector<Vec3> wall_offset;
   bool has_surface() const { return std::find(surface.begin(), surface.end(), 1) != surface.end(); }
 };
 /// Balance rows where the method has them (a "flux" option the user left unset or set to
 /// balance; its "rhs" then point), else gradient rows. Throws as the method's build.
 PressureEquation pressure_equation(const Operators& ops, const Walls& walls);
-/// The free-surface form: identity rows at `surface`, extrapolated rows at the walls (identity
-/// rows at walls without water in their support). InputError for a `surface` of another size.
+/// Extrapolated rows at the walls (Adami, Hu & Adams 2012: p_w = Σ_f W_wf (p_f + a_w·(x_w - x_f))
+/// / Σ_f W_wf over the fluid in the support; each row times the fluid rows' mean |diagonal|):
+/// the form of free-surface and Lagrangian flows.
+/// `surface`: per particle, 1 on the free surface (identity rows: p = 0; walls without water
+/// in their support take p = 0 too, the air's); empty: no free surface (a closed box: such
+/// walls take the mean of their neighbours, and the equation is singular like the balance
+/// rows'). InputError for a `surface` of another size; GeometryError for a wall without neighbours.
 PressureEquation extrapolated_pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface);
 /// Its right-hand side for a pressure whose gradient balances the acceleration a (N x d),
 /// ∇²p = ∇·a inside, ∂p/∂n = n·a at walls and p = 0 on a free surface: D a at fluid particles;
@@ -87,10 +92,12 @@ Field pressure_rhs(const Operators& ops, const PressureEquation& eq, const Eigen
 /// `previous`: the equation of the previous positions; where it is a factorisation of the same
 /// kind, the new one is solved nearby (PressurePoisson::nearby: no factorisation while the old
 /// one preconditions within its iteration cap). Gradient rows at walls always factorise (their
-/// left null vector needs the transpose's factorisation).
+/// left null vector needs the transpose's factorisation). `extrapolated`: the walls' rows are
+/// extrapolated_pressure_equation's, without a free surface: the defect is spread evenly over
+/// the fluid (the wall rows eliminated leave a Laplacian with a positive left null vector).
 PressurePoisson pressure_poisson(CsrMatrix matrix, const Walls& walls, const std::vector<Real>& wall_flux,
                                  const SolverOptions& options, bool has_surface = false,
-                                 const PressurePoisson* previous = nullptr);
+                                 const PressurePoisson* previous = nullptr, bool extrapolated = false);
 
 struct Projected {
   Eigen::MatrixXd u;  ///< w - G φ
