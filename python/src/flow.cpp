@@ -67,6 +67,7 @@ py::dict report_dict(const FlowStepReport& r) {
   d["min_spacing"] = r.min_spacing;
   d["max_spacing"] = r.max_spacing;
   d["max_shift"] = r.max_shift;
+  d["wall_pushes"] = r.wall_pushes;
   d["seconds_update"] = r.seconds_update;
   d["seconds_ppe"] = r.seconds_ppe;
   d["seconds_rhs"] = r.seconds_rhs;
@@ -132,6 +133,7 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
   d["steady_residual"] = r.steady_residual;
   d["average_time"] = r.average_time;
   d["profile_fluctuation"] = r.profile_fluctuation;
+  d["wall_pushes"] = r.wall_pushes;
   d["ghia_max_deviation_u"] = r.ghia_max_deviation_u;
   d["ghia_max_deviation_v"] = r.ghia_max_deviation_v;
   d["reference_max_deviation_u"] = r.reference_max_deviation_u;

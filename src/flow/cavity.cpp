@@ -128,6 +128,8 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
                      "cavity: the steady tolerance must be positive, got ", o.steady_tolerance);
   check<ConfigError>(std::isfinite(o.lagrangian_probe_interval) && o.lagrangian_probe_interval > 0,
                      "cavity: the lagrangian probe interval must be positive, got ", o.lagrangian_probe_interval);
+  check<ConfigError>(std::isfinite(o.lagrangian_wall_gap) && o.lagrangian_wall_gap < 1,
+                     "cavity: the lagrangian wall gap must be below 1 particle spacing, got ", o.lagrangian_wall_gap);
   check<ConfigError>(o.lagrangian_window >= 1 && o.lagrangian_window <= 1000,
                      "cavity: the lagrangian window must be in [1, 1000] probes, got ", o.lagrangian_window);
   const bool lagrangian = o.flow.frame == FlowFrame::Lagrangian;
@@ -137,6 +139,7 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
   PointCloud cloud = cavity_cloud(spec);
   FlowOptions fo = o.flow;
   fo.nu = 1 / o.re;
+  if (lagrangian && fo.wall_gap == 0) fo.wall_gap = std::max<Real>(o.lagrangian_wall_gap, 0);
   fo.wall_velocity = [](Index, const Vec3& x) { return cavity_lid_velocity(x); };
   const Eigen::MatrixXd u0 = Eigen::MatrixXd::Zero(cloud.size(), 2);
   FlowSolver solver(std::move(cloud), u0, fo);
@@ -172,6 +175,7 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
     const Eigen::MatrixXd before = solver.velocity();
     costs.add(solver.step(dt));
     row.dt = std::min(row.dt, dt);
+    row.wall_pushes += solver.last().wall_pushes;
     bool tested = false;
     if (!lagrangian) {
       Real change = 0;

@@ -154,6 +154,16 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   }
   check<ConfigError>(std::isfinite(options_.nu) && options_.nu >= 0, "flow: the viscosity must be finite and >= 0, got ",
                      options_.nu);
+  check<ConfigError>(std::isfinite(options_.wall_gap) && options_.wall_gap >= 0 && options_.wall_gap < 1,
+                     "flow: the wall gap must be in [0, 1) particle spacings, got ", options_.wall_gap);
+  for (const Index i : eq_.walls.index)  // the faces the wall gap keeps particles off: those with walls on them
+    for (int a = 0; a < d; ++a) {
+      const auto k = static_cast<std::size_t>(a);
+      const Real x = cloud.positions[static_cast<std::size_t>(i)][a], tol = 1e-9 * cloud.spacing;
+      if (cloud.domain.periodic[k]) continue;
+      if (std::abs(x - cloud.domain.lo[a]) <= tol) wall_faces_[k][0] = true;
+      if (std::abs(x - cloud.domain.hi[a]) <= tol) wall_faces_[k][1] = true;
+    }
   check<ConfigError>(options_.body_force.allFinite(), "flow: the body force must be finite");
   for (int c = d; c < 3; ++c)
     check<ConfigError>(options_.body_force[c] == 0, "flow: a body force along axis ", c, " of a ", d, "D flow");
@@ -476,12 +486,26 @@ void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
 void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
   const Stopwatch watch;
   const Discretisation disc{ops_->cloud(), ops_->neighbours(), options_.operators.kernel, spacing_};
-  std::vector<Vec3> dr = shifting_displacements(disc, options_.shifting, u, dt);
+  std::vector<Vec3> dr = options_.shifting.kind == Shifting::None
+                            ? std::vector<Vec3>(static_cast<std::size_t>(u.rows()), Vec3::Zero())
+                            : shifting_displacements(disc, options_.shifting, u, dt);
   for (const Index i : eq_.walls.index) dr[static_cast<std::size_t>(i)].setZero();  // walls stay
   // A surface particle's support is cut: the shift would push it out of the fluid. It moves only
   // along the surface (Lind et al. 2012).
   for (std::size_t i = 0; i < surface_.surface.size(); ++i)
     if (surface_.surface[i]) dr[i] -= dr[i].dot(surface_.normals[i]) * surface_.normals[i];
+  if (options_.wall_gap > 0) {  // after the shift: no closer to a wall than the gap
+    std::vector<Vec3> x(dr.size());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = ops_->cloud().positions[i] + dr[i];
+    const std::vector<Vec3> back = wall_gap_displacements(x);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (!back[i].isZero()) {
+        dr[i] += back[i];
+        ++r.wall_pushes;
+      }
+  }
+  // Without shifting, a step that left every particle clear of the walls moves none: no update.
+  if (std::all_of(dr.begin(), dr.end(), [](const Vec3& v) { return v.isZero(); })) return;
   // u at the shifted position: u + (∇u)·δr + ½ δrᵀ(∇∇u)δr with the flow's gradient, applied twice
   // for the Hessian. Xu et al.'s eq. (34) stops at the gradient; but the shifts are O(dt) each,
   // so that interpolation's O(δr²) error per step adds up to O(dt) — first order (measured: the
@@ -508,6 +532,21 @@ void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
   }
   r.seconds_update += watch.seconds();
   move_to(x, r);
+}
+
+std::vector<Vec3> FlowSolver::wall_gap_displacements(const std::vector<Vec3>& x) const {
+  std::vector<Vec3> dr(x.size(), Vec3::Zero());
+  const Domain& box = ops_->cloud().domain;
+  const Real gap = options_.wall_gap * spacing_;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!eq_.walls.empty() && eq_.walls.is_wall[i]) continue;
+    for (int a = 0; a < ops_->cloud().dim; ++a) {
+      const auto k = static_cast<std::size_t>(a);
+      if (wall_faces_[k][0] && x[i][a] < box.lo[a] + gap) dr[i][a] = box.lo[a] + gap - x[i][a];
+      if (wall_faces_[k][1] && x[i][a] > box.hi[a] - gap) dr[i][a] = box.hi[a] - gap - x[i][a];
+    }
+  }
+  return dr;
 }
 
 Real FlowSolver::kinetic_energy(const Eigen::MatrixXd& u) const {
@@ -603,7 +642,7 @@ const FlowStepReport& FlowSolver::step(Real dt) {
       u_end = (1.0 / 3.0) * un + (2.0 / 3.0) * (u2 + dt * rate(u2, t_ + 0.5 * dt, r));
       if (lagrangian) move_to(moved({{1.0 / 6.0, &un}, {1.0 / 6.0, &u1}, {2.0 / 3.0, &u2}}), r);
     }
-    if (options_.shifting.kind != Shifting::None) shift(u_end, dt, r);
+    if (options_.shifting.kind != Shifting::None || (lagrangian && options_.wall_gap > 0)) shift(u_end, dt, r);
     if (lagrangian) {
       const Index out = first_outside(ops_->cloud(), eq_.walls);
       if (out >= 0) {

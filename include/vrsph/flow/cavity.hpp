@@ -43,6 +43,10 @@ struct CavityRunOptions {
   Real steady_tolerance = 1e-4;
   Real lagrangian_probe_interval = 0.5;
   int lagrangian_window = 10;
+  /// Lagrangian: FlowOptions::wall_gap unless `flow` sets one (< 0: none). The fluid next to the
+  /// lid's upstream corner is sucked towards it (the pressure is singular there) and at Re = 1000
+  /// or with SPH's rows a particle crossed the lid; at Re = 100 with VRSPH it never acts.
+  Real lagrangian_wall_gap = 0.5;
   Real cfl = 0.25;         ///< dt = cfl dx (the lid's speed is 1), shortened to 0.9 of the stability limit
   Real dt = 0;             ///< > 0: this fixed step instead
   /// Called after every step with the solver and its steady residual; may be empty.
@@ -68,6 +72,7 @@ struct CavityRunRow {
   /// Lagrangian: the time the reported profiles are averaged over (0: the last state's), and the
   /// largest standard deviation of the samples at Ghia's points about that mean.
   Real average_time = 0, profile_fluctuation = 0;
+  Index wall_pushes = 0;  ///< particles the wall gap moved back over the run (FlowStepReport::wall_pushes)
   double ppe_iterations_per_step = 0;
   double seconds_setup = 0;       ///< operators, factorisation, the first projection
   double seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last three per step

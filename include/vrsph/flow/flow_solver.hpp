@@ -40,6 +40,7 @@
 // may be ramped in; the time step is further limited by the body force, dt <= 0.25 (dx/|g|)^½
 // (a particle may not fall more than dx/8 from rest in a step). Shifting moves surface
 // particles only along the surface (Lind et al. 2012).
+#include <array>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -122,6 +123,13 @@ struct FlowOptions {
   /// on, its spacing the flow's). Needs a body force or a moving initial state (ConfigError).
   bool free_surface = false;
   FreeSurfaceOptions surface;
+  /// Lagrangian, walls: a fluid particle that ends a step closer than this many spacings to a
+  /// face of the box holding wall particles is moved back to that distance along the face's
+  /// normal, its velocity interpolated there as a shift's (FlowStepReport::wall_pushes counts
+  /// them); 0: never, and a particle that crosses a wall stops the run. A safety net for the
+  /// lid's corners of a cavity (docs/flow.md); with extrapolated wall rows the water keeps off the
+  /// walls by itself elsewhere.
+  Real wall_gap = 0;
   /// The body force reaches g over this time, g (1 - cos(π t / T)) / 2 for t < T; 0: at once.
   Real body_force_ramp = 0;
   /// Without a body force, a step that leaves a particle faster than this many times the initial
@@ -146,6 +154,7 @@ struct FlowStepReport {
   Real min_spacing = 0;        ///< smallest nearest-neighbour distance / dx
   Real max_spacing = 0;        ///< largest nearest-neighbour distance / dx (a hole grows it)
   Real max_shift = 0;          ///< largest shifting displacement of the step / dx
+  Index wall_pushes = 0;       ///< particles FlowOptions::wall_gap moved back off a wall this step
   Real force_number = 0;       ///< free surface: dt / (0.25 (dx/|g|)^½), at most 1
   Index surface_particles = 0; ///< free surface: flagged particles after the step
   double seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
@@ -224,7 +233,11 @@ class FlowSolver {
   const ImplicitViscosity& viscous_solver(Real c, FlowStepReport& r);
   void move_to(const std::vector<Vec3>& x, FlowStepReport& r);
   void factorise_pressure();  ///< the pressure equation of the current operators into ppe_ (and eq_'s wall fluxes)
+  /// Shifting and the wall gap: moves the particles by their displacements and interpolates u there.
   void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
+  /// The displacements that take the fluid particles at x back to wall_gap spacings off the wall
+  /// faces (zero for the others).
+  std::vector<Vec3> wall_gap_displacements(const std::vector<Vec3>& x) const;
   Eigen::MatrixXd project_state(const Eigen::MatrixXd& w, FlowStepReport& r);
   void finish_report(FlowStepReport& r) const;
   Real kinetic_energy(const Eigen::MatrixXd& u) const;
@@ -238,6 +251,8 @@ class FlowSolver {
   Eigen::MatrixXd u_;
   Field phi_;         ///< the last stage's pressure (the next solve's initial guess)
   Field correction_;  ///< the last end-of-step projection's potential (likewise)
+  /// Per bounded axis, whether its low and high faces hold wall particles (the wall gap's faces).
+  std::array<std::array<bool, 2>, 3> wall_faces_{};
   Real t_ = 0, spacing_ = 0, laplacian_bound_ = 0, gamma_ = 0;  ///< gamma_: the hyperviscosity c U dx³
   Index steps_ = 0;
   FlowStepReport report_;

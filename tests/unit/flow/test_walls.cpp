@@ -266,6 +266,33 @@ TEST(FlowWalls, TheLagrangianCavityKeepsItsWaterOffTheWalls) {
   EXPECT_GT(s.last().kinetic_energy, 0.02);  // the lid has set the water turning
 }
 
+TEST(FlowWalls, TheWallGapMovesParticlesBackOffTheWalls) {
+  // FlowOptions::wall_gap: no fluid particle ends a step closer to a wall face than the gap. At
+  // 0.9 dx the jittered first layer (0.8 dx at the closest) is moved back at once, counted.
+  const int n = 16;
+  const PointCloud c = cavity_cloud({n, 0.2, 1, 3});
+  FlowOptions o;
+  o.frame = FlowFrame::Lagrangian;
+  o.wall_gap = 0.9;
+  o.wall_velocity = [](Index, const Vec3& x) { return cavity_lid_velocity(x); };
+  FlowSolver s(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  Index pushes = 0;
+  for (int k = 0; k < 8; ++k) {
+    s.step(0.25 / n);
+    pushes += s.last().wall_pushes;
+    Real gap = 1;
+    for (Index i = 0; i < c.size(); ++i) {
+      if (s.walls().is_wall[static_cast<std::size_t>(i)]) continue;
+      const Vec3& x = s.positions()[static_cast<std::size_t>(i)];
+      gap = std::min({gap, x[0], 1 - x[0], x[1], 1 - x[1]});
+    }
+    EXPECT_GE(gap * n, 0.9 - 1e-9) << "step " << k;
+  }
+  EXPECT_GT(pushes, 10);
+  o.wall_gap = 1;
+  EXPECT_THROW_MSG(FlowSolver(c, Eigen::MatrixXd::Zero(c.size(), 2), o), ConfigError, "wall gap");
+}
+
 TEST(FlowWalls, TheLidDrivesTheFlowAndTheWallsKeepTheirVelocity) {
   const PointCloud c = cavity_cloud({16, 0.2, 1});
   FlowOptions o;
