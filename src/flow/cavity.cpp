@@ -56,23 +56,35 @@ class ProbeWindows {
     for (std::size_t j = 0; j < count; ++j) change = std::max(change, std::abs(b[j] - a[j]));
     return change / (times_[n - 1] - times_[n - 1 - window_]);
   }
+  /// Whether the last two windows' means of each of the first `count` values differ by less than
+  /// twice the standard error of that difference (has_rate()): steady within the fluctuations.
+  bool within_noise(std::size_t count) const {
+    const std::size_t n = samples_.size();
+    const std::vector<Real> a = mean(n - window_), b = mean(n);
+    const std::vector<Real> va = variance(n - window_, a), vb = variance(n, b);
+    for (std::size_t j = 0; j < count; ++j)
+      if (std::abs(b[j] - a[j]) > 2 * std::sqrt((va[j] + vb[j]) / static_cast<Real>(window_))) return false;
+    return true;
+  }
   /// The last window's mean (has_mean()), the time it spans, and the largest standard deviation
   /// of the first `count` values about it.
   std::vector<Real> mean() const { return mean(samples_.size()); }
   Real span() const { return times_.back() - times_[times_.size() - window_]; }
   Real fluctuation(std::size_t count) const {
-    const std::vector<Real> m = mean();
+    const std::vector<Real> v = variance(samples_.size(), mean());
     Real worst = 0;
-    for (std::size_t j = 0; j < count; ++j) {
-      Real var = 0;
-      for (std::size_t k = samples_.size() - window_; k < samples_.size(); ++k)
-        var += (samples_[k][j] - m[j]) * (samples_[k][j] - m[j]);
-      worst = std::max(worst, std::sqrt(var / static_cast<Real>(window_)));
-    }
+    for (std::size_t j = 0; j < count; ++j) worst = std::max(worst, std::sqrt(v[j]));
     return worst;
   }
 
  private:
+  std::vector<Real> variance(std::size_t end, const std::vector<Real>& m) const {  // of that window about m
+    std::vector<Real> v(m.size(), 0.0);
+    for (std::size_t k = end - window_; k < end; ++k)
+      for (std::size_t j = 0; j < m.size(); ++j)
+        v[j] += (samples_[k][j] - m[j]) * (samples_[k][j] - m[j]) / static_cast<Real>(window_);
+    return v;
+  }
   std::vector<Real> mean(std::size_t end) const {  // of the window that ends before sample `end`
     std::vector<Real> m(samples_.front().size(), 0.0);
     for (std::size_t k = end - window_; k < end; ++k)
@@ -176,7 +188,7 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
     costs.add(solver.step(dt));
     row.dt = std::min(row.dt, dt);
     row.wall_pushes += solver.last().wall_pushes;
-    bool tested = false;
+    bool tested = false, steady_in_noise = false;
     if (!lagrangian) {
       Real change = 0;
       for (Index i = 0; i < before.rows(); ++i)
@@ -188,10 +200,11 @@ CavityRunRow run_cavity(const CavityRunOptions& o) {
       if (probes.has_rate()) {
         row.steady_residual = probes.rate(gu + gv);
         tested = true;
+        steady_in_noise = probes.within_noise(gu + gv);
       }
     }
     if (o.on_step) o.on_step(solver, row.steady_residual);
-    if (tested && row.steady_residual < o.steady_tolerance) {
+    if (tested && (row.steady_residual < o.steady_tolerance || steady_in_noise)) {
       row.steady = true;
       break;
     }

@@ -470,7 +470,8 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--wall-gap", a->wall_gap, "Lagrangian, walls: a particle that ends a step closer than this many "
                   "spacings to a wall face is moved back to it (0: never; default: 0.5 for the cavity, 0 otherwise)");
   cmd->add_option("--steady-tol", a->steady_tol, "Cavity: steady when max |u(n+1) - u(n)| / dt < this (lagrangian: the "
-                  "same of the means of the centre lines' samples, every 0.5 time units, over the last two windows of 10)")
+                  "same of the means of the centre lines' samples, every 0.5 time units, over the last two windows of 10, "
+                  "or those means equal within twice their standard error)")
       ->capture_default_str();
   cmd->add_option("--profile-output", a->profile_output, "Cavity: the centre-line profiles (and Ghia's points) as CSV");
   cmd->add_option("--cfl", a->cfl, "dt = cfl dx / U, shortened where the stability limit asks for less")->capture_default_str();

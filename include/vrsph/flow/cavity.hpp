@@ -39,7 +39,9 @@ struct CavityRunOptions {
   /// too, and a sample with the particles' arrangement): the centre lines are sampled every
   /// lagrangian_probe_interval of time, and the rate is the largest change at Ghia's points
   /// between the means of the last two windows of lagrangian_window samples over the time
-  /// between them; the profiles reported are the last window's mean.
+  /// between them; the run is also steady when at every one of those points the two means
+  /// differ by less than twice the standard error of their difference (steady within its
+  /// fluctuations). The profiles reported are the last window's mean.
   Real steady_tolerance = 1e-4;
   Real lagrangian_probe_interval = 0.5;
   int lagrangian_window = 10;
