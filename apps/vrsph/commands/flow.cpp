@@ -468,7 +468,8 @@ void add_flow_command(CLI::App& app) {
                   "the case's own: cavity 1 eulerian and 3 lagrangian, hydrostatic 1, dam-break 3)")
       ->capture_default_str();
   cmd->add_option("--wall-gap", a->wall_gap, "Lagrangian, walls: a particle that ends a step closer than this many "
-                  "spacings to a wall face is moved back to it (0: never; default: 0.5 for the cavity, 0 otherwise)");
+                  "spacings to a wall face is reflected off the plane at that distance (0: never; default: 0.5 for the "
+                  "cavity, 0 otherwise)");
   cmd->add_option("--steady-tol", a->steady_tol, "Cavity: steady when max |u(n+1) - u(n)| / dt < this (lagrangian: the "
                   "same of the means of the centre lines' samples, every 0.5 time units, over the last two windows of 10, "
                   "or those means equal within twice their standard error)")

@@ -74,7 +74,7 @@ struct CavityRunRow {
   /// Lagrangian: the time the reported profiles are averaged over (0: the last state's), and the
   /// largest standard deviation of the samples at Ghia's points about that mean.
   Real average_time = 0, profile_fluctuation = 0;
-  Index wall_pushes = 0;  ///< particles the wall gap moved back over the run (FlowStepReport::wall_pushes)
+  Index wall_pushes = 0;  ///< particles the wall gap reflected over the run (FlowStepReport::wall_pushes)
   double ppe_iterations_per_step = 0;
   double seconds_setup = 0;       ///< operators, factorisation, the first projection
   double seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last three per step

@@ -124,8 +124,8 @@ struct FlowOptions {
   bool free_surface = false;
   FreeSurfaceOptions surface;
   /// Lagrangian, walls: a fluid particle that ends a step closer than this many spacings to a
-  /// face of the box holding wall particles is moved back to that distance along the face's
-  /// normal, its velocity interpolated there as a shift's (FlowStepReport::wall_pushes counts
+  /// face of the box holding wall particles is reflected off the plane at that distance (along
+  /// the face's normal), its velocity interpolated there as a shift's (FlowStepReport::wall_pushes counts
   /// them); 0: never, and a particle that crosses a wall stops the run. A safety net for the
   /// lid's corners of a cavity (docs/flow.md); with extrapolated wall rows the water keeps off the
   /// walls by itself elsewhere.
@@ -154,7 +154,7 @@ struct FlowStepReport {
   Real min_spacing = 0;        ///< smallest nearest-neighbour distance / dx
   Real max_spacing = 0;        ///< largest nearest-neighbour distance / dx (a hole grows it)
   Real max_shift = 0;          ///< largest shifting displacement of the step / dx
-  Index wall_pushes = 0;       ///< particles FlowOptions::wall_gap moved back off a wall this step
+  Index wall_pushes = 0;       ///< particles FlowOptions::wall_gap reflected off a wall this step
   Real force_number = 0;       ///< free surface: dt / (0.25 (dx/|g|)^½), at most 1
   Index surface_particles = 0; ///< free surface: flagged particles after the step
   double seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;
@@ -235,8 +235,8 @@ class FlowSolver {
   void factorise_pressure();  ///< the pressure equation of the current operators into ppe_ (and eq_'s wall fluxes)
   /// Shifting and the wall gap: moves the particles by their displacements and interpolates u there.
   void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
-  /// The displacements that take the fluid particles at x back to wall_gap spacings off the wall
-  /// faces (zero for the others).
+  /// The displacements that reflect the fluid particles at x off the planes wall_gap spacings off
+  /// the wall faces (zero for the others).
   std::vector<Vec3> wall_gap_displacements(const std::vector<Vec3>& x) const;
   Eigen::MatrixXd project_state(const Eigen::MatrixXd& w, FlowStepReport& r);
   void finish_report(FlowStepReport& r) const;

@@ -268,7 +268,7 @@ TEST(FlowWalls, TheLagrangianCavityKeepsItsWaterOffTheWalls) {
 
 TEST(FlowWalls, TheWallGapMovesParticlesBackOffTheWalls) {
   // FlowOptions::wall_gap: no fluid particle ends a step closer to a wall face than the gap. At
-  // 0.9 dx the jittered first layer (0.8 dx at the closest) is moved back at once, counted.
+  // 0.9 dx the jittered first layer (0.8 dx at the closest) is reflected at once, counted.
   const int n = 16;
   const PointCloud c = cavity_cloud({n, 0.2, 1, 3});
   FlowOptions o;
