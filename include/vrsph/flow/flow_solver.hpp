@@ -181,7 +181,8 @@ class FlowSolver {
   /// One step of size dt. ConfigError for a dt beyond the limits (unless allow_unstable);
   /// NumericalError when the velocity stops being finite, its kinetic energy grows without a body
   /// force (by over 5 %: an instability) or a pressure solve fails; the search's and the methods'
-  /// errors when particles pile up or lose their neighbours, and NumericalError when a particle
+  /// errors when particles pile up or lose their neighbours (GeometryError for coinciding or
+  /// non-finite positions, which the search reports as InputError), and NumericalError when a particle
   /// leaves the box along a bounded axis (Lagrangian) — each naming the step.
   /// On a throw the state is that of the step before.
   const FlowStepReport& step(Real dt);
