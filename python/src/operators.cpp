@@ -169,8 +169,7 @@ void bind_operators(py::module_& m) {
       d["description"] = info.description;
       d["claimed_order"] = info.claimed_order;
       py::list ops;
-      for (OperatorKind k : info.operators) ops.append(std::string(to_string(k)));
-      if (!info.supports(OperatorKind::Hessian)) ops.append("hessian");  // build_stencil's rows, for every method
+      for (OperatorKind k : info.provided()) ops.append(std::string(to_string(k)));
       d["operators"] = ops;
       py::dict opts;
       for (const auto& [key, help] : info.options) opts[py::str(key)] = help;

@@ -10,6 +10,12 @@ bool MethodInfo::supports(OperatorKind k) const {
   return std::find(operators.begin(), operators.end(), k) != operators.end();
 }
 
+std::vector<OperatorKind> MethodInfo::provided() const {
+  std::vector<OperatorKind> all = operators;
+  if (!supports(OperatorKind::Hessian)) all.push_back(OperatorKind::Hessian);
+  return all;
+}
+
 void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request, bool periodic_pairs) {
   check<ConfigError>(info.supports(request.kind), "method ", info.name, " does not provide operator ",
                      to_string(request.kind));

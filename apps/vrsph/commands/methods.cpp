@@ -78,8 +78,7 @@ void add_methods_command(CLI::App& app) {
         o["description"] = m.description;
         o["claimed_order"] = m.claimed_order;
         auto ops = Json::array();
-        for (auto k : m.operators) ops.push_back(std::string(to_string(k)));
-        if (!m.supports(OperatorKind::Hessian)) ops.push_back("hessian");  // build_stencil's rows, for every method
+        for (auto k : m.provided()) ops.push_back(std::string(to_string(k)));
         o["operators"] = ops;
         auto opts = Json::object();
         for (const auto& [k, v] : m.options) opts[k] = v;
@@ -98,8 +97,7 @@ void add_methods_command(CLI::App& app) {
     for (const auto& m : methods) {
       std::string ops, profiles;
       const std::string defaults = choice_defaults(m.name);
-      for (auto k : m.operators) ops += (ops.empty() ? "" : " ") + std::string(to_string(k));
-      if (!m.supports(OperatorKind::Hessian)) ops += " hessian";  // build_stencil's rows, for every method
+      for (auto k : m.provided()) ops += (ops.empty() ? "" : " ") + std::string(to_string(k));
       for (const auto& [name, what] : m.profiles) profiles += (profiles.empty() ? "" : " | ") + name + ": " + what;
       t.add_row({{"name", m.name}, {"source", m.source}, {"reference", short_references(m)}, {"operators", ops}, {"claimed order", m.claimed_order},
                  {"defaults", defaults}, {"profiles", profiles}});

@@ -43,6 +43,8 @@ struct MethodInfo {
   bool supports(OperatorKind k) const;  ///< method.build makes it
   /// build_stencil makes it: supports(), or the Hessian (hessian_rows on the method's neighbours and kernel).
   bool provides(OperatorKind k) const { return k == OperatorKind::Hessian || supports(k); }
+  /// Every operator it provides: `operators`, then the Hessian where build_stencil adds it (the listings).
+  std::vector<OperatorKind> provided() const;
 };
 
 /// Everything a method may look at. Row i uses the support radius neighbours.radius(i)
