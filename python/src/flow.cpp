@@ -66,6 +66,7 @@ py::dict report_dict(const FlowStepReport& r) {
   d["ppe_iterations"] = r.ppe_iterations;
   d["min_spacing"] = r.min_spacing;
   d["max_spacing"] = r.max_spacing;
+  d["min_support_isotropy"] = r.min_support_isotropy;
   d["max_shift"] = r.max_shift;
   d["wall_pushes"] = r.wall_pushes;
   d["seconds_update"] = r.seconds_update;

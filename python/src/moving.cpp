@@ -2,6 +2,7 @@
 // Operators on moving particles (vrsph::Operators): built once from a cloud, update()d with new
 // positions; the stencils handed out as CSR arrays (copies: the object keeps its own for the
 // next update).
+#include <vrsph/analysis/support_isotropy.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/kernel.hpp>
 #include <vrsph/moving/operators.hpp>
@@ -86,6 +87,10 @@ void bind_moving(py::module_& m) {
       .def("update", &update, py::arg("positions"))
       .def("stencil", &raw_stencil, py::arg("operator"))
       .def("stats", &stats)
+      .def("support_isotropy", [](const Operators& o) {
+        const Field f = support_isotropy(o.cloud(), o.neighbours());
+        return py::array_t<Real>(static_cast<py::ssize_t>(f.size()), f.data());
+      })
       .def_property_readonly("radius", &Operators::radius)
       .def_property_readonly("n", [](const Operators& o) { return o.cloud().size(); })
       .def_property_readonly("dim", [](const Operators& o) { return o.cloud().dim; })

@@ -134,3 +134,25 @@ def test_a_periodic_box_keeps_the_warm_start_across_the_faces():
     assert err < 0.05 * 8 * np.pi ** 2  # no face is a boundary
     U = np.column_stack([np.sin(2 * np.pi * p[:, 1]), np.cos(2 * np.pi * p[:, 0])])  # divergence-free
     assert np.max(np.abs(ops.apply("divergence", U))) < 0.05 * 2 * np.pi
+
+
+def test_support_isotropy_is_one_inside_a_lattice_and_falls_when_it_is_stretched():
+    c = vrsph.cloud.lattice(dim=2, n=20)
+    ops = vrsph.Operators(c)
+    iso = ops.support_isotropy()
+    x = np.asarray(c.points)[:, :2]
+    h = ops.radius
+    inside = ((x > h - 1e-12) & (x < 1 - h + 1e-12)).all(axis=1)
+    assert iso.shape == (len(c),)
+    assert np.allclose(iso[inside], 1.0, atol=1e-12)
+    assert iso.min() > 0.3  # faces and corners: the row along a face counts along it only
+    # Pressed by 4 along y (a saddle point's inflow) with a radius below the columns' spacing: every
+    # support holds only its own column, a line, and the ratio is 0; pressing alone keeps the
+    # supports full (the default radius reaches the next columns): the ratio stays near 1.
+    z = np.column_stack([x[:, 0], 0.5 + (x[:, 1] - 0.5) / 4])
+    pressed = vrsph.cloud.from_arrays(z, c.tags, c.normals)
+    assert vrsph.Operators(pressed, h=0.9 / 20).support_isotropy().max() == 0.0
+    ops.update(z[:, :2])
+    middle = (np.abs(x[:, 0] - 0.5) < 0.5 - h) & (np.abs(x[:, 1] - 0.5) < 0.25)
+    assert middle.sum() > 10
+    assert ops.support_isotropy()[middle].min() > 0.8  # 0.83: five columns within 3 dx

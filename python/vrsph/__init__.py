@@ -250,6 +250,13 @@ class Operators:
     def stats(self) -> dict:
         return self._ops.stats()
 
+    def support_isotropy(self) -> np.ndarray:
+        """Per particle, the smallest over the largest eigenvalue of its neighbours' second moments
+        about it (weights (1 - r/h)^2 inside the support): 1 on a lattice, towards 0 as the
+        neighbours close onto a line (2D) or a plane (3D) and the rows lose the derivative across it
+        (docs/flow.md, "Regularity over time")."""
+        return self._ops.support_isotropy()
+
     def _matrices(self, name: str) -> tuple:
         raw = self._ops.stencil(name)
         n = self._ops.n

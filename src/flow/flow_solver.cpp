@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <tuple>
+#include <vrsph/analysis/support_isotropy.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/features.hpp>
 #include <vrsph/core/stopwatch.hpp>
@@ -577,6 +578,13 @@ void FlowSolver::finish_report(FlowStepReport& r) const {
   }
   r.min_spacing = lo / spacing_;
   r.max_spacing = hi / spacing_;
+  const Field iso = support_isotropy(ops_->cloud(), nl);
+  r.min_support_isotropy = 1;
+  for (Index i = 0; i < iso.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if ((!eq_.walls.empty() && eq_.walls.is_wall[si]) || (!surface_.surface.empty() && surface_.surface[si])) continue;
+    r.min_support_isotropy = std::min(r.min_support_isotropy, iso[i]);
+  }
   r.surface_particles = surface_.count;
 }
 

@@ -153,6 +153,9 @@ struct FlowStepReport {
   Real ppe_shift = 0;          ///< largest |λ| of the step's projections (PressurePoisson)
   Real min_spacing = 0;        ///< smallest nearest-neighbour distance / dx
   Real max_spacing = 0;        ///< largest nearest-neighbour distance / dx (a hole grows it)
+  /// Smallest support_isotropy (analysis/support_isotropy.hpp) over the fluid particles that are
+  /// not on a free surface: 1 on a lattice, -> 0 as supports close onto lines (2D) or planes (3D).
+  Real min_support_isotropy = 0;
   Real max_shift = 0;          ///< largest shifting displacement of the step / dx
   Index wall_pushes = 0;       ///< particles FlowOptions::wall_gap reflected off a wall this step
   Real force_number = 0;       ///< free surface: dt / (0.25 (dx/|g|)^½), at most 1
