@@ -570,6 +570,50 @@ class Flow(unittest.TestCase):
             self.assertEqual(result.returncode, 2, result.stderr)
             self.assertIn(message, result.stderr)
 
+    def test_history_has_a_row_per_step_and_keeps_the_steps_of_a_failed_run(self):
+        # --history: every step of every run, with the Taylor-Green errors after each; the last row
+        # of a run is what its table row says.
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "h.csv")
+            out = run_json("flow", "--case", "taylor-green", "--frame", "lagrangian", "--nx", "8,16", "--t-end", "0.05",
+                           "--threads", "1", "--history", path)
+            with open(path, encoding="utf-8") as f:
+                history = list(csv_module.DictReader(f))
+            for row in out["rows"]:
+                steps = [h for h in history if int(h["nx"]) == row["nx"]]
+                self.assertEqual([int(h["step"]) for h in steps], list(range(1, row["steps"] + 1)))
+                last = steps[-1]
+                self.assertAlmostEqual(float(last["t"]), 0.05)
+                self.assertAlmostEqual(float(last["error_u_mean"]), row["error_u_mean"], delta=1e-9 * row["error_u_mean"])
+                self.assertAlmostEqual(float(last["max_div_u"]), row["max_div_u"], delta=1e-9 * row["max_div_u"])
+                for h in steps:
+                    self.assertTrue(0.5 < float(h["min_support_isotropy"]) <= 1.0, h)  # a jittered lattice, t <= 0.05
+                    self.assertGreater(int(h["ppe_iterations"]), 0)
+            # JSON, and the cavity's steady residual per step.
+            path = os.path.join(tmp, "h.json")
+            out = run_json("flow", "--case", "cavity", "--nx", "16", "--t-end", "0.2", "--threads", "1", "--history", path)
+            with open(path, encoding="utf-8") as f:
+                history = json.load(f)["rows"]
+            self.assertEqual(len(history), out["rows"][0]["steps"])
+            self.assertTrue(all(h["case"] == "cavity" and h["steady_residual"] > 0 for h in history))
+            self.assertIsNone(history[0]["error_u_mean"])  # no exact solution
+            # A run that fails keeps the steps it finished.
+            path = os.path.join(tmp, "sph.csv")
+            result = run("flow", "--case", "hydrostatic", "--nx", "10", "--method", "sph", "--history", path, check=False)
+            self.assertEqual(result.returncode, 5, result.stderr)
+            with open(path, encoding="utf-8") as f:
+                history = list(csv_module.DictReader(f))
+            self.assertGreater(len(history), 0)
+            self.assertTrue(all(h["method"] == "sph" and h["case"] == "hydrostatic" for h in history))
+            for args, message in ((["--history", os.path.join(tmp, "h.txt")], "must end in .csv, .json or .md"),
+                                  (["--history", tmp], "is a directory"),
+                                  (["--history", os.path.join(tmp, "no", "h.csv")], "does not exist"),
+                                  (["--case", "projection", "--history", os.path.join(tmp, "p.csv")], "step in time")):
+                result = run("flow", "--nx", "8", "--t-end", "0.01", *args, check=False)
+                self.assertEqual(result.returncode, 2, result.stderr)
+                self.assertIn(message, result.stderr)
+                self.assertFalse(os.path.exists(os.path.join(tmp, "p.csv")))
+
     def test_hydrostatic_rows_and_surface_series(self):
         # The acceptance interface: rows[] with nx, bottom_pressure_error, max_speed, surface_particles.
         with tempfile.TemporaryDirectory() as tmp:

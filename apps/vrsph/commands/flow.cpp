@@ -165,6 +165,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   std::size_t done = 0;
   const double runs = static_cast<double>(methods.size() * nxs.size());
   FailedRuns failed;
+  FlowHistory history(a.history);
   for (const std::string& m : methods) {
     const std::size_t first = t.rows.size();
     std::map<std::string, std::vector<Real>> errors{{"order_u_mean", {}}, {"order_u_inf", {}}, {"order_p_mean", {}}};
@@ -176,6 +177,8 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
       o.cfl = a.cfl;
       o.dt = a.dt;
       o.flow = flow_options_for(a, m, options);
+      PeriodicVortex vortex = o.vortex;
+      vortex.dim = a.dim;
       std::unique_ptr<VtuSeries> series = series_for(a, methods, nxs, m, n);
       const double index = static_cast<double>(done++);
       std::string first_warning;
@@ -186,6 +189,12 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
           ++warned;
         }
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / a.t_end) / runs);
+        if (history.on()) {
+          const VortexErrors e = vortex_errors(vortex, s.positions(), s.velocity(), s.pressure(), s.time());
+          history.record("taylor-green", m, n, s,
+                         {{"error_u_mean", e.error_u_mean}, {"error_u_inf", e.error_u_inf},
+                          {"error_p_mean", e.error_p_mean}, {"decay_rate_error", e.decay_rate_error}});
+        }
         const bool last = s.time() >= a.t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
           series->write(s.time(), s.operators().cloud(),
@@ -229,6 +238,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
+  history.write();
   emit(t, a.out, extra, "nx", "error_u_mean:-1/-2,error_p_mean:-1/-2", "method", "Taylor-Green: mean velocity and pressure errors");
   failed.raise_if_any();
 }
@@ -265,6 +275,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
   const double runs = static_cast<double>(methods.size() * nxs.size());
   std::vector<std::pair<std::string, CavityRunRow>> profiles;
   FailedRuns failed;
+  FlowHistory history(a.history);
   for (const std::string& m : methods) {
     const std::size_t first = t.rows.size();
     std::map<std::string, std::vector<Real>> errors{
@@ -287,6 +298,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
       o.on_step = [&](const FlowSolver& s, Real residual) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time(), " steady residual ", residual),
                         (index + s.time() / t_end) / runs);
+        history.record("cavity", m, n, s, {{"steady_residual", residual}});
         const bool last = residual < a.steady_tol || s.time() >= t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0)))
           series->write(s.time(), s.operators().cloud(),
@@ -331,6 +343,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
     }
     add_orders(t, first, nxs, errors);
   }
+  history.write();
   if (!a.profile_output.empty() && communicator().rank() == 0) {
     const std::string csv = profile_csv(profiles, a.re);
     write_file(a.profile_output, "centre-line profiles", [&csv](std::ostream& f) { f << csv; });
@@ -371,6 +384,8 @@ void run_flow(FlowArgs& a) {
   check<ConfigError>(std::isfinite(a.t_end) && a.t_end >= 0, "--t-end must be finite and > 0 (0: the case's default), got ",
                      a.t_end);
   check<ConfigError>(a.profile_output.empty() || a.flow_case == "cavity", "--profile-output applies to --case cavity only");
+  check<ConfigError>(a.history.empty() || a.flow_case != "projection", "--history applies to the cases that step in time "
+                     "(the projection case has no steps)");
   check<ConfigError>(a.wall_layers == 0 || a.flow_case == "cavity" || hydrostatic || dam_break,
                      "--wall-layers applies to the cases with walls (cavity, hydrostatic, dam-break)");
   check<ConfigError>(a.wall_gap == -1 || (std::isfinite(a.wall_gap) && a.wall_gap >= 0 && a.wall_gap < 1),
@@ -475,6 +490,9 @@ void add_flow_command(CLI::App& app) {
                   "or those means equal within twice their standard error)")
       ->capture_default_str();
   cmd->add_option("--profile-output", a->profile_output, "Cavity: the centre-line profiles (and Ghia's points) as CSV");
+  cmd->add_option("--history", a->history, "Every step of every run as a row (FILE.csv, .json or .md): energy, max |div u|, "
+                  "CFL and viscous numbers, PPE iterations, spacing and support isotropy, shifting, costs; Taylor-Green: "
+                  "its errors after each step. Written also when a run blows up (the steps before it)");
   cmd->add_option("--cfl", a->cfl, "dt = cfl dx / U, shortened where the stability limit asks for less")->capture_default_str();
   cmd->add_option("--dt", a->dt, "A fixed time step instead of --cfl (refused beyond the stability limit unless "
                                  "--allow-unstable)");

@@ -13,13 +13,14 @@
 #include <vrsph/io/table.hpp>
 #include "../cli_common.hpp"
 #include "../vtu_series.hpp"
+#include "flow_history.hpp"
 
 namespace vrsph::cli {
 
 struct FlowArgs {
   std::string flow_case = "taylor-green", frame = "eulerian", methods = "vrsph", gradient = "auto", nx = "32,64",
               cloud = "perturbed", scheme = "rk3", viscosity = "explicit", shifting = "none", solver = "auto", vtu_series, kernel = "cubic",
-              profile_output;
+              profile_output, history;
   std::vector<std::string> method_opts;
   int dim = 2, vtu_every = 0, threads = 0;
   int wall_layers = 0;  // 0: the case's own (cavity 1 eulerian / 3 lagrangian, hydrostatic 1, dam break 3)

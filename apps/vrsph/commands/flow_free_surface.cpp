@@ -51,6 +51,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
   std::size_t done = 0;
   const double runs = static_cast<double>(methods.size() * nxs.size());
   FailedRuns failed;
+  FlowHistory history(a.history);
   for (const std::string& m : methods) {
     const std::size_t first = t.rows.size();
     std::map<std::string, std::vector<Real>> errors{{"order_bottom_pressure", {}}};
@@ -74,6 +75,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
       o.on_step = [&](const FlowSolver& s) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time(), " max |u| = ", s.last().max_speed),
                         (index + s.time() / t_end) / runs);
+        history.record("hydrostatic", m, n, s);
         const bool last = s.time() >= t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
           series->write(s.time(), s.operators().cloud(),
@@ -118,6 +120,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
+  history.write();
   emit(t, a.out, extra, "nx", "bottom_pressure_error:-1/-2,max_speed_after_ramp", "method",
        "hydrostatic tank: bottom pressure error and spurious speed");
   failed.raise_if_any();
@@ -144,6 +147,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
   std::size_t done = 0;
   const double runs = static_cast<double>(methods.size() * nxs.size());
   FailedRuns failed;
+  FlowHistory history(a.history);
   for (const std::string& m : methods) {
     for (const int n : nxs) {
       check<ConfigError>(n <= 400, "--nx for the dam break counts intervals across the column (the tank is 4 times "
@@ -161,6 +165,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       const double index = static_cast<double>(done++);
       o.on_step = [&](const FlowSolver& s) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / t_end) / runs);
+        history.record("dam-break", m, n, s);
         if (series && a.vtu_every > 0 && s.steps() % a.vtu_every == 0) {
           series->write(s.time(), s.operators().cloud(), {{"velocity", s.velocity()}, surface_field(s)});
         }
@@ -211,6 +216,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
   extra["h_factor"] = a.h_factor;
   extra["seed"] = a.seed;
   extra["peak_memory_mib"] = peak_memory_mib();
+  history.write();
   OutputOptions table_only = a.out;
   table_only.plot.clear();  // the front against T beside the references: a plot of its own
   emit(t, table_only, extra, "", "", "", "");
