@@ -68,15 +68,30 @@ std::string to_markdown(const Table& t) {
   return os.str();
 }
 
-std::string to_csv(const Table& t) {
-  std::ostringstream os;
-  for (std::size_t k = 0; k < t.columns.size(); ++k) os << (k ? "," : "") << t.columns[k];
-  os << '\n';
-  for (const auto& r : t.rows) {
-    for (std::size_t k = 0; k < r.size(); ++k) os << (k ? "," : "") << csv_text(r[k]);
-    os << '\n';
+std::string csv_header(const Table& t) {
+  std::string line;
+  for (std::size_t k = 0; k < t.columns.size(); ++k) {
+    if (k) line += ',';
+    line += t.columns[k];
   }
-  return os.str();
+  line += '\n';
+  return line;
+}
+
+std::string csv_row(const std::vector<TableCell>& row) {
+  std::string line;
+  for (std::size_t k = 0; k < row.size(); ++k) {
+    if (k) line += ',';
+    line += csv_text(row[k]);
+  }
+  line += '\n';
+  return line;
+}
+
+std::string to_csv(const Table& t) {
+  std::string out = csv_header(t);
+  for (const auto& r : t.rows) out += csv_row(r);
+  return out;
 }
 
 Json json_cell(const TableCell& c) {

@@ -572,7 +572,8 @@ class Flow(unittest.TestCase):
 
     def test_history_has_a_row_per_step_and_keeps_the_steps_of_a_failed_run(self):
         # --history: every step of every run, with the Taylor-Green errors after each; the last row
-        # of a run is what its table row says.
+        # of a run is what its table row says. A refused command leaves no file (the CSV is opened at
+        # the first step and streamed).
         with tempfile.TemporaryDirectory() as tmp:
             path = os.path.join(tmp, "h.csv")
             out = run_json("flow", "--case", "taylor-green", "--frame", "lagrangian", "--nx", "8,16", "--t-end", "0.05",
@@ -608,7 +609,8 @@ class Flow(unittest.TestCase):
             for args, message in ((["--history", os.path.join(tmp, "h.txt")], "must end in .csv, .json or .md"),
                                   (["--history", tmp], "is a directory"),
                                   (["--history", os.path.join(tmp, "no", "h.csv")], "does not exist"),
-                                  (["--case", "projection", "--history", os.path.join(tmp, "p.csv")], "step in time")):
+                                  (["--case", "projection", "--history", os.path.join(tmp, "p.csv")], "step in time"),
+                                  (["--method", "nonsense", "--history", os.path.join(tmp, "p.csv")], "unknown method")):
                 result = run("flow", "--nx", "8", "--t-end", "0.01", *args, check=False)
                 self.assertEqual(result.returncode, 2, result.stderr)
                 self.assertIn(message, result.stderr)

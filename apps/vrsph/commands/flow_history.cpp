@@ -46,10 +46,21 @@ void FlowHistory::record(const std::string& flow_case, const std::string& method
       {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"seconds_viscous", r.seconds_viscous}};
   row.insert(row.end(), extra.begin(), extra.end());
   table_.add_row(row);
+  if (format_ != TableFormat::Csv) return;
+  if (communicator().rank() == 0) {
+    if (!stream_.is_open()) {  // at the first step: a command refused before it leaves no file
+      stream_.open(path_, std::ios::out | std::ios::trunc);
+      if (!stream_) throw IoError(detail::concat("--history '", path_, "': cannot write the file"));
+      stream_ << csv_header(table_);
+    }
+    stream_ << csv_row(table_.rows.back()) << std::flush;
+    if (!stream_) throw IoError(detail::concat("--history '", path_, "': writing the file failed (disk full?)"));
+  }
+  table_.rows.clear();  // written: a long run's history is not kept twice
 }
 
 void FlowHistory::write() const {
-  if (!on() || communicator().rank() != 0) return;
+  if (!on() || communicator().rank() != 0 || format_ == TableFormat::Csv) return;
   const std::string text = format_table(table_, format_);
   write_file(path_, "flow history", [&text](std::ostream& f) { f << text; });
 }

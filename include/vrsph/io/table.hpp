@@ -25,6 +25,9 @@ TableFormat parse_table_format(const std::string& name);
 
 std::string to_markdown(const Table& t);
 std::string to_csv(const Table& t);
+/// to_csv's lines one at a time (a table written as it grows): the header, and one row.
+std::string csv_header(const Table& t);
+std::string csv_row(const std::vector<TableCell>& row);
 /// One cell as a JSON value: an empty cell or a NaN is null.
 Json json_cell(const TableCell& c);
 /// The rows as a JSON array of objects {column: json_cell}.
