@@ -631,7 +631,9 @@ class Flow(unittest.TestCase):
             self.assertLess(max(r["max_speed"] for r in rows), 1e-3)
             self.assertEqual(out["case"], "hydrostatic")
             with open(prefix + "_0000.vtu", encoding="utf-8") as f:
-                self.assertIn('Name="free_surface"', f.read())
+                text = f.read()
+                self.assertIn('Name="free_surface"', text)
+                self.assertIn('Name="support_isotropy"', text)
         result = run("flow", "--case", "hydrostatic", "--nx", "10", "--method", "sph", "--format", "json", check=False)
         self.assertEqual(result.returncode, 5, result.stderr)
         self.assertIn("left the box", json.loads(result.stdout)["rows"][0]["status"])

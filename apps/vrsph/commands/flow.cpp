@@ -17,6 +17,7 @@
 #include <limits>
 #include <map>
 #include <vrsph/io/json.hpp>
+#include <vrsph/analysis/support_isotropy.hpp>
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/cavity.hpp>
@@ -45,6 +46,10 @@ std::unique_ptr<VtuSeries> series_for(const FlowArgs& a, const std::vector<std::
                                       const std::vector<int>& nxs, const std::string& method, int nx) {
   if (a.vtu_series.empty() || method != methods.front() || nx != nxs.back()) return nullptr;
   return std::make_unique<VtuSeries>(a.vtu_series);
+}
+
+PointField isotropy_field(const FlowSolver& s) {
+  return {"support_isotropy", Eigen::MatrixXd(support_isotropy(s.operators().cloud(), s.operators().neighbours()))};
 }
 
 // The method of `method`'s first-derivative rows in a flow when it is another one (flow_operators:
@@ -198,7 +203,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
         const bool last = s.time() >= a.t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
           series->write(s.time(), s.operators().cloud(),
-                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
+                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, isotropy_field(s)});
         }
       };
       VortexRunRow r;
@@ -302,7 +307,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
         const bool last = residual < a.steady_tol || s.time() >= t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0)))
           series->write(s.time(), s.operators().cloud(),
-                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}});
+                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, isotropy_field(s)});
       };
       CavityRunRow r;
       if (!failed.attempt(t, {{"case", std::string("cavity")}, {"method", m}, {"nx", static_cast<long long>(n)}},

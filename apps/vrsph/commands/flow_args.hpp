@@ -82,6 +82,9 @@ FlowCloudSpec cloud_spec(const FlowArgs& a, int nx);
 /// The VTU series of the first method's finest run (one series per --vtu-series), else null.
 std::unique_ptr<VtuSeries> series_for(const FlowArgs& a, const std::vector<std::string>& methods,
                                       const std::vector<int>& nxs, const std::string& method, int nx);
+/// Each particle's support_isotropy at the solver's positions, as a VTU field: where the supports
+/// close onto lines or planes.
+PointField isotropy_field(const FlowSolver& s);
 /// One method's operators, and the flow's options, from the command line.
 OperatorsOptions operators_for(const FlowArgs& a, const std::string& method, const std::map<std::string, MethodOptions>& options);
 FlowOptions flow_options_for(const FlowArgs& a, const std::string& method, const std::map<std::string, MethodOptions>& options);

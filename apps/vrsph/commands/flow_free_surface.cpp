@@ -79,7 +79,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
         const bool last = s.time() >= t_end * (1 - 1e-12);
         if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
           series->write(s.time(), s.operators().cloud(),
-                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s)});
+                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s), isotropy_field(s)});
         }
       };
       HydrostaticRow r;
@@ -167,7 +167,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / t_end) / runs);
         history.record("dam-break", m, n, s);
         if (series && a.vtu_every > 0 && s.steps() % a.vtu_every == 0) {
-          series->write(s.time(), s.operators().cloud(), {{"velocity", s.velocity()}, surface_field(s)});
+          series->write(s.time(), s.operators().cloud(), {{"velocity", s.velocity()}, surface_field(s), isotropy_field(s)});
         }
       };
       DamBreakRun r;
