@@ -578,14 +578,19 @@ void FlowSolver::finish_report(FlowStepReport& r) const {
   }
   r.min_spacing = lo / spacing_;
   r.max_spacing = hi / spacing_;
-  const Field iso = support_isotropy(ops_->cloud(), nl);
-  r.min_support_isotropy = 1;
+  r.min_support_isotropy = least_isotropic_support().first;
+  r.surface_particles = surface_.count;
+}
+
+std::pair<Real, Index> FlowSolver::least_isotropic_support() const {
+  const Field iso = support_isotropy(ops_->cloud(), ops_->neighbours());
+  std::pair<Real, Index> least{1, -1};
   for (Index i = 0; i < iso.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     if ((!eq_.walls.empty() && eq_.walls.is_wall[si]) || (!surface_.surface.empty() && surface_.surface[si])) continue;
-    r.min_support_isotropy = std::min(r.min_support_isotropy, iso[i]);
+    if (least.second < 0 || iso[i] < least.first) least = {iso[i], i};
   }
-  r.surface_particles = surface_.count;
+  return least;
 }
 
 Real FlowSolver::max_divergence() const {
@@ -674,13 +679,26 @@ const FlowStepReport& FlowSolver::step(Real dt) {
                           "disordered for the projection: shifting; or a smaller time step, another method)");
     Eigen::Index fastest = 0;
     const Real speed = u_.rowwise().norm().maxCoeff(&fastest);
-    check<NumericalError>(speed <= speed_bound_, "particle ", fastest, " reached |u| = ", speed, ", over ",
-                          options_.max_speed_growth, " times the initial largest speed",
-                          eq_.walls.empty() ? "" : " or the fastest wall's", ", without a body force: the run is unstable (",
-                          lagrangian ? "particles too disordered for the projection: shifting"
-                                     : "advection under-resolved on this cloud: more particles or a hyperviscosity",
-                          "; or a smaller time step, another method; FlowOptions::max_speed_growth = 0 turns this check "
-                          "off)");
+    if (!(speed <= speed_bound_)) {
+      // Moving particles: say whether the supports have closed onto lines or planes (the
+      // unshifted Taylor-Green vortex at its saddles, docs/flow.md), which a wider support or
+      // shifting cures and a smaller step does not.
+      std::string why = "advection under-resolved on this cloud: more particles or a hyperviscosity";
+      if (lagrangian) {
+        const auto [iso, at] = least_isotropic_support();
+        why = detail::concat("particles too disordered for the projection: the smallest support isotropy is ", iso,
+                             " (particle ", at, ")",
+                             iso < 0.2 ? ", the supports have closed onto lines or planes: shifting, or a wider support "
+                                         "(h_factor)"
+                                       : ": shifting");
+      }
+      throw NumericalError(detail::concat("particle ", fastest, " reached |u| = ", speed, ", over ",
+                                          options_.max_speed_growth, " times the initial largest speed",
+                                          eq_.walls.empty() ? "" : " or the fastest wall's",
+                                          ", without a body force: the run is unstable (", why,
+                                          "; or a smaller time step, another method; FlowOptions::max_speed_growth = "
+                                          "0 turns this check off)"));
+    }
   } catch (const Error& e) {
     u_ = un;
     phi_ = phin;

@@ -244,6 +244,9 @@ class FlowSolver {
   std::vector<Vec3> wall_gap_displacements(const std::vector<Vec3>& x) const;
   Eigen::MatrixXd project_state(const Eigen::MatrixXd& w, FlowStepReport& r);
   void finish_report(FlowStepReport& r) const;
+  /// The smallest support_isotropy over the fluid particles off a free surface, and that particle
+  /// (-1 when there is none).
+  std::pair<Real, Index> least_isotropic_support() const;
   Real kinetic_energy(const Eigen::MatrixXd& u) const;
 
   FlowOptions options_;
