@@ -578,7 +578,10 @@ void FlowSolver::finish_report(FlowStepReport& r) const {
   }
   r.min_spacing = lo / spacing_;
   r.max_spacing = hi / spacing_;
-  r.min_support_isotropy = least_isotropic_support().first;
+  // A fixed (Eulerian) cloud keeps its supports and surface flags: measured once, at construction
+  // (steps_ == 0), not rescanned at every step.
+  r.min_support_isotropy = options_.frame == FlowFrame::Lagrangian || steps_ == 0 ? least_isotropic_support().first
+                                                                                  : report_.min_support_isotropy;
   r.surface_particles = surface_.count;
 }
 
