@@ -46,36 +46,53 @@ struct Outcome {
 // units) and a Cholesky factorisation written out for the fixed size (Eigen's LLT and rcond ran
 // generic triangular-solve kernels that took about half the time of these rows, perf). False when A is not
 // positive definite or the equilibrated matrix's 1-norm condition number exceeds max_condition.
+// Divisions by the factor's diagonal are products with its reciprocals, and the inverse
+// L^-T L^-1 is formed on its lower triangle only: divisions and the full product were most of
+// this function's time (perf, moving 2D particles).
 template <int M>
 bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<Real, M, M>& inverse, Real max_condition) {
-  std::array<Real, static_cast<std::size_t>(M)> scale{};
-  for (int a = 0; a < M; ++a) {
-    if (!(A(a, a) > 0) || !std::isfinite(A(a, a))) return false;
-    scale[static_cast<std::size_t>(a)] = 1 / std::sqrt(A(a, a));
+  constexpr auto m = static_cast<std::size_t>(M);
+  std::array<Real, m> scale{};
+  for (std::size_t a = 0; a < m; ++a) {
+    const Real d = A(static_cast<int>(a), static_cast<int>(a));
+    if (!(d > 0) || !std::isfinite(d)) return false;
+    scale[a] = 1 / std::sqrt(d);
   }
-  Eigen::Matrix<Real, M, M> L = Eigen::Matrix<Real, M, M>::Zero();
-  for (int j = 0; j < M; ++j) {
+  // L (lower, row-major in a plain array) with B = D A D = L L^T, and 1 / L_jj.
+  std::array<Real, m * m> L{};
+  std::array<Real, m> inv_diag{};
+  for (std::size_t j = 0; j < m; ++j) {
     Real d = 1;  // the equilibrated diagonal
-    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    for (std::size_t k = 0; k < j; ++k) d -= L[j * m + k] * L[j * m + k];
     if (!(d > 0)) return false;
-    L(j, j) = std::sqrt(d);
-    for (int i = j + 1; i < M; ++i) {
-      Real v = A(i, j) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(j)];
-      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
-      L(i, j) = v / L(j, j);
+    const Real ljj = std::sqrt(d);
+    L[j * m + j] = ljj;
+    inv_diag[j] = 1 / ljj;
+    for (std::size_t i = j + 1; i < m; ++i) {
+      Real v = A(static_cast<int>(i), static_cast<int>(j)) * scale[i] * scale[j];
+      for (std::size_t k = 0; k < j; ++k) v -= L[i * m + k] * L[j * m + k];
+      L[i * m + j] = v * inv_diag[j];
     }
   }
-  // L^-1 by forward substitution, then (L L^T)^-1 = L^-T L^-1.
-  Eigen::Matrix<Real, M, M> Li = Eigen::Matrix<Real, M, M>::Zero();
-  for (int c = 0; c < M; ++c) {
-    Li(c, c) = 1 / L(c, c);
-    for (int i = c + 1; i < M; ++i) {
+  // L^-1 by forward substitution (lower, row-major).
+  std::array<Real, m * m> Li{};
+  for (std::size_t c = 0; c < m; ++c) {
+    Li[c * m + c] = inv_diag[c];
+    for (std::size_t i = c + 1; i < m; ++i) {
       Real v = 0;
-      for (int k = c; k < i; ++k) v -= L(i, k) * Li(k, c);
-      Li(i, c) = v / L(i, i);
+      for (std::size_t k = c; k < i; ++k) v -= L[i * m + k] * Li[k * m + c];
+      Li[i * m + c] = v * inv_diag[i];
     }
   }
-  const Eigen::Matrix<Real, M, M> Bi = Li.transpose() * Li;
+  // B^-1 = L^-T L^-1: (B^-1)_ij = Σ_{k >= max(i, j)} Li_ki Li_kj, lower triangle, mirrored.
+  Eigen::Matrix<Real, M, M> Bi;
+  for (std::size_t j = 0; j < m; ++j)
+    for (std::size_t i = j; i < m; ++i) {
+      Real v = 0;
+      for (std::size_t k = i; k < m; ++k) v += Li[k * m + i] * Li[k * m + j];
+      Bi(static_cast<int>(i), static_cast<int>(j)) = v;
+      Bi(static_cast<int>(j), static_cast<int>(i)) = v;
+    }
   Real norm = 0, norm_inv = 0;  // 1-norms of the equilibrated matrix and of its inverse
   for (int c = 0; c < M; ++c) {
     Real col = 0;
@@ -95,13 +112,25 @@ bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<
 // systems are small, and fixed-size code spared about an eighth of the update step's stencil
 // time on 10^5 moving 2D particles against dynamic sizes. C: columns of the right-hand side
 // (at least targets.size(); fixed so that the product with A^-1 is unrolled).
+//
+// The neighbours' monomials are stored monomial by monomial (P row-major, the neighbours
+// contiguous), so that every sum over the neighbours (the moment matrix, the residual, the
+// correction) is a contiguous dot product or axpy that vectorises. Stored neighbour by neighbour,
+// the moment matrix was accumulated in memory one neighbour at a time (a load, add and store per
+// entry and neighbour), a quarter of these rows' time (perf, 2.5e5 moving 2D particles).
 template <int M, int C, int Degree = 3>
 Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Stencil& s, const std::vector<Target>& targets,
                      Real max_condition) {
   const PointCloud& cloud = disc.cloud;
-  const auto exponents = monomial_exponents(cloud.dim, Degree);
+  std::array<std::array<int, 3>, static_cast<std::size_t>(M)> exponents{};
+  {
+    const auto all = monomial_exponents(cloud.dim, Degree);
+    for (std::size_t a = 0; a < static_cast<std::size_t>(M); ++a) exponents[a] = all[a];
+  }
   using Square = Eigen::Matrix<Real, M, M>;
   using Columns = Eigen::Matrix<Real, M, C>;
+  using Span = Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, 1>>;
+  using MutableSpan = Eigen::Map<Eigen::Matrix<Real, Eigen::Dynamic, 1>>;
   const auto comps = static_cast<Eigen::Index>(targets.size());
   Index corrected = 0;
   std::vector<Index> kept;
@@ -109,9 +138,12 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
   {
     std::vector<Index> kept_here;
     // Per thread, grown to the largest row and never shrunk (no allocation per row).
-    Eigen::Matrix<Real, M, Eigen::Dynamic> P;  // M x K: the neighbours' scaled monomials
-    std::vector<Real> weight;                  // K: W(r) / W(0)
-    std::vector<Index> slots;                  // K: each neighbour's slot in the stencil row
+    std::size_t stride = 0;  // of P and WP: at least the row's neighbour count
+    std::vector<Real> P;     // M x stride: p_a(q_k), the neighbours' scaled monomials
+    std::vector<Real> WP;    // M x stride: W_k p_a(q_k)
+    std::vector<Real> weight;  // W(r_k) / W(0)
+    std::vector<Real> work;    // a row's weights gathered, then its correction
+    std::vector<Index> slots;  // each neighbour's slot in the stencil row
     Columns R;
 #pragma omp for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
@@ -123,9 +155,14 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
       const Kernel ker = disc.kernel_at(i);
       const Real w0 = ker.W(0);
       const auto n = static_cast<Eigen::Index>(nbr.size());
-      if (P.cols() < n) P.resize(M, n);
-      weight.resize(nbr.size());
-      slots.resize(nbr.size());
+      if (stride < nbr.size()) {
+        stride = nbr.size();
+        P.resize(static_cast<std::size_t>(M) * stride);
+        WP.resize(static_cast<std::size_t>(M) * stride);
+        weight.resize(stride);
+        work.resize(stride);
+        slots.resize(stride);
+      }
       // Neighbours inside the support: a Verlet list holds some beyond it, where every row's
       // weight is zero. (Giving the correction to the nearer ones only, r < 0.8 h, cost 3D rows
       // a third of their accuracy and 2D rows near walls a factor 7: measured, not kept.)
@@ -140,59 +177,56 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
           pw[c][0] = 1;
           for (std::size_t e = 1; e <= static_cast<std::size_t>(Degree); ++e) pw[c][e] = pw[c][e - 1] * q[static_cast<int>(c)];
         }
-        for (int a = 0; a < M; ++a) {
-          const auto& e = exponents[static_cast<std::size_t>(a)];
-          P(a, K) = pw[0][static_cast<std::size_t>(e[0])] * pw[1][static_cast<std::size_t>(e[1])] *
-                    pw[2][static_cast<std::size_t>(e[2])];
+        const auto sk = static_cast<std::size_t>(K);
+        for (std::size_t a = 0; a < static_cast<std::size_t>(M); ++a) {
+          const auto& e = exponents[a];
+          P[a * stride + sk] = pw[0][static_cast<std::size_t>(e[0])] * pw[1][static_cast<std::size_t>(e[1])] *
+                               pw[2][static_cast<std::size_t>(e[2])];
         }
         const Real w = ker.W(r) / w0;
-        weight[static_cast<std::size_t>(K)] = w;
+        weight[sk] = w;
         near += w > 0 ? 1 : 0;
-        slots[static_cast<std::size_t>(K)] = neighbour_slot(s, i, static_cast<Index>(k));
+        slots[sk] = neighbour_slot(s, i, static_cast<Index>(k));
         ++K;
       }
       if (near < M) {
         kept_here.push_back(i);
         continue;
       }
-      Square A = Square::Zero();  // Σ_k W_k p_k p_k^T, its lower triangle
-      for (Eigen::Index k = 0; k < K; ++k) {
-        const Real w = weight[static_cast<std::size_t>(k)];
-        if (w == 0) continue;
-        const Real* p = P.col(k).data();
-        for (int b = 0; b < M; ++b) {
-          const Real wb = w * p[b];
-          for (int a = b; a < M; ++a) A(a, b) += p[a] * wb;
-        }
+      const auto row = [&](const std::vector<Real>& m, int a) { return Span(m.data() + static_cast<std::size_t>(a) * stride, K); };
+      for (int a = 0; a < M; ++a) {
+        const auto off = static_cast<std::size_t>(a) * stride;
+        for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) WP[off + k] = weight[k] * P[off + k];
       }
+      Square A;  // Σ_k W_k p_k p_k^T, its lower triangle
+      for (int b = 0; b < M; ++b)
+        for (int a = b; a < M; ++a) A(a, b) = row(P, a).dot(row(WP, b));
       Square Ainv;
       if (!equilibrated_spd_inverse<M>(A, Ainv, max_condition)) {
         kept_here.push_back(i);
         continue;
       }
       // R = b - P w per component, over every neighbour the row has.
+      MutableSpan g_or_delta(work.data(), K);
       R.setZero();
       for (Eigen::Index c = 0; c < comps; ++c) {
         const Target& t = targets[static_cast<std::size_t>(c)];
-        R(t.monomial, c) = t.order == 1 ? t.value / h : t.value / (h * h);
         const std::vector<Real>& g = s.values[t.array];
-        for (Eigen::Index k = 0; k < K; ++k) {
-          const Real gk = g[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])];
-          if (gk != 0) R.col(c) -= gk * P.col(k);
-        }
+        for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) work[k] = g[static_cast<std::size_t>(slots[k])];
+        for (int a = 0; a < M; ++a) R(a, c) = -row(P, a).dot(g_or_delta);
+        R(t.monomial, c) += t.order == 1 ? t.value / h : t.value / (h * h);
       }
       const Columns Y = Ainv * R;
       // δ_k = W_k p_k · y.
       const auto diag = static_cast<std::size_t>(s.diag[si]);
       for (Eigen::Index c = 0; c < comps; ++c) {
         std::vector<Real>& g = s.values[targets[static_cast<std::size_t>(c)].array];
+        g_or_delta.setZero();
+        for (int a = 0; a < M; ++a) g_or_delta += Y(a, c) * row(WP, a);
         Real added = 0;
-        for (Eigen::Index k = 0; k < K; ++k) {
-          const Real w = weight[static_cast<std::size_t>(k)];
-          if (w == 0) continue;
-          const Real dk = w * P.col(k).dot(Y.col(c));
-          g[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])] += dk;
-          added += dk;
+        for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) {
+          g[static_cast<std::size_t>(slots[k])] += work[k];
+          added += work[k];
         }
         g[diag] -= added;
       }
