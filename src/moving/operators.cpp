@@ -78,9 +78,17 @@ void Operators::update(std::span<const Vec3> positions) {
   ++stats_.updates;
 }
 
+void Operators::set_support_radii(std::vector<Real> radii) {
+  verlet_->set_radii(std::move(radii));
+  own_radii_ = true;
+}
+
+const std::vector<Real>& Operators::support_radii() const { return verlet_->radii(); }
+
 SearchParams Operators::search_params() const {
   SearchParams sp;
   sp.radius = radius_;
+  if (own_radii_) sp.radii = verlet_->radii();
   sp.backend = options_.backend;
   return sp;
 }

@@ -50,8 +50,10 @@ const NeighbourList& VerletNeighbours::update(const PointCloud& cloud) {
     const bool periodic = params_.wrap_periodic && cloud.domain.any_periodic();
     if (periodic) {  // radius + skin below half of every period
       const Real r = *std::max_element(list_.radii.begin(), list_.radii.end());
+      period_limit_ = std::numeric_limits<Real>::infinity();
       for (int k = 0; k < cloud.dim; ++k)
-        if (cloud.domain.periodic[static_cast<std::size_t>(k)]) skin_ = std::min(skin_, std::max(0.0, 0.499 * cloud.domain.period(k) - r));
+        if (cloud.domain.periodic[static_cast<std::size_t>(k)]) period_limit_ = std::min(period_limit_, 0.499 * cloud.domain.period(k));
+      skin_ = std::min(skin_, std::max(0.0, period_limit_ - r));
     }
   }
   check<InputError>(cloud.size() == size_ && cloud.dim == dim_, "neighbour update: the cloud has ", cloud.size(),
@@ -59,7 +61,7 @@ const NeighbourList& VerletNeighbours::update(const PointCloud& cloud) {
                     "D (particles cannot be added or removed: build a new list)");
   if (params_.wrap_periodic && cloud.domain.any_periodic())
     check_periodic_cloud(cloud, *std::max_element(list_.radii.begin(), list_.radii.end()));
-  last_searched_ = searched_at_.empty() || moved_too_far(cloud);
+  last_searched_ = searched_at_.empty() || radii_grew_ || moved_too_far(cloud);
   if (last_searched_) search(cloud);
   refilter(cloud);
   (last_searched_ ? searches_ : refilters_) += 1;
@@ -75,6 +77,25 @@ void VerletNeighbours::search(const PointCloud& cloud) {
   sp.duplicate_tolerance = 0;     // likewise
   candidates_ = find_neighbours(cloud, sp);
   searched_at_ = cloud.positions;
+  searched_radii_ = list_.radii;
+  radii_grew_ = false;
+}
+
+void VerletNeighbours::set_radii(std::vector<Real> radii) {
+  check<InputError>(size_ >= 0, "neighbour radii: set after the first update (the list has no particles yet)");
+  check<InputError>(static_cast<Index>(radii.size()) == size_, "neighbour radii: ", radii.size(), " radii for ", size_,
+                    " particles");
+  for (std::size_t i = 0; i < radii.size(); ++i) {
+    check<InputError>(std::isfinite(radii[i]) && radii[i] > 0, "neighbour radii: the radius of particle ", i,
+                      " must be positive and finite, got ", radii[i]);
+    check<InputError>(period_limit_ == 0 || radii[i] + skin_ < period_limit_, "neighbour radii: the radius ", radii[i],
+                      " of particle ", i, " plus the skin ", skin_, " reaches half the box's shortest period (",
+                      period_limit_ / 0.499, "): a particle would meet two images of one neighbour");
+  }
+  bool grew = false;
+  for (std::size_t i = 0; i < radii.size() && !searched_radii_.empty(); ++i) grew = grew || radii[i] > searched_radii_[i];
+  list_.radii = std::move(radii);
+  radii_grew_ = radii_grew_ || grew;
 }
 
 bool VerletNeighbours::moved_too_far(const PointCloud& cloud) const {

@@ -66,6 +66,15 @@ class Operators {
   /// is kept when it throws.
   void update(std::span<const Vec3> positions);
 
+  /// Per-particle support radii from the next update() on, one per particle (each positive,
+  /// finite and, on a periodic box, below half the shortest period less the skin): e.g. supports
+  /// grown where the particles lost their isotropy (FlowOptions::support_growth). The rows of
+  /// every method read their own particle's radius. InputError otherwise, nothing changed.
+  /// radius() stays the base radius.
+  void set_support_radii(std::vector<Real> radii);
+  /// The support radius of each particle's row (all radius() unless set_support_radii).
+  const std::vector<Real>& support_radii() const;
+
   const PointCloud& cloud() const { return cloud_; }
   Real radius() const { return radius_; }
   Real spacing() const { return spacing_; }
@@ -97,6 +106,7 @@ class Operators {
   Real spacing_ = 0, radius_ = 0;
   std::unique_ptr<VerletNeighbours> verlet_;
   std::vector<Vec3> previous_;   ///< the positions before the update under way
+  bool own_radii_ = false;       ///< set_support_radii was called: searches take the per-particle radii
   std::vector<Kept> kept_;
   UpdateStats stats_;
 };

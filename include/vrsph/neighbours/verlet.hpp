@@ -26,6 +26,12 @@ class VerletNeighbours {
   /// last list still.
   const NeighbourList& update(const PointCloud& cloud);
   const NeighbourList& list() const { return list_; }
+  /// Per-particle support radii for the next update (one per particle of the cloud the list was
+  /// built for; positive and finite, on a periodic box below half of every period less the skin).
+  /// A radius above the one its row was last searched with makes the next update search again;
+  /// smaller ones only re-filter. InputError otherwise, the radii unchanged.
+  void set_radii(std::vector<Real> radii);
+  const std::vector<Real>& radii() const { return list_.radii; }
 
   Real skin() const { return skin_; }
   Index searches() const { return searches_; }     ///< updates that searched
@@ -44,6 +50,9 @@ class VerletNeighbours {
   Index size_ = -1;
   NeighbourList candidates_;           ///< pairs within radius + skin at the last search
   std::vector<Vec3> searched_at_;      ///< positions at the last search
+  std::vector<Real> searched_radii_;   ///< the rows' radii at the last search
+  bool radii_grew_ = false;            ///< set_radii asked for more than the candidates hold
+  Real period_limit_ = 0;              ///< on a periodic box: radius + skin must stay below this (0: none)
   NeighbourList list_;
   UninitVector<Index> scratch_index_;  ///< per candidate slot: the kept pairs of each row, packed at its start
   UninitVector<Real> scratch_distance_;

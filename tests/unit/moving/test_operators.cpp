@@ -102,6 +102,47 @@ TEST_P(MovingOperatorsCold, EveryUpdateEqualsAFreshBuild) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, MovingOperatorsCold, ::testing::Values("vrsph", "sph", "fpm"));
 
+TEST(MovingOperators, PerParticleRadiiGiveTheStencilsOfAFreshBuildWithThem) {
+  // set_support_radii (a flow's grown supports): every row then reads its own radius. Against
+  // build_stencil on find_neighbours with the same radii (bit for bit, cold); on a periodic box
+  // FPM's rows are built on the images with them (to round-off, as above).
+  for (const std::string periodic : {"", "x,y"}) {
+    for (const std::string name : {"vrsph", "fpm"}) {
+      const StudyCloud sc = operators_cloud(2, periodic);
+      OperatorsOptions o;
+      o.method = name;
+      o.warm_start = false;
+      Operators ops(sc.cloud, o);
+      std::vector<Real> radii(static_cast<std::size_t>(ops.cloud().size()));
+      for (std::size_t i = 0; i < radii.size(); ++i) radii[i] = (i % 2 ? 1.3 : 1.0) * ops.radius();
+      ops.set_support_radii(radii);
+      EXPECT_EQ(ops.radius(), ops.support_radii().front());  // the base radius stays
+      const auto method = builtin_methods().create(name);
+      for (int step = 0; step < 2; ++step) {
+        ops.update(advect(ops.cloud(), 0.004));
+        EXPECT_EQ(ops.support_radii(), radii);
+        SearchParams sp;
+        sp.radius = ops.radius();
+        sp.radii = radii;
+        for (const OperatorKind k : {OperatorKind::Laplacian, OperatorKind::Gradient}) {
+          if (periodic.empty() || name == "vrsph") {
+            const NeighbourList nl = find_neighbours(ops.cloud(), sp);
+            const Discretisation disc{ops.cloud(), nl, KernelType::CubicSpline, ops.spacing()};
+            expect_same_stencil(ops.stencil(k), build_stencil(*method, disc, {k}));
+          } else {
+            const Stencil images = periodic_stencil(*method, ops.cloud(), sp, KernelType::CubicSpline, ops.spacing(), {k});
+            for (std::size_t c = 0; c < images.values.size(); ++c) {
+              const SparseMatrix a(as_eigen(ops.stencil(k), static_cast<int>(c))), b(as_eigen(images, static_cast<int>(c)));
+              EXPECT_LT((a - b).norm(), 1e-10 * b.norm()) << name << " step " << step;
+            }
+          }
+        }
+      }
+      EXPECT_THROW_MSG(ops.set_support_radii({1.0}), InputError, "radii for");
+    }
+  }
+}
+
 class MovingOperatorsWarm : public ::testing::TestWithParam<int> {};
 
 TEST_P(MovingOperatorsWarm, VrsphRowsStayExactAndMonotone) {

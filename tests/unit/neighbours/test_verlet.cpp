@@ -63,6 +63,52 @@ INSTANTIATE_TEST_SUITE_P(Clouds, VerletList,
                                            std::make_tuple(2, std::string("x,y")), std::make_tuple(2, std::string("x")),
                                            std::make_tuple(1, std::string())));
 
+TEST(VerletList, NewRadiiEqualAFreshSearchWithThemWhetherTheyGrowOrShrink) {
+  // Larger radii than the candidates were searched with force a search; smaller ones only
+  // re-filter. Either way the list is find_neighbours' with those radii, entry for entry.
+  for (const std::string periodic : {"", "x,y"}) {
+    PointCloud c = verlet_cloud(2, periodic);
+    const Real dx = 1.0 / 24;
+    SearchParams sp;
+    sp.radius = 2.5 * dx;
+    VerletNeighbours verlet(sp, 0.4 * dx);
+    verlet.update(c);
+    std::vector<Real> radii(static_cast<std::size_t>(c.size()));
+    for (std::size_t i = 0; i < radii.size(); ++i) radii[i] = (i % 3 == 0 ? 3.5 : 2.5) * dx;  // some grow
+    verlet.set_radii(radii);
+    const Index searched = verlet.searches();
+    SearchParams fresh = sp;
+    fresh.radii = radii;
+    expect_same_list(verlet.update(c), find_neighbours(c, fresh));
+    EXPECT_EQ(verlet.searches(), searched + 1) << periodic;
+    for (Real& r : radii) r = 2.2 * dx;  // all shrink: re-filtered
+    verlet.set_radii(radii);
+    fresh.radii = radii;
+    expect_same_list(verlet.update(c), find_neighbours(c, fresh));
+    EXPECT_EQ(verlet.searches(), searched + 1) << periodic;
+    EXPECT_EQ(verlet.radii(), radii);
+  }
+}
+
+TEST(VerletList, RefusesRadiiThatDoNotFit) {
+  PointCloud c = verlet_cloud(2, "x,y");
+  SearchParams sp;
+  sp.radius = 0.1;
+  VerletNeighbours verlet(sp, 0.02);
+  EXPECT_THROW_MSG(verlet.set_radii({0.1}), InputError, "after the first update");
+  verlet.update(c);
+  const std::vector<Real> before = verlet.radii();
+  EXPECT_THROW_MSG(verlet.set_radii({0.1, 0.1}), InputError, "2 radii for");
+  std::vector<Real> bad = before;
+  bad[4] = -1;
+  EXPECT_THROW_MSG(verlet.set_radii(bad), InputError, "particle 4 must be positive and finite");
+  bad[4] = std::nan("");
+  EXPECT_THROW_MSG(verlet.set_radii(bad), InputError, "particle 4 must be positive and finite");
+  bad[4] = 0.49;  // plus the skin: over half the unit period
+  EXPECT_THROW_MSG(verlet.set_radii(bad), InputError, "half the box's shortest period");
+  EXPECT_EQ(verlet.radii(), before);
+}
+
 TEST(VerletList, RefusesWhatAFreshSearchRefusesAndAnotherCloud) {
   PointCloud c = verlet_cloud(2, "");
   SearchParams sp;
