@@ -67,6 +67,7 @@ py::dict report_dict(const FlowStepReport& r) {
   d["min_spacing"] = r.min_spacing;
   d["max_spacing"] = r.max_spacing;
   d["min_support_isotropy"] = r.min_support_isotropy;
+  d["max_support_growth"] = r.max_support_growth;
   d["max_shift"] = r.max_shift;
   d["wall_pushes"] = r.wall_pushes;
   d["seconds_update"] = r.seconds_update;
@@ -83,7 +84,8 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
                                         const std::string& scheme, double h_factor, const std::string& kernel,
                                         const py::dict& options, const std::string& shifting, double shift_coefficient,
                                         bool allow_unstable, const py::object& wall_velocity, const py::object& body_force,
-                                        bool free_surface, double body_force_ramp, const std::string& viscosity) {
+                                        bool free_surface, double body_force_ramp, const std::string& viscosity,
+                                        double support_growth, double support_isotropy) {
   const PointCloud& c = as_cloud(cloud);
   const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
   FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
@@ -94,6 +96,8 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
   }
   o.free_surface = free_surface;
   o.body_force_ramp = body_force_ramp;
+  o.support_growth = support_growth;
+  o.support_isotropy_target = support_isotropy;
   if (!wall_velocity.is_none()) {
     // An (N, dim) array: the rows of the wall particles are their velocities (the rest unused).
     auto walls = std::make_shared<Eigen::MatrixXd>(matrix_from(wall_velocity, c.size(), c.dim, "wall_velocity"));
@@ -152,7 +156,7 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
 py::dict taylor_green(int nx, int dim, const std::string& frame, const std::string& method, const std::string& gradient,
                       double t_end, double re, double cfl, double jitter, std::uint64_t seed, const std::string& scheme,
                       double h_factor, const py::dict& options, const std::string& shifting, double shift_coefficient,
-                      const std::string& viscosity) {
+                      const std::string& viscosity, double support_growth, double support_isotropy) {
   VortexRunOptions o;
   o.cloud = {dim, nx, jitter, seed};
   o.vortex.Re = re;
@@ -160,6 +164,8 @@ py::dict taylor_green(int nx, int dim, const std::string& frame, const std::stri
   o.cfl = cfl;
   o.flow = flow_options(frame, method, gradient, 0, scheme, h_factor, "cubic", options, shifting, shift_coefficient, false,
                         viscosity);
+  o.flow.support_growth = support_growth;
+  o.flow.support_isotropy_target = support_isotropy;
   VortexRunRow r;
   {
     py::gil_scoped_release release;
@@ -191,7 +197,8 @@ void bind_flow(py::module_& m) {
       .def(py::init(&make_solver), py::arg("cloud"), py::arg("velocity"), py::arg("frame"), py::arg("method"),
            py::arg("gradient"), py::arg("nu"), py::arg("scheme"), py::arg("h_factor"), py::arg("kernel"), py::arg("options"),
            py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"), py::arg("wall_velocity"),
-           py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"), py::arg("viscosity"))
+           py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"), py::arg("viscosity"),
+           py::arg("support_growth"), py::arg("support_isotropy"))
       .def("step", [](FlowSolver& s, double dt) {
         FlowStepReport r;
         {
@@ -301,7 +308,8 @@ void bind_flow(py::module_& m) {
         py::arg("options"), py::arg("viscosity"), py::arg("frame"), py::arg("shifting"), py::arg("wall_layers"));
   m.def("_taylor_green", &taylor_green, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("gradient"),
         py::arg("t_end"), py::arg("re"), py::arg("cfl"), py::arg("jitter"), py::arg("seed"), py::arg("scheme"),
-        py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"), py::arg("viscosity"));
+        py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"), py::arg("viscosity"),
+        py::arg("support_growth"), py::arg("support_isotropy"));
 }
 
 }  // namespace vrsph::python

@@ -310,7 +310,9 @@ class Flow:
     ``free_surface``: p = 0 on the detected surface (docs/free_surface.md), ``free_surface``
     the property: the flags. ``viscosity``: "explicit" (in the Runge-Kutta rate, dt limited like
     dx²/nu) or "implicit" (IMEX stages, dt limited by the explicit terms only; docs/flow.md).
-    ``method`` builds the Laplacian (pressure Poisson, viscous term);
+    ``support_growth`` (Lagrangian, > 1): every support grows by 15 % a step, up to this times
+    h, while the least isotropic one is below ``support_isotropy``, and shrinks back once all are
+    above twice it (docs/flow.md, "Regularity over time"). ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""
 
@@ -318,7 +320,8 @@ class Flow:
                  nu: float = 0.01, scheme: str = "rk3", h_factor: float = 3.0, kernel: str = "cubic",
                  options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
                  allow_unstable: bool = False, wall_velocity: Any = None, body_force: Any = None,
-                 free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit"):
+                 free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit",
+                 support_growth: float = 1.0, support_isotropy: float = 0.3):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -331,7 +334,9 @@ class Flow:
                                      None if body_force is None else np.asarray(body_force, dtype=float).reshape(1, -1),
                                      _args.flag(free_surface, "free_surface"),
                                      _args.number(body_force_ramp, "body_force_ramp", minimum=0.0),
-                                     _args.text(viscosity, "viscosity"))
+                                     _args.text(viscosity, "viscosity"),
+                                     _args.number(support_growth, "support_growth", minimum=1.0),
+                                     _args.number(support_isotropy, "support_isotropy", positive=True))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))
@@ -386,7 +391,8 @@ def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str
 def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
                  t_end: float = 1.0, re: float = 100.0, cfl: float = 0.25, jitter: float = 0.2, seed: int = 1,
                  scheme: str = "rk3", h_factor: float = 3.0, options: Mapping[str, Any] | None = None,
-                 shifting: str = "none", shift_coefficient: float = 0.0, viscosity: str = "explicit") -> dict:
+                 shifting: str = "none", shift_coefficient: float = 0.0, viscosity: str = "explicit",
+                 support_growth: float = 1.0, support_isotropy: float = 0.3) -> dict:
     """One row of ``vrsph flow --case taylor-green`` (2D Taylor-Green, 3D Beltrami vortex): the
     errors at ``t_end`` on the periodic unit box with ``nx`` particles per period."""
     return _vrsph._taylor_green(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
@@ -397,7 +403,9 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                                 _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"),
                                 _args.text(shifting, "shifting"),
                                 _args.number(shift_coefficient, "shift_coefficient", minimum=0.0),
-                                _args.text(viscosity, "viscosity"))
+                                _args.text(viscosity, "viscosity"),
+                                _args.number(support_growth, "support_growth", minimum=1.0),
+                                _args.number(support_isotropy, "support_isotropy", positive=True))
 
 
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,

@@ -590,6 +590,15 @@ class Flow(unittest.TestCase):
                 for h in steps:
                     self.assertTrue(0.5 < float(h["min_support_isotropy"]) <= 1.0, h)  # a jittered lattice, t <= 0.05
                     self.assertGreater(int(h["ppe_iterations"]), 0)
+                    self.assertEqual(float(h["max_support_growth"]), 1.0)  # fixed supports
+            # --support-growth: the supports grow (by 15 %, at t ~ 0.21) once the isotropy falls below 0.5.
+            path = os.path.join(tmp, "grown.csv")
+            run_json("flow", "--case", "taylor-green", "--frame", "lagrangian", "--nx", "16", "--t-end", "0.3",
+                     "--support-growth", "1.3", "--support-isotropy", "0.5", "--threads", "1", "--history", path)
+            with open(path, encoding="utf-8") as f:
+                growth = [float(h["max_support_growth"]) for h in csv_module.DictReader(f)]
+            self.assertEqual(growth[0], 1.0)
+            self.assertGreaterEqual(growth[-1], 1.15)
             # JSON, and the cavity's steady residual per step.
             path = os.path.join(tmp, "h.json")
             out = run_json("flow", "--case", "cavity", "--nx", "16", "--t-end", "0.2", "--threads", "1", "--history", path)

@@ -91,6 +91,8 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   o.reuse_factorisation = a.reuse_factorisation;
   o.hyperviscosity = a.hyperviscosity;
   o.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
+  o.support_growth = a.support_growth;
+  o.support_isotropy_target = a.support_isotropy;
   if (a.wall_gap >= 0) o.wall_gap = a.wall_gap;
   return o;
 }
@@ -418,6 +420,12 @@ void run_flow(FlowArgs& a) {
                      "lagrangian frame (the eulerian one factorises its pressure matrix once)");
   (void)parse_kernel(a.kernel);
   (void)parse_shifting(a.shifting);
+  check<ConfigError>(std::isfinite(a.support_growth) && a.support_growth >= 1, "--support-growth must be >= 1 (1: fixed "
+                     "supports), got ", a.support_growth);
+  check<ConfigError>(a.support_growth == 1 || a.frame == "lagrangian", "--support-growth applies to the lagrangian frame "
+                     "(an eulerian cloud does not move)");
+  check<ConfigError>(std::isfinite(a.support_isotropy) && a.support_isotropy > 0 && a.support_isotropy <= 0.5,
+                     "--support-isotropy must be in (0, 0.5], got ", a.support_isotropy);
   check<ConfigError>(a.vtu_every >= 0, "--vtu-every must be >= 0");
   // --method-opt METHOD:key=value also reaches the flows' gradient method (--gradient fpm, or
   // auto's fpm beside vrsph) when it is not one of --method; key=value alone stays with --method's.
@@ -509,6 +517,12 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--hyperviscosity", a->hyperviscosity, "Eulerian: -c U dx^3 L(L u) added (0: none)")->capture_default_str();
   cmd->add_option("--shifting", a->shifting, "Lagrangian particle shifting: none | xu (Xu 2009) | lind (Lind 2012, "
                                              "Fickian)")->capture_default_str();
+  cmd->add_option("--support-growth", a->support_growth,
+                  "Lagrangian: every support grows (by 15 % a step, up to this times h) while the smallest support "
+                  "isotropy is below --support-isotropy, and shrinks back once it is above twice that; 1: fixed supports")
+      ->capture_default_str();
+  cmd->add_option("--support-isotropy", a->support_isotropy, "The isotropy below which --support-growth grows a support, "
+                                                             "in (0, 0.5]")->capture_default_str();
   cmd->add_option("--shift-coefficient", a->shift_coefficient, "beta (xu) or A (lind); 0: 0.04 and 2")->capture_default_str();
   cmd->add_flag("--allow-unstable", a->allow_unstable, "Warn instead of refusing a time step beyond the stability limit");
   cmd->add_option("--solver", a->solver, "Pressure Poisson solver: auto | umfpack | sparselu | bicgstab | petsc")->capture_default_str();

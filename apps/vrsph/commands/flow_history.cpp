@@ -24,7 +24,7 @@ FlowHistory::FlowHistory(std::string path) : path_(std::move(path)) {
                      dir.string(), "' does not exist");
   table_.columns = {"case", "method", "nx", "step", "t", "dt", "kinetic_energy", "max_speed", "max_div_u", "cfl",
                     "advective_number", "viscous_number", "force_number", "ppe_iterations", "viscous_iterations",
-                    "min_spacing", "max_spacing", "min_support_isotropy", "max_shift", "wall_pushes",
+                    "min_spacing", "max_spacing", "min_support_isotropy", "max_support_growth", "max_shift", "wall_pushes",
                     "surface_particles", "error_u_mean", "error_u_inf", "error_p_mean", "decay_rate_error",
                     "steady_residual", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous"};
 }
@@ -40,7 +40,8 @@ void FlowHistory::record(const std::string& flow_case, const std::string& method
       {"viscous_number", r.viscous_number}, {"force_number", r.force_number},
       {"ppe_iterations", static_cast<long long>(r.ppe_iterations)},
       {"viscous_iterations", static_cast<long long>(r.viscous_iterations)}, {"min_spacing", r.min_spacing},
-      {"max_spacing", r.max_spacing}, {"min_support_isotropy", r.min_support_isotropy}, {"max_shift", r.max_shift},
+      {"max_spacing", r.max_spacing}, {"min_support_isotropy", r.min_support_isotropy},
+      {"max_support_growth", r.max_support_growth}, {"max_shift", r.max_shift},
       {"wall_pushes", static_cast<long long>(r.wall_pushes)},
       {"surface_particles", static_cast<long long>(r.surface_particles)}, {"seconds_update", r.seconds_update},
       {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"seconds_viscous", r.seconds_viscous}};

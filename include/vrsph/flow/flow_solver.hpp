@@ -119,6 +119,13 @@ struct FlowOptions {
   Real velocity_scale = 0;      ///< U of the hyperviscosity (0: the initial max |u|)
   /// Lagrangian: particle shifting after every step (shifting.hpp); Eulerian: must be none.
   ShiftingOptions shifting;
+  /// Lagrangian: supports that follow the stretching of the particles instead of shifting them
+  /// (docs/flow.md, "Regularity over time"). Before every step, while the smallest support
+  /// isotropy of the fluid (analysis/support_isotropy.hpp) is below support_isotropy_target,
+  /// every support radius grows by 15 %, up to support_growth times the base one; once it is
+  /// above twice the target they shrink by 5 % a step toward the base. 1: off (the base radius).
+  Real support_growth = 1;
+  Real support_isotropy_target = 0.3;
   /// A free surface: p = 0 at the fluid particles `surface` flags (its only_interior is always
   /// on, its spacing the flow's). Needs a body force or a moving initial state (ConfigError).
   bool free_surface = false;
@@ -156,6 +163,7 @@ struct FlowStepReport {
   /// Smallest support_isotropy (analysis/support_isotropy.hpp) over the fluid particles that are
   /// not on a free surface: 1 on a lattice, -> 0 as supports close onto lines (2D) or planes (3D).
   Real min_support_isotropy = 0;
+  Real max_support_growth = 1; ///< largest support radius / the base one (FlowOptions::support_growth)
   Real max_shift = 0;          ///< largest shifting displacement of the step / dx
   Index wall_pushes = 0;       ///< particles FlowOptions::wall_gap reflected off a wall this step
   Real force_number = 0;       ///< free surface: dt / (0.25 (dx/|g|)^½), at most 1
@@ -168,6 +176,12 @@ struct FlowStepReport {
 /// The operators a flow with these options builds (FlowOptions::gradient resolved): ConfigError
 /// for an unknown gradient choice.
 OperatorsOptions flow_operators(const FlowOptions& options);
+
+namespace detail {
+/// FlowOptions::support_growth's rule: the support radius of the next step from the current one,
+/// the base and the largest radius, the smallest support isotropy of the fluid and the target.
+Real next_support_radius(Real now, Real base, Real largest, Real least_isotropy, Real target);
+}  // namespace detail
 
 class FlowSolver {
  public:
@@ -247,6 +261,7 @@ class FlowSolver {
   /// The smallest support_isotropy over the fluid particles off a free surface, and that particle
   /// (-1 when there is none).
   std::pair<Real, Index> least_isotropic_support() const;
+  void adapt_supports();
   Real kinetic_energy(const Eigen::MatrixXd& u) const;
 
   FlowOptions options_;
