@@ -420,7 +420,7 @@ void run_flow(FlowArgs& a) {
                      "lagrangian frame (the eulerian one factorises its pressure matrix once)");
   (void)parse_kernel(a.kernel);
   (void)parse_shifting(a.shifting);
-  check<ConfigError>(std::isfinite(a.support_growth) && a.support_growth >= 1, "--support-growth must be >= 1 (1: fixed "
+  check<ConfigError>(std::isfinite(a.support_growth) && a.support_growth >= 1, "--support-growth must be finite and >= 1 (1: fixed "
                      "supports), got ", a.support_growth);
   check<ConfigError>(a.support_growth == 1 || a.frame == "lagrangian", "--support-growth applies to the lagrangian frame "
                      "(an eulerian cloud does not move)");
