@@ -2,6 +2,7 @@
 // Operators on moving particles (vrsph::Operators): built once from a cloud, update()d with new
 // positions; the stencils handed out as CSR arrays (copies: the object keeps its own for the
 // next update).
+#include <pybind11/stl.h>
 #include <vrsph/analysis/support_isotropy.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/kernel.hpp>
@@ -90,6 +91,12 @@ void bind_moving(py::module_& m) {
       .def("support_isotropy", [](const Operators& o) {
         const Field f = support_isotropy(o.cloud(), o.neighbours());
         return py::array_t<Real>(static_cast<py::ssize_t>(f.size()), f.data());
+      })
+      .def("set_support_radii",
+           [](Operators& o, const std::vector<Real>& radii) { o.set_support_radii(radii); }, py::arg("radii"))
+      .def_property_readonly("support_radii", [](const Operators& o) {
+        const std::vector<Real>& r = o.support_radii();
+        return py::array_t<Real>(static_cast<py::ssize_t>(r.size()), r.data());
       })
       .def_property_readonly("radius", &Operators::radius)
       .def_property_readonly("n", [](const Operators& o) { return o.cloud().size(); })

@@ -156,3 +156,28 @@ def test_support_isotropy_is_one_inside_a_lattice_and_falls_when_it_is_stretched
     middle = (np.abs(x[:, 0] - 0.5) < 0.5 - h) & (np.abs(x[:, 1] - 0.5) < 0.25)
     assert middle.sum() > 10
     assert ops.support_isotropy()[middle].min() > 0.8  # 0.83: five columns within 3 dx
+
+
+def test_per_particle_radii_reach_the_rows():
+    # Larger radii for half the particles: after the next update their rows change (they reach
+    # further), the others' rows are what they were; bad radii are refused and change nothing.
+    c = vrsph.cloud.perturbed(dim=2, n=16, seed=3)
+    ops = vrsph.Operators(c, operators=("laplacian",), warm_start=False)
+    x = np.asarray(c.points)
+    ops.update(x)
+    before = ops.stencil("laplacian").copy()
+    radii = np.full(len(c), ops.radius)
+    radii[::2] *= 1.5
+    ops.set_support_radii(radii)
+    assert np.array_equal(ops.support_radii, radii)
+    ops.update(x)
+    after = ops.stencil("laplacian")
+    assert np.array_equal(after[1::2].toarray(), before[1::2].toarray())
+    assert not np.array_equal(after[::2].toarray(), before[::2].toarray())
+    with pytest.raises(vrsph.InputError, match="radii for"):
+        ops.set_support_radii([1.0])
+    bad = radii.copy()
+    bad[5] = -1.0
+    with pytest.raises(vrsph.InputError, match="particle 5 must be positive and finite"):
+        ops.set_support_radii(bad)
+    assert np.array_equal(ops.support_radii, radii)

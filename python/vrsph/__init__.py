@@ -247,6 +247,21 @@ class Operators:
         return self._ops.radius
 
     @property
+    def support_radii(self) -> np.ndarray:
+        """The support radius of each particle's rows (all ``radius`` unless set_support_radii)."""
+        return self._ops.support_radii
+
+    def set_support_radii(self, radii: Any) -> None:
+        """Per-particle support radii from the next ``update`` on (N positive values; on a periodic
+        box below half the shortest period less the skin): every row reads its own particle's
+        radius (docs/moving.md)."""
+        try:
+            r = np.asarray(radii, dtype=float).reshape(-1)
+        except (TypeError, ValueError) as e:
+            raise ArgumentTypeError(f"the parameter radii must be an array of numbers: {e}") from None
+        self._ops.set_support_radii(r.tolist())
+
+    @property
     def stats(self) -> dict:
         return self._ops.stats()
 
