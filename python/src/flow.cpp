@@ -186,6 +186,8 @@ py::dict taylor_green(int nx, int dim, const std::string& frame, const std::stri
   d["kinetic_energy"] = r.kinetic_energy;
   d["min_spacing"] = r.min_spacing;
   d["max_spacing"] = r.max_spacing;
+  d["min_support_isotropy"] = r.min_support_isotropy;
+  d["max_support_growth"] = r.max_support_growth;
   d["seconds_per_step"] = r.seconds_per_step;
   return d;
 }

@@ -150,6 +150,7 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
   row.dt = dt_cfl;
   row.min_spacing = solver.last().min_spacing;
   row.max_spacing = solver.last().max_spacing;
+  row.min_support_isotropy = solver.last().min_support_isotropy;
   const Stopwatch watch;
   detail::StepCosts costs;
   while (solver.time() < o.t_end * (1 - 1e-12)) {
@@ -160,6 +161,8 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
     row.dt = std::min(row.dt, dt);
     row.min_spacing = std::min(row.min_spacing, r.min_spacing);
     row.max_spacing = std::max(row.max_spacing, r.max_spacing);
+    row.min_support_isotropy = std::min(row.min_support_isotropy, r.min_support_isotropy);
+    row.max_support_growth = std::max(row.max_support_growth, r.max_support_growth);
     if (o.on_step) o.on_step(solver);
   }
   costs.write(row, watch.seconds());

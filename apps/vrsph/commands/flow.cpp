@@ -118,7 +118,7 @@ const std::vector<std::string> taylor_green_columns = {
     "case", "method", "gradient", "frame", "scheme", "viscosity", "dim", "nx", "particles", "t", "steps", "dt",
     "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
     "order_u_mean", "order_u_inf", "order_p_mean", "kinetic_energy", "min_spacing", "max_spacing",
-    "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
+    "min_support_isotropy", "max_support_growth", "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
 
 const std::vector<std::string> cavity_columns = {
     "case", "method", "gradient", "frame", "re", "nx", "particles", "t", "steps", "dt", "steady", "steady_residual",
@@ -228,6 +228,7 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
                  {"error_p_mean", r.errors.error_p_mean}, {"error_p_inf", r.errors.error_p_inf},
                  {"decay_rate_error", r.errors.decay_rate_error}, {"max_div_u", r.max_div_u},
                  {"kinetic_energy", r.kinetic_energy}, {"min_spacing", r.min_spacing}, {"max_spacing", r.max_spacing},
+                 {"min_support_isotropy", r.min_support_isotropy}, {"max_support_growth", r.max_support_growth},
                  {"ppe_iterations_per_step", r.ppe_iterations_per_step}, {"seconds_per_step", r.seconds_per_step},
                  {"seconds_update", r.seconds_update}, {"seconds_ppe", r.seconds_ppe}, {"seconds_rhs", r.seconds_rhs}, {"seconds_viscous", r.seconds_viscous},
                  {"status", std::string("ok")}});

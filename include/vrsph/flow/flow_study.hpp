@@ -75,6 +75,8 @@ struct VortexRunRow {
   Real max_div_u = 0;
   Real kinetic_energy = 0;
   Real min_spacing = 0, max_spacing = 0;  ///< over the whole run (nearest-neighbour distance / dx)
+  Real min_support_isotropy = 1;  ///< the smallest FlowStepReport::min_support_isotropy of the run
+  Real max_support_growth = 1;    ///< the largest FlowStepReport::max_support_growth of the run
   double ppe_iterations_per_step = 0;
   double seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last three per step
   double seconds_viscous = 0;  ///< per step: the implicit viscous set-ups and solves
