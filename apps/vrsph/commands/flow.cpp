@@ -522,7 +522,7 @@ void add_flow_command(CLI::App& app) {
                   "Lagrangian: every support grows (by 15 % a step, up to this times h) while the smallest support "
                   "isotropy is below --support-isotropy, and shrinks back once it is above twice that; 1: fixed supports")
       ->capture_default_str();
-  cmd->add_option("--support-isotropy", a->support_isotropy, "The isotropy below which --support-growth grows a support, "
+  cmd->add_option("--support-isotropy", a->support_isotropy, "The smallest support isotropy below which --support-growth grows the supports, "
                                                              "in (0, 0.5]")->capture_default_str();
   cmd->add_option("--shift-coefficient", a->shift_coefficient, "beta (xu) or A (lind); 0: 0.04 and 2")->capture_default_str();
   cmd->add_flag("--allow-unstable", a->allow_unstable, "Warn instead of refusing a time step beyond the stability limit");
