@@ -663,6 +663,7 @@ const FlowStepReport& FlowSolver::step(Real dt) {
   const Eigen::MatrixXd un = u_;
   const Field phin = phi_, correctionn = correction_;
   const bool lagrangian = options_.frame == FlowFrame::Lagrangian;
+  const std::vector<Real> radiin = options_.support_growth > 1 ? ops_->support_radii() : std::vector<Real>{};
   if (lagrangian && options_.support_growth > 1) adapt_supports();  // taken by the stages' moves
   const std::vector<Vec3> xn = ops_->cloud().positions;
   const Domain& box = ops_->cloud().domain;
@@ -743,6 +744,7 @@ const FlowStepReport& FlowSolver::step(Real dt) {
     u_ = un;
     phi_ = phin;
     correction_ = correctionn;
+    if (!radiin.empty() && ops_->support_radii() != radiin) ops_->set_support_radii(radiin);  // before the move back
     if (lagrangian && ops_->cloud().positions != xn) {
       FlowStepReport ignored;
       move_to(xn, ignored);

@@ -335,6 +335,30 @@ TEST(FlowSolver, RefusesAnUnstableStepAndKeepsItsState) {
   EXPECT_NEAR(s.time(), 0.5 * limit, 1e-15);
 }
 
+TEST(FlowSolver, AFailedStepLeavesTheGrownSupportsAsTheyWere) {
+  // A step that grows the supports (the least isotropic one is below the target at its start) and
+  // then blows up (far beyond the step limit, allowed) leaves the radii of the step before, as it
+  // leaves the velocity and the positions. The unshifted vortex at nx = 16 brings the isotropy
+  // below 0.5 by t ~ 0.2 (GrownSupportsFollowTheStretching); the steps there are stopped just before.
+  const PointCloud c = flow_cloud(16);
+  FlowOptions o;
+  o.frame = FlowFrame::Lagrangian;
+  o.allow_unstable = true;
+  o.support_growth = 1.3;
+  o.support_isotropy_target = 0.5;
+  FlowSolver s(c, vortex_at(c), o);
+  for (int k = 0; k < 40 && s.last().min_support_isotropy >= 0.5; ++k) (void)s.step(0.25 / 16);
+  ASSERT_LT(s.last().min_support_isotropy, 0.5);  // the precondition: the next step grows the supports
+  ASSERT_EQ(s.last().max_support_growth, 1.0);
+  const std::vector<Real> before = s.operators().support_radii();
+  const std::vector<Vec3> x = s.positions();
+  EXPECT_THROW((void)s.step(200 * s.stable_time_step(1.0)), NumericalError);
+  EXPECT_EQ(s.operators().support_radii(), before);
+  EXPECT_EQ(s.positions(), x);
+  const FlowStepReport& r = s.step(0.5 * s.stable_time_step());  // and the next step grows them once
+  EXPECT_DOUBLE_EQ(r.max_support_growth, 1.15);
+}
+
 TEST(FlowSolver, StopsARunThatBlowsUpAtTheStepItHappens) {
   // Steps far beyond the limit, allowed: the velocity grows, and the run stops with the step named
   // and the state of the step before (no field of a blown-up run is handed out).
