@@ -614,10 +614,12 @@ Real detail::next_support_radius(Real now, Real base, Real largest, Real least_i
   return now;
 }
 
+// The least isotropy is the last report's: finish_report measured it on these positions and
+// radii (a failed step restores both), so it is not scanned again.
 void FlowSolver::adapt_supports() {
   const Real now = ops_->support_radii().front();  // one radius for all
   const Real next = detail::next_support_radius(now, ops_->radius(), options_.support_growth * ops_->radius(),
-                                                least_isotropic_support().first, options_.support_isotropy_target);
+                                                report_.min_support_isotropy, options_.support_isotropy_target);
   if (next != now) ops_->set_support_radii(std::vector<Real>(ops_->support_radii().size(), next));
 }
 
