@@ -92,10 +92,12 @@ void VerletNeighbours::set_radii(std::vector<Real> radii) {
                       " of particle ", i, " plus the skin ", skin_, " reaches half the box's shortest period (",
                       period_limit_ / 0.499, "): a particle would meet two images of one neighbour");
   }
-  bool grew = false;
-  for (std::size_t i = 0; i < radii.size() && !searched_radii_.empty(); ++i) grew = grew || radii[i] > searched_radii_[i];
+  // Whether the candidates (searched with searched_radii_ + skin) still hold every pair the new
+  // radii ask for: only the radii now set count, not those set since the search and replaced.
+  radii_grew_ = false;
+  for (std::size_t i = 0; i < radii.size() && !searched_radii_.empty() && !radii_grew_; ++i)
+    radii_grew_ = radii[i] > searched_radii_[i];
   list_.radii = std::move(radii);
-  radii_grew_ = radii_grew_ || grew;
 }
 
 bool VerletNeighbours::moved_too_far(const PointCloud& cloud) const {

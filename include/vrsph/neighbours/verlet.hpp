@@ -51,7 +51,7 @@ class VerletNeighbours {
   NeighbourList candidates_;           ///< pairs within radius + skin at the last search
   std::vector<Vec3> searched_at_;      ///< positions at the last search
   std::vector<Real> searched_radii_;   ///< the rows' radii at the last search
-  bool radii_grew_ = false;            ///< set_radii asked for more than the candidates hold
+  bool radii_grew_ = false;            ///< the radii set exceed those of the last search somewhere
   Real period_limit_ = 0;              ///< on a periodic box: radius + skin must stay below this (0: none)
   NeighbourList list_;
   UninitVector<Index> scratch_index_;  ///< per candidate slot: the kept pairs of each row, packed at its start

@@ -81,6 +81,12 @@ TEST(VerletList, NewRadiiEqualAFreshSearchWithThemWhetherTheyGrowOrShrink) {
     fresh.radii = radii;
     expect_same_list(verlet.update(c), find_neighbours(c, fresh));
     EXPECT_EQ(verlet.searches(), searched + 1) << periodic;
+    std::vector<Real> larger = radii;  // grown and set back before an update: no search needed
+    for (Real& r : larger) r *= 1.5;
+    verlet.set_radii(larger);
+    verlet.set_radii(radii);
+    expect_same_list(verlet.update(c), find_neighbours(c, fresh));
+    EXPECT_EQ(verlet.searches(), searched + 1) << periodic;
     for (Real& r : radii) r = 2.2 * dx;  // all shrink: re-filtered
     verlet.set_radii(radii);
     fresh.radii = radii;
