@@ -27,7 +27,7 @@ namespace vrsph::cli {
 
 namespace {
 struct OperatorArgs {
-  std::string problem = "qw-trunc", methods = "sph", op = "laplacian", cloud = "uniform", n = "8,16,32,64,128",
+  std::string problem = "qw-trunc", methods = "vrsph", op = "laplacian", cloud = "uniform", n = "8,16,32,64,128",
               kernel = "cubic", u, exact, a, periodic;
   int dim = 2;
   std::uint64_t seed = 1;
