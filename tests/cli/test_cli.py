@@ -818,13 +818,24 @@ class TimeToAccuracy(unittest.TestCase):
         self.assertEqual(out["targets"], targets)
 
     def test_a_failing_or_missing_peer_is_a_clear_error(self):
-        env = dict(os.environ, FAKE_FENICSX_FAIL="ModuleNotFoundError: No module named 'dolfinx'")
+        # A peer that is not installed: named, with the packages to install (VRSPH_NO_INSTALL: as
+        # root with apt-get, vrsph would install them and run the peer again).
+        env = dict(os.environ, FAKE_FENICSX_FAIL="Traceback (most recent call last):\n  File \"x.py\", line 1\n"
+                   "ModuleNotFoundError: No module named 'dolfinx'\n---\nExit code: 1\n---", VRSPH_NO_INSTALL="1")
         p = subprocess.run([VRSPH, "bench", "accuracy", "--targets", "1e-3", "--anchor", "fenicsx", "--anchor-script",
                             FAKE_PEER, "--anchor-ranks", "1"], capture_output=True, text=True, timeout=300, env=env)
         self.assertNotEqual(p.returncode, 0)
-        self.assertIn("FEniCSx anchor failed", p.stderr)
-        self.assertIn("No module named 'dolfinx'", p.stderr)
+        self.assertIn("FEniCSx anchor is not installed: python3 has no module 'dolfinx'", p.stderr)
+        self.assertIn("apt-get install -y --no-install-recommends python3-dolfinx-real", p.stderr)
         self.assertEqual(p.stdout, "")  # no table, no time
+        # Any other failure: Python's exception line, not mpirun's closing "Exit code: 1".
+        env = dict(os.environ, FAKE_FENICSX_FAIL="RuntimeError: the mesh could not be built\n---\nExit code: 1\n---")
+        p = subprocess.run([VRSPH, "bench", "solve", "--n", "8", "--anchor", "fenicsx", "--anchor-script", FAKE_PEER,
+                            "--anchor-ranks", "1"], capture_output=True, text=True, timeout=300, env=env)
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn("FEniCSx anchor failed", p.stderr)
+        self.assertIn("RuntimeError: the mesh could not be built", p.stderr)
+        self.assertEqual(p.stdout, "")
         env = dict(os.environ, FAKE_FENICSX_GARBAGE="1")
         p = subprocess.run([VRSPH, "bench", "solve", "--n", "8", "--anchor", "fenicsx", "--anchor-script", FAKE_PEER,
                             "--anchor-ranks", "1"], capture_output=True, text=True, timeout=300, env=env)

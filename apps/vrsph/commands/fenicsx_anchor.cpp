@@ -11,6 +11,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <unistd.h>
 #include <vrsph/config.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/features.hpp>
@@ -59,14 +60,55 @@ int machine_cores() {
 #endif
 }
 
-// The peer's last line of error output that says something (mpirun frames its messages in
-// lines of dashes).
-std::string last_line(const std::string& path) {
+// The line of the peer's error output that says why it failed: Python's exception line
+// ("ModuleNotFoundError: No module named 'dolfinx'") where there is one, else the last line
+// that says something (mpirun frames its own messages in lines of dashes and ends them with
+// "Exit code: 1", which alone says nothing).
+std::string cause_line(const std::string& path) {
   std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (std::any_of(line.begin(), line.end(), [](unsigned char c) { return std::isalpha(c); })) last = line;
-  return last;
+  std::string line, last, exception;
+  while (std::getline(in, line)) {
+    if (!std::any_of(line.begin(), line.end(), [](unsigned char c) { return std::isalpha(c); })) continue;
+    last = line;
+    const auto colon = line.find(": ");
+    const std::string head = line.substr(0, colon);
+    if (colon != std::string::npos && !head.empty() && std::isalpha(static_cast<unsigned char>(head.front())) &&
+        (head.ends_with("Error") || head.ends_with("Exception")) &&
+        std::all_of(head.begin(), head.end(), [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '.'; }))
+      exception = line;
+  }
+  return exception.empty() ? last : exception;
+}
+
+// The module Python could not import, from a cause line "ModuleNotFoundError: No module named
+// 'x'" (empty otherwise).
+std::string missing_module(const std::string& cause) {
+  const std::string key = "No module named '";
+  const auto at = cause.find(key);
+  if (at == std::string::npos) return {};
+  const auto begin = at + key.size();
+  const auto end = cause.find('\'', begin);
+  return end == std::string::npos ? std::string() : cause.substr(begin, end - begin);
+}
+
+constexpr const char* peer_packages = "python3-dolfinx-real python3-petsc4py python3-mpi4py python3-scipy";
+
+// Installs the peer's Debian packages, as the README's commands install ours: only as root, with
+// apt-get on PATH, once per run, and not when VRSPH_NO_INSTALL is set. The output goes to
+// stderr (stdout carries the tables). True when apt-get succeeded.
+bool install_peer_packages(const std::string& missing) {
+  static bool tried = false;
+  if (tried || std::getenv("VRSPH_NO_INSTALL") != nullptr || ::geteuid() != 0 ||
+      std::system("command -v apt-get >/dev/null 2>&1") != 0)
+    return false;
+  tried = true;
+  std::fprintf(stderr, "vrsph: the FEniCSx peer is not installed (python3 has no module '%s'); installing %s\n",
+               missing.c_str(), peer_packages);
+  const std::string install =
+      std::string("DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends ") + peer_packages + " >&2";
+  if (std::system(install.c_str()) == 0) return true;
+  // A fresh machine's package lists may be missing or stale.
+  return std::system("DEBIAN_FRONTEND=noninteractive apt-get update -qq >&2") == 0 && std::system(install.c_str()) == 0;
 }
 
 std::string describe(int degree, int cells, AnchorMesh mesh) {
@@ -178,11 +220,16 @@ AnchorRun run_anchor(const AnchorSetup& setup, int degree, int cells, AnchorMesh
   while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe.get())) out += buf.data();
   const int rc = ::pclose(pipe.release());
   if (rc != 0 || out.empty()) {
-    const std::string cause = last_line(errors.path());
+    const std::string cause = cause_line(errors.path());
+    const std::string module = missing_module(cause);
+    if (!module.empty()) {
+      if (install_peer_packages(module)) return run_anchor(setup, degree, cells, mesh, points_csv);
+      throw IoError(detail::concat("the FEniCSx anchor is not installed: python3 has no module '", module,
+                                   "' (install it: apt-get install -y --no-install-recommends ", peer_packages, ")"));
+    }
     throw IoError(detail::concat("the FEniCSx anchor failed (", what, "; ", setup.script, ")",
-                                 cause.empty() ? std::string() : ": " + cause,
-                                 " (it needs Debian's python3-dolfinx-real, python3-petsc4py, python3-mpi4py and "
-                                 "python3-scipy)"));
+                                 cause.empty() ? std::string() : ": " + cause, " (it needs Debian's ", peer_packages,
+                                 ")"));
   }
   AnchorRun run;
   run.degree = degree;
