@@ -45,10 +45,11 @@ struct HydrostaticRow {
   Index particles = 0, water_particles = 0;
   Real t = 0, dt = 0;
   Index steps = 0;
-  /// |p(x_c, 0) - g H| / (g H), p sampled at the bottom's centre (moving least squares over the
-  /// walls' and water's pressures).
+  /// |p(x_c, 0) - g(t) H| / (g H), p sampled at the bottom's centre (moving least squares over the
+  /// walls' and water's pressures), g(t) the gravity in force at the end (a fraction of g while
+  /// the ramp lasts).
   Real bottom_pressure = 0, bottom_pressure_error = 0;
-  /// max |p - g (H - y)| / (g H) along the vertical centre line, y in [0, H] (41 points).
+  /// max |p - g(t) (H - y)| / (g H) along the vertical centre line, y in [0, H] (41 points).
   Real pressure_profile_error = 0;
   /// max |u| over the water at the end, and its largest value after the ramp, over (g H)^½.
   Real max_speed = 0, max_speed_after_ramp = 0;
