@@ -109,7 +109,10 @@ BvpSolution solve(const BoundaryValueProblem& p, const BvpSolveOptions& o) {
   check_interrupt();
 
   const Index pinned = detail::pinned_particle(*part, masks, p, given);
-  detail::diagnose_rows(*part, *method, rows, masks, data, given.periodic_without_boundary ? pinned : -1, o, s);
+  // A pinned unknown (fix_constant, or a fully periodic box) is known, like a Dirichlet particle:
+  // the M-matrix test's chains may end at it (without it every pure-Neumann system read "not
+  // connected to a strictly dominant row").
+  detail::diagnose_rows(*part, *method, rows, masks, data, pinned, o, s);
 
   watch.restart();
   LinearSystem sys = detail::assemble_owned_rows(*part, rows, masks, data, pinned, given, s);
