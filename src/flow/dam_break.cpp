@@ -102,8 +102,8 @@ DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
   // A step that would never get the front to the far wall (at T ≈ 3.3 in every run measured; 5
   // with room) is refused before the run, not after 1e7 steps.
   const Real t_end = o.t_star_end / time_scale;
-  detail::check_study_length("dam break", std::min(t_end, 5 / time_scale),
-                             std::min(0.9 * solver.stable_time_step(), o.cfl * dx / std::sqrt(g * dx)));
+  const Real dt_at_rest = std::min(0.9 * solver.stable_time_step(), o.cfl * dx / std::sqrt(g * dx));
+  detail::check_study_length("dam break", std::min(t_end, 5 / time_scale), dt_at_rest);
   const Stopwatch watch;
   detail::StepCosts costs;
   Real next = o.sample;
@@ -111,6 +111,13 @@ DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
     check<NumericalError>(costs.steps < 10'000'000, "dam break: 1e7 steps reached at T = ", solver.time() * time_scale);
     const Real speed = std::max(solver.last().max_speed, std::sqrt(g * dx));
     Real dt = std::min(0.9 * solver.stable_time_step(), o.cfl * dx / speed);
+    // A step that collapses means the velocity grew without bound (as next_study_step says it).
+    if (!(dt > 1e-6 * dt_at_rest)) {
+      run.stopped = detail::concat("flow step ", costs.steps + 1, " (t = ", solver.time(), "): the time step fell to ", dt,
+                                   " (max |u| = ", solver.last().max_speed, "): the run is unstable (a smaller --cfl, "
+                                   "more particles)");
+      break;
+    }
     dt = std::min(dt, t_end - solver.time());
     try {
       costs.add(solver.step(dt));

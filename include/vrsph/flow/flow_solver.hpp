@@ -141,7 +141,9 @@ struct FlowOptions {
   Real body_force_ramp = 0;
   /// Without a body force, a step that leaves a particle faster than this many times the initial
   /// largest speed is an instability (NumericalError); 0: no such check. (The kinetic energy is
-  /// checked too: it may not grow by 5 %.)
+  /// checked too: it may not grow by 5 %.) With a body force g in a box closed along it: faster
+  /// than this many times (the initial largest speed + 2 √(2 |g| D)), D the box's extent along g
+  /// (twice a free fall across the box: the pressure's jets outrun free fall).
   Real max_speed_growth = 1.5;
 };
 

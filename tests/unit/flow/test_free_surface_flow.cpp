@@ -230,6 +230,30 @@ TEST(DamBreak, ReferenceCurvesInterpolateAndStopAtTheirEnds) {
   EXPECT_DOUBLE_EQ(refs[2].at(0.0), 1.0);
 }
 
+// Under gravity in a closed box a particle faster than twice a free fall across the box (times
+// max_speed_growth) is a blow-up: the run stops there with its reason, not later with steps
+// shortened towards zero. Here the bound is made tight enough (growth 0.05: 0.05 x 2 √(2 g D),
+// D = 5 L the box's height) for the column's own fall to pass it within T = 0.5.
+TEST(DamBreak, ParticleOutrunningAFreeFallAcrossTheBoxStopsTheRun) {
+  DamBreakRunOptions o;
+  o.nx = 8;
+  o.flow.frame = FlowFrame::Lagrangian;
+  o.flow.shifting.kind = Shifting::Xu;
+  o.t_star_end = 0.5;
+  o.flow.max_speed_growth = 0.05;
+  const DamBreakRun tight = run_dam_break(o);
+  EXPECT_NE(tight.stopped.find("twice the speed of a free fall across the box"), std::string::npos) << tight.stopped;
+  EXPECT_LT(tight.t_star, 0.5);
+  EXPECT_GT(tight.samples.back().max_speed, 0.0);
+  o.flow.max_speed_growth = 0;  // the check off
+  const DamBreakRun off = run_dam_break(o);
+  EXPECT_TRUE(off.stopped.empty()) << off.stopped;
+  EXPECT_NEAR(off.t_star, 0.5, 1e-9);
+  o.flow.max_speed_growth = 1.5;  // the default: a falling column is far below it
+  const DamBreakRun normal = run_dam_break(o);
+  EXPECT_TRUE(normal.stopped.empty()) << normal.stopped;
+}
+
 TEST(DamBreak, SurgeFrontFollowsTheExperimentsOnACoarseColumn) {
   DamBreakRunOptions o;
   o.nx = 10;
