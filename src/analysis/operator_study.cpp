@@ -42,7 +42,13 @@ void validate_params(const OperatorStudyParams& p) {
   for (int n : p.n) check<ConfigError>(n >= 1 && n <= 20000, "refinement level n = ", n, " outside 1..20000");
   for (const auto& m : p.methods) {
     const auto& info = builtin_methods().info(m);  // throws for unknown names
-    check<ConfigError>(info.provides(p.op), "method ", m, " does not provide operator ", to_string(p.op));
+    if (!info.provides(p.op)) {
+      std::string which;  // the methods that do: what to pass to --method instead
+      for (const MethodInfo& other : builtin_methods().list())
+        if (other.provides(p.op)) which += (which.empty() ? "" : ", ") + other.name;
+      throw ConfigError(detail::concat("method ", m, " does not provide operator ", to_string(p.op),
+                                       which.empty() ? std::string() : " (methods that do: " + which + ")"));
+    }
     (void)builtin_methods().create(m, options_for(p.method_options, m));
   }
   check<ConfigError>(p.cloud != CloudFamily::Centroids || p.dim >= 2, "the centroids cloud needs --dim 2 or 3");
