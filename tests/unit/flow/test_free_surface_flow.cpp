@@ -29,6 +29,16 @@ HydrostaticRow tank_run(int nx, Real jitter, const std::string& method = "vrsph"
   return run_hydrostatic(o);
 }
 
+// The dam break as the CLI runs it (Lagrangian, Xu shifting), nx intervals across the column.
+DamBreakRunOptions dam_break_options(int nx, Real t_star_end) {
+  DamBreakRunOptions o;
+  o.nx = nx;
+  o.flow.frame = FlowFrame::Lagrangian;
+  o.flow.shifting.kind = Shifting::Xu;
+  o.t_star_end = t_star_end;
+  return o;
+}
+
 // A tank at rest under full gravity (no time step taken): its cloud and solver.
 struct StillTank {
   PointCloud cloud;
@@ -235,11 +245,7 @@ TEST(DamBreak, ReferenceCurvesInterpolateAndStopAtTheirEnds) {
 // shortened towards zero. Here the bound is made tight enough (growth 0.05: 0.05 x 2 √(2 g D),
 // D = 5 L the box's height) for the column's own fall to pass it within T = 0.5.
 TEST(DamBreak, ParticleOutrunningAFreeFallAcrossTheBoxStopsTheRun) {
-  DamBreakRunOptions o;
-  o.nx = 8;
-  o.flow.frame = FlowFrame::Lagrangian;
-  o.flow.shifting.kind = Shifting::Xu;
-  o.t_star_end = 0.5;
+  DamBreakRunOptions o = dam_break_options(8, 0.5);
   o.flow.max_speed_growth = 0.05;
   const DamBreakRun tight = run_dam_break(o);
   EXPECT_NE(tight.stopped.find("twice the speed of a free fall across the box"), std::string::npos) << tight.stopped;
@@ -255,11 +261,7 @@ TEST(DamBreak, ParticleOutrunningAFreeFallAcrossTheBoxStopsTheRun) {
 }
 
 TEST(DamBreak, SurgeFrontFollowsTheExperimentsOnACoarseColumn) {
-  DamBreakRunOptions o;
-  o.nx = 10;
-  o.flow.frame = FlowFrame::Lagrangian;
-  o.flow.shifting.kind = Shifting::Xu;
-  o.t_star_end = 2.0;
+  const DamBreakRunOptions o = dam_break_options(10, 2.0);
   const DamBreakRun r = run_dam_break(o);
   EXPECT_TRUE(r.stopped.empty()) << r.stopped;
   EXPECT_NEAR(r.t_star, 2.0, 1e-9);
