@@ -747,12 +747,16 @@ const FlowStepReport& FlowSolver::step(Real dt) {
       std::string why = "advection under-resolved on this cloud: more particles or a hyperviscosity";
       if (lagrangian) {
         const auto [iso, at] = least_isotropic_support();
-        why = detail::concat("particles too disordered for the projection: the smallest support isotropy is ", iso,
-                             " (particle ", at, ")",
-                             iso < 0.2 ? ", the supports have closed onto lines or planes: shifting, or a wider support "
-                                         "(h_factor, or support_growth to widen them when they close)"
-                             : options_.shifting.kind == Shifting::None ? ": shifting"
-                                                                        : "");
+        const bool shifted = options_.shifting.kind != Shifting::None;
+        if (iso < 0.2 || !shifted)
+          why = detail::concat("particles too disordered for the projection: the smallest support isotropy is ", iso,
+                               " (particle ", at, ")",
+                               iso < 0.2 ? ", the supports have closed onto lines or planes: shifting, or a wider "
+                                           "support (h_factor, or support_growth to widen them when they close)"
+                                         : ": shifting");
+        else  // shifted and no support has closed: a local instability, not the cloud's disorder
+          why = detail::concat("a local instability; no support has closed (smallest isotropy ", iso, ", particle ", at,
+                               ")");
       }
       const bool gravity = !options_.body_force.isZero();
       throw NumericalError(detail::concat("particle ", fastest, " reached |u| = ", speed, ", over ",
