@@ -60,6 +60,10 @@ void validate_params(const OperatorStudyParams& p) {
 }
 
 // [AAR]'s derivative test measures the error at every particle, the ends included.
+// grad-div-composed applies the method's gradient rows twice: its second pass reads the first at
+// every neighbour of an evaluated row, ghosts included.
+bool composes_gradient_rows(const OperatorStudyParams& p) { return p.vector_op == VectorOperator::GradDivComposed; }
+
 bool evaluates_boundary(const OperatorStudyParams& p) { return p.evaluate_boundary || p.problem == "aar-derivative"; }
 
 // The user's --u, else the problem's test function ([AAR]: e^x, [QW]: cos).
@@ -129,8 +133,7 @@ StudyCloud level_cloud(const OperatorStudyParams& p, const Domain& box, const st
   // neighbour, whose rows need a full support in turn: twice the reach. (With one reach the
   // boundary rows read ghosts whose rows were cut off: an error growing like 1/dx there,
   // 10.8, 21.9, 45.0 at n = 16, 32, 64 for VRSPH on the uniform lattice.)
-  const int rings = builtin_methods().info(name).stencil_rings *
-                    (p.vector_op == VectorOperator::GradDivComposed ? 2 : 1);
+  const int rings = builtin_methods().info(name).stencil_rings * (composes_gradient_rows(p) ? 2 : 1);
   const double ghost_layers = p.ghosts ? std::ceil(rings * p.h_factor + 1) : 0;
   const double particles = std::pow(n + 1.0 + 2 * ghost_layers, p.dim);
   check_run_footprint(estimate_run_footprint(p.dim, particles, p.h_factor, components(p.op, p.dim), false),
@@ -272,9 +275,11 @@ OperatorStudyRow study_level(const OperatorStudyParams& p, const Domain& box, co
   req.kind = p.op;
   // The composed operator reads its first pass at the ghosts too (their rows are otherwise not
   // built: zeros that the boundary's neighbours read).
-  const std::vector<char> all_rows(p.vector_op == VectorOperator::GradDivComposed ? static_cast<std::size_t>(cloud.size()) : 0,
-                                   1);
-  if (!all_rows.empty()) req.rows = all_rows;
+  std::vector<char> all_rows;
+  if (composes_gradient_rows(p)) {
+    all_rows.assign(static_cast<std::size_t>(cloud.size()), 1);
+    req.rows = all_rows;
+  }
   Field a_values;
   if (fn.a) {
     a_values = sample(*fn.a, cloud);

@@ -20,6 +20,17 @@ inline void check_study_length(const char* what, Real t_end, Real dt) {
                      t_end / dt, " steps (at most 1e7)");
 }
 
+/// Whether step `steps` + 1 of `dt` has collapsed to 1e-6 of `reference` (a velocity that grew
+/// without bound shortens the stable step towards zero); if so, `why` says so, naming the step,
+/// the time and the speed, and `hint` what to try.
+inline bool step_collapsed(const FlowSolver& solver, Index steps, Real dt, Real reference, const std::string& hint,
+                           std::string& why) {
+  if (dt > 1e-6 * reference) return false;
+  why = concat("flow step ", steps + 1, " (t = ", solver.time(), "): the stable time step fell to ", dt, " (max |u| = ",
+               solver.last().max_speed, "): the run is unstable (", hint, ")");
+  return true;
+}
+
 /// The next step after `steps` of them (the smallest so far `smallest`), `hint` what to try when
 /// the stability limit collapses.
 inline Real next_study_step(const FlowSolver& solver, const char* what, Real fixed_dt, Real target, Real t_end,
@@ -29,9 +40,7 @@ inline Real next_study_step(const FlowSolver& solver, const char* what, Real fix
   Real dt = fixed_dt;
   if (dt <= 0) {
     dt = std::min(target, solver.stable_time_step(0.9));
-    check<NumericalError>(dt > 1e-6 * target, "flow step ", steps + 1, " (t = ", solver.time(), "): the stable time "
-                          "step fell to ", dt, " (max |u| = ", solver.last().max_speed, "): the run is unstable (", hint,
-                          ")");
+    if (std::string why; step_collapsed(solver, steps, dt, target, hint, why)) throw NumericalError(why);
   }
   const Real left = t_end - solver.time();
   return dt >= left * (1 - 1e-9) ? left : dt;
