@@ -35,9 +35,16 @@ FlowViscosity parse_flow_viscosity(const std::string& name) {
   throw ConfigError(detail::concat("unknown viscous treatment '", name, "' (known: explicit, implicit)"));
 }
 
+WallAcceleration parse_wall_acceleration(const std::string& name) {
+  if (name == "momentum") return WallAcceleration::Momentum;
+  if (name == "body-force") return WallAcceleration::BodyForce;
+  throw ConfigError(detail::concat("unknown wall acceleration '", name, "' (known: momentum, body-force)"));
+}
+
 std::string to_string(FlowFrame f) { return f == FlowFrame::Eulerian ? "eulerian" : "lagrangian"; }
 std::string to_string(FlowScheme s) { return s == FlowScheme::RK2 ? "rk2" : "rk3"; }
 std::string to_string(FlowViscosity v) { return v == FlowViscosity::Explicit ? "explicit" : "implicit"; }
+std::string to_string(WallAcceleration a) { return a == WallAcceleration::Momentum ? "momentum" : "body-force"; }
 
 namespace {
 
@@ -107,6 +114,9 @@ OperatorsOptions flow_operators(const FlowOptions& options) {
   OperatorsOptions o = options.operators;
   o.operators = {OperatorKind::Laplacian, OperatorKind::Gradient};
   o.use = StencilUse::Values;
+  // A free surface breaks up: a droplet that leaves the water's reach has empty rows, the air's
+  // p = 0 (it is a surface particle) and falls freely, instead of stopping the run.
+  if (options.free_surface) o.min_neighbours = 0;
   if (options.gradient == "own") {
     o.gradient_method.clear();
   } else if (options.gradient == "auto") {
@@ -402,13 +412,24 @@ void FlowSolver::wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) 
   }
 }
 
-Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv,
+Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, Real t,
                               FlowStepReport* r) const {
   const Stopwatch watch;
   // ∂u/∂t = f - (u·∇)u - ∇p stays divergence-free: L p = D (f - (u·G)u); at walls, which do not
   // accelerate, n·G p = n·(f - (u·G)u).
+  Eigen::MatrixXd a = f - adv;
+  if (options_.free_surface && options_.wall_acceleration == WallAcceleration::BodyForce && !eq_.wall_offset.empty()) {
+    // Extrapolated wall rows that carry the body force only, as Adami, Hu & Adams's for walls at
+    // rest: p_w = Σ ω (p_f + g·(x_w - x_f)). The wall's ν∇²u, from the gradient applied twice
+    // over half a support, is the under-resolved shear of the water sliding past it; carried
+    // along the offsets it made the wall's pressure fall along a jet running up the far wall of
+    // a dam break and pumped the jet out of the tank (docs/free_surface.md).
+    const Vec3 g = body_force(t);
+    for (const Index i : eq_.walls.index)
+      for (int c = 0; c < a.cols(); ++c) a(i, c) = g[c];
+  }
   Field p = phi_;
-  const PressurePoisson::Result res = ppe_->solve(pressure_rhs(*ops_, eq_, f - adv), p);
+  const PressurePoisson::Result res = ppe_->solve(pressure_rhs(*ops_, eq_, a), p);
   if (r) count_solve(*r, res.report, res.shift, watch.seconds());
   return p;
 }
@@ -418,7 +439,7 @@ Eigen::MatrixXd FlowSolver::rate(const Eigen::MatrixXd& u, Real t, FlowStepRepor
   const Eigen::MatrixXd f = forces(u, t);
   const Eigen::MatrixXd adv = advection(*ops_, u);
   r.seconds_rhs += watch.seconds();
-  phi_ = pressure_of(f, adv, &r);
+  phi_ = pressure_of(f, adv, t, &r);
   watch.restart();
   // Eulerian: ∂u/∂t = f - (u·∇)u - ∇p; Lagrangian: Du/Dt = f - ∇p (the particles carry the advection).
   Eigen::MatrixXd k = f - ops_->apply(OperatorKind::Gradient, phi_);
@@ -444,7 +465,7 @@ std::pair<Eigen::MatrixXd, Eigen::MatrixXd> FlowSolver::imex_rates(const Eigen::
   // kinetic energy +4 % instead of +25 % at dt = 1e-2 over dt -> 0; docs/flow.md).
   f -= viscous;
   r.seconds_rhs += watch.seconds();
-  phi_ = pressure_of(f, adv, &r);
+  phi_ = pressure_of(f, adv, t, &r);
   watch.restart();
   Eigen::MatrixXd k = f - ops_->apply(OperatorKind::Gradient, phi_);
   if (options_.frame == FlowFrame::Eulerian) k -= adv;
@@ -530,6 +551,7 @@ void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
   // along the surface (Lind et al. 2012).
   for (std::size_t i = 0; i < surface_.surface.size(); ++i)
     if (surface_.surface[i]) dr[i] -= dr[i].dot(surface_.normals[i]) * surface_.normals[i];
+  std::vector<Vec3> pushed(dr.size(), Vec3::Zero());  // each particle's reflection off a wall's gap
   if (options_.wall_gap > 0) {  // after the shift: no closer to a wall than the gap
     std::vector<Vec3> x(dr.size());
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = ops_->cloud().positions[i] + dr[i];
@@ -537,6 +559,7 @@ void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
     for (std::size_t i = 0; i < x.size(); ++i)
       if (!back[i].isZero()) {
         dr[i] += back[i];
+        pushed[i] = back[i];
         ++r.wall_pushes;
       }
   }
@@ -559,7 +582,20 @@ void FlowSolver::shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r) {
       }
     }
   }
+  // Surface particles keep their velocity: their gradient and Hessian rows see half a support,
+  // so the expansion extrapolates, and at the tip of a jet (along the surface is along the jet,
+  // outward) it fed the jet's stretching back into its speed step after step — a dam break's
+  // run-up on the far wall went from 1.6 to 8.6 (g L)^½ in 20 steps and left the tank
+  // (docs/free_surface.md). Their shifts are O(dt) and along the surface only.
+  for (std::size_t i = 0; i < surface_.surface.size(); ++i)
+    if (surface_.surface[i]) du.row(static_cast<Index>(i)).setZero();
   u += du;
+  // A particle reflected off a wall's gap stops moving into that wall (an inelastic contact):
+  // kept, its velocity took it back to the wall every step — a surface particle, which keeps
+  // its velocity above, stayed pressed there, sliding along it.
+  for (std::size_t i = 0; i < pushed.size(); ++i)
+    for (int a = 0; a < d; ++a)
+      if (pushed[i][a] * u(static_cast<Index>(i), a) < 0) u(static_cast<Index>(i), a) = 0;
   std::vector<Vec3> x = ops_->cloud().positions;
   const Domain& box = ops_->cloud().domain;
   for (std::size_t i = 0; i < x.size(); ++i) {
@@ -786,6 +822,6 @@ const FlowStepReport& FlowSolver::step(Real dt) {
   return report_;
 }
 
-Field FlowSolver::pressure() const { return pressure_of(forces(u_, t_), advection(*ops_, u_), nullptr); }
+Field FlowSolver::pressure() const { return pressure_of(forces(u_, t_), advection(*ops_, u_), t_, nullptr); }
 
 }  // namespace vrsph

@@ -142,6 +142,14 @@ PressureEquation extrapolated_pressure_equation(const Operators& ops, const Wall
   scale = fluid > 0 && scale > 0 ? scale / static_cast<Real>(fluid) : 1.0;
   const NeighbourList& nl = ops.neighbours();
   const Discretisation disc{cloud, nl, ops.options().kernel, ops.spacing()};
+  // A fluid particle with a fluid neighbour below the surface (not a wall, not flagged).
+  auto on_water = [&](Index f) {
+    for (const Index j : nl.of(f)) {
+      const auto sj = static_cast<std::size_t>(j);
+      if ((walls.empty() || !walls.is_wall[sj]) && !surface[sj]) return true;
+    }
+    return false;
+  };
   for (const Index w : walls.index) {
     const Kernel kernel = disc.kernel_at(w);
     Real sum = 0;
@@ -150,6 +158,12 @@ PressureEquation extrapolated_pressure_equation(const Operators& ops, const Wall
     for (Index k = 0; k < nl.count(w); ++k) {
       const Index f = nl.of(w)[static_cast<std::size_t>(k)];
       if (walls.is_wall[static_cast<std::size_t>(f)]) continue;
+      // Not from a detached surface particle (a droplet, or a film or jet with no water below
+      // its surface): carried along g·(x_w - x_f) its p = 0 gave the walls beside it the
+      // pressure of a water column that is not there, which held a droplet on the far wall of a
+      // dam break against gravity (docs/free_surface.md). A surface particle on a body of water
+      // still counts: the walls above a tank's surface extend its hydrostatic pressure.
+      if (free_surface && surface[static_cast<std::size_t>(f)] && !on_water(f)) continue;
       const Real weight = kernel.W(nl.distances_of(w)[static_cast<std::size_t>(k)]);
       if (weight <= 0) continue;
       row.emplace_back(f, weight);

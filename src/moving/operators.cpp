@@ -34,6 +34,8 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
   check<ConfigError>(options_.skin <= 2, "operators: a Verlet skin of ", options_.skin, " support radii searches (1 + skin)^d = ",
                      std::pow(1 + options_.skin, cloud_.dim), " times the pairs the list keeps; give at most 2 (0.2-0.3 is "
                      "usual)");
+  check<ConfigError>(options_.min_neighbours >= 0, "operators: the least neighbour count must be >= 0, got ",
+                     options_.min_neighbours);
   spacing_ = estimate_spacing(cloud_);  // as vrsph.stencil and the CLI
   if (options_.radius > 0) {
     check<ConfigError>(std::isfinite(options_.radius), "operators: the support radius must be finite");
@@ -90,6 +92,7 @@ SearchParams Operators::search_params() const {
   sp.radius = radius_;
   if (own_radii_) sp.radii = verlet_->radii();
   sp.backend = options_.backend;
+  sp.min_neighbours = options_.min_neighbours;
   return sp;
 }
 

@@ -19,7 +19,9 @@
 //    first fluid layer that grew until the viscosity held it, measured);
 //  - gradient rows (every other method): n·G φ, with the flow's gradient;
 //  - extrapolated rows (free surfaces; Adami, Hu & Adams, J. Comput. Phys. 231 (2012) 7057):
-//    p_w = Σ_f ω_wf (p_f + a_w·(x_w - x_f)) over the water particles f of the wall's support,
+//    p_w = Σ_f ω_wf (p_f + a_w·(x_w - x_f)) over the water particles f of the wall's support
+//    (under a free surface not the detached surface particles — droplets, films and jets
+//    without water below their surface, whose p = 0 is the air's),
 //    ω the kernel's Shepard weights: the water's pressure carried to the wall along the
 //    acceleration the wall balances (∇p = a there). Exact for the hydrostatic pressure wherever
 //    the wall sees water — above the surface it is the pressure's linear extension, at a column's
@@ -73,8 +75,9 @@ PressureEquation pressure_equation(const Operators& ops, const Walls& walls);
 /// Extrapolated rows at the walls (Adami, Hu & Adams 2012: p_w = Σ_f W_wf (p_f + a_w·(x_w - x_f))
 /// / Σ_f W_wf over the fluid in the support; each row times the fluid rows' mean |diagonal|):
 /// the form of free-surface and Lagrangian flows.
-/// `surface`: per particle, 1 on the free surface (identity rows: p = 0; walls without water
-/// in their support take p = 0 too, the air's); empty: no free surface (a closed box: such
+/// `surface`: per particle, 1 on the free surface (identity rows: p = 0; the walls extrapolate
+/// from the water and from the surface particles that have a neighbour in it, and walls without
+/// either in their support take p = 0 too, the air's); empty: no free surface (a closed box: walls without water
 /// walls take the mean of their neighbours, and the equation is singular like the balance
 /// rows'). InputError for a `surface` of another size; GeometryError for a wall without neighbours.
 PressureEquation extrapolated_pressure_equation(const Operators& ops, const Walls& walls, const std::vector<char>& surface);

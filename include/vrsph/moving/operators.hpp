@@ -37,6 +37,10 @@ struct OperatorsOptions {
   Real skin = 0.2;         ///< Verlet skin as a fraction of the support radius (0: search every update)
   bool warm_start = true;  ///< VRSPH: start each row's NNLS from its previous active set
   SearchBackend backend = SearchBackend::CellList;
+  /// Rows with fewer neighbours than this raise GeometryError (SearchParams::min_neighbours).
+  /// 0 lets a particle stand alone with empty rows: a free-surface flow's droplet, whose
+  /// pressure is the air's and which falls freely (flow_solver.hpp).
+  Index min_neighbours = 1;
 };
 
 /// What the last update did and cost.

@@ -230,6 +230,84 @@ TEST(FreeSurfaceFlow, RefusesWhatCannotRunAndStopsALostParticle) {
   EXPECT_THROW_MSG(run_hydrostatic(h), NumericalError, "left the box");
 }
 
+// Droplets: one particle 1.5 dx beside the left wall and one in the open air above the water,
+// both far above it, with no viscosity. A free surface lets a particle stand alone (empty rows:
+// it was a GeometryError), and the walls beside a detached droplet take the air's pressure: they
+// used to extrapolate its p = 0 along g·(x_w - x_f), a hydrostatic column that held it still.
+// Both must fall as in a vacuum, v = -g t.
+TEST(FreeSurfaceFlow, DetachedDropletsFallFreelyBesideAWallAndInTheAir) {
+  TankSpec s;
+  s.nx = 10;
+  s.wall_height = 3;
+  PointCloud c = tank_cloud(s);
+  const Real dx = c.spacing;
+  const auto wall_droplet = static_cast<Index>(c.size());
+  c.add(Vec3(1.5 * dx, 2.5, 0), Tag::Interior);
+  const auto air_droplet = static_cast<Index>(c.size());
+  c.add(Vec3(0.5, 2.5, 0), Tag::Interior);
+  FlowOptions o;
+  o.frame = FlowFrame::Lagrangian;
+  o.free_surface = true;
+  o.nu = 0;
+  o.body_force = Vec3(0, -1, 0);
+  FlowSolver solver(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  EXPECT_TRUE(solver.surface().surface[static_cast<std::size_t>(wall_droplet)]);
+  EXPECT_TRUE(solver.surface().surface[static_cast<std::size_t>(air_droplet)]);
+  EXPECT_EQ(solver.operators().neighbours().count(air_droplet), 0);
+  const Field p = solver.pressure();
+  for (const Index w : solver.walls().index)
+    if (c.positions[static_cast<std::size_t>(w)][1] > 2) EXPECT_EQ(p[w], 0.0) << "wall " << w;  // beside the droplet
+  for (int k = 0; k < 8; ++k) solver.step(0.02);
+  for (const Index i : {wall_droplet, air_droplet}) {
+    EXPECT_NEAR(solver.velocity()(i, 1), -solver.time(), 1e-12) << "droplet " << i;
+    EXPECT_NEAR(solver.velocity()(i, 0), 0.0, 1e-12) << "droplet " << i;
+    EXPECT_NEAR(solver.positions()[static_cast<std::size_t>(i)][1], 2.5 - 0.5 * solver.time() * solver.time(), 1e-12);
+  }
+}
+
+// The impact on the far wall and the run-up along it. Before: the run stopped when the front
+// reached the wall; run on, the run-up's tip was pumped to 8.6 (g L)^½ within 20 steps (the
+// shift's velocity expansion at surface particles, and the wall's viscous term carried into its
+// extrapolated pressure) and left the tank at T = 3.5–3.8 (nx = 10). With the walls carrying the
+// body force only, the water rises along the wall, to T = 4.2 here (measured: to T = 11.3 on the
+// lattice, 8.5 at nx = 10 and 20).
+TEST(DamBreak, RunsThroughTheImpactOnTheFarWall) {
+  DamBreakRunOptions o = dam_break_options(10, 4.2);
+  o.flow.wall_acceleration = WallAcceleration::BodyForce;
+  const DamBreakRun r = run_dam_break(o);
+  EXPECT_TRUE(r.stopped.empty()) << r.stopped;
+  EXPECT_NEAR(r.t_star, 4.2, 1e-9);
+  EXPECT_TRUE(r.reached_far_wall);
+  EXPECT_GT(r.far_wall_t_star, 3.0);  // measured 3.25 (nx = 10)
+  EXPECT_LT(r.far_wall_t_star, 3.6);
+  EXPECT_LT(r.max_outside_experiments, 0.25);
+  Real fastest = 0;
+  for (const DamBreakSample& s : r.samples) fastest = std::max(fastest, s.max_speed);
+  EXPECT_LT(fastest, 3.0);  // the surge's own speed, about 2 (g L)^½ — no jet pumped beyond it
+  EXPECT_TRUE(std::isnan(r.samples.back().probe_pressure));  // the probe is Buchner's tank's
+}
+
+// Buchner's tank: its geometry, and the probe's reference record read back.
+TEST(DamBreak, BuchnerTankAndItsProbeRecord) {
+  EXPECT_EQ(parse_dam_break_geometry("buchner"), DamBreakGeometry::Buchner);
+  EXPECT_EQ(to_string(parse_dam_break_geometry("martin-moyce")), "martin-moyce");
+  EXPECT_THROW_MSG(parse_dam_break_geometry("lobovsky"), ConfigError, "martin-moyce | buchner");
+  const SurgeCurve& ref = buchner_probe_reference();
+  ASSERT_EQ(ref.t_star.size(), ref.z_over_l.size());
+  for (std::size_t k = 1; k < ref.t_star.size(); ++k) EXPECT_GT(ref.t_star[k], ref.t_star[k - 1]);
+  EXPECT_DOUBLE_EQ(ref.at(2.77411), 0.68698);  // the first peak
+  DamBreakRunOptions o = dam_break_options(8, 0.3);
+  o.geometry = DamBreakGeometry::Buchner;
+  const DamBreakRun r = run_dam_break(o);
+  EXPECT_TRUE(r.stopped.empty()) << r.stopped;
+  EXPECT_EQ(r.water_particles, 16 * 8);  // 2H x H at H / 8, the floor and the left wall are walls
+  EXPECT_NEAR(r.samples.front().front_z_over_l, 2.0, 1e-12);
+  EXPECT_EQ(r.samples.front().probe_pressure, 0.0);  // no water at the far wall yet
+  EXPECT_TRUE(std::isnan(r.samples.front().probe_reference));  // before Buchner's record starts
+  EXPECT_TRUE(std::isnan(r.samples.front().experiment_low));   // the fronts' references are the other tank's
+  EXPECT_TRUE(std::isnan(r.probe_peak));                        // the run ended before T = 3.5
+}
+
 TEST(DamBreak, ReferenceCurvesInterpolateAndStopAtTheirEnds) {
   const std::vector<SurgeCurve>& refs = dam_break_references();
   ASSERT_EQ(refs.size(), 3u);
