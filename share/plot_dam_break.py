@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The dam break's surge front z/L against T = t (2g/L)^(1/2): one line per method and
 resolution, beside Martin & Moyce's experiments and Koshizuka & Oka's MPS (the JSON's
-reference_curves).
+reference_curves); in Buchner's tank (geometry "buchner ...") the far wall's pressure at probe P1
+against T = t (g/H)^(1/2), beside Buchner's record.
 
 Usage: plot_dam_break.py RUN.json OUT.png   (vrsph flow --case dam-break --format json)
 """
@@ -23,11 +24,13 @@ def main() -> int:
         return 2
     with open(sys.argv[1], encoding="utf-8") as f:
         doc = json.load(f)
+    buchner = str(doc.get("geometry", "")).startswith("buchner")
+    key = "probe_pressure" if buchner else "front_z_over_l"
     runs = {}
     for r in doc["rows"]:
-        if r.get("t_star") is None:  # a run that failed before its first sample
+        if r.get("t_star") is None or r.get(key) is None:  # a run that failed before its first sample
             continue
-        runs.setdefault(f'{r["method"]} nx={r["nx"]}', []).append((r["t_star"], r["front_z_over_l"]))
+        runs.setdefault(f'{r["method"]} nx={r["nx"]}', []).append((r["t_star"], r[key]))
     if not runs:
         print("plot_dam_break.py: no run to plot (every run failed)", file=sys.stderr)
         return 1
@@ -36,12 +39,18 @@ def main() -> int:
         pts.sort()
         ax.plot([p[0] for p in pts], [p[1] for p in pts], label=name)
     for c in doc.get("reference_curves", []):
-        ax.plot(c["t_star"], c["z_over_l"], MARKERS.get(c["name"], "x"), mfc="none", color="k", label=c["name"])
+        ax.plot(c["t_star"], c["probe_pressure" if buchner else "z_over_l"], MARKERS.get(c["name"], "x"), mfc="none",
+                color="k", label=c["name"])
     ax.set_xlim(0, max(max(p[0] for p in pts) for pts in runs.values()) * 1.05)
-    ax.set_ylim(1, 4.2)
-    ax.set_xlabel("T = t (2g/L)^(1/2)")
-    ax.set_ylabel("z / L")
-    ax.set_title("dam break: surge front")
+    if buchner:
+        ax.set_xlabel("T = t (g/H)^(1/2)")
+        ax.set_ylabel("p / (rho g H) at probe P1")
+        ax.set_title("dam break, Buchner's tank: far-wall pressure")
+    else:
+        ax.set_ylim(1, 4.2)
+        ax.set_xlabel("T = t (2g/L)^(1/2)")
+        ax.set_ylabel("z / L")
+        ax.set_title("dam break: surge front")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -266,22 +266,27 @@ void bind_flow(py::module_& m) {
   }, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("jitter"), py::arg("seed"),
      py::arg("t_end"), py::arg("gravity"), py::arg("ramp"), py::arg("h_factor"), py::arg("options"));
   m.def("_dam_break", [](int nx, const std::string& method, double jitter, std::uint64_t seed, double t_star_end,
-                         const std::string& shifting, double cfl, double h_factor, const py::dict& options) {
+                         const std::string& shifting, double cfl, double h_factor, const py::dict& options,
+                         const std::string& geometry, const std::string& wall_acceleration) {
     DamBreakRunOptions o;
+    o.geometry = parse_dam_break_geometry(geometry);
     o.nx = nx;
     o.jitter = jitter;
     o.seed = seed;
     o.t_star_end = t_star_end;
     o.cfl = cfl;
     o.flow = flow_options("lagrangian", method, "auto", 0.01, "rk3", h_factor, "cubic", options, shifting, 0, false, "explicit");
+    o.flow.wall_acceleration = parse_wall_acceleration(wall_acceleration);
     DamBreakRun r;
     {
       py::gil_scoped_release release;
       r = run_dam_break(o);
     }
     py::dict d;
-    std::vector<Real> t, z, h, lo, hi, mps;
+    std::vector<Real> t, z, h, lo, hi, mps, probe, probe_ref;
     for (const DamBreakSample& s : r.samples) {
+      probe.push_back(s.probe_pressure);
+      probe_ref.push_back(s.probe_reference);
       t.push_back(s.t_star);
       z.push_back(s.front_z_over_l);
       h.push_back(s.column_height_over_l);
@@ -300,11 +305,16 @@ void bind_flow(py::module_& m) {
     d["mps_z_over_l"] = mps;
     d["max_outside_experiments"] = r.max_outside_experiments;
     d["reached_far_wall"] = r.reached_far_wall;
+    d["far_wall_t_star"] = r.far_wall_t_star;
+    d["probe_pressure"] = probe;
+    d["probe_reference"] = probe_ref;
+    d["probe_peak"] = r.probe_peak;
+    d["probe_plateau"] = r.probe_plateau;
     d["stopped"] = r.stopped;
     d["seconds_per_step"] = r.seconds_per_step;
     return d;
   }, py::arg("nx"), py::arg("method"), py::arg("jitter"), py::arg("seed"), py::arg("t_star_end"), py::arg("shifting"),
-     py::arg("cfl"), py::arg("h_factor"), py::arg("options"));
+     py::arg("cfl"), py::arg("h_factor"), py::arg("options"), py::arg("geometry"), py::arg("wall_acceleration"));
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
         py::arg("options"), py::arg("viscosity"), py::arg("frame"), py::arg("shifting"), py::arg("wall_layers"));

@@ -120,6 +120,17 @@ def test_dam_break_front_and_references():
     assert row["max_outside_experiments"] < 0.25
     with pytest.raises(vrsph.ConfigError, match="unknown shifting"):
         vrsph.dam_break(nx=10, shifting="sideways")
+    assert np.isnan(row["probe_pressure"]).all()  # the probe is Buchner's tank's
+
+
+def test_dam_break_in_buchners_tank_samples_the_far_walls_probe():
+    row = vrsph.dam_break(nx=8, t_star_end=0.3, geometry="buchner")
+    assert row["stopped"] == ""
+    assert row["front_z_over_l"][0] == 2.0  # the column is 2H wide
+    assert row["probe_pressure"][0] == 0.0  # no water at the far wall yet
+    assert not row["reached_far_wall"]
+    with pytest.raises(vrsph.ConfigError, match="unknown dam-break geometry"):
+        vrsph.dam_break(nx=8, geometry="lobovsky")
 
 
 def test_implicit_viscosity_steps_beyond_the_explicit_limit():

@@ -439,16 +439,23 @@ def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: s
 
 def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: int = 1, t_star_end: float = 3.0,
               shifting: str = "xu", cfl: float = 0.25, h_factor: float = 3.0,
-              options: Mapping[str, Any] | None = None) -> dict:
-    """``vrsph flow --case dam-break`` for one method and resolution (``nx`` intervals across the
-    column L x 2L, tank 4L): the surge front z/L and the column's height at samples of
-    T = t (2g/L)^(1/2), beside Martin & Moyce's experiments (their spread) and Koshizuka & Oka's
-    MPS; ``stopped`` says why a run ended early (its samples before are kept)."""
+              options: Mapping[str, Any] | None = None, geometry: str = "martin-moyce",
+              wall_acceleration: str = "momentum") -> dict:
+    """``vrsph flow --case dam-break`` for one method and resolution. ``geometry="martin-moyce"``
+    (``nx`` intervals across the column L x 2L, tank 4L): the surge front z/L and the column's
+    height at samples of T = t (2g/L)^(1/2), beside Martin & Moyce's experiments (their spread)
+    and Koshizuka & Oka's MPS. ``geometry="buchner"`` (column 2H x H, tank 5.366H, ``nx``
+    intervals across H, T = t (g/H)^(1/2)): also ``probe_pressure`` p/(rho g H) on the far wall at
+    probe P1 beside Buchner's record (``probe_reference``). The run goes on after the front
+    reaches the far wall (``far_wall_t_star``); ``wall_acceleration="body-force"`` lets it run
+    through the impact (docs/free_surface.md); ``stopped`` says why a run ended early (its
+    samples before are kept)."""
     return _vrsph._dam_break(_args.integer(nx, "nx", minimum=2), _args.text(method, "method"),
                              _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
                              _args.number(t_star_end, "t_star_end", positive=True), _args.text(shifting, "shifting"),
                              _args.number(cfl, "cfl", positive=True), _args.number(h_factor, "h_factor", positive=True),
-                             _args.options(options, "options"))
+                             _args.options(options, "options"), _args.text(geometry, "geometry"),
+                             _args.text(wall_acceleration, "wall_acceleration"))
 
 
 class Solution(dict):

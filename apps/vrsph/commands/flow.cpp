@@ -21,6 +21,8 @@
 #include <vrsph/analysis/convergence.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/cavity.hpp>
+#include <vrsph/flow/dam_break.hpp>
+#include <vrsph/flow/dam_break.hpp>
 #include <vrsph/flow/flow_study.hpp>
 #include <vrsph/flow/ghia.hpp>
 #include <vrsph/io/output_file.hpp>
@@ -93,6 +95,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   o.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
   o.support_growth = a.support_growth;
   o.support_isotropy_target = a.support_isotropy;
+  o.wall_acceleration = parse_wall_acceleration(a.wall_acceleration);
   if (a.wall_gap >= 0) o.wall_gap = a.wall_gap;
   return o;
 }
@@ -396,6 +399,11 @@ void run_flow(FlowArgs& a) {
                      "(the projection case has no steps)");
   check<ConfigError>(a.wall_layers == 0 || a.flow_case == "cavity" || hydrostatic || dam_break,
                      "--wall-layers applies to the cases with walls (cavity, hydrostatic, dam-break)");
+  check<ConfigError>(a.geometry == "martin-moyce" || dam_break, "--geometry applies to the dam break (--case dam-break)");
+  (void)parse_wall_acceleration(a.wall_acceleration);
+  check<ConfigError>(a.wall_acceleration == "momentum" || dam_break || hydrostatic, "--wall-acceleration applies to the "
+                     "free-surface cases (hydrostatic, dam-break)");
+  (void)parse_dam_break_geometry(a.geometry);
   check<ConfigError>(a.wall_gap == -1 || (std::isfinite(a.wall_gap) && a.wall_gap >= 0 && a.wall_gap < 1),
                      "--wall-gap must be in [0, 1) particle spacings, got ", a.wall_gap);
   check<ConfigError>(a.wall_gap == -1 || a.frame == "lagrangian", "--wall-gap applies to the lagrangian frame (particles "
@@ -490,15 +498,23 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--ramp", a->ramp, "Hydrostatic: gravity reaches |g| over this time (default 0.5 (H/g)^(1/2))");
   cmd->add_option("--depth", a->depth, "Hydrostatic: the water's depth H (default: the tank's width)");
   cmd->add_option("--tank-width", a->tank_width, "Hydrostatic: the tank's width (default 1; --nx intervals across it)");
+  cmd->add_option("--wall-acceleration", a->wall_acceleration, "Free surfaces: the acceleration the walls' extrapolated "
+                  "pressure carries from the water: momentum (nu lap u + g at the wall) | body-force (g alone, Adami et al. "
+                  "2012: runs a dam break through its impact on the far wall at nx <= 20)")
+      ->capture_default_str();
+  cmd->add_option("--geometry", a->geometry, "Dam-break: martin-moyce (column L x 2L, tank 4L, fronts against Martin & "
+                  "Moyce and Koshizuka & Oka) | buchner (column 2H x H, tank 5.366H, the far wall's pressure at probe P1 "
+                  "against Buchner 2002; --nx intervals across H, --re = (g H)^(1/2) H / nu)")
+      ->capture_default_str();
   cmd->add_option("--t-end", a->t_end, "End time (0: 1 for taylor-green; cavity: 100, the run stops when steady; "
-                                       "hydrostatic: 2; dam-break: 2.5 (L/g)^(1/2), T = 3.54, or the far wall)")
+                                       "hydrostatic: 2; dam-break: 2.5 (L/g)^(1/2), T = 3.54; --geometry buchner: 8 (H/g)^(1/2))")
       ->capture_default_str();
   cmd->add_option("--wall-layers", a->wall_layers, "Cavity, hydrostatic, dam-break: layers of wall particles, 1-8 (0: "
                   "the case's own: cavity 1 eulerian and 3 lagrangian, hydrostatic 1, dam-break 3)")
       ->capture_default_str();
   cmd->add_option("--wall-gap", a->wall_gap, "Lagrangian, walls: a particle that ends a step closer than this many "
                   "spacings to a wall face is reflected off the plane at that distance (0: never; default: 0.5 for the "
-                  "cavity, 0 otherwise)");
+                  "cavity and the dam break, 0 otherwise)");
   cmd->add_option("--steady-tol", a->steady_tol, "Cavity: steady when max |u(n+1) - u(n)| / dt < this (lagrangian: the "
                   "same of the means of the centre lines' samples, every 0.5 time units, over the last two windows of 10, "
                   "or those means equal within twice their standard error)")

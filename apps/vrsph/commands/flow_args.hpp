@@ -27,10 +27,12 @@ struct FlowArgs {
   double t_end = 0, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0,
          steady_tol = 1e-4;
   double support_growth = 1, support_isotropy = 0.3;  // FlowOptions::support_growth, support_isotropy_target
-  double wall_gap = -1;  // FlowOptions::wall_gap; -1: the case's own (the Lagrangian cavity 0.5, else 0)
+  double wall_gap = -1;  // FlowOptions::wall_gap; -1: the case's own (the Lagrangian cavity and the dam break 0.5, else 0)
   // Free-surface cases (flow_free_surface.cpp): |g|, its ramp time, the water's depth and width
   // (a dam break's column: width and height 2 width), the tank's width.
   double gravity = 1, ramp = -1, depth = 0, tank_width = 0;
+  std::string geometry = "martin-moyce";  // the dam break's tank (DamBreakGeometry)
+  std::string wall_acceleration = "momentum";  // FlowOptions::wall_acceleration (free-surface cases)
   bool frame_given = false;     // --frame on the command line (the free-surface cases default to lagrangian)
   bool shifting_given = false;  // --shifting on the command line (the dam break defaults to xu)
   std::uint64_t seed = 1;

@@ -129,7 +129,9 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
 const std::vector<std::string> dam_break_columns = {
     "case", "method", "gradient", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
     "experiment_low", "experiment_high", "outside_experiments", "mps_z_over_l", "max_speed", "surface_particles",
-    "min_spacing", "max_outside_experiments", "reached_far_wall", "steps", "seconds_per_step", "seconds_ppe", "status"};
+    "min_spacing", "probe_pressure", "probe_reference", "max_outside_experiments", "reached_far_wall",
+    "far_wall_t_star", "probe_peak", "probe_peak_t_star", "reference_peak", "reference_peak_t_star", "probe_plateau",
+    "reference_plateau", "steps", "seconds_per_step", "seconds_ppe", "status"};
 
 void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& methods, const std::vector<int>& nxs,
                         const std::map<std::string, MethodOptions>& options) {
@@ -140,7 +142,8 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
   check<ConfigError>(std::isfinite(a.cfl) && a.cfl > 0 && a.cfl <= 1, "--cfl for the dam break must be in (0, 1], got ",
                      a.cfl);
   // L = g = 1: T = t √2. Default: T = 3.54 (t = 2.5), beyond the experiments' z/L = 3.5.
-  const Real t_end = a.t_end > 0 ? a.t_end : 2.5;
+  const bool buchner_tank = parse_dam_break_geometry(a.geometry) == DamBreakGeometry::Buchner;
+  const Real t_end = a.t_end > 0 ? a.t_end : buchner_tank ? 8.0 : 2.5;  // Buchner: past the wave's return to the wall
   Table t;
   t.columns = dam_break_columns;
   Progress progress;
@@ -157,17 +160,21 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       o.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
       o.seed = a.seed;
       if (a.wall_layers > 0) o.wall_layers = a.wall_layers;
-      o.t_star_end = t_end * std::sqrt(2.0);
+      o.geometry = parse_dam_break_geometry(a.geometry);
+      const bool buchner = o.geometry == DamBreakGeometry::Buchner;
+      o.t_star_end = buchner ? t_end : t_end * std::sqrt(2.0);
       o.cfl = a.cfl;
       o.flow = flow_options_for(a, m, options);
-      o.flow.nu = std::sqrt(2.0) / a.re;  // Re = (g 2L)^½ L / ν
+      if (a.wall_gap >= 0) o.wall_gap = a.wall_gap;  // 0 given: none
+      o.flow.nu = buchner ? 1 / a.re : std::sqrt(2.0) / a.re;  // Re = (g 2L)^½ L / ν; Buchner: (g H)^½ H / ν
       std::unique_ptr<VtuSeries> series = series_for(a, methods, nxs, m, n);
       const double index = static_cast<double>(done++);
       o.on_step = [&](const FlowSolver& s) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / t_end) / runs);
         history.record("dam-break", m, n, s);
         if (series && a.vtu_every > 0 && s.steps() % a.vtu_every == 0) {
-          series->write(s.time(), s.operators().cloud(), {{"velocity", s.velocity()}, surface_field(s), isotropy_field(s)});
+          series->write(s.time(), s.operators().cloud(),
+                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s), isotropy_field(s)});
         }
       };
       DamBreakRun r;
@@ -182,15 +189,21 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
             {"case", std::string("dam-break")}, {"method", m},
             {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"shifting", a.shifting},
             {"nx", static_cast<long long>(n)}, {"particles", static_cast<long long>(r.particles)},
-            {"t", s.t_star / std::sqrt(2.0)}, {"t_star", s.t_star}, {"front_z_over_l", s.front_z_over_l},
+            {"t", buchner ? s.t_star : s.t_star / std::sqrt(2.0)}, {"t_star", s.t_star}, {"front_z_over_l", s.front_z_over_l},
             {"column_height_over_l", s.column_height_over_l}, {"experiment_low", number(s.experiment_low)},
             {"experiment_high", number(s.experiment_high)}, {"outside_experiments", number(s.outside_experiments)},
             {"mps_z_over_l", number(s.mps)}, {"max_speed", s.max_speed},
             {"surface_particles", static_cast<long long>(s.surface_particles)}, {"min_spacing", s.min_spacing},
+            {"probe_pressure", number(s.probe_pressure)}, {"probe_reference", number(s.probe_reference)},
             {"status", std::string(k + 1 == r.samples.size() && !r.stopped.empty() ? r.stopped : "ok")}};
         if (k + 1 == r.samples.size()) {  // the run's summary on its last row
-          row.emplace_back("max_outside_experiments", r.max_outside_experiments);
+          row.emplace_back("max_outside_experiments", number(r.max_outside_experiments));
           row.emplace_back("reached_far_wall", r.reached_far_wall);
+          row.emplace_back("far_wall_t_star", r.reached_far_wall ? TableCell(r.far_wall_t_star) : TableCell());
+          for (const auto& [name, v] : {std::pair{"probe_peak", r.probe_peak}, {"probe_peak_t_star", r.probe_peak_t_star},
+                                        {"reference_peak", r.reference_peak}, {"reference_peak_t_star", r.reference_peak_t_star},
+                                        {"probe_plateau", r.probe_plateau}, {"reference_plateau", r.reference_plateau}})
+            row.emplace_back(name, number(v));
           row.emplace_back("steps", static_cast<long long>(r.steps));
           row.emplace_back("seconds_per_step", r.seconds_per_step);
           row.emplace_back("seconds_ppe", r.seconds_ppe);
@@ -202,12 +215,21 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
   }
   Json extra;
   extra["case"] = "dam-break";
-  extra["geometry"] = "column L x 2L, tank 4L wide, L = g = 1, T = t (2 g / L)^(1/2)";
-  extra["references"] = Json::array({"Martin & Moyce, Phil. Trans. R. Soc. A 244 (1952) 312-324, Fig. 3 (n^2 = 2, a = 1.125 in and 2.25 in)",
-                         "Koshizuka & Oka, Nucl. Sci. Eng. 123 (1996) 421-434 (MPS)"});
   Json curves = Json::array();
-  for (const SurgeCurve& c : dam_break_references())
-    curves.push_back(Json::object({{"name", c.name}, {"t_star", c.t_star}, {"z_over_l", c.z_over_l}}));
+  if (parse_dam_break_geometry(a.geometry) == DamBreakGeometry::Buchner) {
+    extra["geometry"] = "buchner: column 2H x H, tank 5.366H wide, walls 6H, H = g = 1, T = t (g / H)^(1/2), probe P1 on "
+                        "the far wall at 0.2667 H, p / (rho g H)";
+    extra["references"] = Json::array({"Buchner, Green water on ship-type offshore structures, PhD thesis, TU Delft (2002), "
+                                       "probe P1 (digitised in TrixiParticles.jl's validation)"});
+    const SurgeCurve& c = buchner_probe_reference();
+    curves.push_back(Json::object({{"name", c.name}, {"t_star", c.t_star}, {"probe_pressure", c.z_over_l}}));
+  } else {
+    extra["geometry"] = "martin-moyce: column L x 2L, tank 4L wide, L = g = 1, T = t (2 g / L)^(1/2)";
+    extra["references"] = Json::array({"Martin & Moyce, Phil. Trans. R. Soc. A 244 (1952) 312-324, Fig. 3 (n^2 = 2, a = 1.125 in and 2.25 in)",
+                           "Koshizuka & Oka, Nucl. Sci. Eng. 123 (1996) 421-434 (MPS)"});
+    for (const SurgeCurve& c : dam_break_references())
+      curves.push_back(Json::object({{"name", c.name}, {"t_star", c.t_star}, {"z_over_l", c.z_over_l}}));
+  }
   extra["reference_curves"] = curves;
   extra["t_end"] = t_end;
   extra["cfl"] = a.cfl;
