@@ -283,7 +283,7 @@ TEST(DamBreak, RunsThroughTheImpactOnTheFarWall) {
   EXPECT_LT(r.max_outside_experiments, 0.25);
   Real fastest = 0;
   for (const DamBreakSample& s : r.samples) fastest = std::max(fastest, s.max_speed);
-  EXPECT_LT(fastest, 3.0);  // the surge's own speed, about 2 (g L)^½ — no jet pumped beyond it
+  EXPECT_LT(fastest, 4.0);  // measured 2.96 (the surge and its run-up); the pumped jet reached 8.6
   EXPECT_TRUE(std::isnan(r.samples.back().probe_pressure));  // the probe is Buchner's tank's
 }
 
