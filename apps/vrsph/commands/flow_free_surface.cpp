@@ -142,8 +142,9 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
   check<ConfigError>(std::isfinite(a.cfl) && a.cfl > 0 && a.cfl <= 1, "--cfl for the dam break must be in (0, 1], got ",
                      a.cfl);
   // L = g = 1: T = t √2. Default: T = 3.54 (t = 2.5), beyond the experiments' z/L = 3.5.
-  const bool buchner_tank = parse_dam_break_geometry(a.geometry) == DamBreakGeometry::Buchner;
-  const Real t_end = a.t_end > 0 ? a.t_end : buchner_tank ? 8.0 : 2.5;  // Buchner: past the wave's return to the wall
+  const DamBreakGeometry geometry = parse_dam_break_geometry(a.geometry);
+  const bool buchner = geometry == DamBreakGeometry::Buchner;
+  const Real t_end = a.t_end > 0 ? a.t_end : buchner ? 8.0 : 2.5;  // Buchner: past the wave's return to the wall
   Table t;
   t.columns = dam_break_columns;
   Progress progress;
@@ -160,8 +161,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       o.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
       o.seed = a.seed;
       if (a.wall_layers > 0) o.wall_layers = a.wall_layers;
-      o.geometry = parse_dam_break_geometry(a.geometry);
-      const bool buchner = o.geometry == DamBreakGeometry::Buchner;
+      o.geometry = geometry;
       o.t_star_end = buchner ? t_end : t_end * std::sqrt(2.0);
       o.cfl = a.cfl;
       o.flow = flow_options_for(a, m, options);
@@ -216,7 +216,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
   Json extra;
   extra["case"] = "dam-break";
   Json curves = Json::array();
-  if (parse_dam_break_geometry(a.geometry) == DamBreakGeometry::Buchner) {
+  if (buchner) {
     extra["geometry"] = "buchner: column 2H x H, tank 5.366H wide, walls 6H, H = g = 1, T = t (g / H)^(1/2), probe P1 on "
                         "the far wall at 0.2667 H, p / (rho g H)";
     extra["references"] = Json::array({"Buchner, Green water on ship-type offshore structures, PhD thesis, TU Delft (2002), "
