@@ -8,6 +8,7 @@ import csv as csv_module
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -553,8 +554,15 @@ class Flow(unittest.TestCase):
         # The acceptance interface: rows[] with t_star and front_z_over_l, beside the references.
         with tempfile.TemporaryDirectory() as tmp:
             png = os.path.join(tmp, "front.png")
-            out = run_json("flow", "--case", "dam-break", "--nx", "10", "--t-end", "1", "--threads", "1", "--plot", png)
+            prefix = os.path.join(tmp, "db")
+            out = run_json("flow", "--case", "dam-break", "--nx", "10", "--t-end", "1", "--threads", "1", "--plot", png,
+                           "--vtu-series", prefix, "--vtu-every", "20")
             rows = out["rows"]
+            # The series ends at --t-end (it stopped at the last multiple of --vtu-every before).
+            with open(prefix + ".pvd", encoding="utf-8") as f:
+                times = [float(t) for t in re.findall(r'timestep="([^"]+)"', f.read())]
+            self.assertEqual(len(times), math.ceil(rows[-1]["steps"] / 20))
+            self.assertAlmostEqual(times[-1], 1.0, places=5)
             self.assertGreater(len(rows), 10)
             self.assertEqual(rows[0]["t_star"], 0.0)
             self.assertLess(abs(rows[0]["front_z_over_l"] - 1.0), 0.021)  # the column's face, perturbed by 0.2 dx

@@ -22,6 +22,12 @@ PointField surface_field(const FlowSolver& s) {
   for (std::size_t i = 0; i < flags.size(); ++i) values(static_cast<Index>(i), 0) = flags[i];
   return {"free_surface", values};
 }
+
+// One frame of a free-surface run: velocity, pressure, the surface flags, the supports' isotropy.
+void write_frame(VtuSeries& series, const FlowSolver& s) {
+  series.write(s.time(), s.operators().cloud(),
+               {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s), isotropy_field(s)});
+}
 }  // namespace
 
 const std::vector<std::string> hydrostatic_columns = {
@@ -77,10 +83,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
                         (index + s.time() / t_end) / runs);
         history.record("hydrostatic", m, n, s);
         const bool last = s.time() >= t_end * (1 - 1e-12);
-        if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) {
-          series->write(s.time(), s.operators().cloud(),
-                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s), isotropy_field(s)});
-        }
+        if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) write_frame(*series, s);
       };
       HydrostaticRow r;
       if (!failed.attempt(t, {{"case", std::string("hydrostatic")}, {"method", m}, {"nx", static_cast<long long>(n)}},
@@ -172,10 +175,9 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       o.on_step = [&](const FlowSolver& s) {
         progress.update(detail::concat(m, " nx = ", n, " t = ", s.time()), (index + s.time() / t_end) / runs);
         history.record("dam-break", m, n, s);
-        if (series && a.vtu_every > 0 && s.steps() % a.vtu_every == 0) {
-          series->write(s.time(), s.operators().cloud(),
-                        {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s), isotropy_field(s)});
-        }
+        // The end too, as the other cases (the solver's time ends at --t-end in either geometry's units).
+        const bool last = s.time() >= t_end * (1 - 1e-12);
+        if (series && (last || (a.vtu_every > 0 && s.steps() % a.vtu_every == 0))) write_frame(*series, s);
       };
       DamBreakRun r;
       if (!failed.attempt(t, {{"case", std::string("dam-break")}, {"method", m}, {"nx", static_cast<long long>(n)}},
