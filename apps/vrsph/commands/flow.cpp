@@ -96,7 +96,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   o.support_growth = a.support_growth;
   o.support_isotropy_target = a.support_isotropy;
   o.wall_acceleration = parse_wall_acceleration(a.wall_acceleration);
-  if (a.wall_gap >= 0) o.wall_gap = a.wall_gap;
+  if (a.wall_gap) o.wall_gap = *a.wall_gap;
   return o;
 }
 
@@ -297,7 +297,7 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
       o.cloud.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
       o.cloud.seed = a.seed;
       o.cloud.wall_layers = a.wall_layers;
-      if (a.wall_gap >= 0) o.lagrangian_wall_gap = a.wall_gap;
+      if (a.wall_gap) o.lagrangian_wall_gap = *a.wall_gap;
       o.re = a.re;
       o.t_end = t_end;
       o.cfl = a.cfl;
@@ -404,9 +404,9 @@ void run_flow(FlowArgs& a) {
   check<ConfigError>(a.wall_acceleration == "momentum" || dam_break || hydrostatic, "--wall-acceleration applies to the "
                      "free-surface cases (hydrostatic, dam-break)");
   (void)parse_dam_break_geometry(a.geometry);
-  check<ConfigError>(a.wall_gap == -1 || (std::isfinite(a.wall_gap) && a.wall_gap >= 0 && a.wall_gap < 1),
-                     "--wall-gap must be in [0, 1) particle spacings, got ", a.wall_gap);
-  check<ConfigError>(a.wall_gap == -1 || a.frame == "lagrangian", "--wall-gap applies to the lagrangian frame (particles "
+  check<ConfigError>(!a.wall_gap || (std::isfinite(*a.wall_gap) && *a.wall_gap >= 0 && *a.wall_gap < 1),
+                     "--wall-gap must be in [0, 1) particle spacings, got ", a.wall_gap.value_or(0));
+  check<ConfigError>(!a.wall_gap || a.frame == "lagrangian", "--wall-gap applies to the lagrangian frame (particles "
                      "that move)");
   check<ConfigError>(a.wall_layers >= 0 && a.wall_layers <= 8, "--wall-layers must be in [1, 8] (0: the case's own), got ",
                      a.wall_layers);

@@ -168,7 +168,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
       o.t_star_end = buchner ? t_end : t_end * std::sqrt(2.0);
       o.cfl = a.cfl;
       o.flow = flow_options_for(a, m, options);
-      if (a.wall_gap >= 0) o.wall_gap = a.wall_gap;  // 0 given: none
+      if (a.wall_gap) o.wall_gap = *a.wall_gap;  // 0 given: none
       o.flow.nu = buchner ? 1 / a.re : std::sqrt(2.0) / a.re;  // Re = (g 2L)^½ L / ν; Buchner: (g H)^½ H / ν
       std::unique_ptr<VtuSeries> series = series_for(a, methods, nxs, m, n);
       const double index = static_cast<double>(done++);
