@@ -96,3 +96,17 @@ def test_free_surface_of_a_disk_agrees_with_the_cli(cli, tmp_path):
         vrsph.free_surface(c, density_threshold=1.2)
     with pytest.raises(vrsph.ConfigError, match="unknown free-surface criterion"):
         vrsph.free_surface(c, criterion="density")
+
+
+def test_a_droplet_over_the_water_does_not_hide_its_surface():
+    # A block of water (lattice, dx = 1/20) with a droplet 1.5 dx above its flat top: the top row
+    # is surface under the droplet too; Marrone's scan as published lets the droplet cover it.
+    dx = 0.05
+    xs, ys = np.meshgrid(np.arange(21) * dx, np.arange(11) * dx)
+    block = np.c_[xs.ravel(), ys.ravel()]
+    points = np.vstack([block, [[0.5, 0.5 + 1.5 * dx]]])
+    c = vrsph.cloud.from_arrays(points, np.full(len(points), vrsph.INTERIOR))
+    under = np.flatnonzero((np.abs(block[:, 0] - 0.5) < 1.1 * dx) & (block[:, 1] > 0.5 - 1e-9))
+    assert len(under) == 3
+    assert vrsph.free_surface(c)["surface"][under].all()
+    assert not vrsph.free_surface(c, scan_every_neighbour=True)["surface"][under].any()

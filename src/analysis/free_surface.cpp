@@ -113,21 +113,21 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
   out.scanned.assign(static_cast<std::size_t>(n), 0);
   const Real s = out.radius / 2;  // the scan's length: its region reaches the support radius
 
+  auto pair = [&](Index i, Index k) -> Vec3 {  // x_j - x_i (its periodic image)
+    Vec3 v = cloud.positions[static_cast<std::size_t>(nl.indices[static_cast<std::size_t>(k)])] -
+             cloud.positions[static_cast<std::size_t>(i)];
+    if (periodic) v += periodic_shift(cloud.domain, nl.shifts[static_cast<std::size_t>(k)]);
+    return v;
+  };
+  // Two passes: the scan reads the neighbours' eigenvalues.
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     const auto iu = static_cast<std::size_t>(i);
-    const Vec3& xi = cloud.positions[iu];
-    const Index begin = nl.offsets[iu];
-    auto pair = [&](Index k) -> Vec3 {  // x_j - x_i (its periodic image)
-      Vec3 v = cloud.positions[static_cast<std::size_t>(nl.indices[static_cast<std::size_t>(k)])] - xi;
-      if (periodic) v += periodic_shift(cloud.domain, nl.shifts[static_cast<std::size_t>(k)]);
-      return v;
-    };
     Real density = kernel.W(0);
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     Vec3 g = Vec3::Zero();
-    for (Index k = begin; k < nl.offsets[iu + 1]; ++k) {
-      const Vec3 xji = pair(k);
+    for (Index k = nl.offsets[iu]; k < nl.offsets[iu + 1]; ++k) {
+      const Vec3 xji = pair(i, k);
       const Real r = nl.distances[static_cast<std::size_t>(k)];
       density += kernel.W(r);
       const Real f = kernel.dW_over_r(r);  // W'(r)/r <= 0
@@ -137,10 +137,13 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
     out.density_ratio[iu] = density / full.density;
     const Real lambda = smallest_eigenvalue(m, d);
     out.eigenvalue[iu] = lambda / full.eigenvalue;
-    const bool classify = !options.only_interior || cloud.tags[iu] == Tag::Interior;
     if (out.eigenvalue[iu] < options.interior_eigenvalue)
       out.normals[iu] = outward_normal(m, g, d, lambda, full.eigenvalue, out.spacing);
-    if (!classify) continue;
+  }
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    if (options.only_interior && cloud.tags[iu] != Tag::Interior) continue;
     bool surface = false;
     if (options.criterion == SurfaceCriterion::NumberDensity) {
       surface = out.density_ratio[iu] < options.density_threshold;
@@ -152,13 +155,15 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
       if (options.scan && nrm.squaredNorm() > 0) {
         out.scanned[iu] = 1;
         const Vec3 centre = s * nrm;  // T - x_i
-        for (Index k = begin; k < nl.offsets[iu + 1] && surface; ++k) {
-          const Vec3 xji = pair(k);
+        for (Index k = nl.offsets[iu]; k < nl.offsets[iu + 1] && surface; ++k) {
+          const auto ju = static_cast<std::size_t>(nl.indices[static_cast<std::size_t>(k)]);
+          const bool wall = options.only_interior && cloud.tags[ju] != Tag::Interior;
+          if (!wall && !options.scan_every_neighbour && out.eigenvalue[ju] < options.surface_eigenvalue) continue;
+          const Vec3 xji = pair(i, k);
           const Real r = nl.distances[static_cast<std::size_t>(k)];
           const bool in_cone = r < std::sqrt(2.0) * s && xji.dot(nrm) > r * std::sqrt(0.5);
           // A wall covers the particle only inside the cone: the cap reaches down to a floor next
           // to a free face (the foot of a water column), which would hide the face.
-          const bool wall = options.only_interior && cloud.tags[static_cast<std::size_t>(nl.indices[static_cast<std::size_t>(k)])] != Tag::Interior;
           const bool in_cap = !wall && (xji - centre).norm() < s;
           if (in_cone || in_cap) surface = false;
         }

@@ -16,7 +16,11 @@
 //    the scan decides: i is on the surface iff no neighbour lies in the region
 //    {|x - x_i| < sqrt(2) s, angle(x - x_i, n_i) < 45 deg} U {|x - (x_i + s n_i)| < s},
 //    s = h / 2, n_i the normal below. The scan removes the false positives of the eigenvalue
-//    alone next to corners and inside disordered clouds.
+//    alone next to corners and inside disordered clouds. A neighbour that is surface without
+//    a scan (lambda_j < surface_eigenvalue: a droplet, a filament's tip, a sharp crest) does
+//    not cover i: spray 1.5-2.5 dx above the water hid the particles under it from the air
+//    (interior rows, whose pressure then spiked; docs/free_surface.md). Marrone et al. count
+//    every neighbour (scan_every_neighbour).
 //
 // Normal: n_i = -M_i^{-1} sum_j V grad_i W_ij, normalised (the renormalised gradient of the
 // Shepard sum points into the fluid); without renormalisation where M_i is singular, 0 where
@@ -51,6 +55,9 @@ struct FreeSurfaceOptions {
   Real interior_eigenvalue = 0.75; ///< Eigenvalue: interior without a scan above this
   bool scan = true;                ///< Eigenvalue: run the scan in between (false: surface iff lambda <= interior_eigenvalue)
   bool only_interior = false;      ///< classify Interior particles only; the others are walls/ghosts
+  /// Eigenvalue: every neighbour covers in the scan, droplets included (Marrone et al. 2010
+  /// as published); false: neighbours with lambda_j < surface_eigenvalue do not.
+  bool scan_every_neighbour = false;
 };
 
 struct FreeSurface {

@@ -255,8 +255,11 @@ TEST(FreeSurfaceFlow, DetachedDropletsFallFreelyBesideAWallAndInTheAir) {
   EXPECT_TRUE(solver.surface().surface[static_cast<std::size_t>(air_droplet)]);
   EXPECT_EQ(solver.operators().neighbours().count(air_droplet), 0);
   const Field p = solver.pressure();
-  for (const Index w : solver.walls().index)
-    if (c.positions[static_cast<std::size_t>(w)][1] > 2) EXPECT_EQ(p[w], 0.0) << "wall " << w;  // beside the droplet
+  for (const Index w : solver.walls().index) {
+    if (c.positions[static_cast<std::size_t>(w)][1] > 2) {
+      EXPECT_EQ(p[w], 0.0) << "wall " << w;  // beside the droplet
+    }
+  }
   for (int k = 0; k < 8; ++k) solver.step(0.02);
   for (const Index i : {wall_droplet, air_droplet}) {
     EXPECT_NEAR(solver.velocity()(i, 1), -solver.time(), 1e-12) << "droplet " << i;
