@@ -286,7 +286,7 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   }
 }
 
-void FlowSolver::factorise_pressure() {
+bool FlowSolver::factorise_pressure() {
   // A free surface: p = 0 there, and the walls' rows carry the water's pressure to them
   // (extrapolated rows: exact for the hydrostatic pressure on either side of the surface, and
   // they hold up the water at a column's foot, where a wall's balance row over a quarter support
@@ -303,10 +303,12 @@ void FlowSolver::factorise_pressure() {
   eq_.wall_flux = std::move(eq.wall_flux);
   eq_.surface = std::move(eq.surface);
   eq_.wall_offset = std::move(eq.wall_offset);
-  const PressurePoisson* previous = options_.reuse_factorisation ? ppe_.get() : nullptr;
+  const bool reuse = ppe_ && (ppe_->hierarchy() ? options_.reuse_hierarchy : options_.reuse_factorisation);
+  const PressurePoisson* previous = reuse && ppe_->worth_reusing() ? ppe_.get() : nullptr;
   ppe_ = std::make_unique<PressurePoisson>(pressure_poisson(std::move(eq.matrix), eq_.walls, eq_.wall_flux,
                                                             options_.solver, eq_.has_surface(), previous,
                                                             !eq_.wall_offset.empty()));
+  return previous != nullptr;
 }
 
 void FlowSolver::detect_surface() {
@@ -535,7 +537,7 @@ void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
   if (options_.free_surface) detect_surface();
   r.seconds_update += watch.seconds();
   watch.restart();
-  factorise_pressure();
+  r.ppe_setups += factorise_pressure() ? 0 : 1;
   r.ppe_iterations += ppe_->setup().iterations;
   r.seconds_ppe += watch.seconds();
 }

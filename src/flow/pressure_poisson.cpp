@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The singular pressure Poisson equation, pinned and its defect spread (pressure_poisson.hpp).
+#include <algorithm>
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/pressure_poisson.hpp>
@@ -101,6 +102,7 @@ void PressurePoisson::prepare_regular(CsrMatrix A, const PressurePoisson* previo
 void PressurePoisson::set_up_solver(CsrMatrix A, const PressurePoisson* previous) {
   if (previous) {
     solver_ = previous->solver_;
+    own_iterations_ = previous->own_iterations_;
     matrix_ = std::make_shared<const CsrMatrix>(std::move(A));
   } else {
     solver_ = std::make_shared<const PreparedSolver>(A, options_);
@@ -110,7 +112,7 @@ void PressurePoisson::set_up_solver(CsrMatrix A, const PressurePoisson* previous
 PressurePoisson PressurePoisson::nearby(CsrMatrix A, const PressurePoisson& previous, const SolverOptions& options,
                                         Index pinned, Field spread) {
   check<InputError>(previous.can_precondition(), "pressure Poisson: a nearby equation needs a previous one solved by a "
-                    "factorisation, got ", previous.solver_ ? previous.solver_->solver() : std::string("none"));
+                    "factorisation or a PETSc AMG hierarchy on one rank, got ", previous.solver_ ? previous.solver_->solver() : std::string("none"));
   check<InputError>(A.rows() == previous.n_ && A.cols() == previous.n_, "pressure Poisson: a nearby matrix of ",
                     A.rows(), " x ", A.cols(), " for a previous one over ", previous.n_, " particles");
   PressurePoisson p;
@@ -120,12 +122,25 @@ PressurePoisson PressurePoisson::nearby(CsrMatrix A, const PressurePoisson& prev
   return p;
 }
 
+bool PressurePoisson::worth_reusing() const {
+  return solver_ && (solver_->direct() || (solver_->reuses_hierarchy() && last_iterations_ <= hierarchy_growth * own_iterations_));
+}
+
 SolveReport PressurePoisson::run(const Field& b, Field& x) const {
-  if (!matrix_) return solver_->solve(b, x);
+  if (!matrix_) {
+    SolveReport own = solver_->solve(b, x);
+    own_iterations_ = std::max(own_iterations_, own.iterations);
+    last_iterations_ = own.iterations;
+    return own;
+  }
   const Field guess = x;
-  SolveReport r = solver_->solve_nearby(*matrix_, b, x, nearby_rtol, nearby_max_iterations);
+  // A factorisation preconditions BiCGSTAB to round-off; an AMG hierarchy keeps the solver's own
+  // tolerance (its own matrix's solves stop there too).
+  const Real rtol = solver_->direct() ? nearby_rtol : options_.rtol;
+  SolveReport r = solver_->solve_nearby(*matrix_, b, x, rtol, nearby_max_iterations);
   ++nearby_solves_;
   nearby_iterations_ += r.iterations;
+  last_iterations_ = r.iterations;
   if (r.success) return r;
   // The factorisation of an earlier matrix no longer fits this one: this matrix's own, from
   // now on for every solve.
@@ -133,6 +148,7 @@ SolveReport PressurePoisson::run(const Field& b, Field& x) const {
   matrix_.reset();
   x = guess;
   SolveReport own = solver_->solve(b, x);
+  own_iterations_ = last_iterations_ = own.iterations;
   own.seconds_setup = solver_->seconds_setup();
   own.iterations += r.iterations;
   return own;

@@ -23,6 +23,13 @@ class Backend {
   virtual ~Backend() = default;
   /// x on entry: the initial guess of iterative back-ends (size 0: zero); on exit: the solution.
   virtual void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep) = 0;
+  /// Solves with another matrix A of the same size, preconditioned by this set-up (PETSc: the
+  /// AMG hierarchy of this matrix, on one rank); false if the back-end cannot (the caller then
+  /// preconditions a Krylov method of its own with solve()).
+  virtual bool solve_other(const CsrMatrix& /*A*/, const Eigen::VectorXd& /*b*/, Eigen::VectorXd& /*x*/,
+                           SolveReport& /*rep*/, Real /*rtol*/, int /*max_iterations*/) {
+    return false;
+  }
   std::string name;                   ///< "umfpack", "petsc gmres+hypre(boomeramg)", ...
   double seconds_setup = 0;
   bool ready = true;                  ///< false: the set-up failed (reason and message below)

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <vrsph/core/error.hpp>
 #include <vrsph/solve/solver.hpp>
+#include "backends.hpp"
 
 namespace vrsph {
 
@@ -49,6 +50,21 @@ SolveReport PreparedSolver::solve_nearby(const CsrMatrix& A, const Eigen::Vector
                     b.size(), " for ", A.rows(), " unknowns");
   check<ConfigError>(rtol > 0 && max_iterations > 0, "solver: tolerance and iteration cap must be positive");
   const auto t0 = std::chrono::steady_clock::now();
+  if (reuses_hierarchy()) {
+    SolveReport rep;
+    rep.solver = backend_->name + " (preconditioner of an earlier matrix)";
+    if (x.size() != b.size()) x = Eigen::VectorXd::Zero(b.size());
+    if (backend_->solve_other(A, b, x, rep, rtol, max_iterations)) {
+      const Real bnorm = b.norm();
+      rep.residual = (b - A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
+      if (rep.success && !(std::isfinite(rep.residual) && rep.residual < std::max(1e-6, 100 * rtol))) {
+        rep.success = false;
+        rep.message = detail::concat("true relative residual ", rep.residual, " too large");
+      }
+      rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return rep;
+    }
+  }
   Eigen::BiCGSTAB<CsrMatrix, PreparedPreconditioner> it;
   it.preconditioner().prepared = this;
   it.setTolerance(rtol);

@@ -128,10 +128,51 @@ class PetscBackend final : public Backend {
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep) override {
     const std::lock_guard<std::mutex> lock(petsc_mutex);
     const PushedOptions pushed(options_);
+    solve_locked(b, x, rep, row_scale_);
+  }
+
+  // Another matrix of the same size (the next stage of moving particles), solved by this KSP
+  // with the preconditioner set up for this one (KSPSetReusePreconditioner): no new AMG
+  // hierarchy. The operator is the new matrix, rows scaled by its own diagonal.
+  bool solve_other(const CsrMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep, Real rtol,
+                   int max_iterations) override {
+    if (distributed_ || A.rows() != m_ || A.cols() != m_) return false;
+    const std::lock_guard<std::mutex> lock(petsc_mutex);
+    const PushedOptions pushed(options_);
+    PetscReal rtol0 = 0, abstol0 = 0, dtol0 = 0;
+    PetscInt max_it0 = 0;
+    call(KSPGetTolerances(ksp_, &rtol0, &abstol0, &dtol0, &max_it0), "KSP");
+    std::vector<Real> values, scale;
+    scaled_copy(A, 0, scale_, values, scale);
+    auto& Am = const_cast<CsrMatrix&>(A);  // PETSc only reads the arrays
+    struct Restore {  // this matrix and its tolerances back on every path, exceptions included
+      KSP ksp;
+      Mat own, other;
+      PetscReal rtol, abstol, dtol;
+      PetscInt max_it;
+      ~Restore() {
+        KSPSetOperators(ksp, own, own);
+        KSPSetTolerances(ksp, rtol, abstol, dtol, max_it);
+        if (other) MatDestroy(&other);
+      }
+    } restore{ksp_, A_, nullptr, rtol0, abstol0, dtol0, max_it0};
+    call(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, m_, m_, Am.outerIndexPtr(), Am.innerIndexPtr(),
+                                   scale_ ? values.data() : Am.valuePtr(), &restore.other),
+         "matrix");
+    const Mat other = restore.other;
+    call(KSPSetReusePreconditioner(ksp_, PETSC_TRUE), "KSP");
+    call(KSPSetOperators(ksp_, other, A_), "KSP");
+    call(KSPSetTolerances(ksp_, rtol, abstol0, dtol0, max_iterations), "KSP");
+    solve_locked(b, x, rep, scale);
+    return true;
+  }
+
+ private:
+  void solve_locked(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveReport& rep, const std::vector<Real>& row_scale) {
     if (x.size() != m_) x = Eigen::VectorXd::Zero(m_);
     Eigen::VectorXd rhs = b;
-    if (!row_scale_.empty())
-      for (Index d = 0; d < m_; ++d) rhs[d] *= row_scale_[static_cast<std::size_t>(d)];
+    if (!row_scale.empty())
+      for (Index d = 0; d < m_; ++d) rhs[d] *= row_scale[static_cast<std::size_t>(d)];
     Vec bv = nullptr, xv = nullptr;
     struct Vectors {  // destroyed on every path, exceptions included
       Vec* b;
@@ -167,7 +208,6 @@ class PetscBackend final : public Backend {
       rep.message = concat(name, " stopped without converging: ", rep.reason, " after ", its, " iterations");
   }
 
- private:
   // Options: vrsph's defaults, then PETSC_OPTIONS, then the caller's (later ones win), in
   // a database of this back-end's own so that one solver's options never leak into the next.
   void load_options(const SolverOptions& o) {
@@ -191,6 +231,7 @@ class PetscBackend final : public Backend {
     if (distributed_) MPI_Exscan(&m_, &first_row, 1, MPIU_INT, MPI_SUM, comm_);
     if (distributed_ && o.communicator.rank() == 0) first_row = 0;
     auto& Am = const_cast<CsrMatrix&>(A);  // PETSc only reads the arrays (the matrix is never modified)
+    scale_ = o.scale_rows;
     const Real* a_values = o.scale_rows ? scale_rows(Am, first_row) : Am.valuePtr();
     if (distributed_) {
       // MPIAIJ from the rows: PETSc splits them into the diagonal and off-diagonal blocks and
@@ -212,18 +253,28 @@ class PetscBackend final : public Backend {
   // AMG. Without it, mixed problems took 196 iterations at 4 10^5 unknowns and 810 at 10^6
   // instead of ~20. The index arrays are shared; only the values are copied.
   const Real* scale_rows(const CsrMatrix& Am, PetscInt first_row) {
-    scaled_.assign(Am.valuePtr(), Am.valuePtr() + Am.nonZeros());
-    row_scale_.assign(static_cast<std::size_t>(m_), 1.0);
+    scaled_copy(Am, first_row, true, scaled_, row_scale_);
+    return scaled_.data();
+  }
+
+  // values: A's divided row by row by the diagonal (first_row: the rank's first global row),
+  // scale: those factors (1 where the diagonal is 0 or not finite); nothing when !scale_rows.
+  void scaled_copy(const CsrMatrix& Am, PetscInt first_row, bool scale_rows, std::vector<Real>& values,
+                   std::vector<Real>& scale) const {
+    values.clear();
+    scale.clear();
+    if (!scale_rows) return;
+    values.assign(Am.valuePtr(), Am.valuePtr() + Am.nonZeros());
+    scale.assign(static_cast<std::size_t>(m_), 1.0);
 #pragma omp parallel for schedule(static)
     for (Index d = 0; d < m_; ++d) {
       Real diagonal = 0;
       for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k)
         if (Am.innerIndexPtr()[k] == first_row + d) diagonal = Am.valuePtr()[k];
       if (diagonal == 0 || !std::isfinite(diagonal)) continue;
-      row_scale_[static_cast<std::size_t>(d)] = 1 / diagonal;
-      for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k) scaled_[static_cast<std::size_t>(k)] /= diagonal;
+      scale[static_cast<std::size_t>(d)] = 1 / diagonal;
+      for (Index k = Am.outerIndexPtr()[d]; k < Am.outerIndexPtr()[d + 1]; ++k) values[static_cast<std::size_t>(k)] /= diagonal;
     }
-    return scaled_.data();
   }
 
   // The KSP with the options applied; its tolerances checked and its name ("petsc gmres+hypre(boomeramg)").
@@ -303,6 +354,7 @@ class PetscBackend final : public Backend {
   Mat A_ = nullptr;
   KSP ksp_ = nullptr;
   std::vector<Real> scaled_, row_scale_;
+  bool scale_ = true;  // rows divided by their diagonal (SolverOptions::scale_rows)
   MonitorContext monitor_;
 };
 

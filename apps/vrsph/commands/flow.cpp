@@ -91,6 +91,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   o.solver.type = parse_solver(a.solver);
   o.allow_unstable = a.allow_unstable;
   o.reuse_factorisation = a.reuse_factorisation;
+  o.reuse_hierarchy = a.reuse_hierarchy;
   o.hyperviscosity = a.hyperviscosity;
   o.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
   o.support_growth = a.support_growth;
@@ -543,6 +544,11 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--shift-coefficient", a->shift_coefficient, "beta (xu) or A (lind); 0: 0.04 and 2")->capture_default_str();
   cmd->add_flag("--allow-unstable", a->allow_unstable, "Warn instead of refusing a time step beyond the stability limit");
   cmd->add_option("--solver", a->solver, "Pressure Poisson solver: auto | umfpack | sparselu | bicgstab | petsc")->capture_default_str();
+  cmd->add_option("--reuse-hierarchy", a->reuse_hierarchy,
+                  "Lagrangian, PETSc pressure solves: an earlier stage's AMG hierarchy preconditions the next pressure "
+                  "matrices while their solves take at most 1.1 times its own iterations (false: a new hierarchy every "
+                  "stage; the result is the same to the solver's tolerance)")
+      ->capture_default_str();
   cmd->add_option("--reuse-factorisation", a->reuse_factorisation,
                   "Lagrangian, direct solvers: an earlier stage's factorisation preconditions BiCGSTAB on the next "
                   "pressure matrices until it needs more than 30 iterations (false: factorise every stage)")

@@ -39,6 +39,7 @@ struct FlowArgs {
   std::uint64_t seed = 1;
   bool allow_unstable = false;
   bool reuse_factorisation = false;  // FlowOptions::reuse_factorisation
+  bool reuse_hierarchy = true;       // FlowOptions::reuse_hierarchy
   OutputOptions out;
 };
 

@@ -23,7 +23,7 @@ FlowHistory::FlowHistory(std::string path) : path_(std::move(path)) {
   check<ConfigError>(dir.empty() || std::filesystem::is_directory(dir, ec), "--history '", path_, "': the directory '",
                      dir.string(), "' does not exist");
   table_.columns = {"case", "method", "nx", "step", "t", "dt", "kinetic_energy", "max_speed", "max_div_u", "cfl",
-                    "advective_number", "viscous_number", "force_number", "ppe_iterations", "viscous_iterations",
+                    "advective_number", "viscous_number", "force_number", "ppe_iterations", "ppe_setups", "viscous_iterations",
                     "min_spacing", "max_spacing", "min_support_isotropy", "max_support_growth", "max_shift", "wall_pushes",
                     "surface_particles", "error_u_mean", "error_u_inf", "error_p_mean", "decay_rate_error",
                     "steady_residual", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous"};
@@ -39,6 +39,7 @@ void FlowHistory::record(const std::string& flow_case, const std::string& method
       {"max_speed", r.max_speed}, {"max_div_u", r.max_div_u}, {"cfl", r.cfl}, {"advective_number", r.advective_number},
       {"viscous_number", r.viscous_number}, {"force_number", r.force_number},
       {"ppe_iterations", static_cast<long long>(r.ppe_iterations)},
+      {"ppe_setups", static_cast<long long>(r.ppe_setups)},
       {"viscous_iterations", static_cast<long long>(r.viscous_iterations)}, {"min_spacing", r.min_spacing},
       {"max_spacing", r.max_spacing}, {"min_support_isotropy", r.min_support_isotropy},
       {"max_support_growth", r.max_support_growth}, {"max_shift", r.max_shift},

@@ -120,6 +120,13 @@ struct FlowOptions {
   /// faster at 6.6e4 and 3.2x faster in 3D at 3375, but GMRES + BoomerAMG, auto's choice there
   /// with PETSc, is faster still; it pays with a direct solver in 3D (a build without PETSc).
   bool reuse_factorisation = false;
+  /// Lagrangian, PETSc (auto's choice above its direct limit): the AMG hierarchy of one stage's
+  /// pressure matrix preconditions the next stages' (PressurePoisson::nearby, the same FGMRES
+  /// and tolerance) while their solves take at most PressurePoisson::hierarchy_growth times the
+  /// iterations of the hierarchy's own; then a new one is set up. The result is the same to the
+  /// solver's tolerance. Lagrangian Taylor-Green at 1e5 and 1e6 particles: 0.67-0.68 of the
+  /// PPE's seconds per step, with as many iterations (docs/flow.md).
+  bool reuse_hierarchy = true;
   bool allow_unstable = false;  ///< step() warns instead of refusing a time step beyond the limits
   /// Eulerian stabilisation: the term -c U dx³ L(L u) added to F (c this coefficient, U the
   /// velocity scale, dx the spacing), a hyperviscosity that damps the grid-scale modes a
@@ -170,6 +177,7 @@ struct FlowStepReport {
   Real advective_number = 0;   ///< dt × a bound of the advection operator's spectral radius (Eulerian)
   Real viscous_number = 0;     ///< dt × the explicit viscous (and hyperviscous) terms' spectral radius (Eulerian: measured; Lagrangian: Gershgorin bound)
   int ppe_iterations = 0;      ///< over the step's stages
+  int ppe_setups = 0;          ///< pressure matrices set up afresh (the others solved on an earlier set-up: reuse_hierarchy)
   int viscous_iterations = 0;  ///< implicit viscosity: solver iterations over the step's stages and components
   Real ppe_shift = 0;          ///< largest |λ| of the step's projections (PressurePoisson)
   Real min_spacing = 0;        ///< smallest nearest-neighbour distance / dx
@@ -264,7 +272,9 @@ class FlowSolver {
   const ImexTableau& imex_tableau() const;  ///< ARS(4,4,3) for RK3, ARS(2,2,2) for RK2
   const ImplicitViscosity& viscous_solver(Real c, FlowStepReport& r);
   void move_to(const std::vector<Vec3>& x, FlowStepReport& r);
-  void factorise_pressure();  ///< the pressure equation of the current operators into ppe_ (and eq_'s wall fluxes)
+  /// The pressure equation of the current operators into ppe_ (and eq_'s wall fluxes); true when it
+  /// is solved nearby the previous one (reuse_hierarchy, reuse_factorisation), false: set up afresh.
+  bool factorise_pressure();
   /// Shifting and the wall gap: moves the particles by their displacements and interpolates u there.
   void shift(Eigen::MatrixXd& u, Real dt, FlowStepReport& r);
   /// The displacements that reflect the fluid particles at x off the planes wall_gap spacings off

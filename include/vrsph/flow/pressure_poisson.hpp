@@ -42,11 +42,15 @@ class PressurePoisson {
   /// particles), solved by BiCGSTAB preconditioned with previous's factorisation, which is
   /// shared, not copied: A's own is made only if a solve does not converge within
   /// nearby_max_iterations (then every later solve uses it). `previous` must be of the same
-  /// kind (regular or pinned) and size and be a factorisation (can_precondition()).
+  /// kind (regular or pinned) and size and be a factorisation or a PETSc AMG hierarchy
+  /// (can_precondition(); PETSc: FGMRES on A with previous's hierarchy, to the solver's rtol).
   static PressurePoisson nearby(CsrMatrix A, const PressurePoisson& previous, const SolverOptions& options,
                                 Index pinned = 0, Field spread = {});
   /// A direct solver's set-up: cheap to apply to a nearby matrix's solves (nearby()).
-  bool can_precondition() const { return solver_ && solver_->direct(); }
+  bool can_precondition() const { return solver_ && (solver_->direct() || solver_->reuses_hierarchy()); }
+  /// Solved by PETSc on one rank: nearby() reuses its AMG hierarchy (else, if can_precondition(),
+  /// a factorisation).
+  bool hierarchy() const { return solver_ && solver_->reuses_hierarchy(); }
   /// The most BiCGSTAB iterations a nearby solve may take before the matrix is factorised.
   static constexpr int nearby_max_iterations = 30;
   /// The relative residual nearby solves reach (a factorisation's own is about 1e-15).
@@ -55,6 +59,12 @@ class PressurePoisson {
   /// and their BiCGSTAB iterations.
   int nearby_solves() const { return nearby_solves_; }
   int nearby_iterations() const { return nearby_iterations_; }
+  /// Whether the next matrix should be solved nearby this one (nearby()): always for a
+  /// factorisation (a failed solve sets up its own); an AMG hierarchy while its last solve took
+  /// at most hierarchy_growth times the iterations of a solve with its own matrix (the particles
+  /// moved away from it; a new hierarchy is then cheaper than the iterations it saves).
+  bool worth_reusing() const;
+  static constexpr Real hierarchy_growth = 1.1;
   ~PressurePoisson();
   PressurePoisson(PressurePoisson&&) noexcept;
   PressurePoisson& operator=(PressurePoisson&&) noexcept;
@@ -92,6 +102,7 @@ class PressurePoisson {
   /// Nearby: the pinned matrix itself, until a solve needs its own factorisation.
   mutable std::shared_ptr<const CsrMatrix> matrix_;
   mutable int nearby_solves_ = 0, nearby_iterations_ = 0;
+  mutable int own_iterations_ = 0, last_iterations_ = 0;  // worth_reusing(): the hierarchy's own solves, the last
   Field z_;  ///< the pinned solution for the source w (z_p = 0)
   Real spread_pinned_ = 1;  ///< w at the pinned particle
   Real sigma_ = 0;

@@ -114,14 +114,17 @@ class PreparedSolver {
   /// The report's seconds are this solve's; seconds_setup is the one-time set-up.
   SolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   /// Solves A x = b for another matrix A of the same size close to this solver's (the next
-  /// time step's, the particles moved a little): BiCGSTAB preconditioned with this solver, a
-  /// few of its solves instead of a new set-up. Worth it when solve() is cheap against the
-  /// set-up, i.e. for a factorisation (direct()). x: initial guess (size 0: zero), then the
-  /// solution. Not converged within max_iterations: a failed report, as solve().
+  /// time step's, the particles moved a little) without a new set-up: a factorisation
+  /// (direct()) preconditions BiCGSTAB, a few of its solves; PETSc on one rank runs its KSP on
+  /// A with the preconditioner (the AMG hierarchy) of this matrix (reuses_hierarchy()).
+  /// x: initial guess (size 0: zero), then the solution. Not converged within max_iterations:
+  /// a failed report, as solve().
   SolveReport solve_nearby(const CsrMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x, Real rtol,
                            int max_iterations) const;
   /// A factorisation (sparselu, umfpack): solve() is two triangular solves.
   bool direct() const { return options_.type == SolverType::SparseLU || options_.type == SolverType::UmfPack; }
+  /// PETSc on one rank: solve_nearby() keeps this matrix's preconditioner for the other one.
+  bool reuses_hierarchy() const { return options_.type == SolverType::Petsc && !options_.communicator.distributed(); }
   const std::string& solver() const;  ///< what runs: "umfpack", "petsc gmres+hypre(boomeramg)", ...
   double seconds_setup() const;
   Index size() const { return static_cast<Index>(A_->rows()); }

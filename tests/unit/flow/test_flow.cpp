@@ -135,6 +135,59 @@ TEST(PressurePoisson, NearbyEquationsSolvedWithTheOldFactorisationEqualTheirOwn)
                    "a nearby matrix of 64 x 64");
 }
 
+TEST(PressurePoisson, NearbyEquationsSolvedWithAnEarlierAmgHierarchyEqualTheirOwn) {
+  // The same move as above with PETSc: FGMRES on the moved matrix, preconditioned by the AMG
+  // hierarchy of the old one (no new set-up), to the solver's tolerance.
+  VRSPH_REQUIRE_PART("PETSC");
+  const PointCloud c = flow_cloud(24);
+  Operators ops = flow_ops(c);
+  const CsrMatrix A = laplacian_matrix(ops);
+  std::vector<Vec3> moved = c.positions;
+  const Real dx = 1.0 / 24;
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    moved[i] += 0.05 * dx * Vec3(std::sin(7.0 * static_cast<Real>(i)), std::cos(5.0 * static_cast<Real>(i)), 0);
+    for (int k = 0; k < 2; ++k) moved[i][k] -= std::floor(moved[i][k]);
+  }
+  ops.update(moved);
+  const CsrMatrix B = laplacian_matrix(ops);
+  SolverOptions amg;
+  amg.type = SolverType::Petsc;
+  amg.rtol = 1e-10;
+  const PressurePoisson old_one(A, amg), own(B, amg);
+  ASSERT_TRUE(old_one.can_precondition());
+  ASSERT_TRUE(old_one.hierarchy());
+  const PressurePoisson near = PressurePoisson::nearby(B, old_one, amg);
+  const Field r = Field::Random(B.rows());
+  Field p_own, p_near, p_old;
+  const PressurePoisson::Result own_result = own.solve(r, p_own), near_result = near.solve(r, p_near);
+  (void)old_one.solve(r, p_old);
+  EXPECT_LT((p_near - p_own).cwiseAbs().maxCoeff(), 1e-7 * p_own.cwiseAbs().maxCoeff());
+  EXPECT_GT((p_old - p_own).cwiseAbs().maxCoeff(), 1e-4 * p_own.cwiseAbs().maxCoeff());  // the move matters
+  EXPECT_EQ(near.nearby_solves(), 2);  // the unit source and r, on the old hierarchy
+  EXPECT_NE(near_result.report.solver.find("preconditioner of an earlier matrix"), std::string::npos)
+      << near_result.report.solver;
+  // As many iterations as with its own hierarchy, within one or two: worth reusing again.
+  EXPECT_LE(near_result.report.iterations, own_result.report.iterations + 2);
+  EXPECT_TRUE(near.worth_reusing());
+  // The old equation's own solve was not disturbed by lending its hierarchy.
+  Field p_again;
+  (void)old_one.solve(r, p_again);
+  EXPECT_LT((p_again - p_old).cwiseAbs().maxCoeff(), 1e-7 * p_old.cwiseAbs().maxCoeff());
+
+  // Far from the old matrix (renumbered particles): its solves stop at the cap, the new matrix
+  // gets its own hierarchy, the answer is its own, and it is not worth reusing the old one.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, Index> shuffle(B.rows());
+  for (Index i = 0; i < B.rows(); ++i) shuffle.indices()[i] = static_cast<Index>((i * 37 + 11) % B.rows());  // coprime to 576
+  const CsrMatrix F = CsrMatrix(shuffle * B * shuffle.transpose());
+  const PressurePoisson far_own(F, amg);
+  const PressurePoisson far_near = PressurePoisson::nearby(F, old_one, amg);
+  Field q_own, q_near;
+  (void)far_own.solve(r, q_own);
+  (void)far_near.solve(r, q_near);
+  EXPECT_LT((q_near - q_own).cwiseAbs().maxCoeff(), 1e-7 * q_own.cwiseAbs().maxCoeff());
+  EXPECT_GE(far_near.nearby_iterations(), PressurePoisson::nearby_max_iterations);
+}
+
 TEST(PressurePoisson, NearbySolveOfThePreparedSolverReportsWhatItReached) {
   const Operators ops = flow_ops(flow_cloud(12));
   CsrMatrix A = laplacian_matrix(ops);
@@ -357,6 +410,35 @@ TEST(FlowSolver, AFailedStepLeavesTheGrownSupportsAsTheyWere) {
   EXPECT_EQ(s.positions(), x);
   const FlowStepReport& r = s.step(0.5 * s.stable_time_step());  // and the next step grows them once
   EXPECT_DOUBLE_EQ(r.max_support_growth, 1.15);
+}
+
+TEST(FlowSolver, ReusedAmgHierarchiesGiveTheSameFlowAsNewOnes) {
+  // Lagrangian vortex, PETSc pressure solves: with reuse_hierarchy the stages after the first
+  // solve on an earlier hierarchy; the velocities agree with new hierarchies at every stage to
+  // the solver's tolerance, with about as many iterations (no more than 10 % a step).
+  VRSPH_REQUIRE_PART("PETSC");
+  const PointCloud c = flow_cloud(32);
+  FlowOptions o;
+  o.frame = FlowFrame::Lagrangian;
+  o.shifting.kind = Shifting::Xu;
+  o.solver.type = SolverType::Petsc;
+  o.solver.rtol = 1e-10;
+  FlowOptions fresh = o;
+  fresh.reuse_hierarchy = false;
+  FlowSolver reused(c, vortex_at(c), o), own(c, vortex_at(c), fresh);
+  int its_reused = 0, its_own = 0, setups_reused = 0, setups_own = 0;
+  for (int k = 0; k < 6; ++k) {
+    const FlowStepReport& a = reused.step(0.25 / 32);
+    its_reused += a.ppe_iterations;
+    setups_reused += a.ppe_setups;
+    const FlowStepReport& b = own.step(0.25 / 32);
+    its_own += b.ppe_iterations;
+    setups_own += b.ppe_setups;
+  }
+  EXPECT_LT((reused.velocity() - own.velocity()).cwiseAbs().maxCoeff(), 1e-7 * own.velocity().cwiseAbs().maxCoeff());
+  EXPECT_LE(its_reused, 1.1 * its_own) << its_reused << " against " << its_own;
+  EXPECT_EQ(setups_own, 6 * 4);  // RK3: three stages and the projection's positions, each a new hierarchy
+  EXPECT_LT(setups_reused, setups_own / 2) << setups_reused;
 }
 
 TEST(FlowSolver, StopsARunThatBlowsUpAtTheStepItHappens) {
