@@ -136,8 +136,11 @@ SolveReport PressurePoisson::run(const Field& b, Field& x) const {
   const Field guess = x;
   // A factorisation preconditions BiCGSTAB to round-off; an AMG hierarchy keeps the solver's own
   // tolerance (its own matrix's solves stop there too).
+  // Its cap: 30 for BiCGSTAB on a factorisation; twice the hierarchy's own iterations for AMG
+  // (a harder matrix than the 10-25 its of the flows measured must not fail on the first reuse).
   const Real rtol = solver_->direct() ? nearby_rtol : options_.rtol;
-  SolveReport r = solver_->solve_nearby(*matrix_, b, x, rtol, nearby_max_iterations);
+  const int cap = solver_->direct() ? nearby_max_iterations : std::max(nearby_max_iterations, 2 * own_iterations_);
+  SolveReport r = solver_->solve_nearby(*matrix_, b, x, rtol, cap);
   ++nearby_solves_;
   nearby_iterations_ += r.iterations;
   last_iterations_ = r.iterations;

@@ -51,7 +51,8 @@ class PressurePoisson {
   /// Solved by PETSc on one rank: nearby() reuses its AMG hierarchy (else, if can_precondition(),
   /// a factorisation).
   bool hierarchy() const { return solver_ && solver_->reuses_hierarchy(); }
-  /// The most BiCGSTAB iterations a nearby solve may take before the matrix is factorised.
+  /// The most BiCGSTAB iterations a nearby solve may take before the matrix is factorised (an
+  /// AMG hierarchy's: at least this, and twice the hierarchy's own iterations).
   static constexpr int nearby_max_iterations = 30;
   /// The relative residual nearby solves reach (a factorisation's own is about 1e-15).
   static constexpr Real nearby_rtol = 1e-12;
