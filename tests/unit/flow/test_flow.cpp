@@ -58,6 +58,46 @@ Real projection_radius(const Operators& ops) {
   return radius;
 }
 
+// The particles of a periodic unit-box cloud of spacing 1/n moved by 0.05 dx each (a fixed
+// pseudo-random direction per particle), wrapped back into the box: the next stage's cloud.
+std::vector<Vec3> nudged(const PointCloud& c, int n) {
+  std::vector<Vec3> moved = c.positions;
+  const Real dx = 1.0 / n;
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    moved[i] += 0.05 * dx * Vec3(std::sin(7.0 * static_cast<Real>(i)), std::cos(5.0 * static_cast<Real>(i)), 0);
+    for (int k = 0; k < 2; ++k) moved[i][k] -= std::floor(moved[i][k]);  // back into the periodic box
+  }
+  return moved;
+}
+
+// B with its particles renumbered (37 and the size coprime): far from any matrix of B's ordering.
+CsrMatrix renumbered(const CsrMatrix& B) {
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, Index> shuffle(B.rows());
+  for (Index i = 0; i < B.rows(); ++i) shuffle.indices()[i] = static_cast<Index>((i * 37 + 11) % B.rows());
+  return CsrMatrix(shuffle * B * shuffle.transpose());
+}
+
+// F's equation set up on its own and nearby `old`, each solved for r.
+struct OwnAndNearby {
+  PressurePoisson own, near;
+  Field p_own, p_near;
+};
+OwnAndNearby solve_both(const CsrMatrix& F, const PressurePoisson& old, const SolverOptions& o, const Field& r) {
+  OwnAndNearby s{PressurePoisson(F, o), PressurePoisson::nearby(F, old, o), {}, {}};
+  (void)s.own.solve(r, s.p_own);
+  (void)s.near.solve(r, s.p_near);
+  return s;
+}
+
+// The Laplacian matrices of a periodic vortex cloud (nx = n) before and after nudged().
+std::pair<CsrMatrix, CsrMatrix> before_and_after_a_move(int n) {
+  const PointCloud c = flow_cloud(n);
+  Operators ops = flow_ops(c);
+  CsrMatrix before = laplacian_matrix(ops);
+  ops.update(nudged(c, n));
+  return {std::move(before), laplacian_matrix(ops)};
+}
+
 }  // namespace
 
 TEST(PressurePoisson, MeetsEveryEquationUpToOneConstantWhateverThePin) {
@@ -83,17 +123,7 @@ TEST(PressurePoisson, MeetsEveryEquationUpToOneConstantWhateverThePin) {
 TEST(PressurePoisson, NearbyEquationsSolvedWithTheOldFactorisationEqualTheirOwn) {
   // The particles of a periodic vortex cloud moved by 0.05 dx: the old matrix's factorisation
   // preconditions the new one's solves; the result is the new equation's, not the old one's.
-  const PointCloud c = flow_cloud(16);
-  Operators ops = flow_ops(c);
-  const CsrMatrix A = laplacian_matrix(ops);
-  std::vector<Vec3> moved = c.positions;
-  const Real dx = 1.0 / 16;
-  for (std::size_t i = 0; i < moved.size(); ++i) {
-    moved[i] += 0.05 * dx * Vec3(std::sin(7.0 * static_cast<Real>(i)), std::cos(5.0 * static_cast<Real>(i)), 0);
-    for (int k = 0; k < 2; ++k) moved[i][k] -= std::floor(moved[i][k]);  // back into the periodic box
-  }
-  ops.update(moved);
-  const CsrMatrix B = laplacian_matrix(ops);
+  const auto [A, B] = before_and_after_a_move(16);
   SolverOptions direct;
   direct.type = SolverType::SparseLU;
   const PressurePoisson old_one(A, direct), own(B, direct);
@@ -112,17 +142,10 @@ TEST(PressurePoisson, NearbyEquationsSolvedWithTheOldFactorisationEqualTheirOwn)
 
   // A matrix far from the old one (the moved one with its particles renumbered): the nearby
   // solve gives up within its cap and the new matrix is factorised; the answer is its own.
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, Index> shuffle(B.rows());
-  for (Index i = 0; i < B.rows(); ++i) shuffle.indices()[i] = static_cast<Index>((i * 37 + 11) % B.rows());  // 37: coprime to 256
-  const CsrMatrix F = CsrMatrix(shuffle * B * shuffle.transpose());
-  const PressurePoisson far_own(F, direct);
-  const PressurePoisson far_near = PressurePoisson::nearby(F, old_one, direct);
-  Field q_own, q_near;
-  (void)far_own.solve(r, q_own);
-  (void)far_near.solve(r, q_near);
-  EXPECT_LT((q_near - q_own).cwiseAbs().maxCoeff(), 1e-9 * q_own.cwiseAbs().maxCoeff());
-  EXPECT_EQ(far_near.nearby_solves(), 1);  // the unit source's gave up; r's used F's own factorisation
-  EXPECT_GE(far_near.nearby_iterations(), PressurePoisson::nearby_max_iterations);
+  const OwnAndNearby far = solve_both(renumbered(B), old_one, direct, r);
+  EXPECT_LT((far.p_near - far.p_own).cwiseAbs().maxCoeff(), 1e-9 * far.p_own.cwiseAbs().maxCoeff());
+  EXPECT_EQ(far.near.nearby_solves(), 1);  // the unit source's gave up; r's used F's own factorisation
+  EXPECT_GE(far.near.nearby_iterations(), PressurePoisson::nearby_max_iterations);
 
   // An iterative solver's set-up preconditions nothing; sizes must agree.
   SolverOptions iterative;
@@ -139,17 +162,7 @@ TEST(PressurePoisson, NearbyEquationsSolvedWithAnEarlierAmgHierarchyEqualTheirOw
   // The same move as above with PETSc: FGMRES on the moved matrix, preconditioned by the AMG
   // hierarchy of the old one (no new set-up), to the solver's tolerance.
   VRSPH_REQUIRE_PART("PETSC");
-  const PointCloud c = flow_cloud(24);
-  Operators ops = flow_ops(c);
-  const CsrMatrix A = laplacian_matrix(ops);
-  std::vector<Vec3> moved = c.positions;
-  const Real dx = 1.0 / 24;
-  for (std::size_t i = 0; i < moved.size(); ++i) {
-    moved[i] += 0.05 * dx * Vec3(std::sin(7.0 * static_cast<Real>(i)), std::cos(5.0 * static_cast<Real>(i)), 0);
-    for (int k = 0; k < 2; ++k) moved[i][k] -= std::floor(moved[i][k]);
-  }
-  ops.update(moved);
-  const CsrMatrix B = laplacian_matrix(ops);
+  const auto [A, B] = before_and_after_a_move(24);
   SolverOptions amg;
   amg.type = SolverType::Petsc;
   amg.rtol = 1e-10;
@@ -175,17 +188,10 @@ TEST(PressurePoisson, NearbyEquationsSolvedWithAnEarlierAmgHierarchyEqualTheirOw
   EXPECT_LT((p_again - p_old).cwiseAbs().maxCoeff(), 1e-7 * p_old.cwiseAbs().maxCoeff());
 
   // Far from the old matrix (renumbered particles): its solves stop at the cap, the new matrix
-  // gets its own hierarchy, the answer is its own, and it is not worth reusing the old one.
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, Index> shuffle(B.rows());
-  for (Index i = 0; i < B.rows(); ++i) shuffle.indices()[i] = static_cast<Index>((i * 37 + 11) % B.rows());  // coprime to 576
-  const CsrMatrix F = CsrMatrix(shuffle * B * shuffle.transpose());
-  const PressurePoisson far_own(F, amg);
-  const PressurePoisson far_near = PressurePoisson::nearby(F, old_one, amg);
-  Field q_own, q_near;
-  (void)far_own.solve(r, q_own);
-  (void)far_near.solve(r, q_near);
-  EXPECT_LT((q_near - q_own).cwiseAbs().maxCoeff(), 1e-7 * q_own.cwiseAbs().maxCoeff());
-  EXPECT_GE(far_near.nearby_iterations(), PressurePoisson::nearby_max_iterations);
+  // gets its own hierarchy, and the answer is its own.
+  const OwnAndNearby far = solve_both(renumbered(B), old_one, amg, r);
+  EXPECT_LT((far.p_near - far.p_own).cwiseAbs().maxCoeff(), 1e-7 * far.p_own.cwiseAbs().maxCoeff());
+  EXPECT_GE(far.near.nearby_iterations(), PressurePoisson::nearby_max_iterations);
 }
 
 TEST(PressurePoisson, NearbySolveOfThePreparedSolverReportsWhatItReached) {
