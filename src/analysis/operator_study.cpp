@@ -109,11 +109,13 @@ StudyFunctions study_functions(const OperatorStudyParams& p) {
   }
   if (p.op == OperatorKind::DivAGrad) fn.a = make_function_or_expression(p.a.empty() ? "one-plus-r2" : p.a, p.dim);
   if (p.exact.empty()) return fn;
-  for (const auto& e : split_semicolons(p.exact)) fn.expected.emplace_back(e);
+  // Components separated by ';', or, as in --u, by the commas outside parentheses.
+  const auto exact_parts = p.exact.find(';') != std::string::npos ? split_semicolons(p.exact) : split_components(p.exact);
+  for (const auto& e : exact_parts) fn.expected.emplace_back(e);
   check<InputError>(static_cast<int>(fn.expected.size()) == output_columns(p), "--exact gives ",
                     fn.expected.size(), " expression(s) but operator ",
                     p.vector_op ? to_string(*p.vector_op) : to_string(p.op), " has ", output_columns(p),
-                    " component(s) in ", p.dim, "D (separate components with ';')");
+                    " component(s) in ", p.dim, "D (separate components with ';' or ',')");
   return fn;
 }
 

@@ -159,6 +159,20 @@ class Operator(unittest.TestCase):
                        "--u", "sin(2*x)", "--exact", "-4*sin(2*x)", "--n", "16,32", "--h-factor", "6")
         self.assertLess(out["rows"][1]["error_inf"], out["rows"][0]["error_inf"])
 
+    def test_vector_exact_components_by_commas_or_semicolons(self):
+        # --u takes a vector field's components at its top-level commas; --exact takes them the
+        # same way or at semicolons, with the same rows either way (a function's commas stay inside).
+        base = ["operator", "--operator", "curl", "--dim", "3", "--periodic", "x,y,z", "--method", "fpm",
+                "--u", "sin(2*pi*y),sin(2*pi*z),sin(2*pi*x)", "--cloud", "perturbed", "--n", "8,12"]
+        exact = ["-2*pi*cos(2*pi*z)", "-2*pi*cos(2*pi*x)", "-2*pi*cos(2*pi*y)"]
+        by_commas = run_json(*base, "--exact", ",".join(exact))["rows"]
+        by_semicolons = run_json(*base, "--exact", ";".join(exact))["rows"]
+        self.assertEqual([r["error_inf"] for r in by_commas], [r["error_inf"] for r in by_semicolons])
+        self.assertLess(by_commas[1]["error_inf"], by_commas[0]["error_inf"])
+        p = run(*base, "--exact", "max(x,y),0", check=False)
+        self.assertEqual(p.returncode, 3)
+        self.assertIn("gives 2 expression(s) but operator curl has 3 component(s)", p.stderr)
+
     def test_csv_and_plot(self):
         with tempfile.TemporaryDirectory() as d:
             png = os.path.join(d, "conv.png")

@@ -243,7 +243,7 @@ void add_operator_options(CLI::App* cmd, OperatorArgs& a) {
   cmd->add_option("--periodic", a.periodic, "Comma-separated periodic axes x,y,z or all of the problem's box: no "
                   "boundary or ghost particles along them, every row sees across the faces");
   cmd->add_option("--u", a.u, "Test function: catalogue name (cos-pi, sin-pi, exp-x, ...) or expression in x,y,z; default cos-pi");
-  cmd->add_option("--exact", a.exact, "Expected operator value as expression(s), ';' between gradient components; default: exact derivatives of --u");
+  cmd->add_option("--exact", a.exact, "Expected operator value as expression(s), components separated by ';' or by the commas outside parentheses (as in --u); default: exact derivatives of --u");
   cmd->add_option("--a", a.a, "Coefficient a(x) for div-a-grad: name or expression; default one-plus-r2");
   cmd->add_option("--format", a.out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a.out.output, "Write the table to this file instead of stdout");
