@@ -64,6 +64,7 @@ py::dict report_dict(const FlowStepReport& r) {
   d["advective_number"] = r.advective_number;
   d["viscous_number"] = r.viscous_number;
   d["ppe_iterations"] = r.ppe_iterations;
+  d["ppe_setups"] = r.ppe_setups;
   d["min_spacing"] = r.min_spacing;
   d["max_spacing"] = r.max_spacing;
   d["min_support_isotropy"] = r.min_support_isotropy;
