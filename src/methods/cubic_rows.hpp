@@ -12,9 +12,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 #include <vrsph/methods/method.hpp>
 #include <vrsph/methods/monomials.hpp>
+#include "equilibrated_spd_solve.hpp"
 
 namespace vrsph::cubic_rows {
 
@@ -40,73 +42,6 @@ struct Outcome {
   Index corrected = 0;       ///< rows now exact on the monomials up to Degree
   std::vector<Index> kept;   ///< requested rows left as they were (too few neighbours, ill-conditioned), ascending
 };
-
-// A^-1 of the symmetric positive definite A (its lower triangle read) through its symmetric equilibration (unit
-// diagonal: the monomials' scales differ by h^-1 ... h^-3 and the test should see geometry, not
-// units) and a Cholesky factorisation written out for the fixed size (Eigen's LLT and rcond ran
-// generic triangular-solve kernels that took about half the time of these rows, perf). False when A is not
-// positive definite or the equilibrated matrix's 1-norm condition number exceeds max_condition.
-// Divisions by the factor's diagonal are products with its reciprocals, and the inverse
-// L^-T L^-1 is formed on its lower triangle only: divisions and the full product were most of
-// this function's time (perf, moving 2D particles).
-template <int M>
-bool equilibrated_spd_inverse(const Eigen::Matrix<Real, M, M>& A, Eigen::Matrix<Real, M, M>& inverse, Real max_condition) {
-  constexpr auto m = static_cast<std::size_t>(M);
-  std::array<Real, m> scale{};
-  for (std::size_t a = 0; a < m; ++a) {
-    const Real d = A(static_cast<int>(a), static_cast<int>(a));
-    if (!(d > 0) || !std::isfinite(d)) return false;
-    scale[a] = 1 / std::sqrt(d);
-  }
-  // L (lower, row-major in a plain array) with B = D A D = L L^T, and 1 / L_jj.
-  std::array<Real, m * m> L{};
-  std::array<Real, m> inv_diag{};
-  for (std::size_t j = 0; j < m; ++j) {
-    Real d = 1;  // the equilibrated diagonal
-    for (std::size_t k = 0; k < j; ++k) d -= L[j * m + k] * L[j * m + k];
-    if (!(d > 0)) return false;
-    const Real ljj = std::sqrt(d);
-    L[j * m + j] = ljj;
-    inv_diag[j] = 1 / ljj;
-    for (std::size_t i = j + 1; i < m; ++i) {
-      Real v = A(static_cast<int>(i), static_cast<int>(j)) * scale[i] * scale[j];
-      for (std::size_t k = 0; k < j; ++k) v -= L[i * m + k] * L[j * m + k];
-      L[i * m + j] = v * inv_diag[j];
-    }
-  }
-  // L^-1 by forward substitution (lower, row-major).
-  std::array<Real, m * m> Li{};
-  for (std::size_t c = 0; c < m; ++c) {
-    Li[c * m + c] = inv_diag[c];
-    for (std::size_t i = c + 1; i < m; ++i) {
-      Real v = 0;
-      for (std::size_t k = c; k < i; ++k) v -= L[i * m + k] * Li[k * m + c];
-      Li[i * m + c] = v * inv_diag[i];
-    }
-  }
-  // B^-1 = L^-T L^-1: (B^-1)_ij = Σ_{k >= max(i, j)} Li_ki Li_kj, lower triangle, mirrored.
-  Eigen::Matrix<Real, M, M> Bi;
-  for (std::size_t j = 0; j < m; ++j)
-    for (std::size_t i = j; i < m; ++i) {
-      Real v = 0;
-      for (std::size_t k = i; k < m; ++k) v += Li[k * m + i] * Li[k * m + j];
-      Bi(static_cast<int>(i), static_cast<int>(j)) = v;
-      Bi(static_cast<int>(j), static_cast<int>(i)) = v;
-    }
-  Real norm = 0, norm_inv = 0;  // 1-norms of the equilibrated matrix and of its inverse
-  for (int c = 0; c < M; ++c) {
-    Real col = 0;
-    for (int i = 0; i < M; ++i)
-      col += std::abs(i >= c ? A(i, c) : A(c, i)) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(c)];
-    norm = std::max(norm, col);
-    norm_inv = std::max(norm_inv, Bi.col(c).cwiseAbs().sum());
-  }
-  if (!(norm * norm_inv <= max_condition)) return false;
-  for (int c = 0; c < M; ++c)
-    for (int i = 0; i < M; ++i)
-      inverse(i, c) = Bi(i, c) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(c)];
-  return true;
-}
 
 // The correction with M monomials (degree 3: 1D 3, 2D 9, 3D 19) as a compile-time size: the per-row
 // systems are small, and fixed-size code spared about an eighth of the update step's stencil
@@ -144,6 +79,7 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
     std::vector<Real> weight;  // W(r_k) / W(0)
     std::vector<Real> work;    // a row's weights gathered, then its correction
     std::vector<Index> slots;  // each neighbour's slot in the stencil row
+    std::optional<Kernel> ker;
     Columns R;
 #pragma omp for schedule(dynamic, 256)
     for (Index i = 0; i < cloud.size(); ++i) {
@@ -152,8 +88,9 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
       const auto nbr = disc.neighbours.of(i);
       const auto dist = disc.neighbours.distances_of(i);
       const Real h = disc.neighbours.radius(i);
-      const Kernel ker = disc.kernel_at(i);
-      const Real w0 = ker.W(0);
+      // The kernel changes only with the support radius (a pow per construction).
+      if (!ker || ker->support() != h) ker = disc.kernel_at(i);
+      const Real w0 = ker->W(0);
       const auto n = static_cast<Eigen::Index>(nbr.size());
       if (stride < nbr.size()) {
         stride = nbr.size();
@@ -166,12 +103,15 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
       // Neighbours inside the support: a Verlet list holds some beyond it, where every row's
       // weight is zero. (Giving the correction to the nearer ones only, r < 0.8 h, cost 3D rows
       // a third of their accuracy and 2D rows near walls a factor 7: measured, not kept.)
+      // Products with reciprocals: five divisions per neighbour (the scaled offset's three, the
+      // weight's) were about a sixth of these rows' time on moving particles (perf).
       Eigen::Index K = 0, near = 0;
       const Vec3& xi = cloud.positions[si];
+      const Real inv_h = 1 / h, inv_w0 = 1 / w0;
       for (Eigen::Index k = 0; k < n; ++k) {
         const Real r = dist[static_cast<std::size_t>(k)];
         if (!(r < h)) continue;
-        const Vec3 q = (disc.neighbour_position(i, static_cast<Index>(k)) - xi) / h;
+        const Vec3 q = (disc.neighbour_position(i, static_cast<Index>(k)) - xi) * inv_h;
         std::array<std::array<Real, static_cast<std::size_t>(Degree) + 1>, 3> pw{};  // q_c^0 ... q_c^Degree
         for (std::size_t c = 0; c < 3; ++c) {
           pw[c][0] = 1;
@@ -183,7 +123,7 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
           P[a * stride + sk] = pw[0][static_cast<std::size_t>(e[0])] * pw[1][static_cast<std::size_t>(e[1])] *
                                pw[2][static_cast<std::size_t>(e[2])];
         }
-        const Real w = ker.W(r) / w0;
+        const Real w = ker->W(r) * inv_w0;
         weight[sk] = w;
         near += w > 0 ? 1 : 0;
         slots[sk] = neighbour_slot(s, i, static_cast<Index>(k));
@@ -201,11 +141,6 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
       Square A;  // Σ_k W_k p_k p_k^T, its lower triangle
       for (int b = 0; b < M; ++b)
         for (int a = b; a < M; ++a) A(a, b) = row(P, a).dot(row(WP, b));
-      Square Ainv;
-      if (!equilibrated_spd_inverse<M>(A, Ainv, max_condition)) {
-        kept_here.push_back(i);
-        continue;
-      }
       // R = b - P w per component, over every neighbour the row has.
       MutableSpan g_or_delta(work.data(), K);
       R.setZero();
@@ -216,7 +151,11 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
         for (int a = 0; a < M; ++a) R(a, c) = -row(P, a).dot(g_or_delta);
         R(t.monomial, c) += t.order == 1 ? t.value / h : t.value / (h * h);
       }
-      const Columns Y = Ainv * R;
+      Columns Y;
+      if (!equilibrated_spd_solve<M, C>(A, R, comps, Y, max_condition)) {
+        kept_here.push_back(i);
+        continue;
+      }
       // δ_k = W_k p_k · y.
       const auto diag = static_cast<std::size_t>(s.diag[si]);
       for (Eigen::Index c = 0; c < comps; ++c) {

@@ -3,10 +3,15 @@
 // and FPM/KGF gradient_order=3 are [QW]'s / the quadratic fit's rows plus that correction, exact on
 // every cubic at each raised row; rows that cannot be raised keep their weights; bad requests are
 // refused.
+#include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/kernels/kernel.hpp>
 #include <vrsph/methods/gradient_consistency.hpp>
+#include <vrsph/methods/monomials.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -147,4 +152,65 @@ TEST(GradientConsistency, BadRequestsAreRefused) {
   // profile=qw alone pins [QW]'s gradient rows.
   EXPECT_EQ(c.build("vrsph", OperatorKind::Gradient, MethodOptions::parse({"profile=qw"})).values,
             c.build("vrsph", OperatorKind::Gradient, MethodOptions::parse({"gradient_order=2"})).values);
+}
+
+namespace {
+
+// Each row's equilibrated 1-norm condition number computed from scratch (Eigen's dense inverse):
+// A = Σ_k W_k p(q_k) p(q_k)^T over the neighbours, q_k = (x_k - x_i) / h, p the monomials of degree
+// 1 ... 3, B = D A D with unit diagonal; cond = ||B||_1 ||B^-1||_1 (infinite when B is singular).
+std::vector<Real> cubic_conditions(const PerturbedCloud& c) {
+  const auto exps = monomial_exponents(c.cloud.dim, 3);
+  const auto m = static_cast<Eigen::Index>(exps.size());
+  std::vector<Real> out;
+  for (Index i = 0; i < c.cloud.size(); ++i) {
+    const Real h = c.nl.radius(i);
+    const Kernel ker(KernelType::CubicSpline, c.cloud.dim, h);
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(m, m);
+    const auto nbr = c.nl.of(i);
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const Vec3 q = (c.cloud.positions[static_cast<std::size_t>(nbr[k])] - c.cloud.positions[static_cast<std::size_t>(i)]) / h;
+      Eigen::VectorXd p(m);
+      for (Eigen::Index a = 0; a < m; ++a) {
+        const auto& e = exps[static_cast<std::size_t>(a)];
+        p[a] = std::pow(q[0], e[0]) * std::pow(q[1], e[1]) * std::pow(q[2], e[2]);
+      }
+      A += ker.W(c.nl.distances_of(i)[k]) / ker.W(0) * p * p.transpose();
+    }
+    const Eigen::VectorXd d = A.diagonal().cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd B = d.asDiagonal() * A * d.asDiagonal();
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(B);
+    out.push_back(lu.isInvertible() ? B.cwiseAbs().colwise().sum().maxCoeff() * lu.inverse().cwiseAbs().colwise().sum().maxCoeff()
+                                    : std::numeric_limits<Real>::infinity());
+  }
+  return out;
+}
+
+}  // namespace
+
+// The conditioning test bounds ||B^-1||_1 from its Cholesky factor first and forms B^-1 only for
+// the rows whose bound fails: the rows kept must be exactly those whose condition number exceeds
+// the limit, whatever the limit (here quantiles of the rows' own numbers, so that both kinds occur,
+// near the faces and inside).
+TEST(GradientConsistency, KeptRowsAreExactlyThoseWorseConditionedThanTheLimit) {
+  for (int dim = 2; dim <= 3; ++dim) {
+    const PerturbedCloud c(dim);
+    const std::vector<Real> cond = cubic_conditions(c);
+    std::vector<Real> sorted = cond;
+    std::sort(sorted.begin(), sorted.end());
+    const Stencil qw = c.build("vrsph", OperatorKind::Gradient, MethodOptions::parse({"gradient_order=2"}));
+    for (const double quantile : {0.1, 0.5, 0.9, 0.97}) {
+      const auto at = static_cast<std::size_t>(quantile * static_cast<double>(sorted.size()));
+      const Real limit = std::sqrt(sorted[at] * sorted[at + 1]);  // between two rows' numbers
+      if (!(sorted[at + 1] > sorted[at] * (1 + 1e-6))) continue;   // no clean gap at this quantile
+      Stencil s = qw;
+      const auto report = raise_to_cubic_exactness(c.disc(), {OperatorKind::Gradient}, s, limit);
+      std::vector<Index> expected;
+      for (Index i = 0; i < c.cloud.size(); ++i)
+        if (!(cond[static_cast<std::size_t>(i)] <= limit)) expected.push_back(i);
+      EXPECT_EQ(report.kept, expected) << "dim " << dim << ", limit " << limit;
+      EXPECT_GT(report.raised, 0) << "dim " << dim;
+      EXPECT_FALSE(report.kept.empty()) << "dim " << dim;
+    }
+  }
 }
