@@ -85,7 +85,7 @@ Kernel Kernel::from_smoothing_length(KernelType type, int dim, Real smoothing_le
   return Kernel(type, dim, kernel_info(type).support_per_smoothing_length * smoothing_length);
 }
 
-Real Kernel::W(Real r) const { return sigma_ * inv_h_d_ * detail::kernel_profile(type_, dim_, r / h_).w; }
+Real Kernel::W_profile(Real r) const { return sigma_ * inv_h_d_ * detail::kernel_profile(type_, dim_, r / h_).w; }
 Real Kernel::dW(Real r) const { return sigma_ * inv_h_d_ / h_ * detail::kernel_profile(type_, dim_, r / h_).dw; }
 Real Kernel::d2W(Real r) const {
   return sigma_ * inv_h_d_ / (h_ * h_) * detail::kernel_profile(type_, dim_, r / h_).d2w;

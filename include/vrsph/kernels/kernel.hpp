@@ -50,7 +50,16 @@ class Kernel {
   /// sigma_d in W(r) = sigma_d h^-d w(r/h), w the unnormalised profile with w(0) = 1 (cubic) etc.
   Real normalisation() const { return sigma_; }
 
-  Real W(Real r) const;
+  Real W(Real r) const {
+    if (type_ != KernelType::CubicSpline) return W_profile(r);
+    // The cubic spline inline (the weights of the rows exact on polynomials, per neighbour), the
+    // same arithmetic as its profile's: [QW](2.4) w(R) = 1 - 6 R^2 + 6 R^3 (R < 1/2), 2 (1 - R)^3 (R < 1).
+    const Real R = r / h_;
+    Real w = 0;
+    if (R < 0.5) w = 1 - 6 * R * R + 6 * R * R * R;
+    else if (R < 1) w = 2 * (1 - R) * (1 - R) * (1 - R);
+    return sigma_ * inv_h_d_ * w;
+  }
   Real dW(Real r) const;   ///< dW/dr
   Real d2W(Real r) const;  ///< d^2W/dr^2
   /// W'(r)/r, with its finite limit W''(0) at r = 0. This is [QW]'s -Y/2 = F_ij.
@@ -76,6 +85,7 @@ class Kernel {
   Real inv_h_d_;  // h^-d
   Real ratio_scale_;  // sigma h^-d / h^2: W'/r = ratio_scale_ w'(R)/R
   Real dW_over_r_profile(Real r) const;
+  Real W_profile(Real r) const;
 };
 
 namespace detail {
