@@ -174,11 +174,14 @@ VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
       for (std::size_t r = c + 1; r < M; ++r) sj[r] -= lc[r] * scj;
     }
   }
+  // Back substitution column by column: z[c] is final when its column is reached, and its
+  // updates of the rows above are independent. (Row by row, each unknown's sum began with the
+  // one just found and waited for it: a chain of dependent subtractions per unknown.)
   for (std::size_t c = M; c-- > 0;) {
-    Real acc = z[c];
-    for (std::size_t j = c + 1; j < M; ++j) acc -= S[j * M + c] * z[j];
-    z[c] = acc / S[c * M + c];
+    z[c] /= S[c * M + c];
     if (!(z[c] > xtol)) return false;
+    const Real* sc = S + c * M;
+    for (std::size_t r = 0; r < c; ++r) z[r] -= sc[r] * z[c];
   }
   return true;
 }

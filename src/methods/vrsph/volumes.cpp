@@ -75,7 +75,8 @@ class VolumeRows {
     const bool wall = !opt_.wall.rows.empty() && opt_.wall.rows[si];
     const bool warm = !wall && guess(i);
     if (warm) ++warm_rows_;
-    if (warm && square_row(i, v)) {
+    const bool square = warm && square_row(i, v);
+    if (square) {
       ++warm_hits_;
     } else {
       neighbour_geometry(disc_, i, *ker_, xji_.data(), half_y_.data(), length_);
@@ -83,7 +84,10 @@ class VolumeRows {
       else interior_row(i, v, warm);
       signed_fallback(i, v, wall);
     }
-    if (opt_.record_active) record_active(i, v);
+    if (opt_.record_active) {
+      if (square) record_guess(i);
+      else record_active(i, v);
+    }
     if (length_ == 1) return;
     for (Index j = 0; j < nl_.count(i); ++j) v[j] *= volume_unit_;
     if (wall) out_.wall_flux[si] /= length_;
@@ -179,6 +183,17 @@ class VolumeRows {
     std::size_t c = 0;
     for (std::size_t k = 0; k < row.size() && c < stride; ++k)
       if (v[k] > 0) a.particles[si * stride + c++] = row[k];
+    a.count[si] = static_cast<std::uint8_t>(c);
+  }
+
+  // The same for a row the guess solved (square_row): its volumes are positive at exactly the
+  // guessed columns (ascending), so the row's other entries need not be scanned.
+  void record_guess(Index i) {
+    ActiveSets& a = out_.active;
+    const auto si = static_cast<std::size_t>(i), stride = static_cast<std::size_t>(a.stride);
+    const auto row = nl_.of(i);
+    const std::size_t c = std::min(guess_.size(), stride);
+    for (std::size_t p = 0; p < c; ++p) a.particles[si * stride + p] = row[static_cast<std::size_t>(guess_[p])];
     a.count[si] = static_cast<std::uint8_t>(c);
   }
 
