@@ -45,6 +45,7 @@
 #include <limits>
 #include <memory>
 #include <vrsph/analysis/free_surface.hpp>
+#include <vrsph/core/error.hpp>
 #include <vrsph/flow/implicit_viscosity.hpp>
 #include <vrsph/flow/pressure_poisson.hpp>
 #include <vrsph/flow/projection.hpp>
@@ -257,6 +258,7 @@ class FlowSolver {
   /// The same from lap = L u (the vector Laplacian's rows; the walls' are replaced here).
   Eigen::MatrixXd forces(const Eigen::MatrixXd& u, Real t, Eigen::MatrixXd lap) const;
   Real force_limit() const;  ///< free surface: 0.25 (dx/|g|)^½, else infinity
+  [[noreturn]] void explain_pressure_failure(const NumericalError& failure) const;
   void detect_surface();     ///< surface_ of the current positions
   void wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const;  ///< at walls: Σ_a G_a G_a u
   Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, Real t, FlowStepReport* r) const;

@@ -228,6 +228,18 @@ TEST(FreeSurfaceFlow, RefusesWhatCannotRunAndStopsALostParticle) {
   h.flow.operators.method = "sph";
   h.tank.jitter = 0.2;
   EXPECT_THROW_MSG(run_hydrostatic(h), NumericalError, "left the box");
+  // A support of about one spacing: no VRSPH row meets its moment conditions and the pressure
+  // matrix is singular. The solver's failure is said with its cause; a support of 1.45 dx (rows
+  // that are mostly infeasible too, but a solvable matrix) runs.
+  HydrostaticRunOptions narrow;
+  narrow.tank.nx = 10;
+  narrow.t_end = 0.05;
+  narrow.tank.jitter = 0.2;  // as the CLI's default cloud: some particles then have no neighbour at all
+  narrow.flow.frame = FlowFrame::Lagrangian;
+  narrow.flow.operators.h_factor = 1.01;
+  EXPECT_THROW_MSG(run_hydrostatic(narrow), ConfigError, "is too small for vrsph's Laplacian");
+  narrow.flow.operators.h_factor = 1.45;
+  EXPECT_NO_THROW(run_hydrostatic(narrow));
 }
 
 // Droplets: one particle 1.5 dx beside the left wall and one in the open air above the water,
