@@ -3,6 +3,7 @@
 // positions; the stencils handed out as CSR arrays (copies: the object keeps its own for the
 // next update).
 #include <pybind11/stl.h>
+#include <string>
 #include <vrsph/analysis/support_isotropy.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/kernels/kernel.hpp>
@@ -43,9 +44,12 @@ void update(Operators& ops, const py::handle& positions) {
   check<InputError>(static_cast<bool>(x), "update: positions must be an (N, dim) array of numbers");
   const Index n = ops.cloud().size();
   const int dim = ops.cloud().dim;
-  check<InputError>(x.ndim() == 2 && x.shape(0) == n && x.shape(1) == dim, "update: positions of shape (",
-                    x.ndim() >= 1 ? x.shape(0) : 0, ", ", x.ndim() >= 2 ? x.shape(1) : 0, ") for ", n,
-                    " particles in ", dim, "D: give an (N, dim) = (", n, ", ", dim,
+  // The shape as numpy writes it: (578,) for a flat array, (289, 2, 1) for three axes.
+  std::string shape = "(";
+  for (py::ssize_t a = 0; a < x.ndim(); ++a) shape += (a ? ", " : "") + std::to_string(x.shape(a));
+  shape += x.ndim() == 1 ? ",)" : ")";
+  check<InputError>(x.ndim() == 2 && x.shape(0) == n && x.shape(1) == dim, "update: positions of shape ", shape, " for ",
+                    n, " particles in ", dim, "D: give an (N, dim) = (", n, ", ", dim,
                     ") array (particles cannot be added or removed: build new Operators)");
   std::vector<Vec3> p(static_cast<std::size_t>(n), Vec3::Zero());
   const Real* data = x.data();

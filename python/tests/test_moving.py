@@ -103,8 +103,10 @@ def test_bad_updates_are_refused_and_change_nothing():
     x = np.asarray(c.points)
     with pytest.raises(vrsph.InputError, match="cannot be added or removed"):
         ops.update(x[:-1])
-    with pytest.raises(vrsph.InputError, match="shape"):
+    with pytest.raises(vrsph.InputError, match=r"shape \(169, 1\)"):
         ops.update(x[:, :1])
+    with pytest.raises(vrsph.InputError, match=r"shape \(338,\) for 169 particles"):  # a flat array, said as numpy says it
+        ops.update(x.ravel())
     with pytest.raises(vrsph.ArgumentTypeError, match="positions"):
         ops.update("abc")
     bad = x.copy()
