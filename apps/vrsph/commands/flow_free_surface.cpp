@@ -144,6 +144,7 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
                      a.cloud);
   check<ConfigError>(std::isfinite(a.cfl) && a.cfl > 0 && a.cfl <= 1, "--cfl for the dam break must be in (0, 1], got ",
                      a.cfl);
+  check<ConfigError>(a.re > 0 && std::isfinite(a.re), "--re must be positive, got ", a.re);  // as the hydrostatic tank's
   // L = g = 1: T = t √2. Default: T = 3.54 (t = 2.5), beyond the experiments' z/L = 3.5.
   const DamBreakGeometry geometry = parse_dam_break_geometry(a.geometry);
   const bool buchner = geometry == DamBreakGeometry::Buchner;
