@@ -5,9 +5,12 @@
 // of right-hand sides; each solve fills x and the report's success, reason, message,
 // iterations and history. The dispatcher (solver.cpp) checks memory up front and measures
 // the true residual afterwards.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
+#include <vrsph/core/error.hpp>
 #include <vrsph/solve/solver.hpp>
 
 namespace vrsph::detail {
@@ -36,6 +39,21 @@ class Backend {
   std::string reason, message;        ///< of a failed set-up
   std::vector<std::string> warnings;  ///< from the set-up (e.g. PETSc options never used)
 };
+
+/// ||b - A x|| / ||b|| (||b|| = 0: the residual's norm itself).
+inline Real relative_residual(const CsrMatrix& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
+  const Real bnorm = b.norm();
+  return (b - A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
+}
+
+/// A back-end's "converged" is not taken on trust: a true relative residual (rep.residual) that
+/// is not finite or not below max(1e-6, 100 rtol) fails the solve.
+inline void reject_large_residual(SolveReport& rep, Real rtol) {
+  if (rep.success && !(std::isfinite(rep.residual) && rep.residual < std::max(1e-6, 100 * rtol))) {
+    rep.success = false;
+    rep.message = concat("true relative residual ", rep.residual, " too large");
+  }
+}
 
 /// SparseLU, UMFPACK or BiCGSTAB + ILUT (o.type).
 std::unique_ptr<Backend> prepare_eigen(const CsrMatrix& A, const SolverOptions& o);

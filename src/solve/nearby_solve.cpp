@@ -55,12 +55,8 @@ SolveReport PreparedSolver::solve_nearby(const CsrMatrix& A, const Eigen::Vector
     rep.solver = backend_->name + " (preconditioner of an earlier matrix)";
     if (x.size() != b.size()) x = Eigen::VectorXd::Zero(b.size());
     if (backend_->solve_other(A, b, x, rep, rtol, max_iterations)) {
-      const Real bnorm = b.norm();
-      rep.residual = (b - A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
-      if (rep.success && !(std::isfinite(rep.residual) && rep.residual < std::max(1e-6, 100 * rtol))) {
-        rep.success = false;
-        rep.message = detail::concat("true relative residual ", rep.residual, " too large");
-      }
+      rep.residual = detail::relative_residual(A, b, x);
+      detail::reject_large_residual(rep, rtol);
       rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return rep;
     }
@@ -75,8 +71,7 @@ SolveReport PreparedSolver::solve_nearby(const CsrMatrix& A, const Eigen::Vector
   SolveReport rep;
   rep.solver = "bicgstab preconditioned by " + solver();
   rep.iterations = static_cast<int>(it.iterations());
-  const Real bnorm = b.norm();
-  rep.residual = (b - A * x).norm() / (bnorm > 0 ? bnorm : 1.0);
+  rep.residual = detail::relative_residual(A, b, x);
   rep.success = it.info() == Eigen::Success && !it.preconditioner().failed && x.allFinite() &&
                 rep.residual <= std::max(1e-6, 100 * rtol);
   rep.reason = rep.success ? "converged" : "not_converged";
