@@ -70,15 +70,17 @@ CellGrid build_grid(const PointCloud& cloud, Real max_radius, const Vec3& lo, co
 }
 }  // namespace
 
-NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
+NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
+                             NeighbourList storage);
 
-NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params) {
+NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
+                               NeighbourList storage) {
   const Real max_radius = *std::max_element(radii.begin(), radii.end());
   Vec3 lo, hi;
   // Clouds with far-away outliers or radii tiny against their extent would need a
   // grid of mostly empty cells (or more cells than any integer counts): the k-d tree
   // handles any finite extent in O(N log N) with memory O(N).
-  if (!dense_grid_fits(cloud, max_radius, lo, hi)) return kd_tree_search(cloud, std::move(radii), params);
+  if (!dense_grid_fits(cloud, max_radius, lo, hi)) return kd_tree_search(cloud, std::move(radii), params, std::move(storage));
   const CellGrid g = build_grid(cloud, max_radius, lo, hi);
   auto visit = [&](Index i, auto&& emit) {
     const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
@@ -96,7 +98,7 @@ NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii,
           for (Index p = b; p < e; ++p) emit(g.order[static_cast<std::size_t>(p)], (g.sorted[static_cast<std::size_t>(p)] - xi).squaredNorm());
         }
   };
-  return two_pass_search(cloud, std::move(radii), params, visit);
+  return two_pass_search(cloud, std::move(radii), params, visit, std::move(storage));
 }
 
 }  // namespace vrsph::detail

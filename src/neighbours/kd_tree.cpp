@@ -49,7 +49,8 @@ struct CallbackResultSet {
 };
 
 template <int D>
-NeighbourList search_dim(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params) {
+NeighbourList search_dim(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
+                         NeighbourList storage) {
   CloudAdaptor adaptor{cloud};
   Tree<D> tree(D, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   auto visit = [&](Index i, auto&& emit) {
@@ -59,7 +60,7 @@ NeighbourList search_dim(const PointCloud& cloud, std::vector<Real> radii, const
     tree.findNeighbors(rs, cloud.positions[static_cast<std::size_t>(i)].data(), nanoflann::SearchParams(32, 0, false));
   };
   // `visit` reads `radii`, so the driver gets a copy rather than the moved vector.
-  return two_pass_search(cloud, radii, params, visit);
+  return two_pass_search(cloud, radii, params, visit, std::move(storage));
 }
 
 // Index and squared distance of the k nearest other particles of every particle.
@@ -159,11 +160,12 @@ std::vector<std::vector<Index>> particles_within_dim(const PointCloud& cloud, co
   }
 }
 
-NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params) {
+NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
+                             NeighbourList storage) {
   switch (cloud.dim) {
-    case 1: return search_dim<1>(cloud, std::move(radii), params);
-    case 2: return search_dim<2>(cloud, std::move(radii), params);
-    default: return search_dim<3>(cloud, std::move(radii), params);
+    case 1: return search_dim<1>(cloud, std::move(radii), params, std::move(storage));
+    case 2: return search_dim<2>(cloud, std::move(radii), params, std::move(storage));
+    default: return search_dim<3>(cloud, std::move(radii), params, std::move(storage));
   }
 }
 

@@ -6,8 +6,10 @@
 namespace vrsph {
 namespace detail {
 
-NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
-NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params);
+NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
+                               NeighbourList storage);
+NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
+                             NeighbourList storage);
 NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& params);  // periodic.cpp
 
 namespace {
@@ -60,10 +62,15 @@ std::vector<Real> resolve_radii(const PointCloud& cloud, const SearchParams& par
 }  // namespace detail
 
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params) {
+  return find_neighbours(cloud, params, NeighbourList{});
+}
+
+NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params, NeighbourList storage) {
   if (params.wrap_periodic && cloud.domain.any_periodic()) return detail::periodic_search(cloud, params);
   auto radii = detail::resolve_radii(cloud, params);
-  if (params.backend == SearchBackend::KdTree) return detail::kd_tree_search(cloud, std::move(radii), params);
-  return detail::cell_list_search(cloud, std::move(radii), params);
+  if (params.backend == SearchBackend::KdTree)
+    return detail::kd_tree_search(cloud, std::move(radii), params, std::move(storage));
+  return detail::cell_list_search(cloud, std::move(radii), params, std::move(storage));
 }
 
 NeighbourList find_neighbours_brute_force(const PointCloud& cloud, const SearchParams& params) {

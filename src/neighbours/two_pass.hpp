@@ -48,11 +48,13 @@ inline double neighbour_pair_bytes(const SearchParams& params) {
   return static_cast<double>(sizeof(Index) + (params.cache_distances ? sizeof(Real) : 0));
 }
 
+// `list`: a list whose arrays are reused (their capacity), e.g. the previous search of a
+// moving cloud; its contents are overwritten.
 template <class Visit>
 NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
-                              Visit&& visit) {
+                              Visit&& visit, NeighbourList list = {}) {
   const Index n = cloud.size();
-  NeighbourList list;
+  list.shifts.clear();
   list.offsets.assign(static_cast<std::size_t>(n) + 1, 0);
   const Real dup_tol = params.duplicate_tolerance;
   std::atomic<long long> duplicate{std::numeric_limits<long long>::max()};  // encoded i * n + j
@@ -96,8 +98,11 @@ NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, 
   check_min_neighbours(cloud, list, radii, params.min_neighbours, params.include_self);
 
   // Pass 2: fill, then sort each row by index so the output does not depend on the backend.
-  list.indices.resize(static_cast<std::size_t>(total));
-  if (params.cache_distances) list.distances.resize(static_cast<std::size_t>(total));
+  resize_for_overwrite(list.indices, static_cast<std::size_t>(total));
+  if (params.cache_distances)
+    resize_for_overwrite(list.distances, static_cast<std::size_t>(total));
+  else
+    list.distances.clear();
 #pragma omp parallel
   {
     std::vector<std::pair<Index, Real>> row;

@@ -75,7 +75,10 @@ void VerletNeighbours::search(const PointCloud& cloud) {
   sp.cache_distances = false;
   sp.min_neighbours = 0;          // held to the real radius by refilter
   sp.duplicate_tolerance = 0;     // likewise
-  candidates_ = find_neighbours(cloud, sp);
+  // The last candidates' arrays are the new ones' storage; a search that throws leaves none,
+  // and the cleared positions make the next update search again.
+  searched_at_.clear();
+  candidates_ = find_neighbours(cloud, sp, std::move(candidates_));
   searched_at_ = cloud.positions;
   searched_radii_ = list_.radii;
   radii_grew_ = false;
@@ -136,8 +139,8 @@ void VerletNeighbours::refilter(const PointCloud& cloud) {
   const Domain& dom = cloud.domain;
   const bool periodic = params_.wrap_periodic && dom.any_periodic();
   const auto total = static_cast<std::size_t>(candidates_.total());
-  scratch_index_.resize(total);
-  scratch_distance_.resize(total);
+  resize_for_overwrite(scratch_index_, total);  // overwritten below: no copy, no zeros
+  resize_for_overwrite(scratch_distance_, total);
   if (periodic) scratch_shift_.resize(total);
   kept_.resize(static_cast<std::size_t>(n));
   const Real tol2 = params_.duplicate_tolerance * params_.duplicate_tolerance;
@@ -172,8 +175,8 @@ void VerletNeighbours::refilter(const PointCloud& cloud) {
   detail::check_min_neighbours(cloud, next_, list_.radii, params_.min_neighbours, params_.include_self);
   list_.offsets.swap(next_.offsets);
   const auto pairs = static_cast<std::size_t>(list_.total());
-  list_.indices.resize(pairs);
-  list_.distances.resize(pairs);
+  resize_for_overwrite(list_.indices, pairs);
+  resize_for_overwrite(list_.distances, pairs);
   if (periodic) list_.shifts.resize(pairs);
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {

@@ -49,7 +49,7 @@ void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, s
   check_memory_estimate(static_cast<double>(s.nnz()) * static_cast<double>(sizeof(Index) + ncomp * sizeof(Real)),
                         detail::concat("the ", to_string(kind), " stencil (", s.nnz(), " nonzeros)"),
                         "reduce the number of particles or the smoothing radius (--n, --h-factor)");
-  reserve_huge(s.col, static_cast<std::size_t>(s.nnz()));
+  reserve_for_overwrite(s.col, static_cast<std::size_t>(s.nnz()));
   s.col.resize(static_cast<std::size_t>(s.nnz()));
   // Rows in parallel: each writes its own slots.
   bool self_listed = false;
@@ -70,7 +70,7 @@ void fill_stencil_pattern(const NeighbourList& nl, OperatorKind kind, int dim, s
   check<ConfigError>(!self_listed, "stencil patterns need neighbour lists without self (search with include_self = false)");
   s.values.resize(static_cast<std::size_t>(components(kind, dim)));
   for (auto& v : s.values) {
-    reserve_huge(v, s.col.size());
+    reserve_for_overwrite(v, s.col.size());
     if (zero_values) v.assign(s.col.size(), 0.0);
     else v.resize(s.col.size());  // every entry is written by the caller
   }

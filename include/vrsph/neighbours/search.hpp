@@ -35,6 +35,10 @@ struct SearchParams {
 /// box a period not larger than twice the radius or a particle outside the box) or
 /// GeometryError (a non-ghost particle with too few neighbours), naming the particle.
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params);
+/// The same search written into `storage`'s arrays (their capacity reused, their contents
+/// replaced): a moving cloud searched again and again pages in no fresh memory. The list is
+/// equal to the one-argument form's. (Periodic boxes build their list afresh.)
+NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params, NeighbourList storage);
 
 /// For each query point (any point, a particle or not), the particles strictly closer than
 /// `radius`, in increasing index (k-d tree). InputError for a non-positive radius or a

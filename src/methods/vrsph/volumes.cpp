@@ -304,7 +304,7 @@ class VolumeRows {
 // The output arrays sized for this reconstruction, their storage reused.
 void reset_volumes(MomentConditions conditions, Index n, Index pairs, bool walls, ReconstructedVolumes& out) {
   out.conditions = conditions;
-  out.v.resize(static_cast<std::size_t>(pairs));
+  resize_for_overwrite(out.v, static_cast<std::size_t>(pairs));  // every row writes its slots
   out.residual.assign(static_cast<std::size_t>(n), 0.0);
   out.failed.assign(static_cast<std::size_t>(n), 0);
   out.iterations.assign(static_cast<std::size_t>(n), 0);

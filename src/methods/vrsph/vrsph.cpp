@@ -227,7 +227,7 @@ class Vrsph final : public Method {
     std::optional<CompactRows> compact_form;
     std::vector<char> point_rows;  // empty: every requested row
     if (compact && laplace && !tensor) {
-      reserve_huge(s.rhs, s.col.size());
+      reserve_for_overwrite(s.rhs, s.col.size());
       s.rhs.assign(s.col.size(), 0.0);
       compact_form = compact_system(disc, req, wall, conormal, s);
       point_rows.assign(static_cast<std::size_t>(cloud.size()), 0);
@@ -319,9 +319,13 @@ class Vrsph final : public Method {
     }
     s.row_ptr[0] = 0;
     for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) s.row_ptr[i + 1] += s.row_ptr[i];
+    reserve_for_overwrite(s.col, static_cast<std::size_t>(s.nnz()));
     s.col.resize(static_cast<std::size_t>(s.nnz()));
     s.values.resize(static_cast<std::size_t>(components(req.kind, cloud.dim)));
-    for (auto& v : s.values) v.resize(s.col.size());
+    for (auto& v : s.values) {
+      reserve_for_overwrite(v, s.col.size());
+      v.resize(s.col.size());
+    }
   }
 
   // The point rows' weights from their reconstructed volumes: w_ij = v_j Y_ij for the

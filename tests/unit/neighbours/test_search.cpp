@@ -56,6 +56,40 @@ INSTANTIATE_TEST_SUITE_P(Backends, SearchVsBruteForce,
                                             ::testing::Values(SearchBackend::CellList, SearchBackend::KdTree),
                                             ::testing::Bool()));
 
+// A search written into another list's arrays (what a Verlet list does at every search of a
+// moving cloud) equals the plain search, whatever that list held: more pairs or fewer, cached
+// distances or none, periodic shifts.
+TEST(Search, IntoReusedStorageEqualsAPlainSearch) {
+  for (const SearchBackend backend : {SearchBackend::CellList, SearchBackend::KdTree}) {
+    const PointCloud c = random_cloud(2, 1500, 11u);
+    SearchParams p;
+    p.backend = backend;
+    p.min_neighbours = 0;
+    p.radius = 0.08;
+    const NeighbourList plain = find_neighbours(c, p);
+    SearchParams without_distances = p;
+    without_distances.cache_distances = false;
+    for (const Real other_radius : {0.04, 0.08, 0.16}) {
+      SearchParams q = p;
+      q.radius = other_radius;
+      NeighbourList storage = find_neighbours(c, q);
+      storage.shifts.assign(storage.indices.size(), 4);  // as a periodic list has
+      const Index* before = storage.indices.data();
+      const bool fits = storage.indices.capacity() >= plain.indices.size();
+      const NeighbourList reused = find_neighbours(c, p, std::move(storage));
+      EXPECT_EQ(reused.offsets, plain.offsets);
+      EXPECT_TRUE(reused.indices == plain.indices);
+      EXPECT_TRUE(reused.distances == plain.distances);  // bit for bit
+      EXPECT_TRUE(reused.shifts.empty());
+      EXPECT_EQ(reused.radii, plain.radii);
+      if (fits) EXPECT_EQ(reused.indices.data(), before) << "storage with room enough was re-allocated";
+      const NeighbourList bare = find_neighbours(c, without_distances, find_neighbours(c, q));
+      EXPECT_TRUE(bare.indices == plain.indices);
+      EXPECT_TRUE(bare.distances.empty());
+    }
+  }
+}
+
 TEST(Search, StrictRadiusAndSelf) {
   // Lattice spacing 1: with radius exactly 1 the face neighbours (r = 1) are excluded.
   PointCloud c = vertex_lattice(Domain::box(2, Vec3(0, 0, 0), Vec3(4, 4, 0)), 4);
