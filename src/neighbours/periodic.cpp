@@ -113,7 +113,7 @@ NeighbourList PeriodicImages::search(const SearchParams& search) const {
 namespace detail {
 // Minimum-image search: the plain search over the cloud and its images within the largest
 // radius; each original's row then names the originals, with the shift of the image seen.
-NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& params) {
+NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& params, NeighbourList out) {
   const std::vector<Real> radii = resolve_radii(cloud, params);
   const Real width = *std::max_element(radii.begin(), radii.end());
   check_periodic_cloud(cloud, width);
@@ -121,28 +121,36 @@ NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& param
   SearchParams sp = params;
   sp.radii = radii;
   const NeighbourList ext = im.search(sp);
-  NeighbourList out;
   const Index n = cloud.size();
   out.offsets.assign(static_cast<std::size_t>(n) + 1, 0);
   for (Index i = 0; i < n; ++i) out.offsets[static_cast<std::size_t>(i) + 1] = out.offsets[static_cast<std::size_t>(i)] + ext.count(i);
   const auto total = static_cast<std::size_t>(out.offsets.back());
-  out.indices.resize(total);
-  if (!ext.distances.empty()) out.distances.resize(total);
+  resize_for_overwrite(out.indices, total);
+  if (!ext.distances.empty())
+    resize_for_overwrite(out.distances, total);
+  else
+    out.distances.clear();
   out.shifts.resize(total);
   out.radii.assign(radii.begin(), radii.end());
-  std::vector<std::pair<Index, std::size_t>> row;
-  for (Index i = 0; i < n; ++i) {
-    const auto b = static_cast<std::size_t>(ext.offsets[static_cast<std::size_t>(i)]);
-    const auto nbr = ext.of(i);
-    row.clear();
-    for (std::size_t k = 0; k < nbr.size(); ++k) row.emplace_back(im.image_of[static_cast<std::size_t>(nbr[k])], b + k);
-    std::sort(row.begin(), row.end());  // by the original's index, as a plain search lists them
-    auto at = static_cast<std::size_t>(out.offsets[static_cast<std::size_t>(i)]);
-    for (const auto& [j, e] : row) {
-      out.indices[at] = j;
-      if (!ext.distances.empty()) out.distances[at] = ext.distances[e];
-      out.shifts[at] = im.shift[static_cast<std::size_t>(ext.indices[e])];
-      ++at;
+  // Rows in parallel (each writes its own slots): a moving periodic cloud runs this at every
+  // Verlet search.
+#pragma omp parallel
+  {
+    std::vector<std::pair<Index, std::size_t>> row;
+#pragma omp for schedule(dynamic, 256)
+    for (Index i = 0; i < n; ++i) {
+      const auto b = static_cast<std::size_t>(ext.offsets[static_cast<std::size_t>(i)]);
+      const auto nbr = ext.of(i);
+      row.clear();
+      for (std::size_t k = 0; k < nbr.size(); ++k) row.emplace_back(im.image_of[static_cast<std::size_t>(nbr[k])], b + k);
+      std::sort(row.begin(), row.end());  // by the original's index, as a plain search lists them
+      auto at = static_cast<std::size_t>(out.offsets[static_cast<std::size_t>(i)]);
+      for (const auto& [j, e] : row) {
+        out.indices[at] = j;
+        if (!ext.distances.empty()) out.distances[at] = ext.distances[e];
+        out.shifts[at] = im.shift[static_cast<std::size_t>(ext.indices[e])];
+        ++at;
+      }
     }
   }
   return out;

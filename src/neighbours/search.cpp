@@ -10,7 +10,7 @@ NeighbourList cell_list_search(const PointCloud& cloud, std::vector<Real> radii,
                                NeighbourList storage);
 NeighbourList kd_tree_search(const PointCloud& cloud, std::vector<Real> radii, const SearchParams& params,
                              NeighbourList storage);
-NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& params);  // periodic.cpp
+NeighbourList periodic_search(const PointCloud& cloud, const SearchParams& params, NeighbourList storage);  // periodic.cpp
 
 namespace {
 // A radius that covers much of the cloud makes the search itself O(N^2) in time
@@ -66,7 +66,7 @@ NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& param
 }
 
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params, NeighbourList storage) {
-  if (params.wrap_periodic && cloud.domain.any_periodic()) return detail::periodic_search(cloud, params);
+  if (params.wrap_periodic && cloud.domain.any_periodic()) return detail::periodic_search(cloud, params, std::move(storage));
   auto radii = detail::resolve_radii(cloud, params);
   if (params.backend == SearchBackend::KdTree)
     return detail::kd_tree_search(cloud, std::move(radii), params, std::move(storage));

@@ -37,7 +37,8 @@ struct SearchParams {
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params);
 /// The same search written into `storage`'s arrays (their capacity reused, their contents
 /// replaced): a moving cloud searched again and again pages in no fresh memory. The list is
-/// equal to the one-argument form's. (Periodic boxes build their list afresh.)
+/// equal to the one-argument form's. (On a periodic box the search over the images is a
+/// temporary of its own; the list it leaves is written into `storage`.)
 NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& params, NeighbourList storage);
 
 /// For each query point (any point, a particle or not), the particles strictly closer than

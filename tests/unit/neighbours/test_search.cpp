@@ -90,6 +90,26 @@ TEST(Search, IntoReusedStorageEqualsAPlainSearch) {
   }
 }
 
+TEST(Search, PeriodicIntoReusedStorageEqualsAPlainSearch) {
+  PointCloud c = random_cloud(2, 1500, 13u);
+  c.domain = Domain::unit_box(2);
+  c.domain.hi[0] = 2;  // random_cloud's box is [0, 2] x [0, 1]
+  c.domain.set_periodic("x,y");
+  SearchParams p;
+  p.min_neighbours = 0;
+  p.radius = 0.08;
+  const NeighbourList plain = find_neighbours(c, p);
+  ASSERT_FALSE(plain.shifts.empty());
+  SearchParams flat = p;
+  flat.wrap_periodic = false;
+  flat.radius = 0.12;
+  const NeighbourList reused = find_neighbours(c, p, find_neighbours(c, flat));
+  EXPECT_EQ(reused.offsets, plain.offsets);
+  EXPECT_TRUE(reused.indices == plain.indices);
+  EXPECT_TRUE(reused.distances == plain.distances);
+  EXPECT_EQ(reused.shifts, plain.shifts);
+}
+
 TEST(Search, StrictRadiusAndSelf) {
   // Lattice spacing 1: with radius exactly 1 the face neighbours (r = 1) are excluded.
   PointCloud c = vertex_lattice(Domain::box(2, Vec3(0, 0, 0), Vec3(4, 4, 0)), 4);
