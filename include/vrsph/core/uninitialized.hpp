@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
+#include <type_traits>
 #include <vector>
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -72,36 +73,32 @@ class DefaultInitAllocator {
 template <class T>
 using UninitVector = std::vector<T, DefaultInitAllocator<T>>;
 
-/// Sizes v to n elements whose old contents will all be overwritten. Within the capacity
-/// nothing moves; beyond it the old buffer is released first and the new one gets 1/16 of
-/// headroom, instead of std::vector's copy into a buffer of twice the size: arrays that a
-/// moving cloud re-sizes every step by a few entries then keep their (already faulted-in)
-/// pages, and a growth neither copies nor doubles the footprint.
-template <class T>
-void resize_for_overwrite(UninitVector<T>& v, std::size_t n) {
-  if (n > v.capacity()) {
-    UninitVector<T>().swap(v);
-    v.reserve(n + n / 16);
-  }
-  v.resize(n);
+/// Reserves room for n elements in a vector whose contents the caller then overwrites whole
+/// (assign(), or resize() and a write of every entry): a buffer that must grow is released
+/// first, not copied, and gets 1/16 of headroom, so that an array a moving cloud re-sizes every
+/// step by a few entries is not re-allocated (and faulted in again) each time it grows by them.
+/// For a plain std::vector (types whose vectors are part of an interface, e.g. Stencil's) of
+/// 4 MiB or more, the 2 MiB-aligned part of a new buffer is advised as transparent huge pages
+/// before anything touches it (UninitVector's allocator does so itself): the zero-fill of a
+/// following assign() or resize() then faults once per 2 MiB instead of per 4 KiB (on the
+/// virtual machines we measure on a 4 KiB fault costs microseconds: a 10^6-particle stencil
+/// pattern took 1.9 s, nearly all of it page faults; a 10^6-particle update step that
+/// re-allocated its pattern took 4.3 s, not 1.6).
+template <class T, class Allocator>
+void reserve_for_overwrite(std::vector<T, Allocator>& v, std::size_t n) {
+  if (n <= v.capacity()) return;
+  std::vector<T, Allocator>().swap(v);
+  v.reserve(n + n / 16);
+  if constexpr (std::is_same_v<Allocator, std::allocator<T>>)
+    if (n * sizeof(T) >= detail::huge_threshold) detail::advise_huge_pages(v.data(), v.capacity() * sizeof(T));
 }
 
-/// Reserves room for n elements in a plain std::vector (types whose vectors are part of an
-/// interface, e.g. Stencil's) whose contents the caller then overwrites whole (assign(), or
-/// resize() and a write of every entry): a buffer that must grow is released first, not
-/// copied, and gets 1/16 of headroom, so that a pattern a moving cloud re-sizes every step by
-/// a few entries is not re-allocated (and faulted in again) each time it grows by them. For
-/// 4 MiB or more, the 2 MiB-aligned part of a new buffer is advised as transparent huge pages
-/// before anything touches it: the zero-fill of a following assign() or resize() then faults
-/// once per 2 MiB instead of per 4 KiB (on the virtual machines we measure on a 4 KiB fault
-/// costs microseconds: a 10^6-particle stencil pattern took 1.9 s, nearly all of it page
-/// faults; a 10^6-particle update step that re-allocated its pattern took 4.3 s, not 1.6).
+/// Sizes v to n elements whose old contents will all be overwritten (reserve_for_overwrite's
+/// growth; within the capacity nothing moves, and the new elements are not zeroed).
 template <class T>
-void reserve_for_overwrite(std::vector<T>& v, std::size_t n) {
-  if (n <= v.capacity()) return;
-  std::vector<T>().swap(v);
-  v.reserve(n + n / 16);
-  if (n * sizeof(T) >= detail::huge_threshold) detail::advise_huge_pages(v.data(), v.capacity() * sizeof(T));
+void resize_for_overwrite(UninitVector<T>& v, std::size_t n) {
+  reserve_for_overwrite(v, n);
+  v.resize(n);
 }
 
 }  // namespace vrsph
