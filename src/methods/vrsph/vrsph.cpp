@@ -50,6 +50,10 @@ MethodInfo vrsph_info() {
            {"compact_support", "compact rows: the fraction of the support radius whose neighbours each row tries "
                                "first, falling back to the whole support where they admit no positive row of degree "
                                "4 (default 0.8; 1: the whole support only, the rows before issue 37)"},
+           {"compact_fallback", "compact rows whose degree 4 admits no w, mu >= 0 (a few by the walls and at voids "
+                                "of a disordered cloud): signed (default: also degree 4 with w >= 0 and a signed "
+                                "average mu, kept where its estimated truncation is below the positive degree-3 "
+                                "row's; -L stays an M-matrix) | positive (the degree-3 row, the rows before)"},
            {"gradient_order", "3 (default: gradient, dx, dy, dz rows raised to exactness on cubics by the smallest "
                               "kernel-weighted change of [QW]'s row, O(h^3) inside; a row whose cubic fit is singular or "
                               "worse conditioned than 1e4 keeps [QW]'s row) | 2 ([QW]'s rows v_j grad W_ij: exact on "
@@ -129,6 +133,9 @@ class Vrsph final : public Method {
     rhs_ = choice_of(pinned("rhs", "auto", {"auto", "point", "compact"}, "point"));
     near_ = pinned("prefer", "none", {"none", "near"}, "none") == "near";
     cubic_gradient_ = pinned("gradient_order", "3", {"2", "3"}, "2") == "3";
+    compact_fallback_ = o.get_choice("compact_fallback", "signed", {"signed", "positive"}) == "signed"
+                            ? CompactFallback::SignedAverage
+                            : CompactFallback::Positive;
     compact_support_ = o.get_real("compact_support", 0.8);
     check<ConfigError>(compact_support_ > 0 && compact_support_ <= 1, "method option compact_support must be a "
                        "fraction in (0, 1] of the support radius, got ", compact_support_);
@@ -470,6 +477,8 @@ class Vrsph final : public Method {
   bool near_ = false;     // prefer=near
   bool cubic_gradient_ = true;  // gradient_order=3
   Real compact_support_ = 0.8;  // compact rows: the inner neighbours tried first (fraction of h)
+  enum class CompactFallback { SignedAverage, Positive };
+  CompactFallback compact_fallback_ = CompactFallback::SignedAverage;  // rows without a positive degree-4 row
 
   // The compact (Mehrstellen) form of every requested row that admits one (CompactRows::ok).
   // Balance (wall) rows take the compact form too where it exists, with the wall flux c_i
@@ -510,8 +519,11 @@ class Vrsph final : public Method {
         for (Index i = 0; i < cloud.size(); ++i) flux_direction[static_cast<std::size_t>(i)] *= (*req.coefficient)[i];
       walls = {wall, flux_direction};
     }
-    return compact_rows(disc, rows, divagrad ? req.coefficient : nullptr, divagrad ? grad_a : nullptr, 4, 3,
-                        kCompactTolerance, s, walls, compact_support_);
+    CompactRowOptions co;
+    co.tolerance = kCompactTolerance;
+    co.inner_support = compact_support_;
+    co.signed_average = compact_fallback_ == CompactFallback::SignedAverage;
+    return compact_rows(disc, rows, divagrad ? req.coefficient : nullptr, divagrad ? grad_a : nullptr, co, s, walls);
   }
 
   // Completes the compact rows (their weights are in place): the right-hand-side weight of

@@ -8,9 +8,11 @@
 // The left-hand side keeps VRSPH's M-matrix sign structure; the right-hand side becomes a
 // positive average of f. Exact for degree 4: truncation O(h^3), against O(h^2) for the
 // point right-hand side f_i (on a lattice the tie rule of the NNLS keeps the rows symmetric and
-// the fifth moments cancel too: measured order 4.0 there). Where degree 4 admits no w, μ >= 0 (next to a wall) degree 3
-// is tried (O(h^2), still positive); rows with neither are left to the caller (VRSPH falls
-// back on its own row with μ = δ_ik).
+// the fifth moments cancel too: measured order 4.0 there). Where degree 4 admits no w, μ >= 0
+// (next to a wall, or at a void of a disordered cloud) degree 3 is tried (O(h^2), still
+// positive) and, with CompactRowOptions::signed_average, degree 4 with w >= 0 and a signed μ
+// (the left-hand side, and with it the M-matrix, unchanged); rows with neither are left to the
+// caller (VRSPH falls back on its own row with μ = δ_ik).
 #include <span>
 #include <vrsph/methods/method.hpp>
 #include <vrsph/stencil/stencil.hpp>
@@ -23,6 +25,7 @@ struct CompactRows {
   std::vector<Real> mu_self;    ///< per particle: μ_ii
   std::vector<Real> residual;   ///< per particle: ||A x - b|| / ||b|| of the local system
   std::vector<Real> wall_flux;  ///< wall rows: c_i >= 0 of Σ w (u_j - u_i) = Σ μ f - c_i q_i; else empty
+  std::vector<char> signed_average;  ///< per particle: 1 = its μ has negative entries (signed_average)
 };
 
 /// Compact balance rows at wall particles (with flux=balance): one more unknown c_i >= 0 and
@@ -33,20 +36,37 @@ struct CompactWalls {
   std::span<const Vec3> conormal;  ///< per particle: a_i n_i (the flux q = conormal·∇u)
 };
 
+struct CompactRowOptions {
+  int degree = 4;      ///< the degree each row tries first
+  int min_degree = 3;  ///< the lowest degree a row may fall to (>= 3)
+  Real tolerance = 1e-8;  ///< relative residual above which a degree is not met
+  /// In (0, 1]: each row first tries, at `degree`, only the neighbours within this fraction of
+  /// its support radius (the most compact positive row; the others get weight 0), and takes
+  /// the whole support where they admit none (1: the whole support only).
+  Real inner_support = 1;
+  /// A row whose degree d admits no w, μ >= 0 also tries d with w >= 0 and a signed μ (its
+  /// negative part penalised) and keeps whichever of that row and the positive row of degree
+  /// d - 1 has the smaller estimated truncation error (see wave_number). Off: the positive
+  /// rows alone, as before this option.
+  bool signed_average = false;
+  /// The wave number k of the estimate that compares the two (the row's error on u taken as
+  /// (k h)^m Σ_|α|=m |T_α| / α! at the first degree m it misses, T_α its residual on the
+  /// monomial e^α): 0 means π / Discretisation::length_unit() (the whole cloud's largest side,
+  /// on every rank), the smoothest mode the box holds.
+  Real wave_number = 0;
+};
+
 /// rows: the particles to build (empty: every non-ghost particle). a, grad_a: the
 /// coefficient and its gradient at every particle (nullptr: a = 1, ∇a = 0). Each row takes
-/// the highest degree from `degree` down to `min_degree` (>= 3) that admits w, μ >= 0;
-/// tolerance: relative residual above which a degree is not met.
+/// the highest degree from `degree` down to `min_degree` that admits w, μ >= 0 (or, with
+/// signed_average, a signed μ; see CompactRowOptions).
 /// The weights go straight into `out`, a zero pattern of disc.neighbours
 /// (make_stencil_pattern) whose rhs has nnz entries: w_ij into values[0] and μ_ij into rhs
 /// at the neighbour slots of each row that takes the compact form; the diagonal slots and the
 /// other rows are left untouched (μ_ii is CompactRows::mu_self). Writing in place spares a
 /// copy of two arrays of one value per neighbour pair.
-/// inner_support in (0, 1]: each row first tries, at `degree`, only the neighbours within this
-/// fraction of its support radius (the most compact positive row; the others get weight 0),
-/// and takes the whole support where they admit none (1: the whole support only).
 CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows, const Field* a,
-                         const Eigen::MatrixXd* grad_a, int degree, int min_degree, Real tolerance, Stencil& out,
-                         const CompactWalls& walls = {}, Real inner_support = 1);
+                         const Eigen::MatrixXd* grad_a, const CompactRowOptions& options, Stencil& out,
+                         const CompactWalls& walls = {});
 
 }  // namespace vrsph
