@@ -526,8 +526,10 @@ NnlsResult NnlsSolver::solve(const Real* A, int m, int n, const Real* b, Real* x
     case 15: return solve_impl<15>(A, m, n, b, x, options, order, init);  // 2D compact rows (rhs=compact)
     case 16: return solve_impl<16>(A, m, n, b, x, options, order, init);
     case 19: return solve_impl<19>(A, m, n, b, x, options, order, init);
+    case 20: return solve_impl<20>(A, m, n, b, x, options, order, init);  // 3D compact rows of degree 3
     case 27: return solve_impl<27>(A, m, n, b, x, options, order, init);
     case 30: return solve_impl<30>(A, m, n, b, x, options, order, init);
+    case 35: return solve_impl<35>(A, m, n, b, x, options, order, init);  // 3D compact rows (degree 4)
     default: return solve_impl<0>(A, m, n, b, x, options, order, init);
   }
 }

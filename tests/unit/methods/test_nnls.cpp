@@ -91,6 +91,32 @@ TEST(Nnls, WideProblemsLikeVrsphAgreeWithTheReference) {
   }
 }
 
+TEST(Nnls, EveryRowCountWithItsOwnCodeAgreesWithTheReference) {
+  // The solver has code specialised for the row counts VRSPH's systems have (2D/3D point,
+  // wall and compact rows: 2, 3, 7, 9, 10, 12, 15, 16, 19, 20, 27, 30, 35) and a generic path
+  // for the others (13, 40): each on a feasible target (residual ~ 0, KKT) and on another
+  // one (the reference's residual, KKT).
+  std::mt19937 rng(11);
+  for (const int m : {2, 3, 7, 9, 10, 12, 13, 15, 16, 19, 20, 27, 30, 35, 40}) {
+    SCOPED_TRACE(m);
+    const Eigen::MatrixXd A = random_matrix(m, 3 * m + 5, rng);
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(A.cols());
+    for (Eigen::Index k = 0; k < std::min<Eigen::Index>(m, 6); ++k) x0[(3 * k + 1) % A.cols()] = 1.0 + static_cast<double>(k);
+    const Eigen::VectorXd b = A * x0;
+    NnlsResult r;
+    const Eigen::VectorXd x = fast(A, b, &r);
+    EXPECT_EQ(r.status, NnlsStatus::Converged);
+    EXPECT_LT(r.residual, 1e-10 * b.norm());
+    expect_kkt(A, b, x, 1e-8 * b.norm());
+    // Another target, -b + a_0 (infeasible in general): the residual the reference reaches.
+    Eigen::VectorXd xr;
+    (void)nnls_reference(A, -b + A.col(0), xr, {});
+    const Eigen::VectorXd xf = fast(A, -b + A.col(0), &r);
+    EXPECT_NEAR(r.residual, (A * xr - (-b + A.col(0))).norm(), 1e-8 * b.norm());
+    expect_kkt(A, -b + A.col(0), xf, 1e-8 * b.norm());
+  }
+}
+
 TEST(Nnls, DegenerateInputs) {
   // Zero and duplicate columns.
   Eigen::MatrixXd A(3, 5);
