@@ -356,13 +356,10 @@ class CompactRowSolver {
                                          MatrixOrder::RowMajor);
     x_.assign(z_.begin(), z_.begin() + static_cast<std::ptrdiff_t>(C_));
     for (std::size_t k = 0; k < nm; ++k) x_[cnt + k] -= z_[C_ + k];
-    Real r2 = 0;
-    for (std::size_t q = 0; q < R; ++q) {
-      Real v = -b_[q];
-      for (std::size_t k = 0; k < C_; ++k) v += A_[q * C_ + k] * x_[k];
-      r2 += v * v;
-    }
-    r.residual = std::sqrt(r2);
+    const Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> A(A_.data(), rows_, static_cast<Eigen::Index>(C_));
+    r.residual = (A * Eigen::Map<const Eigen::VectorXd>(x_.data(), static_cast<Eigen::Index>(C_)) -
+                  Eigen::Map<const Eigen::VectorXd>(b_.data(), rows_))
+                     .norm();
     return r;
   }
 
