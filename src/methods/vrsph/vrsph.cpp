@@ -43,7 +43,8 @@ MethodInfo vrsph_info() {
            {"rhs", "auto (compact in a boundary value problem with mean=arithmetic, point for operator values and with "
                    "mean=harmonic; default) | point (the row "
                    "approximates div(a grad u) at x_i, right-hand side f_i: [QW]) | compact (a "
-                   "generalised Mehrstellen row: w >= 0 and a positive average of f over the stencil, found together "
+                   "generalised Mehrstellen row: w >= 0 and a positive average of f over the stencil (signed in the "
+                   "rows of compact_fallback=signed), found together "
                    "so that the row is exact on polynomials of degree <= 4: O(h^3) truncation; "
                    "rows where none exists keep the point form; div-a-grad uses grad a when given, else FPM's "
                    "quadratic fit of a)"},
