@@ -163,7 +163,7 @@ class CompactRowSolver {
                    const CompactRowOptions& options, Real wave_number, const CompactWalls& walls, Index max_count,
                    Stencil& target, CompactRows& out)
       : disc_(disc), a_(a), grad_a_(grad_a), t_(t), options_(options), wave_number_(wave_number), walls_(walls),
-        max_count_(max_count), target_(target), out_(out),
+        target_(target), out_(out),
         solver_(static_cast<int>(t.mono[static_cast<std::size_t>(options.degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2) {}
 
   void solve(Index i) {
@@ -210,7 +210,6 @@ class CompactRowSolver {
     }
     if (!have_signed) return;
     x_ = signed_x_;
-    C_ = x_.size();
     residual_ = signed_residual;
     accept(i, signed_degree, true);
   }
@@ -347,10 +346,7 @@ class CompactRowSolver {
       c_[r] = b_[r];
     }
     for (std::size_t k = 0; k < nm; ++k) M_[(R + k) * C2 + C_ + k] = kSignedPenalty;
-    if (!signed_solver_) {
-      const int rows = static_cast<int>(t_.mono[static_cast<std::size_t>(options_.degree)].size()) + 2 + static_cast<int>(max_count_);
-      signed_solver_.emplace(rows, 3 * static_cast<int>(max_count_) + 3);
-    }
+    if (!signed_solver_) signed_solver_.emplace(static_cast<int>(R2), static_cast<int>(C2));  // grows on demand
     z_.assign(C2, 0.0);
     NnlsResult r = signed_solver_->solve(M_.data(), static_cast<int>(R2), static_cast<int>(C2), c_.data(), z_.data(), options,
                                          MatrixOrder::RowMajor);
@@ -369,22 +365,19 @@ class CompactRowSolver {
   // that over the diagonal Σ w (the h^2 cancels). Only the rows that fall back use it.
   Real truncation_estimate(Index i, int deg) {
     const int m = deg + 1;
-    const std::vector<Real> x = x_;
-    build_system(i, m);
+    build_system(i, m);  // the same columns: x_ still matches them
     const auto& mo = t_.mono[static_cast<std::size_t>(m)];
     Real sum = 0;
     for (std::size_t r = 0; r < mo.size(); ++r) {
       const auto& alpha = mo[r];
       if (alpha[0] + alpha[1] + alpha[2] != m) continue;
       Real t = 0;
-      for (std::size_t k = 0; k < C_; ++k) t += A_[r * C_ + k] * x[k];
+      for (std::size_t k = 0; k < C_; ++k) t += A_[r * C_ + k] * x_[k];
       Real factorial = 1;
       for (const int e : alpha)
         for (int q = 2; q <= e; ++q) factorial *= q;
       sum += std::abs(t) / factorial;
     }
-    x_ = x;
-    C_ = x_.size();
     // A row's defect τ moves its own value by about τ over its diagonal Σ_j w_j (the
     // neighbours held): a row with the larger diagonal gives the smaller error.
     Real diagonal = 0;
@@ -433,7 +426,6 @@ class CompactRowSolver {
   const CompactRowOptions& options_;
   const Real wave_number_;
   const CompactWalls& walls_;
-  const Index max_count_;
   Stencil& target_;
   CompactRows& out_;
   NnlsSolver solver_;
