@@ -69,7 +69,7 @@ class NnlsSolver {
   template <int FixedRows>
   NnlsResult solve_impl(const Real* A, int m, int n, const Real* b, Real* x, const NnlsOptions& options,
                         MatrixOrder order, std::span<const int> initial_passive);
-  std::vector<Real> Q_, R_, qtb_, z_, w_, r_, xp_, Rinv_, at_, gs_;  // at_: A row-major (m x n)
+  std::vector<Real> Q_, R_, qtb_, z_, w_, r_, xp_, Rinv_, at_, gs_, proj_;  // at_: A row-major (m x n)
   std::vector<int> passive_;  // column index per passive position
   std::vector<char> in_passive_;
   int cap_m_ = 0, cap_n_ = 0;
