@@ -24,6 +24,8 @@ void check_sweep_options(const SweepOptions& o) {
                      "the sweep's growth bounds must satisfy 1 < min <= max (max 0: by dimension), got ", o.min_growth,
                      " and ", o.max_growth);
   check<ConfigError>(o.refine_runs >= 0 && std::isfinite(o.refine_ratio), "the sweep's refinement needs refine_runs >= 0");
+  check<ConfigError>(o.refine_below > 0 && o.refine_below <= 1, "the sweep's refine_below must be in (0, 1], got ",
+                     o.refine_below);
   check<ConfigError>(o.max_bytes >= 0 && o.max_seconds >= 0, "the sweep's limits must be >= 0");
 }
 
@@ -96,7 +98,7 @@ void assign_runs(SweepResult& result) {
 }
 
 // Between the largest run that missed a target and the smallest that reached it with less
-// than half the target's error: the geometric middle, while they are more than refine_ratio
+// than refine_below of the target's error: the geometric middle, while they are more than refine_ratio
 // apart (a step predicted from a scattered order can land far past the target).
 void bisect_targets(const SweepOptions& options, const std::function<SweepRun(int n)>& run, SweepResult& result) {
   if (!(options.refine_ratio > 1)) return;
@@ -109,7 +111,7 @@ void bisect_targets(const SweepOptions& options, const std::function<SweepRun(in
       for (const SweepRun& r : result.runs)
         if (r.n < hit && r.error > t.target) miss = std::max(miss, r.n);
       // Only where the run overshot: an error near the target says it is about the right size.
-      if (miss == 0 || hit <= options.refine_ratio * miss || t.run.error > 0.5 * t.target) break;
+      if (miss == 0 || hit <= options.refine_ratio * miss || t.run.error > options.refine_below * t.target) break;
       const int mid = admissible_n(options, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(miss) * hit))));
       if (mid <= miss || mid >= hit ||
           std::any_of(result.runs.begin(), result.runs.end(), [&](const SweepRun& r) { return r.n == mid; }))

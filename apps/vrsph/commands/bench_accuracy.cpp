@@ -256,6 +256,8 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
   meta["max_seconds_per_run"] = a.max_seconds;
   meta["memory_limit_mib"] = static_cast<double>(memory_limit_bytes()) / (1024.0 * 1024.0);
   meta["repeat"] = a.repeat;
+  meta["refine_ratio"] = SweepOptions{}.refine_ratio;  // the bracket each target was bisected to
+  meta["refine_below"] = SweepOptions{}.refine_below;
   const Table sweeps = sweep_table(results);
   meta["sweep"] = json_rows(sweeps);
   meta["seconds_bench"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

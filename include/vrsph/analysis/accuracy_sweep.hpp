@@ -35,11 +35,14 @@ struct SweepOptions {
   /// three runs (errors on disordered clouds scatter).
   double min_growth = 1.15, max_growth = 0;
   /// After the sweep, for each target: runs at the geometric middle between the largest run
-  /// that missed it and the smallest that reached it, while that one's error is below half
-  /// the target and the two differ by more than this factor in n, at most refine_runs times
-  /// (0: no refinement). A step predicted from a
-  /// scattered order can land far past a target; this finds a smaller run that reaches it.
-  double refine_ratio = 1.2;
+  /// that missed it and the smallest that reached it, while that one's error is below
+  /// refine_below times the target and the two differ by more than refine_ratio in n, at most
+  /// refine_runs times (0: no refinement). A step predicted from a scattered order can land
+  /// far past a target, and a run well inside it may be a size too large: in 3D a factor 1.2
+  /// in n is 1.7 in unknowns and more in time, so the races' time ratios need the finer
+  /// bracket (each configuration gets the same).
+  double refine_ratio = 1.1;
+  double refine_below = 0.9;
   int refine_runs = 4;
   double max_bytes = 0;    ///< memory limit of one run (0: none)
   double max_seconds = 0;  ///< time limit of one run (0: none)
