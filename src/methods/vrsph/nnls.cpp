@@ -87,7 +87,8 @@ VRSPH_ALWAYS_INLINE inline Real dot(const Real* __restrict x, const Real* __rest
 }
 
 // Rows [i, i + 4 B) of combine_columns below: B blocks of four rows, each accumulated in its own
-// register over the columns. The B accumulators are independent chains, so the adds of one
+// register over the columns (also A^T r: w[j:j+4B] = sum_i r_i At[i, j:j+4B], with At's rows as
+// the columns). The B accumulators are independent chains, so the adds of one
 // column overlap instead of each waiting out the previous add's latency (one block at a time
 // ran at one vector add per latency period: a third of a 3D solve).
 template <std::size_t B>
@@ -95,19 +96,19 @@ VRSPH_ALWAYS_INLINE inline void combine_blocks(Real* __restrict out, const Real*
                                                const Real* __restrict cols, std::size_t stride,
                                                const Real* __restrict c, int cnt, std::size_t i) {
   Real4 acc[B];
-#pragma GCC unroll 4
+#pragma GCC unroll 8
   for (std::size_t q = 0; q < B; ++q) acc[q] = Real4{0, 0, 0, 0};
   for (int j = 0; j < cnt; ++j) {
     const Real cj = c[j];
     const Real* col = cols + static_cast<std::size_t>(j) * stride + i;
-#pragma GCC unroll 4
+#pragma GCC unroll 8
     for (std::size_t q = 0; q < B; ++q) {
       Real4 v;
       std::memcpy(&v, col + 4 * q, sizeof v);
       acc[q] += cj * v;
     }
   }
-#pragma GCC unroll 4
+#pragma GCC unroll 8
   for (std::size_t q = 0; q < B; ++q) {
     acc[q] *= scale;
     if (init) {
@@ -156,28 +157,6 @@ VRSPH_ALWAYS_INLINE inline void combine_columns(Real* __restrict out, const Real
     case 3: return combine_tail<3>(out, init, scale, cols, stride, c, cnt, blocks);
     default: return;
   }
-}
-
-// w[0:4B] = sum_i r[i] At[i stride + 0:4B] (columns of A^T in B blocks of four): w = A^T r for
-// 4B consecutive columns, each block's sum in its own register, over the rows in order.
-template <std::size_t B>
-VRSPH_ALWAYS_INLINE inline void multiply_transposed(Real* __restrict w, const Real* __restrict At, std::size_t stride,
-                                                    const Real* __restrict r, std::size_t m) {
-  Real4 acc[B];
-#pragma GCC unroll 8
-  for (std::size_t q = 0; q < B; ++q) acc[q] = Real4{0, 0, 0, 0};
-  const Real* row = At;
-  for (std::size_t i = 0; i < m; ++i, row += stride) {
-    const Real ri = r[i];
-#pragma GCC unroll 8
-    for (std::size_t q = 0; q < B; ++q) {
-      Real4 a;
-      std::memcpy(&a, row + 4 * q, sizeof a);
-      acc[q] += ri * a;
-    }
-  }
-#pragma GCC unroll 8
-  for (std::size_t q = 0; q < B; ++q) std::memcpy(w + 4 * q, &acc[q], sizeof acc[q]);
 }
 
 // c[l] = Q_l . v for the k columns Q_l = Q + l stride (len entries), four columns side by side
@@ -412,20 +391,21 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
     combine_columns(r_.data(), b, -1, Q, M, qtb, k, M);  // r = b - Q1 (Q1^T b)
     Real* w = w_.data();
     std::size_t j = 0;
-    // 32 columns at a time, then 16, 8, 4: independent accumulators per row of A^T (each a
-    // chain of m dependent adds, so eight of them keep the multiply-add units busy where one or
-    // two waited on each add's latency); each w_j is summed over the rows in the same order.
-    for (; j + 32 <= N; j += 32) multiply_transposed<8>(w + j, At + j, N, r_.data(), M);
+    // 32 columns at a time, then 16, 8, 4 (combine_blocks over A^T's rows): independent
+    // accumulators (each a chain of m dependent adds, so eight of them keep the multiply-add
+    // units busy where one or two waited on each add's latency); each w_j is summed over the
+    // rows in the same order.
+    for (; j + 32 <= N; j += 32) combine_blocks<8>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
     if (j + 16 <= N) {
-      multiply_transposed<4>(w + j, At + j, N, r_.data(), M);
+      combine_blocks<4>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
       j += 16;
     }
     if (j + 8 <= N) {
-      multiply_transposed<2>(w + j, At + j, N, r_.data(), M);
+      combine_blocks<2>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
       j += 8;
     }
     if (j + 4 <= N) {
-      multiply_transposed<1>(w + j, At + j, N, r_.data(), M);
+      combine_blocks<1>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
       j += 4;
     }
     if (j < N) {  // the last n % 4 columns, side by side

@@ -39,6 +39,16 @@ void expect_kkt(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen:
   }
 }
 
+// A feasible target (b = A x0, x0 >= 0): NNLS converges to a zero residual and a KKT point.
+NnlsResult expect_feasible_target_met(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, double kkt_tol) {
+  NnlsResult r;
+  const Eigen::VectorXd x = fast(A, b, &r);
+  EXPECT_EQ(r.status, NnlsStatus::Converged);
+  EXPECT_LT(r.residual, 1e-10 * b.norm());
+  expect_kkt(A, b, x, kkt_tol * b.norm());
+  return r;
+}
+
 // Brute force: the best least-squares solution over every passive set whose
 // unconstrained solution is non-negative.
 double brute_force_residual(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
@@ -105,11 +115,7 @@ TEST(Nnls, EveryRowCountWithItsOwnCodeAgreesWithTheReference) {
     Eigen::VectorXd x0 = Eigen::VectorXd::Zero(A.cols());
     for (Eigen::Index k = 0; k < std::min<Eigen::Index>(m, 6); ++k) x0[(3 * k + 1) % A.cols()] = 1.0 + static_cast<double>(k);
     const Eigen::VectorXd b = A * x0;
-    NnlsResult r;
-    const Eigen::VectorXd x = fast(A, b, &r);
-    EXPECT_EQ(r.status, NnlsStatus::Converged);
-    EXPECT_LT(r.residual, 1e-10 * b.norm());
-    expect_kkt(A, b, x, 1e-8 * b.norm());
+    NnlsResult r = expect_feasible_target_met(A, b, 1e-8);
     // Another target, -b + a_0 (infeasible in general): the residual the reference reaches.
     Eigen::VectorXd xr;
     (void)nnls_reference(A, -b + A.col(0), xr, {});
@@ -149,12 +155,7 @@ TEST(Nnls, ColumnsLeavingALargePassiveSetKeepItsFactorsExact) {
       }
       Eigen::VectorXd x0(n);
       for (int j = 0; j < n; ++j) x0[j] = 0.5 * (1 + u(rng));  // dense: a feasible target many vertices meet
-      const Eigen::VectorXd b = A * x0;
-      NnlsResult r;
-      const Eigen::VectorXd x = fast(A, b, &r);
-      ASSERT_EQ(r.status, NnlsStatus::Converged);
-      EXPECT_LT(r.residual, 1e-10 * b.norm());
-      expect_kkt(A, b, x, 1e-9 * b.norm());
+      const NnlsResult r = expect_feasible_target_met(A, A * x0, 1e-9);
       // Each iteration adds a column or removes one: the surplus over the final set counts departures.
       departures += std::max(0, r.iterations - r.passive);
     }
