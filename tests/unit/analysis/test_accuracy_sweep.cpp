@@ -138,5 +138,8 @@ TEST(AccuracySweep, KeepsToAdmissibleResolutionsAndRefusesBadOptions) {
   bad([](SweepOptions& b) { b.n_start = 0; });
   bad([](SweepOptions& b) { b.margin = 0.5; });
   bad([](SweepOptions& b) { b.min_growth = 1; });
+  bad([](SweepOptions& b) { b.refine_below = 0; });
+  bad([](SweepOptions& b) { b.refine_below = 1.5; });
+  bad([](SweepOptions& b) { b.refine_below = std::nan(""); });
   bad([](SweepOptions& b) { b.max_growth = 1.1; b.min_growth = 1.2; });
 }
