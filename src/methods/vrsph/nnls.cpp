@@ -138,7 +138,7 @@ VRSPH_ALWAYS_INLINE inline void combine_tail(Real* __restrict out, const Real* _
 
 // out[0:len] = init[0:len] + scale * sum_{j<cnt} c[j] cols[j*stride + 0:len] (init null:
 // zero). Blocks of four rows accumulated in registers over the columns (updating out in
-// memory column by column made every column wait for the previous one's store), up to four
+// memory column by column made every column wait for the previous one's store), up to eight
 // blocks side by side. Each entry's sum runs over the columns in the same order whatever the
 // blocking, so the result does not depend on it.
 VRSPH_ALWAYS_INLINE inline void combine_columns(Real* __restrict out, const Real* __restrict init, Real scale,
@@ -146,7 +146,11 @@ VRSPH_ALWAYS_INLINE inline void combine_columns(Real* __restrict out, const Real
                                                 const Real* __restrict c, int cnt, std::size_t len) {
   const std::size_t blocks = len / 4 * 4;
   std::size_t i = 0;
-  for (; i + 16 <= blocks; i += 16) combine_blocks<4>(out, init, scale, cols, stride, c, cnt, i);
+  for (; i + 32 <= blocks; i += 32) combine_blocks<8>(out, init, scale, cols, stride, c, cnt, i);
+  if (i + 16 <= blocks) {
+    combine_blocks<4>(out, init, scale, cols, stride, c, cnt, i);
+    i += 16;
+  }
   if (i + 8 <= blocks) {
     combine_blocks<2>(out, init, scale, cols, stride, c, cnt, i);
     i += 8;
@@ -390,32 +394,10 @@ VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime
   // reports the true residual of the returned x, computed once at the end.
   auto gradient = [&]() VRSPH_ALWAYS_INLINE {
     combine_columns(r_.data(), b, -1, Q, M, qtb, k, M);  // r = b - Q1 (Q1^T b)
+    // w = A^T r: combine_columns over A^T's rows (eight blocks of four columns side by side,
+    // each a chain of m dependent adds: one or two chains waited on each add's latency).
     Real* w = w_.data();
-    std::size_t j = 0;
-    // 32 columns at a time, then 16, 8, 4 (combine_blocks over A^T's rows): independent
-    // accumulators (each a chain of m dependent adds, so eight of them keep the multiply-add
-    // units busy where one or two waited on each add's latency); each w_j is summed over the
-    // rows in the same order.
-    for (; j + 32 <= N; j += 32) combine_blocks<8>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
-    if (j + 16 <= N) {
-      combine_blocks<4>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
-      j += 16;
-    }
-    if (j + 8 <= N) {
-      combine_blocks<2>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
-      j += 8;
-    }
-    if (j + 4 <= N) {
-      combine_blocks<1>(w + j, nullptr, 1, At + j, N, r_.data(), m, 0);
-      j += 4;
-    }
-    if (j < N) {  // the last n % 4 columns, side by side
-      Real acc[3] = {0, 0, 0};
-      const std::size_t rest = N - j;
-      for (std::size_t i = 0; i < M; ++i)
-        for (std::size_t q = 0; q < rest; ++q) acc[q] += r_[i] * At[i * N + j + q];
-      for (std::size_t q = 0; q < rest; ++q) w[j + q] = acc[q];
-    }
+    combine_columns(w, nullptr, 1, At, N, r_.data(), m, N);
     for (int p = 0; p < k; ++p) w[passive_[static_cast<std::size_t>(p)]] = -std::numeric_limits<Real>::infinity();  // never re-enters directly
   };
   // Appends column t as passive position k: classical Gram–Schmidt against the k passive
