@@ -134,9 +134,7 @@ class Vrsph final : public Method {
     rhs_ = choice_of(pinned("rhs", "auto", {"auto", "point", "compact"}, "point"));
     near_ = pinned("prefer", "none", {"none", "near"}, "none") == "near";
     cubic_gradient_ = pinned("gradient_order", "3", {"2", "3"}, "2") == "3";
-    compact_fallback_ = o.get_choice("compact_fallback", "signed", {"signed", "positive"}) == "signed"
-                            ? CompactFallback::SignedAverage
-                            : CompactFallback::Positive;
+    signed_fallback_ = o.get_choice("compact_fallback", "signed", {"signed", "positive"}) == "signed";
     compact_support_ = o.get_real("compact_support", 0.8);
     check<ConfigError>(compact_support_ > 0 && compact_support_ <= 1, "method option compact_support must be a "
                        "fraction in (0, 1] of the support radius, got ", compact_support_);
@@ -478,8 +476,7 @@ class Vrsph final : public Method {
   bool near_ = false;     // prefer=near
   bool cubic_gradient_ = true;  // gradient_order=3
   Real compact_support_ = 0.8;  // compact rows: the inner neighbours tried first (fraction of h)
-  enum class CompactFallback { SignedAverage, Positive };
-  CompactFallback compact_fallback_ = CompactFallback::SignedAverage;  // rows without a positive degree-4 row
+  bool signed_fallback_ = true;  // compact_fallback=signed: rows without a positive degree-4 row
 
   // The compact (Mehrstellen) form of every requested row that admits one (CompactRows::ok).
   // Balance (wall) rows take the compact form too where it exists, with the wall flux c_i
@@ -523,7 +520,7 @@ class Vrsph final : public Method {
     CompactRowOptions co;
     co.tolerance = kCompactTolerance;
     co.inner_support = compact_support_;
-    co.signed_average = compact_fallback_ == CompactFallback::SignedAverage;
+    co.signed_average = signed_fallback_;
     return compact_rows(disc, rows, divagrad ? req.coefficient : nullptr, divagrad ? grad_a : nullptr, co, s, walls);
   }
 
