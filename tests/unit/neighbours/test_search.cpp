@@ -82,7 +82,9 @@ TEST(Search, IntoReusedStorageEqualsAPlainSearch) {
       EXPECT_TRUE(reused.distances == plain.distances);  // bit for bit
       EXPECT_TRUE(reused.shifts.empty());
       EXPECT_EQ(reused.radii, plain.radii);
-      if (fits) EXPECT_EQ(reused.indices.data(), before) << "storage with room enough was re-allocated";
+      if (fits) {
+        EXPECT_EQ(reused.indices.data(), before) << "storage with room enough was re-allocated";
+      }
       const NeighbourList bare = find_neighbours(c, without_distances, find_neighbours(c, q));
       EXPECT_TRUE(bare.indices == plain.indices);
       EXPECT_TRUE(bare.distances.empty());
