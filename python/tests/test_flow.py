@@ -60,7 +60,7 @@ def test_flow_refuses_bad_input():
         flow.step(10 * flow.stable_time_step())
     with pytest.raises(vrsph.ConfigError, match="lagrangian frame only"):
         vrsph.Flow(c, _vortex(x), support_growth=1.5)
-    with pytest.raises(vrsph.ConfigError, match="support_growth must be >= 1"):
+    with pytest.raises(vrsph.ConfigError, match="support_growth must be finite and >= 1"):
         vrsph.Flow(c, _vortex(x), frame="lagrangian", support_growth=0.5)
 
 

@@ -327,7 +327,9 @@ class Flow:
     dx²/nu) or "implicit" (IMEX stages, dt limited by the explicit terms only; docs/flow.md).
     ``support_growth`` (Lagrangian, > 1): every support grows by 15 % a step, up to this times
     h, while the least isotropic one is below ``support_isotropy``, and shrinks back once all are
-    above twice it (docs/flow.md, "Regularity over time"). ``method`` builds the Laplacian (pressure Poisson, viscous term);
+    above twice it (docs/flow.md, "Regularity over time"); 1: fixed supports; 0 (the default): 3,
+    capped below half the period, for a Lagrangian flow on a periodic box without walls, free
+    surface or shifting, 1 elsewhere. ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""
 
@@ -336,7 +338,7 @@ class Flow:
                  options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
                  allow_unstable: bool = False, wall_velocity: Any = None, body_force: Any = None,
                  free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit",
-                 support_growth: float = 1.0, support_isotropy: float = 0.3):
+                 support_growth: float = 0.0, support_isotropy: float = 0.3):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -350,7 +352,7 @@ class Flow:
                                      _args.flag(free_surface, "free_surface"),
                                      _args.number(body_force_ramp, "body_force_ramp", minimum=0.0),
                                      _args.text(viscosity, "viscosity"),
-                                     _args.number(support_growth, "support_growth", minimum=1.0),
+                                     _args.number(support_growth, "support_growth", minimum=0.0),
                                      _args.number(support_isotropy, "support_isotropy", positive=True))
 
     def step(self, dt: float) -> dict:
@@ -407,7 +409,7 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                  t_end: float = 1.0, re: float = 100.0, cfl: float = 0.25, jitter: float = 0.2, seed: int = 1,
                  scheme: str = "rk3", h_factor: float = 3.0, options: Mapping[str, Any] | None = None,
                  shifting: str = "none", shift_coefficient: float = 0.0, viscosity: str = "explicit",
-                 support_growth: float = 1.0, support_isotropy: float = 0.3) -> dict:
+                 support_growth: float = 0.0, support_isotropy: float = 0.3) -> dict:
     """One row of ``vrsph flow --case taylor-green`` (2D Taylor-Green, 3D Beltrami vortex): the
     errors at ``t_end`` on the periodic unit box with ``nx`` particles per period."""
     return _vrsph._taylor_green(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
@@ -419,7 +421,7 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                                 _args.text(shifting, "shifting"),
                                 _args.number(shift_coefficient, "shift_coefficient", minimum=0.0),
                                 _args.text(viscosity, "viscosity"),
-                                _args.number(support_growth, "support_growth", minimum=1.0),
+                                _args.number(support_growth, "support_growth", minimum=0.0),
                                 _args.number(support_isotropy, "support_isotropy", positive=True))
 
 

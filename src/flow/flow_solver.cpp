@@ -215,14 +215,16 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   if (options_.frame == FlowFrame::Lagrangian && options_.solver.type == SolverType::Auto &&
       options_.solver.auto_direct_max == 0 && built_with("PETSC"))
     options_.solver.auto_direct_max = lagrangian_direct_limit(d);
-  check<ConfigError>(std::isfinite(options_.support_growth) && options_.support_growth >= 1,
-                     "flow: support_growth must be finite and >= 1 (1: fixed supports), got ", options_.support_growth);
-  check<ConfigError>(options_.support_growth == 1 || options_.frame == FlowFrame::Lagrangian,
+  check<ConfigError>(std::isfinite(options_.support_growth) && (options_.support_growth >= 1 || options_.support_growth == 0),
+                     "flow: support_growth must be finite and >= 1 (1: fixed supports; 0: automatic), got ",
+                     options_.support_growth);
+  check<ConfigError>(options_.support_growth <= 1 || options_.frame == FlowFrame::Lagrangian,
                      "flow: growing supports follow moving particles; they apply to the lagrangian frame only");
   check<ConfigError>(options_.support_isotropy_target > 0 && options_.support_isotropy_target <= 0.5,
                      "flow: the support isotropy target must be in (0, 0.5], got ", options_.support_isotropy_target);
   ops_ = std::make_unique<Operators>(std::move(cloud), options_.operators);
   spacing_ = ops_->spacing();
+  if (options_.support_growth == 0) options_.support_growth = automatic_support_growth();
   if (options_.support_growth > 1 && ops_->cloud().domain.any_periodic()) {
     const Domain& box = ops_->cloud().domain;
     const Real largest = options_.support_growth * ops_->radius() + options_.operators.skin * ops_->radius();
@@ -697,11 +699,31 @@ void FlowSolver::finish_report(FlowStepReport& r) const {
 // twice the target (the band between keeps the radius from flickering: growing lifts the isotropy
 // it is measured with). Growing only the supports below the target was tried first: Taylor-Green,
 // nx = 64, h = 3 dx, every support kept above 0.27 (and 0.41) — and the run blew up at t = 0.258,
-// as with fixed 3 dx supports (0.242); grown all together it reaches t = 1 (docs/flow.md).
+// as with fixed 3 dx supports (0.242); grown all together it reaches t = 1 (docs/flow.md). Judging
+// the shrink by the isotropy of the smaller supports instead was tried too (2026-12-05): the
+// supports then stayed larger at the end, and the error grew as much (nx = 128, t = 1: 3.21e-4
+// against 3.13e-4; it rises from t = 0.6 also while the radius is held).
 Real detail::next_support_radius(Real now, Real base, Real largest, Real least_isotropy, Real target) {
   if (least_isotropy < target) return std::min(largest, 1.15 * now);
   if (least_isotropy > 2 * target) return std::max(base, now / 1.05);
   return now;
+}
+
+// Where fixed supports fail and growing ones were measured (docs/flow.md): a Lagrangian flow on a
+// periodic box, no walls (their layers were not sized for wider supports), no free surface (its
+// particles' supports are cut by design) and no shifting (which keeps the supports isotropic by
+// moving particles: the growth would never start). Capped so that a grown support with its
+// Verlet skin stays below half the shortest period; a cap below one growth step keeps them fixed.
+Real FlowSolver::automatic_support_growth() const {
+  if (options_.frame != FlowFrame::Lagrangian || options_.shifting.kind != Shifting::None || options_.free_surface ||
+      !eq_.walls.empty())
+    return 1;
+  const Domain& box = ops_->cloud().domain;
+  Real cap = kAutoSupportGrowth;
+  for (int k = 0; k < box.dim; ++k)
+    if (box.periodic[static_cast<std::size_t>(k)])
+      cap = std::min(cap, (0.49 * box.period(k) - options_.operators.skin * ops_->radius()) / ops_->radius());
+  return cap >= 1.15 ? cap : 1;
 }
 
 // The least isotropy is the last report's: finish_report measured it on these positions and

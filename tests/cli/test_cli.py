@@ -612,7 +612,7 @@ class Flow(unittest.TestCase):
                 for h in steps:
                     self.assertTrue(0.5 < float(h["min_support_isotropy"]) <= 1.0, h)  # a jittered lattice, t <= 0.05
                     self.assertGreater(int(h["ppe_iterations"]), 0)
-                    self.assertEqual(float(h["max_support_growth"]), 1.0)  # fixed supports
+                    self.assertEqual(float(h["max_support_growth"]), 1.0)  # isotropic supports: not grown
             # --support-growth: the supports grow (by 15 %, at t ~ 0.21) once the isotropy falls below 0.5.
             path = os.path.join(tmp, "grown.csv")
             run_json("flow", "--case", "taylor-green", "--frame", "lagrangian", "--nx", "16", "--t-end", "0.3",

@@ -430,9 +430,9 @@ void run_flow(FlowArgs& a) {
                      "lagrangian frame (the eulerian one factorises its pressure matrix once)");
   (void)parse_kernel(a.kernel);
   (void)parse_shifting(a.shifting);
-  check<ConfigError>(std::isfinite(a.support_growth) && a.support_growth >= 1, "--support-growth must be finite and >= 1 (1: fixed "
-                     "supports), got ", a.support_growth);
-  check<ConfigError>(a.support_growth == 1 || a.frame == "lagrangian", "--support-growth applies to the lagrangian frame "
+  check<ConfigError>(std::isfinite(a.support_growth) && (a.support_growth >= 1 || a.support_growth == 0),
+                     "--support-growth must be finite and >= 1 (1: fixed supports; 0: automatic), got ", a.support_growth);
+  check<ConfigError>(a.support_growth <= 1 || a.frame == "lagrangian", "--support-growth applies to the lagrangian frame "
                      "(an eulerian cloud does not move)");
   check<ConfigError>(std::isfinite(a.support_isotropy) && a.support_isotropy > 0 && a.support_isotropy <= 0.5,
                      "--support-isotropy must be in (0, 0.5], got ", a.support_isotropy);
@@ -537,7 +537,9 @@ void add_flow_command(CLI::App& app) {
                                              "Fickian)")->capture_default_str();
   cmd->add_option("--support-growth", a->support_growth,
                   "Lagrangian: every support grows (by 15 % a step, up to this times h) while the smallest support "
-                  "isotropy is below --support-isotropy, and shrinks back once it is above twice that; 1: fixed supports")
+                  "isotropy is below --support-isotropy, and shrinks back once it is above twice that; 1: fixed supports; "
+                  "0: automatic (3, capped below half the period, for a lagrangian run on a periodic box without walls, "
+                  "free surface or shifting; 1 elsewhere)")
       ->capture_default_str();
   cmd->add_option("--support-isotropy", a->support_isotropy, "The smallest support isotropy below which --support-growth grows the supports, "
                                                              "in (0, 0.5]")->capture_default_str();

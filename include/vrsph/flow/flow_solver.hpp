@@ -142,7 +142,11 @@ struct FlowOptions {
   /// isotropy of the fluid (analysis/support_isotropy.hpp) is below support_isotropy_target,
   /// every support radius grows by 15 %, up to support_growth times the base one; once it is
   /// above twice the target they shrink by 5 % a step toward the base. 1: off (the base radius).
-  Real support_growth = 1;
+  /// 0 (the default): kAutoSupportGrowth on a periodic box without walls, free surface or
+  /// shifting in the Lagrangian frame, where fixed supports lose the derivative across the
+  /// flow's stretched columns and the run blows up (Taylor-Green nx = 64 at t = 0.24), capped
+  /// below half the shortest period with the Verlet skin; 1 elsewhere. options() holds the value used.
+  Real support_growth = 0;
   Real support_isotropy_target = 0.3;
   /// A free surface: p = 0 at the fluid particles `surface` flags (its only_interior is always
   /// on, its spacing the flow's). Needs a body force or a moving initial state (ConfigError).
@@ -199,6 +203,10 @@ struct FlowStepReport {
 /// The operators a flow with these options builds (FlowOptions::gradient resolved): ConfigError
 /// for an unknown gradient choice.
 OperatorsOptions flow_operators(const FlowOptions& options);
+
+/// FlowOptions::support_growth = 0 resolves to this where it applies (docs/flow.md, "Supports that
+/// grow when they close": 1.35 / 1.47 order at t = 1 with 2 / 3, the finest cloud never at its cap with 3).
+inline constexpr Real kAutoSupportGrowth = 3;
 
 namespace detail {
 /// FlowOptions::support_growth's rule: the support radius of the next step from the current one,
@@ -288,6 +296,7 @@ class FlowSolver {
   /// (-1 when there is none).
   std::pair<Real, Index> least_isotropic_support() const;
   void adapt_supports();
+  Real automatic_support_growth() const;  ///< FlowOptions::support_growth = 0 resolved
   Real kinetic_energy(const Eigen::MatrixXd& u) const;
 
   FlowOptions options_;

@@ -332,6 +332,31 @@ TEST(FlowSolver, SupportGrowthsRuleGrowsBelowTheTargetShrinksAboveTwiceItAndStay
   EXPECT_DOUBLE_EQ(next_support_radius(1.02, 1.0, 2.0, 0.7, 0.3), 1.0);   // down to the base
 }
 
+TEST(FlowSolver, SupportsGrowByDefaultOnlyWhereFixedOnesWereSeenToFail) {
+  // support_growth = 0 (the default): kAutoSupportGrowth for an unshifted Lagrangian flow on a
+  // periodic box, capped so that a grown support and its skin stay below half the period; 1 where
+  // the particles do not move, are shifted, or the box is too small for one growth step.
+  const auto used = [](int nx, FlowOptions o) {
+    const PointCloud c = flow_cloud(nx);
+    return FlowSolver(c, vortex_at(c), o).options().support_growth;
+  };
+  FlowOptions o;
+  EXPECT_EQ(o.support_growth, 0);
+  EXPECT_EQ(used(32, o), 1);  // Eulerian
+  o.frame = FlowFrame::Lagrangian;
+  EXPECT_EQ(used(32, o), kAutoSupportGrowth);  // h = 3/32: 3 h plus the skin is 0.30 of the period
+  const Real h16 = 3.0 / 16;  // 3 h would reach 0.56 + skin: capped at 0.49 of the period
+  EXPECT_NEAR(used(16, o), (0.49 - o.operators.skin * h16) / h16, 1e-12);
+  EXPECT_EQ(used(8, o), 1);  // cap 1.11: not one step of 15 %
+  o.shifting.kind = Shifting::Xu;
+  EXPECT_EQ(used(32, o), 1);
+  o.shifting.kind = Shifting::None;
+  o.support_growth = 1;  // given: kept
+  EXPECT_EQ(used(32, o), 1);
+  o.support_growth = 2;
+  EXPECT_EQ(used(32, o), 2);
+}
+
 TEST(FlowSolver, GrownSupportsFollowTheStretching) {
   // The unshifted Lagrangian vortex at nx = 16 (its isotropy falls 0.82 -> 0.39 by t = 0.3, test
   // above). With a target of 0.5 every support grows by 15 % when the least isotropic one falls

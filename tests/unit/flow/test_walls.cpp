@@ -236,6 +236,7 @@ TEST(FlowWalls, LagrangianWallsTakeExtrapolatedRowsAndHoldAColumnAtRest) {
   o.frame = FlowFrame::Lagrangian;
   o.body_force = Vec3(0, -9.81, 0);
   FlowSolver s(c, Eigen::MatrixXd::Zero(c.size(), 2), o);
+  EXPECT_EQ(s.options().support_growth, 1);  // walls: the supports do not grow by default
   for (int k = 0; k < 20; ++k) s.step(0.5 * s.stable_time_step());
   Real moved = 0;
   for (Index i = 0; i < c.size(); ++i)
