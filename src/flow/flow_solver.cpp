@@ -709,14 +709,15 @@ Real detail::next_support_radius(Real now, Real base, Real largest, Real least_i
   return now;
 }
 
-// Where fixed supports fail and growing ones were measured (docs/flow.md): a Lagrangian flow on a
-// periodic box, no walls (their layers were not sized for wider supports), no free surface (its
+// Where fixed supports fail and growing ones were measured (docs/flow.md): a 2D Lagrangian flow on
+// a periodic box, no walls (their layers were not sized for wider supports), no free surface (its
 // particles' supports are cut by design) and no shifting (which keeps the supports isotropic by
-// moving particles: the growth would never start). Capped so that a grown support with its
+// moving particles: the growth would never start). Not in 3D, where it was not measured and a
+// support 3 times wider holds 27 times the neighbours. Capped so that a grown support with its
 // Verlet skin stays below half the shortest period; a cap below one growth step keeps them fixed.
 Real FlowSolver::automatic_support_growth() const {
   if (options_.frame != FlowFrame::Lagrangian || options_.shifting.kind != Shifting::None || options_.free_surface ||
-      !eq_.walls.empty())
+      !eq_.walls.empty() || ops_->cloud().dim != 2)
     return 1;
   const Domain& box = ops_->cloud().domain;
   Real cap = kAutoSupportGrowth;

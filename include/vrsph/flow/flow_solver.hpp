@@ -142,7 +142,7 @@ struct FlowOptions {
   /// isotropy of the fluid (analysis/support_isotropy.hpp) is below support_isotropy_target,
   /// every support radius grows by 15 %, up to support_growth times the base one; once it is
   /// above twice the target they shrink by 5 % a step toward the base. 1: off (the base radius).
-  /// 0 (the default): kAutoSupportGrowth on a periodic box without walls, free surface or
+  /// 0 (the default): kAutoSupportGrowth on a 2D periodic box without walls, free surface or
   /// shifting in the Lagrangian frame, where fixed supports lose the derivative across the
   /// flow's stretched columns and the run blows up (Taylor-Green nx = 64 at t = 0.24), capped
   /// below half the shortest period with the Verlet skin; 1 elsewhere. options() holds the value used.

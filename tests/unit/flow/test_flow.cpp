@@ -333,11 +333,11 @@ TEST(FlowSolver, SupportGrowthsRuleGrowsBelowTheTargetShrinksAboveTwiceItAndStay
 }
 
 TEST(FlowSolver, SupportsGrowByDefaultOnlyWhereFixedOnesWereSeenToFail) {
-  // support_growth = 0 (the default): kAutoSupportGrowth for an unshifted Lagrangian flow on a
+  // support_growth = 0 (the default): kAutoSupportGrowth for an unshifted 2D Lagrangian flow on a
   // periodic box, capped so that a grown support and its skin stay below half the period; 1 where
   // the particles do not move, are shifted, or the box is too small for one growth step.
-  const auto used = [](int nx, FlowOptions o) {
-    const PointCloud c = flow_cloud(nx);
+  const auto used = [](int nx, FlowOptions o, int dim = 2) {
+    const PointCloud c = flow_cloud(nx, 0.2, dim);
     return FlowSolver(c, vortex_at(c), o).options().support_growth;
   };
   FlowOptions o;
@@ -348,6 +348,7 @@ TEST(FlowSolver, SupportsGrowByDefaultOnlyWhereFixedOnesWereSeenToFail) {
   const Real h16 = 3.0 / 16;  // 3 h would reach 0.56 + skin: capped at 0.49 of the period
   EXPECT_NEAR(used(16, o), (0.49 - o.operators.skin * h16) / h16, 1e-12);
   EXPECT_EQ(used(8, o), 1);  // cap 1.11: not one step of 15 %
+  EXPECT_EQ(used(16, o, 3), 1);  // 3D: not measured (27 times the neighbours at 3 h)
   o.shifting.kind = Shifting::Xu;
   EXPECT_EQ(used(32, o), 1);
   o.shifting.kind = Shifting::None;
