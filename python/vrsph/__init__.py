@@ -327,8 +327,8 @@ class Flow:
     dx²/nu) or "implicit" (IMEX stages, dt limited by the explicit terms only; docs/flow.md).
     ``support_growth`` (Lagrangian, > 1): every support grows by 15 % a step, up to this times
     h, while the least isotropic one is below ``support_isotropy``, and shrinks back once all are
-    above twice it (docs/flow.md, "Regularity over time"); 1: fixed supports; 0 (the default): 3,
-    capped below half the period, for a 2D Lagrangian flow on a periodic box without walls, free
+    above twice it (docs/flow.md, "Regularity over time"); 1: fixed supports; 0 (the default): up
+    to 9 spacings, capped below half the period, for a 2D Lagrangian flow on a periodic box without walls, free
     surface or shifting, 1 elsewhere. ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""

@@ -720,7 +720,7 @@ Real FlowSolver::automatic_support_growth() const {
       !eq_.walls.empty() || ops_->cloud().dim != 2)
     return 1;
   const Domain& box = ops_->cloud().domain;
-  Real cap = kAutoSupportGrowth;
+  Real cap = kAutoLargestSupport * spacing_ / ops_->radius();
   for (int k = 0; k < box.dim; ++k)
     if (box.periodic[static_cast<std::size_t>(k)])
       cap = std::min(cap, (0.49 * box.period(k) - options_.operators.skin * ops_->radius()) / ops_->radius());

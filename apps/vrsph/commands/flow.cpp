@@ -538,7 +538,7 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--support-growth", a->support_growth,
                   "Lagrangian: every support grows (by 15 % a step, up to this times h) while the smallest support "
                   "isotropy is below --support-isotropy, and shrinks back once it is above twice that; 1: fixed supports; "
-                  "0: automatic (3, capped below half the period, for a 2D lagrangian run on a periodic box without walls, "
+                  "0: automatic (up to 9 spacings, capped below half the period, for a 2D lagrangian run on a periodic box without walls, "
                   "free surface or shifting; 1 elsewhere)")
       ->capture_default_str();
   cmd->add_option("--support-isotropy", a->support_isotropy, "The smallest support isotropy below which --support-growth grows the supports, "

@@ -142,10 +142,11 @@ struct FlowOptions {
   /// isotropy of the fluid (analysis/support_isotropy.hpp) is below support_isotropy_target,
   /// every support radius grows by 15 %, up to support_growth times the base one; once it is
   /// above twice the target they shrink by 5 % a step toward the base. 1: off (the base radius).
-  /// 0 (the default): kAutoSupportGrowth on a 2D periodic box without walls, free surface or
-  /// shifting in the Lagrangian frame, where fixed supports lose the derivative across the
-  /// flow's stretched columns and the run blows up (Taylor-Green nx = 64 at t = 0.24), capped
-  /// below half the shortest period with the Verlet skin; 1 elsewhere. options() holds the value used.
+  /// 0 (the default): growth up to kAutoLargestSupport spacings on a 2D periodic box without
+  /// walls, free surface or shifting in the Lagrangian frame, where fixed supports lose the
+  /// derivative across the flow's stretched columns and the run blows up (Taylor-Green nx = 64 at
+  /// t = 0.24), capped below half the shortest period with the Verlet skin; 1 elsewhere.
+  /// options() holds the value used.
   Real support_growth = 0;
   Real support_isotropy_target = 0.3;
   /// A free surface: p = 0 at the fluid particles `surface` flags (its only_interior is always
@@ -204,9 +205,11 @@ struct FlowStepReport {
 /// for an unknown gradient choice.
 OperatorsOptions flow_operators(const FlowOptions& options);
 
-/// FlowOptions::support_growth = 0 resolves to this where it applies (docs/flow.md, "Supports that
-/// grow when they close": 1.35 / 1.47 order at t = 1 with 2 / 3, the finest cloud never at its cap with 3).
-inline constexpr Real kAutoSupportGrowth = 3;
+/// FlowOptions::support_growth = 0 lets the supports grow up to this many spacings where it
+/// applies: 3 times the default h = 3 dx, what was measured (docs/flow.md, "Supports that grow
+/// when they close": order 1.35 / 1.47 at t = 1 with 6 / 9 spacings, the finest cloud never at
+/// its cap with 9), whatever the user's h (a cap in units of h would reach 15 dx from h = 5 dx).
+inline constexpr Real kAutoLargestSupport = 9;
 
 namespace detail {
 /// FlowOptions::support_growth's rule: the support radius of the next step from the current one,

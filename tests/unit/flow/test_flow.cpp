@@ -333,8 +333,8 @@ TEST(FlowSolver, SupportGrowthsRuleGrowsBelowTheTargetShrinksAboveTwiceItAndStay
 }
 
 TEST(FlowSolver, SupportsGrowByDefaultOnlyWhereFixedOnesWereSeenToFail) {
-  // support_growth = 0 (the default): kAutoSupportGrowth for an unshifted 2D Lagrangian flow on a
-  // periodic box, capped so that a grown support and its skin stay below half the period; 1 where
+  // support_growth = 0 (the default): supports up to kAutoLargestSupport spacings for an unshifted
+  // 2D Lagrangian flow on a periodic box, capped so that a grown support and its skin stay below half the period; 1 where
   // the particles do not move, are shifted, or the box is too small for one growth step.
   const auto used = [](int nx, FlowOptions o, int dim = 2) {
     const PointCloud c = flow_cloud(nx, 0.2, dim);
@@ -344,7 +344,10 @@ TEST(FlowSolver, SupportsGrowByDefaultOnlyWhereFixedOnesWereSeenToFail) {
   EXPECT_EQ(o.support_growth, 0);
   EXPECT_EQ(used(32, o), 1);  // Eulerian
   o.frame = FlowFrame::Lagrangian;
-  EXPECT_EQ(used(32, o), kAutoSupportGrowth);  // h = 3/32: 3 h plus the skin is 0.30 of the period
+  EXPECT_NEAR(used(32, o), 3, 1e-12);  // h = 3 dx: 9 dx plus the skin is 0.30 of the period
+  o.operators.h_factor = 4.5;
+  EXPECT_NEAR(used(32, o), 2, 1e-12);  // 9 spacings whatever the base h
+  o.operators.h_factor = 3;
   const Real h16 = 3.0 / 16;  // 3 h would reach 0.56 + skin: capped at 0.49 of the period
   EXPECT_NEAR(used(16, o), (0.49 - o.operators.skin * h16) / h16, 1e-12);
   EXPECT_EQ(used(8, o), 1);  // cap 1.11: not one step of 15 %
