@@ -329,7 +329,9 @@ class Flow:
     h, while the least isotropic one is below ``support_isotropy``, and shrinks back once all are
     above twice it (docs/flow.md, "Regularity over time"); 1: fixed supports; 0 (the default): up
     to 9 spacings, capped below half the period, for a 2D Lagrangian flow on a periodic box without walls, free
-    surface or shifting, 1 elsewhere. ``method`` builds the Laplacian (pressure Poisson, viscous term);
+    surface or shifting, 1 elsewhere. ``warm_start`` (VRSPH's volumes from each row's previous active
+    set): None (the default) is off in that same case, where warm rows drift to less accurate ones
+    over many steps, and on elsewhere. ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""
 
@@ -338,7 +340,7 @@ class Flow:
                  options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
                  allow_unstable: bool = False, wall_velocity: Any = None, body_force: Any = None,
                  free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit",
-                 support_growth: float = 0.0, support_isotropy: float = 0.3):
+                 support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -353,7 +355,8 @@ class Flow:
                                      _args.number(body_force_ramp, "body_force_ramp", minimum=0.0),
                                      _args.text(viscosity, "viscosity"),
                                      _args.number(support_growth, "support_growth", minimum=0.0),
-                                     _args.number(support_isotropy, "support_isotropy", positive=True))
+                                     _args.number(support_isotropy, "support_isotropy", positive=True),
+                                     None if warm_start is None else _args.flag(warm_start, "warm_start"))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))

@@ -222,6 +222,9 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
                      "flow: growing supports follow moving particles; they apply to the lagrangian frame only");
   check<ConfigError>(options_.support_isotropy_target > 0 && options_.support_isotropy_target <= 0.5,
                      "flow: the support isotropy target must be in (0, 0.5], got ", options_.support_isotropy_target);
+  if (options_.warm_start) options_.operators.warm_start = *options_.warm_start;
+  else if (stretches_freely(cloud)) options_.operators.warm_start = false;
+  options_.warm_start = options_.operators.warm_start;
   ops_ = std::make_unique<Operators>(std::move(cloud), options_.operators);
   spacing_ = ops_->spacing();
   if (options_.support_growth == 0) options_.support_growth = automatic_support_growth();
@@ -715,10 +718,13 @@ Real detail::next_support_radius(Real now, Real base, Real largest, Real least_i
 // moving particles: the growth would never start). Not in 3D, where it was not measured and a
 // support 3 times wider holds 27 times the neighbours. Capped so that a grown support with its
 // Verlet skin stays below half the shortest period; a cap below one growth step keeps them fixed.
+bool FlowSolver::stretches_freely(const PointCloud& cloud) const {
+  return options_.frame == FlowFrame::Lagrangian && options_.shifting.kind == Shifting::None && !options_.free_surface &&
+         eq_.walls.empty() && cloud.dim == 2;
+}
+
 Real FlowSolver::automatic_support_growth() const {
-  if (options_.frame != FlowFrame::Lagrangian || options_.shifting.kind != Shifting::None || options_.free_surface ||
-      !eq_.walls.empty() || ops_->cloud().dim != 2)
-    return 1;
+  if (!stretches_freely(ops_->cloud())) return 1;
   const Domain& box = ops_->cloud().domain;
   Real cap = kAutoLargestSupport * spacing_ / ops_->radius();
   for (int k = 0; k < box.dim; ++k)

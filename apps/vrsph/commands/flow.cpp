@@ -96,6 +96,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   o.shifting = {parse_shifting(a.shifting), a.shift_coefficient};
   o.support_growth = a.support_growth;
   o.support_isotropy_target = a.support_isotropy;
+  if (a.warm_start != "auto") o.warm_start = a.warm_start == "on";
   o.wall_acceleration = parse_wall_acceleration(a.wall_acceleration);
   if (a.wall_gap) o.wall_gap = *a.wall_gap;
   return o;
@@ -436,6 +437,8 @@ void run_flow(FlowArgs& a) {
                      "(an eulerian cloud does not move)");
   check<ConfigError>(std::isfinite(a.support_isotropy) && a.support_isotropy > 0 && a.support_isotropy <= 0.5,
                      "--support-isotropy must be in (0, 0.5], got ", a.support_isotropy);
+  check<ConfigError>(a.warm_start == "auto" || a.warm_start == "on" || a.warm_start == "off",
+                     "--warm-start must be auto, on or off, got '", a.warm_start, "'");
   check<ConfigError>(a.vtu_every >= 0, "--vtu-every must be >= 0");
   // --method-opt METHOD:key=value also reaches the flows' gradient method (--gradient fpm, or
   // auto's fpm beside vrsph) when it is not one of --method; key=value alone stays with --method's.
@@ -543,6 +546,11 @@ void add_flow_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--support-isotropy", a->support_isotropy, "The smallest support isotropy below which --support-growth grows the supports, "
                                                              "in (0, 0.5]")->capture_default_str();
+  cmd->add_option("--warm-start", a->warm_start,
+                  "Lagrangian, VRSPH: start each row's volumes from its active set of the step before: auto (off for a 2D "
+                  "flow without walls, free surface or shifting, where warm rows drift to less accurate ones over many "
+                  "steps; on elsewhere) | on | off")
+      ->capture_default_str();
   cmd->add_option("--shift-coefficient", a->shift_coefficient, "beta (xu) or A (lind); 0: 0.04 and 2")->capture_default_str();
   cmd->add_flag("--allow-unstable", a->allow_unstable, "Warn instead of refusing a time step beyond the stability limit");
   cmd->add_option("--solver", a->solver, "Pressure Poisson solver: auto | umfpack | sparselu | bicgstab | petsc")->capture_default_str();

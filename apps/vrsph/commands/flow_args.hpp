@@ -28,6 +28,7 @@ struct FlowArgs {
   double t_end = 0, re = 100, cfl = 0.25, jitter = 0.2, h_factor = 3, hyperviscosity = 0, shift_coefficient = 0, dt = 0,
          steady_tol = 1e-4;
   double support_growth = 0, support_isotropy = 0.3;  // FlowOptions::support_growth, support_isotropy_target
+  std::string warm_start = "auto";                     // FlowOptions::warm_start: auto | on | off
   std::optional<double> wall_gap;  // FlowOptions::wall_gap; unset: the case's own (the Lagrangian cavity and the dam break 0.5, else 0)
   // Free-surface cases (flow_free_surface.cpp): |g|, its ramp time, the water's depth and width
   // (a dam break's column: width and height 2 width), the tank's width.

@@ -44,6 +44,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vrsph/analysis/free_surface.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/implicit_viscosity.hpp>
@@ -149,6 +150,14 @@ struct FlowOptions {
   /// options() holds the value used.
   Real support_growth = 0;
   Real support_isotropy_target = 0.3;
+  /// VRSPH's NNLS started from each row's previous active set at every update
+  /// (OperatorsOptions::warm_start). Empty (the default): off where the supports grow by default
+  /// (a 2D Lagrangian flow without walls, free surface or shifting), else operators.warm_start.
+  /// Why off there: a warm row keeps its neighbours while they stay feasible, where a cold NNLS
+  /// (with the flow's prefer=near) picks nearer ones, so over a thousand updates the Laplacian
+  /// drifts to less accurate rows, and the Taylor-Green vortex's late error with it (docs/flow.md,
+  /// "Cold volumes"). Costs about a quarter more update time there. options() holds the value used.
+  std::optional<bool> warm_start;
   /// A free surface: p = 0 at the fluid particles `surface` flags (its only_interior is always
   /// on, its spacing the flow's). Needs a body force or a moving initial state (ConfigError).
   bool free_surface = false;
@@ -300,6 +309,9 @@ class FlowSolver {
   std::pair<Real, Index> least_isotropic_support() const;
   void adapt_supports();
   Real automatic_support_growth() const;  ///< FlowOptions::support_growth = 0 resolved
+  /// A 2D Lagrangian flow without walls, free surface or shifting on this cloud: where the supports
+  /// grow and the volumes start cold by default.
+  bool stretches_freely(const PointCloud& cloud) const;
   Real kinetic_energy(const Eigen::MatrixXd& u) const;
 
   FlowOptions options_;

@@ -361,6 +361,38 @@ TEST(FlowSolver, SupportsGrowByDefaultOnlyWhereFixedOnesWereSeenToFail) {
   EXPECT_EQ(used(32, o), 2);
 }
 
+TEST(FlowSolver, VolumesStartColdByDefaultWhereSupportsGrow) {
+  // warm_start empty (the default): VRSPH's NNLS starts cold at every update of an unshifted 2D
+  // Lagrangian flow (warm rows drift to less accurate neighbours over many steps: docs/flow.md,
+  // "Cold volumes"), warm elsewhere; a given value is kept, and options() reports the one used.
+  const auto run = [](FlowOptions o, int dim = 2) {
+    const PointCloud c = flow_cloud(dim == 2 ? 16 : 8, 0.2, dim);
+    FlowSolver s(c, vortex_at(c), o);
+    s.step(0.25 * s.stable_time_step());
+    EXPECT_EQ(s.options().warm_start.value(), s.options().operators.warm_start);
+    return std::pair{s.options().operators.warm_start, s.operators().stats().warm_rows};
+  };
+  FlowOptions o;
+  EXPECT_FALSE(o.warm_start.has_value());
+  o.frame = FlowFrame::Lagrangian;
+  const auto [cold, cold_rows] = run(o);
+  EXPECT_FALSE(cold);
+  EXPECT_EQ(cold_rows, 0);  // the step's updates started no row warm
+  o.warm_start = true;
+  const auto [warm, warm_rows] = run(o);
+  EXPECT_TRUE(warm);
+  EXPECT_GT(warm_rows, 0);
+  o.warm_start.reset();
+  o.shifting.kind = Shifting::Xu;  // shifted: as measured before, warm
+  EXPECT_TRUE(run(o).first);
+  o.shifting.kind = Shifting::None;
+  EXPECT_TRUE(run(o, 3).first);  // 3D: not measured
+  o.frame = FlowFrame::Eulerian;
+  EXPECT_TRUE(run(o).first);  // nothing moves: the default of the operators
+  o.operators.warm_start = false;
+  EXPECT_FALSE(run(o).first);  // the operators' own value is kept where the flow has no rule
+}
+
 TEST(FlowSolver, GrownSupportsFollowTheStretching) {
   // The unshifted Lagrangian vortex at nx = 16 (its isotropy falls 0.82 -> 0.39 by t = 0.3, test
   // above). With a target of 0.5 every support grows by 15 % when the least isotropic one falls
