@@ -712,17 +712,19 @@ Real detail::next_support_radius(Real now, Real base, Real largest, Real least_i
   return now;
 }
 
-// Where fixed supports fail and growing ones were measured (docs/flow.md): a 2D Lagrangian flow on
-// a periodic box, no walls (their layers were not sized for wider supports), no free surface (its
-// particles' supports are cut by design) and no shifting (which keeps the supports isotropic by
-// moving particles: the growth would never start). Not in 3D, where it was not measured and a
-// support 3 times wider holds 27 times the neighbours. Capped so that a grown support with its
-// Verlet skin stays below half the shortest period; a cap below one growth step keeps them fixed.
+// Where fixed supports fail and growing ones were measured, and where warm-started volumes were
+// measured to lose the late accuracy (docs/flow.md): a 2D Lagrangian flow, no walls (their layers
+// were not sized for wider supports), no free surface (its particles' supports are cut by design)
+// and no shifting (which keeps the supports isotropic by moving particles: the growth would never
+// start). Not in 3D, where it was not measured and a support 3 times wider holds 27 times the
+// neighbours.
 bool FlowSolver::stretches_freely(const PointCloud& cloud) const {
   return options_.frame == FlowFrame::Lagrangian && options_.shifting.kind == Shifting::None && !options_.free_surface &&
          eq_.walls.empty() && cloud.dim == 2;
 }
 
+// Up to kAutoLargestSupport spacings, capped so that a grown support with its Verlet skin stays
+// below half the shortest period; a cap below one growth step keeps the supports fixed.
 Real FlowSolver::automatic_support_growth() const {
   if (!stretches_freely(ops_->cloud())) return 1;
   const Domain& box = ops_->cloud().domain;
