@@ -190,6 +190,8 @@ py::dict taylor_green(int nx, int dim, const std::string& frame, const std::stri
   d["max_spacing"] = r.max_spacing;
   d["min_support_isotropy"] = r.min_support_isotropy;
   d["max_support_growth"] = r.max_support_growth;
+  d["volumes"] = r.warm_start ? "warm" : "cold";
+  d["support_growth"] = r.support_growth;
   d["seconds_per_step"] = r.seconds_per_step;
   return d;
 }

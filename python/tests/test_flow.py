@@ -70,6 +70,7 @@ def test_grown_supports_are_reported():
     row = vrsph.taylor_green(nx=16, frame="lagrangian", t_end=0.3, support_growth=1.3, support_isotropy=0.5)
     assert row["t"] == pytest.approx(0.3)
     assert row["max_support_growth"] >= 1.15 and row["min_support_isotropy"] > 0.45
+    assert (row["volumes"], row["support_growth"]) == ("cold", 1.3)  # the cap given, cold volumes by default
     c = vrsph.cloud.perturbed(dim=2, n=16, delta=0.2, seed=2, periodic="x,y")
     x = np.asarray(c.points)[:, :2]
     flow = vrsph.Flow(c, _vortex(x), frame="lagrangian", support_growth=1.3)

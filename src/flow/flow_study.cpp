@@ -151,6 +151,8 @@ VortexRunRow run_periodic_vortex(const VortexRunOptions& o) {
   row.min_spacing = solver.last().min_spacing;
   row.max_spacing = solver.last().max_spacing;
   row.min_support_isotropy = solver.last().min_support_isotropy;
+  row.warm_start = solver.options().warm_start.value_or(true);
+  row.support_growth = solver.options().support_growth;
   const Stopwatch watch;
   detail::StepCosts costs;
   while (solver.time() < o.t_end * (1 - 1e-12)) {

@@ -603,6 +603,13 @@ class Flow(unittest.TestCase):
             with open(path, encoding="utf-8") as f:
                 history = list(csv_module.DictReader(f))
             for row in out["rows"]:
+                # The resolved defaults of an unshifted 2D Lagrangian vortex: cold volumes, and supports
+                # that may grow to 9 dx (3x), less where half the period caps them (none at nx = 8).
+                self.assertEqual(row["volumes"], "cold")
+                if row["nx"] == 8:
+                    self.assertEqual(row["support_growth"], 1.0)
+                else:
+                    self.assertTrue(1.15 <= row["support_growth"] < 3.0, row)
                 steps = [h for h in history if int(h["nx"]) == row["nx"]]
                 self.assertEqual([int(h["step"]) for h in steps], list(range(1, row["steps"] + 1)))
                 last = steps[-1]
@@ -621,6 +628,10 @@ class Flow(unittest.TestCase):
                 growth = [float(h["max_support_growth"]) for h in csv_module.DictReader(f)]
             self.assertEqual(growth[0], 1.0)
             self.assertGreaterEqual(growth[-1], 1.15)
+            # --warm-start on keeps warm volumes, and the row says so.
+            out = run_json("flow", "--case", "taylor-green", "--frame", "lagrangian", "--nx", "8", "--t-end", "0.01",
+                           "--warm-start", "on", "--threads", "1")
+            self.assertEqual(out["rows"][0]["volumes"], "warm")
             # JSON, and the cavity's steady residual per step.
             path = os.path.join(tmp, "h.json")
             out = run_json("flow", "--case", "cavity", "--nx", "16", "--t-end", "0.2", "--threads", "1", "--history", path)

@@ -120,8 +120,8 @@ const std::vector<std::string> projection_columns = {
     "error_phi_inf", "max_div_before", "max_div_after", "order_u_inf", "order_u_l2", "order_phi_inf",
     "solver_iterations", "seconds"};
 const std::vector<std::string> taylor_green_columns = {
-    "case", "method", "gradient", "frame", "scheme", "viscosity", "dim", "nx", "particles", "t", "steps", "dt",
-    "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
+    "case", "method", "gradient", "frame", "scheme", "viscosity", "volumes", "support_growth", "dim", "nx", "particles",
+    "t", "steps", "dt", "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
     "order_u_mean", "order_u_inf", "order_p_mean", "kinetic_energy", "min_spacing", "max_spacing",
     "min_support_isotropy", "max_support_growth", "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
 
@@ -227,7 +227,8 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
       const OperatorsOptions ops = flow_operators(o.flow);
       t.add_row({{"case", std::string("taylor-green")}, {"method", m},
                  {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"frame", a.frame},
-                 {"scheme", a.scheme}, {"viscosity", a.viscosity}, {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
+                 {"scheme", a.scheme}, {"viscosity", a.viscosity},
+                 {"volumes", std::string(r.warm_start ? "warm" : "cold")}, {"support_growth", r.support_growth}, {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
                  {"particles", static_cast<long long>(r.particles)}, {"t", r.t}, {"steps", static_cast<long long>(r.steps)},
                  {"dt", r.dt}, {"error_u_mean", r.errors.error_u_mean}, {"error_u_inf", r.errors.error_u_inf},
                  {"error_p_mean", r.errors.error_p_mean}, {"error_p_inf", r.errors.error_p_inf},

@@ -80,6 +80,8 @@ struct VortexRunRow {
   double ppe_iterations_per_step = 0;
   double seconds_per_step = 0, seconds_update = 0, seconds_ppe = 0, seconds_rhs = 0;  ///< the last three per step
   double seconds_viscous = 0;  ///< per step: the implicit viscous set-ups and solves
+  bool warm_start = true;        ///< the volumes' start used (FlowOptions::warm_start resolved)
+  Real support_growth = 1;       ///< the supports' growth cap used (FlowOptions::support_growth resolved)
 };
 /// A vortex run from its exact velocity at t = 0. Throws as FlowSolver.
 VortexRunRow run_periodic_vortex(const VortexRunOptions& options);
