@@ -5,6 +5,7 @@
 #include <vrsph/cloud/geometry.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/io/cloud_file.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/io/vtu.hpp>
 #include "bindings.hpp"
 #include "cloud_cache.hpp"
@@ -130,6 +131,20 @@ void bind_clouds(py::module_& m) {
             return a;
           },
           "(N,) uint8 view of the tags.")
+      .def_property_readonly(
+          "periodic", [](const PointCloud& c) { return c.domain.periodic_axes(); },
+          "The periodic axes (\"x,y\"; \"\" for none).")
+      .def_property_readonly(
+          "box", [](const PointCloud& c) -> py::object {
+            if (!c.domain.any_periodic()) return py::none();
+            py::array_t<double> lo(c.dim), hi(c.dim);
+            for (int k = 0; k < c.dim; ++k) {
+              lo.mutable_at(k) = c.domain.lo[k];
+              hi.mutable_at(k) = c.domain.hi[k];
+            }
+            return py::make_tuple(lo, hi);
+          },
+          "(lo, hi) of the periodic box, or None for a cloud without periodic axes.")
       .def("count", [](const PointCloud& c, int tag) {
             check<ConfigError>(tag >= 0 && tag <= 3, "tag must be 0..3, got ", tag);
             return c.count(static_cast<Tag>(tag));
@@ -143,6 +158,22 @@ void bind_clouds(py::module_& m) {
         py::arg("delta"), py::arg("seed"), py::arg("perturb_boundary"), py::arg("regular_layer"),
         py::arg("periodic") = "", py::arg("distributed") = false);
   m.def("_from_arrays", &from_arrays, py::arg("points"), py::arg("tags"), py::arg("normals") = py::none());
+  // A copy of the cloud in the box [lo, hi) periodic along `axes`, its particles checked inside.
+  m.def("_with_periodic_box", [](const PointCloud& cloud, const std::vector<double>& lo, const std::vector<double>& hi,
+                                 const std::string& axes) {
+    check<ConfigError>(lo.size() == static_cast<std::size_t>(cloud.dim) && hi.size() == lo.size(), "box: expected (lo, hi) with ",
+                       cloud.dim, " coordinates each for a ", cloud.dim, "D cloud, got ", lo.size(), " and ", hi.size());
+    Vec3 l = Vec3::Zero(), h = Vec3::Zero();
+    for (int k = 0; k < cloud.dim; ++k) {
+      l[k] = lo[static_cast<std::size_t>(k)];
+      h[k] = hi[static_cast<std::size_t>(k)];
+    }
+    auto c = std::make_shared<PointCloud>(cloud);
+    c->domain = Domain::periodic_box(cloud.dim, l, h, axes);
+    check<ConfigError>(c->domain.any_periodic(), "periodic: no axis given (\"x\", \"x,y\", \"all\" ...)");
+    check_periodic_cloud(*c, 0);
+    return c;
+  }, py::arg("cloud"), py::arg("lo"), py::arg("hi"), py::arg("axes"));
   m.def("_read_cloud", [](const std::string& path, int dim) {
     CloudFile f = [&] {
       py::gil_scoped_release release;

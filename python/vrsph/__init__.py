@@ -77,11 +77,16 @@ __all__ = [
 Data = Union[None, str, float, Sequence[float], np.ndarray, Callable[..., Any]]
 
 
-def read_cloud(path: str, dim: int = 0) -> Cloud:
+def read_cloud(path: str, dim: int = 0, periodic: str = "", box=None) -> Cloud:
     """Reads a cloud file (CSV, VTU/VTP, Gmsh .msh) as ``vrsph solve --cloud-file`` does.
 
-    The file's extra columns are in ``cloud.fields`` ({name: (N,) array})."""
+    A periodic box the file records (``vrsph cloud --periodic ... --output`` and
+    :func:`write_vtu` write it: a ``# vrsph domain:`` line before a CSV header, field data in a
+    VTU) comes back with it; ``periodic=`` with ``box=(lo, hi)`` sets one instead (see
+    :func:`vrsph.cloud.from_arrays`). The file's extra columns are in ``cloud.fields``
+    ({name: (N,) array})."""
     c, fields = _vrsph._read_cloud(str(path), dim)
+    c = cloud.with_periodic_box(c, periodic, box)
     c.fields = fields
     return c
 

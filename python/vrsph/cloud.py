@@ -8,7 +8,7 @@ import numpy as np
 from . import _vrsph
 from ._vrsph import Cloud
 
-__all__ = ["Cloud", "lattice", "perturbed", "centroids", "disk", "from_arrays", "from_geometry"]
+__all__ = ["Cloud", "lattice", "perturbed", "centroids", "disk", "from_arrays", "from_geometry", "with_periodic_box"]
 
 
 def lattice(dim: int = 2, n: int = 20, domain: str = "unit", layout: str = "vertex", periodic: str = "",
@@ -44,13 +44,36 @@ def disk(dim: int = 2, n: int = 20) -> Cloud:
     return _vrsph._generated("disk", dim, n, "unit", "vertex", 0.5, 1, False, 0.0)
 
 
-def from_arrays(points, tags, normals=None) -> Cloud:
+def from_arrays(points, tags, normals=None, periodic: str = "", box=None) -> Cloud:
     """A cloud from an (N, d) float array of positions, N integer tags (0 interior, 1 Dirichlet,
     2 Neumann, 3 ghost) and, for Neumann particles, (N, d) outward unit normals.
 
+    ``periodic="x,y"`` (or ``"all"``) with ``box=(lo, hi)`` (two length-d sequences, or the
+    2d numbers lo then hi): the box [lo, hi) wraps around along those axes, as for the
+    generators; every particle must lie in [lo, hi) along them (wrap them first:
+    ``lo + (x - lo) % (hi - lo)``), else InputError. The box is never guessed from the
+    particles (their last layer sits a spacing short of the far face).
+
     Integer ``points`` are refused (convert them deliberately); non-contiguous arrays are
     copied; NaN, duplicate-free checks and the rest are the library's."""
-    return _vrsph._from_arrays(points, np.asarray(tags), normals)
+    return with_periodic_box(_vrsph._from_arrays(points, np.asarray(tags), normals), periodic, box)
+
+
+def with_periodic_box(cloud: Cloud, periodic: str, box=None) -> Cloud:
+    """A copy of ``cloud`` in the box ``box=(lo, hi)`` periodic along ``periodic`` (see
+    :func:`from_arrays`); ``periodic=""`` and no box: the cloud itself."""
+    if not periodic:
+        if box is not None:
+            raise _vrsph.ConfigError("box= needs periodic= (it is the box whose faces wrap)")
+        return cloud
+    if box is None:
+        raise _vrsph.ConfigError("periodic= needs box=(lo, hi): the periodic box is not guessed from the particles")
+    try:
+        corners = np.asarray(box, dtype=float).reshape(2, cloud.dim)
+    except (TypeError, ValueError) as e:
+        raise _vrsph.ConfigError(f"box: expected (lo, hi) with {cloud.dim} coordinates each for a {cloud.dim}D cloud, "
+                                 f"got {box!r}") from e
+    return _vrsph._with_periodic_box(cloud, list(corners[0]), list(corners[1]), str(periodic))
 
 
 def from_geometry(path: str, spacing: float, fill: str = "uniform", delta: float = 0.3, seed: int = 1) -> Cloud:

@@ -4,6 +4,7 @@
 #include <limits>
 #include <numbers>
 #include <vrsph/cloud/domain.hpp>
+#include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/core/error.hpp>
 
 namespace vrsph {
@@ -21,6 +22,25 @@ Domain Domain::box(int dim, const Vec3& lo, const Vec3& hi) {
     d.lo[k] = lo[k];
     d.hi[k] = hi[k];
   }
+  return d;
+}
+
+Domain Domain::periodic_box(int dim, const Vec3& lo, const Vec3& hi, const std::string& axes) {
+  check<InputError>(dim >= 1 && dim <= 3, "domain dimension must be 1, 2 or 3, got ", dim);
+  Real volume = 1;
+  for (int k = 0; k < dim; ++k) {
+    check<InputError>(hi[k] > lo[k], "periodic box: the upper corner must exceed the lower one along ", "xyz"[k], " (",
+                      lo[k], " .. ", hi[k], ")");
+    check<InputError>(std::isfinite(lo[k]) && std::isfinite(hi[k]) && std::isfinite(hi[k] - lo[k]), "periodic box: the side along ",
+                      "xyz"[k], " (", lo[k], " .. ", hi[k], ") is not a finite length");
+    // As for the particles themselves (validate): beyond that, spacings and volumes overflow.
+    check<InputError>(std::max(std::abs(lo[k]), std::abs(hi[k])) <= max_coordinate, "periodic box: the corner along ",
+                      "xyz"[k], " (", lo[k], " .. ", hi[k], ") is beyond +-", max_coordinate, " (rescale the cloud)");
+    volume *= hi[k] - lo[k];
+  }
+  Domain d = box(dim, lo, hi);
+  check<InputError>(std::isfinite(volume), "periodic box: its volume overflows a double (rescale the cloud)");
+  d.set_periodic(axes);
   return d;
 }
 

@@ -3,6 +3,7 @@
 // its own rows), other formats on rank 0 and handed out in slices. See cloud_file.hpp.
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
 #include <vrsph/io/cloud_file.hpp>
@@ -114,6 +115,21 @@ CloudFilePart read_on_root_and_scatter(const std::string& path, int dim, const C
     c.positions.emplace_back(x[0][si], x[1][si], x[2][si]);
     c.tags.push_back(static_cast<Tag>(static_cast<int>(tags[si])));
     if (normals) c.normals.emplace_back(n[0][si], n[1][si], n[2][si]);
+  }
+  // A periodic box the file records (VTU field data): rank 0's, on every rank.
+  if (any_rank(comm, whole.cloud.domain.any_periodic())) {
+    const auto from_root = [&](double v) {
+      return max_over_ranks(comm, comm.is_root() ? v : -std::numeric_limits<double>::infinity());
+    };
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    std::string axes;
+    for (int k = 0; k < c.dim; ++k) {
+      lo[k] = from_root(whole.cloud.domain.lo[k]);
+      hi[k] = from_root(whole.cloud.domain.hi[k]);
+      if (from_root(whole.cloud.domain.periodic[static_cast<std::size_t>(k)] ? 1 : 0) > 0)
+        axes += std::string(axes.empty() ? "" : ",") + "xyz"[k];
+    }
+    c.domain = Domain::periodic_box(c.dim, lo, hi, axes);
   }
   for (std::size_t f = 0; f < names.size(); ++f) {
     const std::vector<double> v = column([&](std::size_t i) { return whole.fields[f].values[static_cast<Index>(i)]; });

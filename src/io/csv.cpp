@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <vrsph/core/error.hpp>
@@ -10,6 +11,7 @@
 #include <vrsph/io/csv.hpp>
 #include <vrsph/io/input_file.hpp>
 #include <vrsph/io/output_file.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include "csv_rows.hpp"
 
 namespace vrsph {
@@ -37,6 +39,51 @@ std::vector<std::string> split(const std::string& line) {
 
 namespace detail {
 
+namespace {
+constexpr std::string_view domain_record = "# vrsph domain:";
+
+// "# vrsph domain: lo=0,0 hi=1,1 periodic=x,y" (write_csv's record of a periodic box).
+Domain parse_domain_record(const std::string& line, const std::string& name, std::size_t lineno) {
+  std::istringstream is(line.substr(domain_record.size()));
+  std::map<std::string, std::string> values;
+  for (std::string token; is >> token;) {
+    const std::size_t eq = token.find('=');
+    const std::string key = trim_lower(token.substr(0, eq));
+    check<InputError>(eq != std::string::npos && (key == "lo" || key == "hi" || key == "periodic") && !values.count(key),
+                      name, ":", lineno, ": the domain record takes lo=, hi= and periodic= once each, got '",
+                      printable(token), "'");
+    values[key] = token.substr(eq + 1);
+  }
+  check<InputError>(values.size() == 3, name, ":", lineno, ": the domain record needs lo=, hi= and periodic= (got '",
+                    printable(line), "')");
+  const auto corner = [&](const char* key) {
+    std::vector<Real> v;
+    for (const std::string& t : split(values[key])) {
+      const auto x = parse_real(t);
+      check<InputError>(x.has_value(), name, ":", lineno, ": ", key, "= holds '", printable(t), "', not a number");
+      v.push_back(*x);
+    }
+    check<InputError>(!v.empty() && v.size() <= 3, name, ":", lineno, ": ", key, "= takes 1 to 3 numbers, got ", v.size());
+    return v;
+  };
+  const std::vector<Real> lo = corner("lo"), hi = corner("hi");
+  check<InputError>(lo.size() == hi.size(), name, ":", lineno, ": lo= has ", lo.size(), " numbers and hi= ", hi.size());
+  const int dim = static_cast<int>(lo.size());
+  Vec3 l = Vec3::Zero(), h = Vec3::Zero();
+  for (int k = 0; k < dim; ++k) {
+    l[k] = lo[static_cast<std::size_t>(k)];
+    h[k] = hi[static_cast<std::size_t>(k)];
+  }
+  try {
+    Domain d = Domain::periodic_box(dim, l, h, values["periodic"]);
+    check<InputError>(d.any_periodic(), "no periodic axis");
+    return d;
+  } catch (const Error& e) {
+    throw InputError(concat(name, ":", lineno, ": domain record: ", e.what()));
+  }
+}
+}  // namespace
+
 void refuse_nul(const std::string& line, const std::string& name, std::size_t lineno) {
   // A NUL byte would make strtod stop early and read "0.5<NUL>7" as 0.5: binary data is
   // refused line by line, naming the line.
@@ -48,12 +95,21 @@ CsvHeader read_csv_header(std::istream& in, const std::string& name, bool tag_re
   CsvHeader h;
   std::string line;
   std::size_t& lineno = h.lines;
-  // Header: first non-blank line. A UTF-8 byte-order mark (spreadsheet exports) is skipped.
+  // Header: first non-blank line that is not a '#' comment. A UTF-8 byte-order mark
+  // (spreadsheet exports) is skipped. A comment may record a periodic box.
   while (std::getline(in, line)) {
     ++lineno;
     if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     refuse_nul(line, name, lineno);
-    if (!trim_lower(line).empty()) break;
+    const std::string t = trim_lower(line);
+    if (t.rfind(domain_record, 0) == 0) {
+      check<InputError>(!h.domain, name, ":", lineno, ": a second domain record (the first on line ", h.domain_line, ")");
+      h.domain = parse_domain_record(t, name, lineno);
+      h.domain_line = lineno;
+      continue;
+    }
+    if (!t.empty() && t.front() != '#') break;
+    line.clear();
   }
   check<InputError>(!trim_lower(line).empty(), name, ": empty file (expected a header line x,y,z,tag[,nx,ny,nz])");
   check<InputError>(trim_lower(line).rfind('<', 0) != 0, name,
@@ -125,6 +181,12 @@ int settle_csv_dimension(const CsvHeader& h, const Vec3& any_nonzero, int dim, c
   int inferred = 1;
   for (int k = 0; k < h.coord_cols; ++k)
     if (any_nonzero[k] != 0) inferred = k + 1;
+  if (dim == 0 && h.domain) {  // the recorded box's
+    dim = h.domain->dim;
+    check<InputError>(inferred <= dim && dim <= h.coord_cols, name, ": line ", h.domain_line, " records a ", dim,
+                      "D periodic box, but the particles have ", dim > h.coord_cols ? "only " : "",
+                      dim > h.coord_cols ? h.coord_cols : inferred, " coordinate(s)");
+  }
   if (dim == 0) return inferred;
   check<InputError>(dim <= h.coord_cols, name, ": dimension mismatch: ", dim, "D requested but the file has only ",
                     h.coord_cols, " coordinate column(s)");
@@ -140,6 +202,17 @@ void finish_csv_rows(CsvRows& rows, const CsvHeader& h, int dim) {
     for (int k = c.dim; k < 3; ++k) n[k] = 0;
   normalise_normals(c);
   if (!c.positions.empty()) validate(c);  // (one rank's part of a file may hold no row; a whole file was checked)
+  if (h.domain) {
+    const std::string& name = rows.file.source;
+    check<InputError>(h.domain->dim == dim, name, ": a ", dim, "D cloud, but line ", h.domain_line, " records a ",
+                      h.domain->dim, "D periodic box");
+    c.domain = *h.domain;
+    try {
+      check_periodic_cloud(c, 0);  // every particle inside the box along its periodic axes
+    } catch (const InputError& e) {
+      throw InputError(concat(name, ": ", e.what(), " (line ", h.domain_line, " records the box)"));
+    }
+  }
   rows.extra.resize(h.extra_col.size());
   for (std::size_t e = 0; e < rows.extra.size(); ++e)
     rows.file.fields.push_back(
@@ -184,6 +257,15 @@ std::vector<Vec3> read_points_csv(const std::string& path, int dim) {
 namespace {
 void write_rows(std::ostream& out, const PointCloud& c, const std::vector<NamedField>& fields) {
   out.precision(17);
+  if (c.domain.any_periodic()) {  // the box is not the particles' hull: recorded, read back by read_csv_header
+    const auto corner = [&](const Vec3& x) {
+      std::string s;
+      for (int k = 0; k < c.dim; ++k) s += concat(k ? "," : "", std::setprecision(17), x[k]);
+      return s;
+    };
+    out << detail::domain_record << " lo=" << corner(c.domain.lo) << " hi=" << corner(c.domain.hi)
+        << " periodic=" << c.domain.periodic_axes() << '\n';
+  }
   out << "x,y,z,tag" << (c.has_normals() ? ",nx,ny,nz" : "");
   for (const auto& f : fields) out << ',' << f.name;
   out << '\n';

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <iosfwd>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 #include <vrsph/io/cloud_file.hpp>
@@ -20,6 +21,10 @@ struct CsvHeader {
   std::vector<std::string> extra_names;
   int coord_cols = 1;
   bool normals = false;
+  /// A periodic box recorded before the header ("# vrsph domain: lo=.. hi=.. periodic=.."),
+  /// as write_csv records a periodic cloud's; the cloud takes it once its dimension is settled.
+  std::optional<Domain> domain;
+  std::size_t domain_line = 0;
 };
 
 /// Rows read so far: the cloud (dim not yet settled), the extra columns, and which
@@ -30,14 +35,16 @@ struct CsvRows {
   Vec3 any_nonzero = Vec3::Zero();
 };
 
-/// Reads through the header line (the first non-blank one). Throws InputError.
+/// Reads through the header line (the first non-blank line that is not a '#' comment). Throws InputError.
 CsvHeader read_csv_header(std::istream& in, const std::string& name, bool tag_required);
 /// Parses line number `lineno` (blank lines are skipped). Throws InputError naming the line.
 void parse_csv_row(const std::string& line, std::size_t lineno, const CsvHeader& h, const std::string& name,
                    CsvRows& out);
-/// The cloud's dimension from the non-zero coordinates of *all* rows and the requested one.
+/// The cloud's dimension from the non-zero coordinates of *all* rows and the requested one
+/// (none requested: a recorded box's).
 int settle_csv_dimension(const CsvHeader& h, const Vec3& any_nonzero, int dim, const std::string& name);
-/// Sets the dimension, trims the normals to it, validates, and moves the extra columns into fields.
+/// Sets the dimension, trims the normals to it, validates, gives the cloud the recorded box (its
+/// particles in it), and moves the extra columns into fields.
 void finish_csv_rows(CsvRows& rows, const CsvHeader& h, int dim);
 
 }  // namespace vrsph::detail

@@ -17,6 +17,7 @@
 #include <vrsph/core/parse.hpp>
 #include <vrsph/io/input_file.hpp>
 #include <vrsph/io/vtk_cloud.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 
 namespace vrsph {
 
@@ -367,6 +368,39 @@ std::size_t read_pieces(const pugi::xml_node root, const std::string& type, cons
 }
 }  // namespace
 
+// The periodic box write_vtu records as field data (vrsph_periodic_box: lo then hi, 3
+// components each; vrsph_periodic_axes: 0/1 per axis), if the file has it.
+void read_periodic_box(const pugi::xml_node grid, const Source& src, const std::string& path, PointCloud& c) {
+  pugi::xml_node box, axes;
+  for (const pugi::xml_node a : grid.child("FieldData").children("DataArray")) {
+    const std::string name = a.attribute("Name").as_string();
+    if (name == "vrsph_periodic_box") box = a;
+    if (name == "vrsph_periodic_axes") axes = a;
+  }
+  if (!box && !axes) return;
+  check<InputError>(box && axes, path, ": field data has only one of vrsph_periodic_box and vrsph_periodic_axes");
+  const std::vector<Real> corners = values(box, src, 6, path + ": field data vrsph_periodic_box");
+  const std::vector<Real> flags = values(axes, src, 3, path + ": field data vrsph_periodic_axes");
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  std::string periodic;
+  for (int k = 0; k < 3; ++k) {
+    const auto sk = static_cast<std::size_t>(k);
+    check<InputError>(flags[sk] == 0 || flags[sk] == 1, path, ": vrsph_periodic_axes holds ", flags[sk], " (0 or 1 per axis)");
+    check<InputError>(flags[sk] == 0 || k < c.dim, path, ": vrsph_periodic_axes makes axis ", "xyz"[k], " periodic in a ",
+                      c.dim, "D cloud");
+    lo[k] = corners[sk];
+    hi[k] = corners[sk + 3];
+    if (flags[sk] == 1) periodic += std::string(periodic.empty() ? "" : ",") + "xyz"[k];
+  }
+  try {
+    check<InputError>(!periodic.empty(), "no periodic axis");
+    c.domain = Domain::periodic_box(c.dim, lo, hi, periodic);
+    check_periodic_cloud(c, 0);  // every particle inside the box along its periodic axes
+  } catch (const InputError& e) {
+    throw InputError(detail::concat(path, ": the recorded periodic box: ", e.what()));
+  }
+}
+
 CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
   check<InputError>(dim >= 0 && dim <= 3, "requested dimension must be 1, 2 or 3, got ", dim);
   check<InputError>(!text.empty(), path, ": empty file");
@@ -403,6 +437,7 @@ CloudFile parse_vtk_cloud(std::string text, const std::string& path, int dim) {
     for (int k = c.dim; k < 3; ++k) nrm[k] = 0;
   normalise_normals(c);
   validate(c);
+  read_periodic_box(root.child(type.c_str()), src, path, c);
   for (auto& [name, v] : fields) {
     NamedField f{name, Field(static_cast<Eigen::Index>(v.size()))};
     for (std::size_t i = 0; i < v.size(); ++i) {

@@ -95,7 +95,18 @@ void write_vtu_body(std::ostream& out, const PointCloud& c, const std::vector<Po
   const Index n = c.size();
   const auto N = static_cast<std::size_t>(n);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      << "header_type=\"UInt64\"" << (format == VtuFormat::Binary && ArrayWriter::compressed ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n
+      << "header_type=\"UInt64\"" << (format == VtuFormat::Binary && ArrayWriter::compressed ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n<UnstructuredGrid>\n";
+  if (c.domain.any_periodic()) {  // the box is not the particles' hull: recorded, read back by read_vtk_cloud
+    out << "<FieldData>\n<DataArray type=\"Float64\" Name=\"vrsph_periodic_box\" NumberOfTuples=\"1\" "
+        << "NumberOfComponents=\"6\" format=\"ascii\">\n";
+    for (const Vec3* x : {&c.domain.lo, &c.domain.hi})
+      for (int k = 0; k < 3; ++k) out << (*x)[k] << ' ';
+    out << "\n</DataArray>\n<DataArray type=\"Int32\" Name=\"vrsph_periodic_axes\" NumberOfTuples=\"1\" "
+        << "NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (int k = 0; k < 3; ++k) out << (c.domain.periodic[static_cast<std::size_t>(k)] ? 1 : 0) << ' ';
+    out << "\n</DataArray>\n</FieldData>\n";
+  }
+  out << "<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n
       << "\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"" << w.format() << "\">\n";
   std::vector<double> xyz(3 * N);
   for (std::size_t i = 0; i < N; ++i)

@@ -1143,6 +1143,22 @@ class CloudFile(unittest.TestCase):
             self.assertTrue(theirs["mmatrix"])
             boxed = run_json("solve", "--cloud-file", path, "--periodic", "x,y", "--box", "0,0,1,1", "--u", u)["rows"][0]
             self.assertEqual(boxed["error_inf"], theirs["error_inf"])
+            # The file records its box ("# vrsph domain:" before the header): no option needed, and a
+            # conversion to VTU (field data) and back keeps it.
+            with open(path, encoding="utf-8") as f:
+                self.assertEqual(f.readline().strip(), "# vrsph domain: lo=0,0 hi=1,1 periodic=x,y")
+            recorded = run_json("solve", "--cloud-file", path, "--u", u)["rows"][0]
+            self.assertEqual(recorded["error_inf"], theirs["error_inf"])
+            vtu = os.path.join(d, "p.vtu")
+            run("cloud", "--input", path, "--output", vtu)
+            self.assertEqual(run_json("solve", "--cloud-file", vtu, "--u", u)["rows"][0]["error_inf"], theirs["error_inf"])
+            # A file whose record is malformed: an input error naming the line.
+            bad = os.path.join(d, "bad.csv")
+            with open(path, encoding="utf-8") as f, open(bad, "w", encoding="utf-8") as g:
+                g.write("# vrsph domain: lo=0,0 hi=1 periodic=x,y\n" + "".join(f.readlines()[1:]))
+            p = run("solve", "--cloud-file", bad, "--u", u, check=False)
+            self.assertEqual(p.returncode, 3, p.stderr)
+            self.assertIn("bad.csv:1: lo= has 2 numbers and hi= 1", p.stderr)
             # The box's faces wrap: particles outside it along a periodic axis are refused, not wrapped.
             p = run("solve", "--cloud-file", path, "--periodic", "x,y", "--box", "0,0,0.5,1", "--u", u, check=False)
             self.assertEqual(p.returncode, 3)  # input error

@@ -46,30 +46,22 @@ void reject_generator_options(const CLI::App& cmd, const char* source, bool geom
 // --box "x0,y0[,z0],x1,y1[,z1]" (default the unit box) periodic along --periodic: the file's
 // particles must lie in [lo, hi) along those axes, as a generated periodic cloud's do.
 Domain periodic_file_box(const std::string& box, const std::string& axes, int dim) {
-  Domain d = Domain::unit_box(dim);
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  for (int k = 0; k < dim; ++k) hi[k] = 1;
   if (!box.empty()) {
     const std::vector<double> v = parse_real_list(box, "--box");
     check<ConfigError>(v.size() == static_cast<std::size_t>(2 * dim), "--box takes ", 2 * dim, " numbers for a ", dim,
                        "D cloud (lower corner, then upper corner), got ", v.size());
-    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
     for (int k = 0; k < dim; ++k) {
       lo[k] = v[static_cast<std::size_t>(k)];
       hi[k] = v[static_cast<std::size_t>(dim + k)];
-      check<ConfigError>(hi[k] > lo[k], "--box: the upper corner must exceed the lower one along ", "xyz"[k], " (",
-                         lo[k], " .. ", hi[k], ")");
-      check<ConfigError>(std::isfinite(hi[k] - lo[k]), "--box: the side along ", "xyz"[k], " (", lo[k], " .. ", hi[k],
-                         ") is not a finite length");
-      // As for the particles themselves (validate): beyond that, spacings and volumes overflow.
-      check<ConfigError>(std::max(std::abs(lo[k]), std::abs(hi[k])) <= max_coordinate, "--box: the corner along ",
-                         "xyz"[k], " (", lo[k], " .. ", hi[k], ") is beyond +-", max_coordinate, " (rescale the cloud)");
     }
-    Real volume = 1;
-    for (int k = 0; k < dim; ++k) volume *= hi[k] - lo[k];
-    check<ConfigError>(std::isfinite(volume), "--box: the box's volume overflows a double (rescale the cloud)");
-    d = Domain::box(dim, lo, hi);
   }
-  d.set_periodic(axes);
-  return d;
+  try {
+    return Domain::periodic_box(dim, lo, hi, axes);
+  } catch (const InputError& e) {  // the box is an option's: a configuration error
+    throw ConfigError(detail::concat("--box: ", e.what()));
+  }
 }
 
 // This rank's part of the cloud of one run: the file (read in parallel under mpirun, see

@@ -25,6 +25,12 @@ struct Domain {
   static Domain unit_box(int dim);
   static Domain symmetric_box(int dim, Real half_width);
   static Domain ball(int dim, const Vec3& centre, Real radius);
+  /// The box [lo, hi) periodic along `axes` ("x,y", "all"; set_periodic): corners finite and
+  /// within +-max_coordinate, hi > lo, a finite volume. InputError otherwise (ConfigError for an
+  /// unknown axis). Particles must then lie in [lo, hi) along the periodic axes
+  /// (check_periodic_cloud): a periodic box is never inferred from the particles, whose last
+  /// layer sits a spacing short of the far face.
+  static Domain periodic_box(int dim, const Vec3& lo, const Vec3& hi, const std::string& axes);
 
   /// Signed distance to the boundary: positive inside, negative outside.
   /// Shape::None returns +infinity (nothing is near a boundary); a periodic axis has no

@@ -6,6 +6,9 @@
 // tag is interior|dirichlet|neumann|ghost or 0..3. The dimension is the number of
 // coordinate columns up to the last one that is not identically zero, unless a
 // dimension is requested (then extra coordinates must be zero: else a mismatch).
+// Lines starting with '#' before the header are comments; one of them may record a periodic
+// box, "# vrsph domain: lo=0,0 hi=1,1 periodic=x,y", which write_csv writes for a periodic
+// cloud and the reader gives back (it also settles the dimension when none is requested).
 #include <iosfwd>
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>

@@ -4,6 +4,8 @@
 // the point-data array "tag" (0 interior, 1 dirichlet, 2 neumann, 3 ghost), optional
 // "normal"/"normals" (3 components), and every other one-component point array as a field.
 // ascii, base64 binary and appended (raw or base64) data, uncompressed or zlib-compressed.
+// A periodic box recorded as field data (vrsph_periodic_box, vrsph_periodic_axes: write_vtu's)
+// comes back as the cloud's domain.
 #include <string>
 #include <vrsph/io/cloud_file.hpp>
 

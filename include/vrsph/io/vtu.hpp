@@ -3,7 +3,9 @@
 // VTK unstructured-grid (.vtu, XML) output for ParaView: one vertex cell per particle, the
 // tag and normals, plus any number of named point fields (scalar or vector; vectors are
 // padded to 3 components). Data binary (zlib-compressed, base64 inline: exact and the
-// smallest; the default) or ascii (17 significant digits).
+// smallest; the default) or ascii (17 significant digits). A periodic cloud's box goes into
+// field data (vrsph_periodic_box: lo then hi; vrsph_periodic_axes: 0/1 per axis), which
+// read_vtk_cloud gives back.
 #include <string>
 #include <vrsph/cloud/point_cloud.hpp>
 
