@@ -89,7 +89,9 @@ class TaylorProjection final : public Method {
           const Vec3 xji = k < nbr.size() ? Vec3(disc.neighbour_position(i, static_cast<Index>(k)) - xi) : Vec3::Zero();
           const Real r = xji.norm();
           Real* ps = psi.data() + k * static_cast<std::size_t>(m);
-          for (Eigen::Index a = 0; a < m; ++a) ps[a] = test_function(ker, xji, r, basis[static_cast<std::size_t>(a)]);
+          const taylor::PairKernel kv =
+              taylor::pair_kernel(ker, r, tests_ == TestFunctions::KernelTimesMonomials ? 0 : second ? 2 : 1);
+          for (Eigen::Index a = 0; a < m; ++a) ps[a] = test_function(kv, xji, r, basis[static_cast<std::size_t>(a)]);
           const Real vj = v[static_cast<std::size_t>(j)];
           for (Eigen::Index b = 0; b < m; ++b) {
             const Real pb = vj * taylor::monomial(xji, basis[static_cast<std::size_t>(b)], true);
@@ -157,14 +159,15 @@ class TaylorProjection final : public Method {
       case OperatorKind::Hessian: break;  // hessian_rows builds it for every method (check_request refuses it here)
     }
   }
-  Real test_function(const Kernel& ker, const Vec3& xji, Real r, const std::array<int, 3>& alpha) const {
+  // The test function of multi-index alpha at one pair, from the pair's kernel values.
+  Real test_function(const taylor::PairKernel& kv, const Vec3& xji, Real r, const std::array<int, 3>& alpha) const {
     const Vec3 xij = -xji;
     switch (tests_) {
-      case TestFunctions::KernelDerivatives: return taylor::kernel_derivative(ker, xij, r, alpha);
+      case TestFunctions::KernelDerivatives: return taylor::kernel_derivative(kv, xij, r, alpha);
       case TestFunctions::KernelDerivativesQw:
         // [QW](2.18): Y_ij = -2 W'(r)/r replaces W'' in the third (degree-2) test function.
-        return alpha[0] == 2 ? -2 * ker.dW_over_r(r) : taylor::kernel_derivative(ker, xij, r, alpha);
-      case TestFunctions::KernelTimesMonomials: return ker.W(r) * taylor::monomial(xji, alpha, false);
+        return alpha[0] == 2 ? -2 * kv.dW_over_r : taylor::kernel_derivative(kv, xij, r, alpha);
+      case TestFunctions::KernelTimesMonomials: return kv.W * taylor::monomial(xji, alpha, false);
     }
     return 0;
   }

@@ -137,18 +137,32 @@ Real monomial_derivative(const Vec3& x, const std::array<int, 3>& a, int k, bool
   return v;
 }
 
-Real kernel_derivative(const Kernel& ker, const Vec3& xij, Real r, const std::array<int, 3>& a) {
+PairKernel pair_kernel(const Kernel& ker, Real r, int max_degree) {
+  PairKernel kv;
+  kv.W = ker.W(r);
+  if (max_degree >= 1) kv.dW_over_r = ker.dW_over_r(r);
+  if (max_degree >= 2) kv.d2W = ker.d2W(r);
+  return kv;
+}
+
+Real kernel_derivative(const PairKernel& kv, const Vec3& xij, Real r, const std::array<int, 3>& a) {
   const int deg = a[0] + a[1] + a[2];
-  if (deg == 0) return ker.W(r);
+  if (deg == 0) return kv.W;
   int k = -1, l = -1;
   for (int m = 0; m < 3; ++m)
     for (int c = 0; c < a[static_cast<std::size_t>(m)]; ++c) (k < 0 ? k : l) = m;
-  if (deg == 1) return ker.dW_over_r(r) * xij[k];
+  if (deg == 1) return kv.dW_over_r * xij[k];
   check<ConfigError>(deg == 2, "kernel derivatives of order > 2 are not provided");
   const Real delta = k == l ? 1 : 0;
-  if (r == 0) return ker.d2W(0) * delta;
+  if (r == 0) return kv.d2W * delta;
   const Real ek = xij[k] / r, el = xij[l] / r;
-  return ker.d2W(r) * ek * el + ker.dW_over_r(r) * (delta - ek * el);
+  return kv.d2W * ek * el + kv.dW_over_r * (delta - ek * el);
+}
+
+Real kernel_derivative(const Kernel& ker, const Vec3& xij, Real r, const std::array<int, 3>& a) {
+  const int deg = a[0] + a[1] + a[2];
+  check<ConfigError>(deg <= 2, "kernel derivatives of order > 2 are not provided");
+  return kernel_derivative(pair_kernel(ker, r, deg), xij, r, a);
 }
 
 int position_of(const std::vector<std::array<int, 3>>& list, const std::array<int, 3>& alpha) {

@@ -59,6 +59,16 @@ Real monomial_derivative(const Vec3& x, const std::array<int, 3>& alpha, int k, 
 /// 0, 1 or 2; METHODS §2.5), at xij = x_i - x_j with r = |xij|.
 Real kernel_derivative(const Kernel& k, const Vec3& xij, Real r, const std::array<int, 3>& alpha);
 
+/// W(r), W'(r)/r and W''(r) of one pair, each evaluated once for the derivatives of every
+/// multi-index up to max_degree (kernel_derivative from the kernel evaluates it once per index:
+/// nine evaluations for a 2D pair's six test functions, where three serve). Same values.
+struct PairKernel {
+  Real W = 0, dW_over_r = 0, d2W = 0;
+};
+PairKernel pair_kernel(const Kernel& k, Real r, int max_degree);
+/// kernel_derivative from the pair's values: the same arithmetic, the same result.
+Real kernel_derivative(const PairKernel& kv, const Vec3& xij, Real r, const std::array<int, 3>& alpha);
+
 /// Row i is computed: explicit mask, or every non-ghost particle when the mask is empty.
 inline bool wants_row(const PointCloud& cloud, const StencilRequest& req, Index i) {
   return req.rows.empty() ? cloud.tags[static_cast<std::size_t>(i)] != Tag::Ghost
