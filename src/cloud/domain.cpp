@@ -29,10 +29,10 @@ Domain Domain::periodic_box(int dim, const Vec3& lo, const Vec3& hi, const std::
   check<InputError>(dim >= 1 && dim <= 3, "domain dimension must be 1, 2 or 3, got ", dim);
   Real volume = 1;
   for (int k = 0; k < dim; ++k) {
-    check<InputError>(hi[k] > lo[k], "periodic box: the upper corner must exceed the lower one along ", "xyz"[k], " (",
-                      lo[k], " .. ", hi[k], ")");
     check<InputError>(std::isfinite(lo[k]) && std::isfinite(hi[k]) && std::isfinite(hi[k] - lo[k]), "periodic box: the side along ",
                       "xyz"[k], " (", lo[k], " .. ", hi[k], ") is not a finite length");
+    check<InputError>(hi[k] > lo[k], "periodic box: the upper corner must exceed the lower one along ", "xyz"[k], " (",
+                      lo[k], " .. ", hi[k], ")");
     // As for the particles themselves (validate): beyond that, spacings and volumes overflow.
     check<InputError>(std::max(std::abs(lo[k]), std::abs(hi[k])) <= max_coordinate, "periodic box: the corner along ",
                       "xyz"[k], " (", lo[k], " .. ", hi[k], ") is beyond +-", max_coordinate, " (rescale the cloud)");

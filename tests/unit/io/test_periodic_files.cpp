@@ -92,6 +92,8 @@ TEST(PeriodicFiles, BadCsvRecordsAreNamedWithTheirLine) {
   EXPECT_THROW_MSG(parse_periodic_csv("# vrsph domain: lo=0,0 hi=1,0 periodic=x\n" + body), InputError,
                    "t.csv:1: domain record: periodic box: the upper corner must exceed the lower one along y");
   EXPECT_THROW_MSG(parse_periodic_csv("# vrsph domain: lo=0,0 hi=1,inf periodic=x\n" + body), InputError, "is not a finite length");
+  EXPECT_THROW_MSG(parse_periodic_csv("# vrsph domain: lo=nan,0 hi=1,1 periodic=x\n" + body), InputError,
+                   "the side along x (nan .. 1) is not a finite length");
   EXPECT_THROW_MSG(parse_periodic_csv("# vrsph domain: lo=0,0 hi=1,1 periodic=w\n" + body), InputError, "periodic axes are x, y, z or all");
   EXPECT_THROW_MSG(parse_periodic_csv("# vrsph domain: lo=0,0 hi=1,1 periodic=z\n" + body), InputError, "periodic axis z does not exist in 2D");
   EXPECT_THROW_MSG(parse_periodic_csv("# vrsph domain: lo=0,0 hi=1,1 periodic=\n" + body), InputError, "no periodic axis");
