@@ -8,7 +8,10 @@ appended base64, as .vtu (UnstructuredGrid) and .vtp (PolyData). Only Python's s
 library: struct, base64, zlib. Run from this directory; the outputs are committed.
 The vtk_written_* files were written once by VTK 9.1 itself (Debian python3-vtk9:
 vtkXMLUnstructuredGridWriter / vtkXMLPolyDataWriter reading ascii.vtu, in appended zlib,
-appended raw, binary and binary zlib modes); they are not regenerated here.
+appended raw, binary and binary zlib modes); they are not regenerated here. So was
+vtk_written_periodic.vtu: `vrsph cloud --family perturbed --n 8 --periodic x --output p.vtu
+--vtu-format ascii` read and written again by VTK 9.1's vtkXMLUnstructuredGridWriter (its
+default: appended raw, the field data vrsph_periodic_box / vrsph_periodic_axes included).
 """
 import base64
 import struct
