@@ -137,9 +137,9 @@ Real monomial_derivative(const Vec3& x, const std::array<int, 3>& a, int k, bool
   return v;
 }
 
-PairKernel pair_kernel(const Kernel& ker, Real r, int max_degree) {
+PairKernel pair_kernel(const Kernel& ker, Real r, int max_degree, bool with_value) {
   PairKernel kv;
-  kv.W = ker.W(r);
+  if (with_value) kv.W = ker.W(r);
   if (max_degree >= 1) kv.dW_over_r = ker.dW_over_r(r);
   if (max_degree >= 2) kv.d2W = ker.d2W(r);
   return kv;
@@ -162,7 +162,7 @@ Real kernel_derivative(const PairKernel& kv, const Vec3& xij, Real r, const std:
 Real kernel_derivative(const Kernel& ker, const Vec3& xij, Real r, const std::array<int, 3>& a) {
   const int deg = a[0] + a[1] + a[2];
   check<ConfigError>(deg <= 2, "kernel derivatives of order > 2 are not provided");
-  return kernel_derivative(pair_kernel(ker, r, deg), xij, r, a);
+  return kernel_derivative(pair_kernel(ker, r, deg, deg == 0), xij, r, a);  // only what this index reads
 }
 
 int position_of(const std::vector<std::array<int, 3>>& list, const std::array<int, 3>& alpha) {

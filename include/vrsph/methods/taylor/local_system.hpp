@@ -65,7 +65,9 @@ Real kernel_derivative(const Kernel& k, const Vec3& xij, Real r, const std::arra
 struct PairKernel {
   Real W = 0, dW_over_r = 0, d2W = 0;
 };
-PairKernel pair_kernel(const Kernel& k, Real r, int max_degree);
+/// W is evaluated only with_value (a degree-0 index among those wanted); W'/r from degree 1 on,
+/// W'' at degree 2.
+PairKernel pair_kernel(const Kernel& k, Real r, int max_degree, bool with_value = true);
 /// kernel_derivative from the pair's values: the same arithmetic, the same result.
 Real kernel_derivative(const PairKernel& kv, const Vec3& xij, Real r, const std::array<int, 3>& alpha);
 
