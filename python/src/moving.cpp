@@ -3,6 +3,7 @@
 // positions; the stencils handed out as CSR arrays (copies: the object keeps its own for the
 // next update).
 #include <pybind11/stl.h>
+#include <cmath>
 #include <string>
 #include <vrsph/analysis/support_isotropy.hpp>
 #include <vrsph/core/error.hpp>
@@ -59,6 +60,29 @@ void update(Operators& ops, const py::handle& positions) {
   ops.update(p);
 }
 
+// The positions moved back into the periodic box along its periodic axes (Domain::wrap), the
+// other axes untouched: what an update on a periodic box wants, as the library refuses rather
+// than wraps.
+py::array_t<Real> wrap(const Operators& ops, const py::handle& positions) {
+  const auto x = py::array_t<Real, py::array::c_style | py::array::forcecast>::ensure(positions);
+  const int dim = ops.cloud().dim;
+  check<InputError>(static_cast<bool>(x) && x.ndim() == 2 && x.shape(1) == dim, "wrap: positions must be an (N, ", dim,
+                    ") array of numbers");
+  const Domain& domain = ops.cloud().domain;
+  py::array_t<Real> out({x.shape(0), static_cast<py::ssize_t>(dim)});
+  const Real* in = x.data();
+  Real* o = out.mutable_data();
+  for (py::ssize_t i = 0; i < x.shape(0); ++i) {
+    Vec3 p = Vec3::Zero();
+    for (int k = 0; k < dim; ++k) p[k] = in[i * dim + k];
+    for (int k = 0; k < dim; ++k)
+      check<InputError>(std::isfinite(p[k]), "wrap: particle ", i, " has a coordinate that is not finite (", p[k], ")");
+    const Vec3 w = domain.wrap(p);
+    for (int k = 0; k < dim; ++k) o[i * dim + k] = w[k];
+  }
+  return out;
+}
+
 py::dict raw_stencil(const Operators& ops, const std::string& name) {
   const Stencil& s = ops.stencil(parse_operator(name));
   py::dict out;
@@ -90,6 +114,7 @@ void bind_moving(py::module_& m) {
       .def(py::init(&make_operators), py::arg("cloud"), py::arg("method"), py::arg("operators"), py::arg("h"),
            py::arg("h_factor"), py::arg("kernel"), py::arg("options"), py::arg("skin"), py::arg("warm_start"))
       .def("update", &update, py::arg("positions"))
+      .def("wrap", &wrap, py::arg("positions"))
       .def("stencil", &raw_stencil, py::arg("operator"))
       .def("stats", &stats)
       .def("support_isotropy", [](const Operators& o) {

@@ -138,6 +138,24 @@ def test_a_periodic_box_keeps_the_warm_start_across_the_faces():
     assert np.max(np.abs(ops.apply("divergence", U))) < 0.05 * 2 * np.pi
 
 
+def test_wrap_moves_particles_back_into_the_box_along_its_periodic_axes_only():
+    c = vrsph.cloud.perturbed(dim=2, n=16, periodic="x", seed=4)
+    ops = vrsph.Operators(c)
+    w = ops.wrap(np.array([[1.1, 0.5], [-0.75, 1.2], [-2.75, -0.3], [0.999, 0.9]]))
+    np.testing.assert_allclose(w, [[0.1, 0.5], [0.25, 1.2], [0.25, -0.3], [0.999, 0.9]], atol=1e-15)
+    np.testing.assert_array_equal(ops.wrap(w), w)  # idempotent; y (not periodic) left for update to judge
+    x = np.asarray(c.points) + [0.3, 0.0]  # a drift across the x faces
+    with pytest.raises(vrsph.InputError, match="outside the periodic box.*Operators.wrap"):
+        ops.update(x)
+    ops.update(ops.wrap(x))
+    assert np.all((ops.positions[:, 0] >= 0) & (ops.positions[:, 0] < 1))
+    np.testing.assert_allclose(ops.positions[:, 0], np.mod(x[:, 0], 1.0), atol=1e-15)
+    with pytest.raises(vrsph.InputError, match="wrap: positions must be an \\(N, 2\\) array"):
+        ops.wrap(np.zeros((3, 3)))
+    with pytest.raises(vrsph.InputError, match="wrap: particle 1 has a coordinate that is not finite"):
+        ops.wrap(np.array([[0.1, 0.1], [np.nan, 0.2]]))
+
+
 def test_support_isotropy_is_one_inside_a_lattice_and_falls_when_it_is_stretched():
     c = vrsph.cloud.lattice(dim=2, n=20)
     ops = vrsph.Operators(c)

@@ -243,6 +243,17 @@ class Operators:
             raise ArgumentTypeError(f"the parameter positions must be an (N, dim) array of numbers: {e}") from None
         self._ops.update(x)
 
+    def wrap(self, positions: Any) -> np.ndarray:
+        """``positions`` (N, dim) moved into the cloud's periodic box along its periodic axes
+        (lo + (x - lo) mod period; the other axes as given): ``update`` refuses a particle outside
+        the box rather than wrapping it, so a time step that moves particles across a periodic
+        face calls ``ops.update(ops.wrap(x))``."""
+        try:
+            x = np.asarray(positions, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise ArgumentTypeError(f"the parameter positions must be an (N, dim) array of numbers: {e}") from None
+        return self._ops.wrap(x)
+
     @property
     def positions(self) -> np.ndarray:
         return self._ops.positions

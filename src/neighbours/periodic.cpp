@@ -28,7 +28,7 @@ void check_periodic_cloud(const PointCloud& cloud, Real radius) {
       const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
       check<InputError>(x[k] >= d.lo[k] && x[k] < d.hi[k], "particle ", i, " at (", x[0], ", ", x[1], ", ", x[2],
                         ") lies outside the periodic box [", d.lo[k], ", ", d.hi[k], ") along ", "xyz"[k],
-                        ": wrap the positions into the box (Domain::wrap)");
+                        ": wrap the positions into the box (Domain::wrap; in Python Operators.wrap)");
     }
   }
 }
