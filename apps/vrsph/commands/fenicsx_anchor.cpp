@@ -30,11 +30,14 @@ namespace {
 // memory of all its ranks: the memory a refinement sweep extrapolates before it asks for a
 // larger run. (The script itself reports sizes, errors and times, not memory.)
 constexpr const char* peak_memory_wrapper = R"PY(
-import json, resource, runpy, sys
-try:
-    import scipy.spatial  # the script imports it inside its timed region; a user's session has it loaded
-except ImportError:
-    pass
+import json, os, resource, runpy, sys
+# The script imports scipy.spatial inside its timed region where it meshes points (--points,
+# --perturbed); a user's session has it loaded, so it is imported here first, and only then.
+if "--points" in sys.argv or "--perturbed" in sys.argv:
+    try:
+        import scipy.spatial
+    except ImportError:
+        pass
 script = sys.argv[1]
 sys.argv = sys.argv[1:]
 try:
@@ -43,11 +46,17 @@ except SystemExit as e:
     if e.code not in (None, 0):
         raise
 kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-try:
-    from mpi4py import MPI
+# The ranks' sum where the script runs on MPI (FEniCSx imports mpi4py): a script that did not,
+# alone, is its own sum (importing mpi4py here would start MPI only to count one rank).
+MPI = sys.modules.get("mpi4py.MPI")
+if MPI is None and int(os.environ.get("OMPI_COMM_WORLD_SIZE", "1")) > 1:
+    try:
+        from mpi4py import MPI
+    except ImportError:
+        MPI = None
+rank = 0
+if MPI is not None:
     kib, rank = MPI.COMM_WORLD.allreduce(kib), MPI.COMM_WORLD.rank
-except ImportError:
-    rank = 0
 if rank == 0:
     print(json.dumps({"peak_rss_kib": kib}), flush=True)
 )PY";
