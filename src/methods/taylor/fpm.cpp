@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <array>
 #include <cmath>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/gradient_consistency.hpp>
@@ -74,6 +75,7 @@ class TaylorProjection final : public Method {
     {
       std::vector<Real> psi;  // test functions of every neighbour, m per neighbour (self last)
       SmallMatrix M(m, m), Minv(m, m);
+      OutputRows rows{};
 #pragma omp for schedule(dynamic, 128)
       for (Index i = 0; i < cloud.size(); ++i) {
         if (!taylor::wants_row(cloud, req, i)) continue;
@@ -112,15 +114,24 @@ class TaylorProjection final : public Method {
                     for (int c = 0; c < dim; ++c) g[c] = v[static_cast<std::size_t>(nbr[k])] * w[grad_pos[static_cast<std::size_t>(c)]];
                     return g;
                   });
+        // Only the rows of M^-1 the stencil stores, combined as it stores them (a Laplacian
+        // weight is the sum of the d second-derivative rows): per neighbour one dot product of
+        // length m per output instead of the whole product M^-1 psi_k (m outputs, most unread).
+        const int outputs = stored_rows(req, i, Minv, grad_pos, hess_pos, grad_a, rows);
         for (std::size_t k = 0; k < count; ++k) {
           const Index j = k < nbr.size() ? nbr[k] : i;
           const bool self = k == nbr.size();
           if (self && req.kind != OperatorKind::Value) continue;  // difference form: diagonal set below
-          const SmallVector w = v[static_cast<std::size_t>(j)] *
-                                (Minv * Eigen::Map<const SmallVector>(psi.data() + k * static_cast<std::size_t>(m), m));
           const auto slot = static_cast<std::size_t>(self ? s.diag[static_cast<std::size_t>(i)]
                                                           : neighbour_slot(s, i, static_cast<Index>(k)));
-          store_weights(req, i, slot, w, grad_pos, hess_pos, grad_a, s);
+          const Real* ps = psi.data() + k * static_cast<std::size_t>(m);
+          const Real vj = v[static_cast<std::size_t>(j)];
+          for (int c = 0; c < outputs; ++c) {
+            const auto& row = rows[static_cast<std::size_t>(c)];
+            Real w = 0;
+            for (Eigen::Index b = 0; b < m; ++b) w += row[static_cast<std::size_t>(b)] * ps[b];
+            s.values[static_cast<std::size_t>(c)][slot] = vj * w;
+          }
         }
       }
     }
@@ -131,33 +142,47 @@ class TaylorProjection final : public Method {
   }
 
  private:
-  // Row i's weight at `slot` from the fit's column w: the value, a derivative, the
-  // Laplacian (trace of the Hessian) or a Δu + ∇a·∇u.
-  static void store_weights(const StencilRequest& req, Index i, std::size_t slot, const SmallVector& w,
-                            const std::vector<int>& grad_pos, const std::vector<int>& hess_pos, const Vec3& grad_a,
-                            Stencil& s) {
+  using OutputRows = std::array<std::array<Real, taylor::max_unknowns>, 3>;
+
+  // The combinations of M^-1's rows that row i stores, one per output array: the value, a
+  // derivative, the gradient's components, the Laplacian (trace of the Hessian) or
+  // a Δu + ∇a·∇u. Returns their number.
+  static int stored_rows(const StencilRequest& req, Index i, const SmallMatrix& Minv, const std::vector<int>& grad_pos,
+                         const std::vector<int>& hess_pos, const Vec3& grad_a, OutputRows& rows) {
     const int dim = static_cast<int>(grad_pos.size());
-    const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+    const auto m = static_cast<std::size_t>(Minv.cols());
+    const auto copy_row = [&](std::size_t out, int r) {
+      for (std::size_t b = 0; b < m; ++b) rows[out][b] = Minv(r, static_cast<Eigen::Index>(b));
+    };
     switch (req.kind) {
-      case OperatorKind::Value: s.values[0][slot] = w[0]; break;
+      case OperatorKind::Value: copy_row(0, 0); return 1;
       case OperatorKind::Dx:
       case OperatorKind::Dy:
-      case OperatorKind::Dz: s.values[0][slot] = w[grad_pos[static_cast<std::size_t>(axis)]]; break;
+      case OperatorKind::Dz: {
+        const int axis = req.kind == OperatorKind::Dy ? 1 : req.kind == OperatorKind::Dz ? 2 : 0;
+        copy_row(0, grad_pos[static_cast<std::size_t>(axis)]);
+        return 1;
+      }
       case OperatorKind::Gradient:
-        for (int c = 0; c < dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = w[grad_pos[static_cast<std::size_t>(c)]];
-        break;
+        for (int c = 0; c < dim; ++c) copy_row(static_cast<std::size_t>(c), grad_pos[static_cast<std::size_t>(c)]);
+        return dim;
       case OperatorKind::Laplacian:
       case OperatorKind::DivAGrad: {
-        Real lap = 0, adv = 0;
-        for (int c = 0; c < dim; ++c) {
-          lap += w[hess_pos[static_cast<std::size_t>(c)]];
-          adv += grad_a[c] * w[grad_pos[static_cast<std::size_t>(c)]];
+        const Real a = req.kind == OperatorKind::Laplacian ? 1 : (*req.coefficient)[i];
+        for (std::size_t b = 0; b < m; ++b) {
+          const auto bb = static_cast<Eigen::Index>(b);
+          Real lap = 0, adv = 0;
+          for (int c = 0; c < dim; ++c) {
+            lap += Minv(hess_pos[static_cast<std::size_t>(c)], bb);
+            adv += grad_a[c] * Minv(grad_pos[static_cast<std::size_t>(c)], bb);
+          }
+          rows[0][b] = req.kind == OperatorKind::Laplacian ? lap : a * lap + adv;
         }
-        s.values[0][slot] = req.kind == OperatorKind::Laplacian ? lap : (*req.coefficient)[i] * lap + adv;
-        break;
+        return 1;
       }
       case OperatorKind::Hessian: break;  // hessian_rows builds it for every method (check_request refuses it here)
     }
+    return 0;
   }
   // The test function of multi-index alpha at one pair, from the pair's kernel values.
   Real test_function(const taylor::PairKernel& kv, const Vec3& xji, Real r, const std::array<int, 3>& alpha) const {
