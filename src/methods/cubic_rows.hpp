@@ -180,12 +180,19 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
         kept_here.push_back(i);
         continue;
       }
-      // δ_k = W_k p_k · y.
+      // δ_k = W_k p_k · y: per neighbour the M products summed in a register (M is a
+      // compile-time constant: the sum unrolls), one pass over WP; as M axpy passes over a
+      // scratch row it loaded and stored that row M times.
       const auto diag = static_cast<std::size_t>(s.diag[si]);
       for (Eigen::Index c = 0; c < comps; ++c) {
         std::vector<Real>& g = s.values[targets[static_cast<std::size_t>(c)].array];
-        g_or_delta.setZero();
-        for (int a = 0; a < M; ++a) g_or_delta += Y(a, c) * row(WP, a);
+        std::array<Real, static_cast<std::size_t>(M)> y{};
+        for (int a = 0; a < M; ++a) y[static_cast<std::size_t>(a)] = Y(a, c);
+        for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) {
+          Real d = 0;
+          for (std::size_t a = 0; a < static_cast<std::size_t>(M); ++a) d += y[a] * WP[a * stride + k];
+          work[k] = d;
+        }
         Real added = 0;
         for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) {
           g[static_cast<std::size_t>(slots[k])] += work[k];
