@@ -87,7 +87,6 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
   using Square = Eigen::Matrix<Real, M, M>;
   using Columns = Eigen::Matrix<Real, M, C>;
   using Span = Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, 1>>;
-  using MutableSpan = Eigen::Map<Eigen::Matrix<Real, Eigen::Dynamic, 1>>;
   const auto comps = static_cast<Eigen::Index>(targets.size());
   Index corrected = 0;
   std::vector<Index> kept;
@@ -99,7 +98,7 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
     std::vector<Real> P;     // M x stride: p_a(q_k), the neighbours' scaled monomials
     std::vector<Real> WP;    // M x stride: W_k p_a(q_k)
     std::vector<Real> weight;  // W(r_k) / W(0)
-    std::vector<Real> work;    // a row's weights gathered, then its correction
+    std::vector<Real> work;    // a row's correction δ_k of one component
     std::vector<Index> slots;  // each neighbour's slot in the stencil row
     std::optional<Kernel> ker;
     Columns R;
@@ -166,13 +165,17 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
       for (std::size_t e = 0; e < copied_to.size(); ++e)
         A(copied_to[e].first, copied_to[e].second) = A(copied_from[e].first, copied_from[e].second);
       // R = b - P w per component, over every neighbour the row has.
-      MutableSpan g_or_delta(work.data(), K);
       R.setZero();
       for (Eigen::Index c = 0; c < comps; ++c) {
         const Target& t = targets[static_cast<std::size_t>(c)];
         const std::vector<Real>& g = s.values[t.array];
-        for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) work[k] = g[static_cast<std::size_t>(slots[k])];
-        for (int a = 0; a < M; ++a) R(a, c) = -row(P, a).dot(g_or_delta);
+        // The M sums side by side over the neighbours (one pass over P, each weight loaded once).
+        std::array<Real, static_cast<std::size_t>(M)> pg{};
+        for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) {
+          const Real gk = g[static_cast<std::size_t>(slots[k])];
+          for (std::size_t a = 0; a < static_cast<std::size_t>(M); ++a) pg[a] += P[a * stride + k] * gk;
+        }
+        for (int a = 0; a < M; ++a) R(a, c) = -pg[static_cast<std::size_t>(a)];
         R(t.monomial, c) += t.order == 1 ? t.value / h : t.value / (h * h);
       }
       Columns Y;
