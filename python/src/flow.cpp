@@ -158,7 +158,8 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
 py::dict taylor_green(int nx, int dim, const std::string& frame, const std::string& method, const std::string& gradient,
                       double t_end, double re, double cfl, double jitter, std::uint64_t seed, const std::string& scheme,
                       double h_factor, const py::dict& options, const std::string& shifting, double shift_coefficient,
-                      const std::string& viscosity, double support_growth, double support_isotropy) {
+                      const std::string& viscosity, double support_growth, double support_isotropy,
+                      std::optional<bool> warm_start) {
   VortexRunOptions o;
   o.cloud = {dim, nx, jitter, seed};
   o.vortex.Re = re;
@@ -168,6 +169,7 @@ py::dict taylor_green(int nx, int dim, const std::string& frame, const std::stri
                         viscosity);
   o.flow.support_growth = support_growth;
   o.flow.support_isotropy_target = support_isotropy;
+  o.flow.warm_start = warm_start;
   VortexRunRow r;
   {
     py::gil_scoped_release release;
@@ -325,7 +327,7 @@ void bind_flow(py::module_& m) {
   m.def("_taylor_green", &taylor_green, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("gradient"),
         py::arg("t_end"), py::arg("re"), py::arg("cfl"), py::arg("jitter"), py::arg("seed"), py::arg("scheme"),
         py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"), py::arg("viscosity"),
-        py::arg("support_growth"), py::arg("support_isotropy"));
+        py::arg("support_growth"), py::arg("support_isotropy"), py::arg("warm_start") = py::none());
 }
 
 }  // namespace vrsph::python

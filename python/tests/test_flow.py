@@ -71,6 +71,10 @@ def test_grown_supports_are_reported():
     assert row["t"] == pytest.approx(0.3)
     assert row["max_support_growth"] >= 1.15 and row["min_support_isotropy"] > 0.45
     assert (row["volumes"], row["support_growth"]) == ("cold", 1.3)  # the cap given, cold volumes by default
+    warm = vrsph.taylor_green(nx=16, frame="lagrangian", t_end=0.05, warm_start=True)
+    assert warm["volumes"] == "warm" and warm["error_u_mean"] > 0
+    with pytest.raises(vrsph.ArgumentTypeError):
+        vrsph.taylor_green(nx=16, t_end=0.05, warm_start="yes")
     c = vrsph.cloud.perturbed(dim=2, n=16, delta=0.2, seed=2, periodic="x,y")
     x = np.asarray(c.points)[:, :2]
     flow = vrsph.Flow(c, _vortex(x), frame="lagrangian", support_growth=1.3)

@@ -428,9 +428,10 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                  t_end: float = 1.0, re: float = 100.0, cfl: float = 0.25, jitter: float = 0.2, seed: int = 1,
                  scheme: str = "rk3", h_factor: float = 3.0, options: Mapping[str, Any] | None = None,
                  shifting: str = "none", shift_coefficient: float = 0.0, viscosity: str = "explicit",
-                 support_growth: float = 0.0, support_isotropy: float = 0.3) -> dict:
+                 support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None) -> dict:
     """One row of ``vrsph flow --case taylor-green`` (2D Taylor-Green, 3D Beltrami vortex): the
-    errors at ``t_end`` on the periodic unit box with ``nx`` particles per period."""
+    errors at ``t_end`` on the periodic unit box with ``nx`` particles per period. ``warm_start``
+    as for :class:`Flow` (``--warm-start``): None picks per flow, the row's ``volumes`` says which."""
     return _vrsph._taylor_green(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
                                 _args.text(frame, "frame"), _args.text(method, "method"), _args.text(gradient, "gradient"),
                                 _args.number(t_end, "t_end", positive=True), _args.number(re, "re", positive=True),
@@ -441,7 +442,8 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                                 _args.number(shift_coefficient, "shift_coefficient", minimum=0.0),
                                 _args.text(viscosity, "viscosity"),
                                 _args.number(support_growth, "support_growth", minimum=0.0),
-                                _args.number(support_isotropy, "support_isotropy", positive=True))
+                                _args.number(support_isotropy, "support_isotropy", positive=True),
+                                None if warm_start is None else _args.flag(warm_start, "warm_start"))
 
 
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,
