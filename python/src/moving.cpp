@@ -40,8 +40,19 @@ std::unique_ptr<Operators> make_operators(const py::object& self, const std::str
   return std::make_unique<Operators>(cloud, std::move(o));
 }
 
+using PositionArray = py::array_t<Real, py::array::c_style | py::array::forcecast>;
+
+// The rows of an (N, dim) array of positions (its shape checked by the caller) as points.
+std::vector<Vec3> points_of(const PositionArray& x, int dim) {
+  std::vector<Vec3> p(static_cast<std::size_t>(x.shape(0)), Vec3::Zero());
+  const Real* data = x.data();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int k = 0; k < dim; ++k) p[i][k] = data[i * static_cast<std::size_t>(dim) + static_cast<std::size_t>(k)];
+  return p;
+}
+
 void update(Operators& ops, const py::handle& positions) {
-  const auto x = py::array_t<Real, py::array::c_style | py::array::forcecast>::ensure(positions);
+  const auto x = PositionArray::ensure(positions);
   check<InputError>(static_cast<bool>(x), "update: positions must be an (N, dim) array of numbers");
   const Index n = ops.cloud().size();
   const int dim = ops.cloud().dim;
@@ -52,10 +63,7 @@ void update(Operators& ops, const py::handle& positions) {
   check<InputError>(x.ndim() == 2 && x.shape(0) == n && x.shape(1) == dim, "update: positions of shape ", shape, " for ",
                     n, " particles in ", dim, "D: give an (N, dim) = (", n, ", ", dim,
                     ") array (particles cannot be added or removed: build new Operators)");
-  std::vector<Vec3> p(static_cast<std::size_t>(n), Vec3::Zero());
-  const Real* data = x.data();
-  for (Index i = 0; i < n; ++i)
-    for (int k = 0; k < dim; ++k) p[static_cast<std::size_t>(i)][k] = data[i * dim + k];
+  const std::vector<Vec3> p = points_of(x, dim);
   py::gil_scoped_release release;
   ops.update(p);
 }
@@ -64,22 +72,27 @@ void update(Operators& ops, const py::handle& positions) {
 // other axes untouched: what an update on a periodic box wants, as the library refuses rather
 // than wraps.
 py::array_t<Real> wrap(const Operators& ops, const py::handle& positions) {
-  const auto x = py::array_t<Real, py::array::c_style | py::array::forcecast>::ensure(positions);
+  const auto x = PositionArray::ensure(positions);
   const int dim = ops.cloud().dim;
   check<InputError>(static_cast<bool>(x) && x.ndim() == 2 && x.shape(1) == dim, "wrap: positions must be an (N, ", dim,
                     ") array of numbers");
-  const Domain& domain = ops.cloud().domain;
-  py::array_t<Real> out({x.shape(0), static_cast<py::ssize_t>(dim)});
-  const Real* in = x.data();
-  Real* o = out.mutable_data();
-  for (py::ssize_t i = 0; i < x.shape(0); ++i) {
-    Vec3 p = Vec3::Zero();
-    for (int k = 0; k < dim; ++k) p[k] = in[i * dim + k];
-    for (int k = 0; k < dim; ++k)
-      check<InputError>(std::isfinite(p[k]), "wrap: particle ", i, " has a coordinate that is not finite (", p[k], ")");
-    const Vec3 w = domain.wrap(p);
-    for (int k = 0; k < dim; ++k) o[i * dim + k] = w[k];
+  const Domain& box = ops.cloud().domain;
+  std::vector<Vec3> p = points_of(x, dim);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (int k = 0; k < dim; ++k) {
+      check<InputError>(std::isfinite(p[i][k]), "wrap: particle ", i, " has a coordinate that is not finite (", p[i][k], ")");
+      // 2^52 periods away, x mod the period is lost to rounding: the wrapped place would be garbage.
+      check<InputError>(!box.periodic[static_cast<std::size_t>(k)] ||
+                            std::abs(p[i][k] - box.lo[k]) <= 0x1p52 * box.period(k),
+                        "wrap: particle ", i, " at ", "xyz"[k], " = ", p[i][k], " is more than 2^52 periods from the box: "
+                        "its place in the box is lost to rounding");
+    }
+    p[i] = box.wrap(p[i]);
   }
+  py::array_t<Real> out({x.shape(0), static_cast<py::ssize_t>(dim)});
+  Real* o = out.mutable_data();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int k = 0; k < dim; ++k) o[i * static_cast<std::size_t>(dim) + static_cast<std::size_t>(k)] = p[i][k];
   return out;
 }
 

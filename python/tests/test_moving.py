@@ -154,6 +154,9 @@ def test_wrap_moves_particles_back_into_the_box_along_its_periodic_axes_only():
         ops.wrap(np.zeros((3, 3)))
     with pytest.raises(vrsph.InputError, match="wrap: particle 1 has a coordinate that is not finite"):
         ops.wrap(np.array([[0.1, 0.1], [np.nan, 0.2]]))
+    with pytest.raises(vrsph.InputError, match="wrap: particle 0 at x = 1e.300 is more than 2.52 periods from the box"):
+        ops.wrap(np.array([[1e300, 0.1]]))
+    np.testing.assert_array_equal(ops.wrap([[0.5, 1e300]]), [[0.5, 1e300]])  # y is not periodic: left to update
 
 
 def test_support_isotropy_is_one_inside_a_lattice_and_falls_when_it_is_stretched():

@@ -236,23 +236,22 @@ class Operators:
                                       _args.options(options, "options"), _args.number(skin, "skin", minimum=0.0),
                                       _args.flag(warm_start, "warm_start"))
 
-    def update(self, positions: Any) -> None:
+    @staticmethod
+    def _positions(positions: Any) -> np.ndarray:
         try:
-            x = np.asarray(positions, dtype=float)
+            return np.asarray(positions, dtype=float)
         except (TypeError, ValueError) as e:
             raise ArgumentTypeError(f"the parameter positions must be an (N, dim) array of numbers: {e}") from None
-        self._ops.update(x)
+
+    def update(self, positions: Any) -> None:
+        self._ops.update(self._positions(positions))
 
     def wrap(self, positions: Any) -> np.ndarray:
         """``positions`` (N, dim) moved into the cloud's periodic box along its periodic axes
         (lo + (x - lo) mod period; the other axes as given): ``update`` refuses a particle outside
         the box rather than wrapping it, so a time step that moves particles across a periodic
         face calls ``ops.update(ops.wrap(x))``."""
-        try:
-            x = np.asarray(positions, dtype=float)
-        except (TypeError, ValueError) as e:
-            raise ArgumentTypeError(f"the parameter positions must be an (N, dim) array of numbers: {e}") from None
-        return self._ops.wrap(x)
+        return self._ops.wrap(self._positions(positions))
 
     @property
     def positions(self) -> np.ndarray:
