@@ -9,6 +9,7 @@
 #include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/moving/operators.hpp>
+#include <vrsph/stencil/algebra.hpp>
 #include <vrsph/stencil/apply.hpp>
 
 namespace vrsph {
@@ -18,6 +19,11 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
   method_ = builtin_methods().create(options_.method, options_.method_options);
   if (!options_.gradient_method.empty())
     gradient_method_ = builtin_methods().create(options_.gradient_method, options_.gradient_method_options);
+  if (!options_.marked_gradient_method.empty()) {
+    marked_method_ = builtin_methods().create(options_.marked_gradient_method, options_.marked_gradient_method_options);
+    check<ConfigError>(marked_method_->info().provides(OperatorKind::Gradient), "operators: the marked rows' method ",
+                       options_.marked_gradient_method, " has no gradient operator");
+  }
   check<ConfigError>(!options_.operators.empty(), "operators: no operator asked for");
   for (const OperatorKind k : options_.operators) {
     check<ConfigError>(k != OperatorKind::DivAGrad, "operators: div-a-grad needs a coefficient at the moving particles, "
@@ -26,7 +32,7 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
                        to_string(k), " operator");
     const bool repeated = std::count(options_.operators.begin(), options_.operators.end(), k) > 1;
     check<ConfigError>(!repeated, "operators: ", to_string(k), " asked for twice");
-    kept_.push_back({k, Stencil{}, nullptr});
+    kept_.emplace_back().kind = k;
   }
   check<ConfigError>(std::isfinite(options_.skin) && options_.skin >= 0, "operators: the Verlet skin (a fraction of the "
                      "support radius) must be finite and >= 0, got ", options_.skin);
@@ -106,6 +112,14 @@ const NeighbourList& Operators::update_neighbours() {
   return nl;
 }
 
+namespace {
+
+bool first_derivative(OperatorKind kind) {
+  return kind == OperatorKind::Gradient || kind == OperatorKind::Dx || kind == OperatorKind::Dy || kind == OperatorKind::Dz;
+}
+
+}  // namespace
+
 void Operators::update_stencils(const NeighbourList& nl) {
   const Stopwatch watch;
   stats_.warm_rows = stats_.warm_hits = 0;
@@ -114,36 +128,69 @@ void Operators::update_stencils(const NeighbourList& nl) {
     StencilRequest req;
     req.kind = k.kind;
     req.use = options_.use;
-    // A periodic box whose rows need more than pair vectors: built afresh on the periodic images,
-    // columns folded back. Otherwise (VRSPH's point rows) the minimum-image list serves directly.
     const Method& method = method_of(k.kind);
     if (k.kind == OperatorKind::Hessian) {  // rows read only pair vectors: the minimum-image list serves
       k.stencil = hessian_rows(disc, req, method.info().name);
       continue;
     }
-    if (!nl.shifts.empty() && !method.reads_periodic_pairs(req)) {
-      k.stencil = periodic_stencil(method, cloud_, search_params(), options_.kernel, spacing_, req);
-      continue;
-    }
-    method.rebuild(disc, req, k.stencil, k.state, options_.warm_start);
-    const auto [rows, hits] = method.warm_start_counts(k.state.get());
-    stats_.warm_rows += rows;
-    stats_.warm_hits += hits;
+    build_rows(method, disc, req, k.stencil, k.state);
+    splice_marked(k, disc);
   }
   stats_.seconds_stencils = watch.seconds();
 }
 
+void Operators::build_rows(const Method& method, const Discretisation& disc, StencilRequest req, Stencil& out,
+                           std::unique_ptr<BuildState>& state) {
+  // A periodic box whose rows need more than pair vectors: built afresh on the periodic images,
+  // columns folded back. Otherwise (VRSPH's point rows) the minimum-image list serves directly.
+  if (!disc.neighbours.shifts.empty() && !method.reads_periodic_pairs(req)) {
+    out = periodic_stencil(method, cloud_, search_params(), options_.kernel, spacing_, req);
+    return;
+  }
+  method.rebuild(disc, req, out, state, options_.warm_start);
+  const auto [rows, hits] = method.warm_start_counts(state.get());
+  stats_.warm_rows += rows;
+  stats_.warm_hits += hits;
+}
+
+void Operators::splice_marked(Kept& k, const Discretisation& disc) {
+  k.use_spliced = marked_method_ && first_derivative(k.kind) &&
+                  std::any_of(marked_.begin(), marked_.end(), [](char c) { return c != 0; });
+  if (!k.use_spliced) return;
+  StencilRequest req;
+  req.kind = k.kind;
+  req.use = options_.use;
+  req.rows = marked_;
+  build_rows(*marked_method_, disc, req, k.marked, k.marked_state);
+  splice_rows(k.stencil, k.marked, marked_, k.spliced);
+}
+
+void Operators::set_marked_rows(std::vector<char> marked) {
+  check<InputError>(marked.empty() || static_cast<Index>(marked.size()) == cloud_.size(), "operators: ", marked.size(),
+                    " marked-row flags for ", cloud_.size(), " particles (one per particle, or none)");
+  const bool any = std::any_of(marked.begin(), marked.end(), [](char c) { return c != 0; });
+  check<ConfigError>(!any || marked_method_, "operators: rows were marked but no marked_gradient_method builds them");
+  std::vector<char> before = std::move(marked_);
+  marked_ = std::move(marked);
+  const Discretisation disc{cloud_, verlet_->list(), options_.kernel, spacing_};
+  try {
+    for (Kept& k : kept_) splice_marked(k, disc);
+  } catch (...) {
+    marked_ = std::move(before);
+    for (Kept& k : kept_) splice_marked(k, disc);
+    throw;
+  }
+}
+
 const Method& Operators::method_of(OperatorKind kind) const {
-  const bool first_derivative = kind == OperatorKind::Gradient || kind == OperatorKind::Dx || kind == OperatorKind::Dy ||
-                                kind == OperatorKind::Dz;
-  return first_derivative && gradient_method_ ? *gradient_method_ : *method_;
+  return first_derivative(kind) && gradient_method_ ? *gradient_method_ : *method_;
 }
 
 const NeighbourList& Operators::neighbours() const { return verlet_->list(); }
 
 const Stencil& Operators::stencil(OperatorKind kind) const {
   for (const Kept& k : kept_)
-    if (k.kind == kind) return k.stencil;
+    if (k.kind == kind) return k.use_spliced ? k.spliced : k.stencil;
   throw ConfigError(detail::concat("operators: no ", to_string(kind), " stencil kept (ask for it in the operators)"));
 }
 

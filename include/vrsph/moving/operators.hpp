@@ -27,6 +27,12 @@ struct OperatorsOptions {
   /// gradient (docs/flow.md). Both share the one neighbour list.
   std::string gradient_method;
   MethodOptions gradient_method_options;
+  /// The method of the first-derivative rows at the particles the caller marks (set_marked_rows;
+  /// empty: no rows are marked): rows whose supports are cut, e.g. a free surface's, where a
+  /// flow's quadratic least-squares gradient is one-sided and a linear fit is stable
+  /// (docs/free_surface.md). The marked rows are rebuilt with it at every update.
+  std::string marked_gradient_method;
+  MethodOptions marked_gradient_method_options;
   KernelType kernel = KernelType::CubicSpline;
   Real h_factor = 3;  ///< support radius = h_factor x spacing (estimate_spacing: the cloud's, else from its nearest distances)
   Real radius = 0;    ///< > 0: this support radius instead
@@ -79,6 +85,13 @@ class Operators {
   /// The support radius of each particle's row (all radius() unless set_support_radii).
   const std::vector<Real>& support_radii() const;
 
+  /// Marks particles (one flag per particle; empty: none) whose first-derivative rows (gradient,
+  /// dx/dy/dz) marked_gradient_method builds, from now on and at every update until marked
+  /// again: their rows are rebuilt now. ConfigError without a marked_gradient_method (unless
+  /// the flags are all 0), InputError for another count; nothing changed when it throws.
+  void set_marked_rows(std::vector<char> marked);
+  const std::vector<char>& marked_rows() const { return marked_; }
+
   const PointCloud& cloud() const { return cloud_; }
   Real radius() const { return radius_; }
   Real spacing() const { return spacing_; }
@@ -99,14 +112,23 @@ class Operators {
 
   struct Kept {
     OperatorKind kind;
-    Stencil stencil;
+    Stencil stencil;  ///< the method's rows everywhere
     std::unique_ptr<BuildState> state;
+    Stencil marked;   ///< marked_gradient_method's rows at the marked particles (others empty)
+    std::unique_ptr<BuildState> marked_state;
+    Stencil spliced;  ///< stencil with the marked rows from `marked`: what stencil() gives when rows are marked
+    bool use_spliced = false;
   };
+  void build_rows(const Method& method, const Discretisation& disc, StencilRequest req, Stencil& out,
+                  std::unique_ptr<BuildState>& state);
+  void splice_marked(Kept& k, const Discretisation& disc);
   PointCloud cloud_;
   OperatorsOptions options_;
   const Method& method_of(OperatorKind kind) const;
   std::unique_ptr<Method> method_;
   std::unique_ptr<Method> gradient_method_;  ///< null: method_ builds the first derivatives too
+  std::unique_ptr<Method> marked_method_;    ///< null: no marked rows
+  std::vector<char> marked_;                 ///< set_marked_rows's flags (empty or all 0: none)
   Real spacing_ = 0, radius_ = 0;
   std::unique_ptr<VerletNeighbours> verlet_;
   std::vector<Vec3> previous_;   ///< the positions before the update under way

@@ -312,3 +312,67 @@ TEST(MovingOperators, AFailedUpdateLeavesTheOperatorsAsTheyWere) {
   EXPECT_THROW(Operators(sc.cloud, bad), ConfigError);
   EXPECT_THROW(ops.stencil(OperatorKind::Dx), ConfigError);
 }
+
+// Marked rows (a flow's free surface): their first-derivative rows from marked_gradient_method,
+// the others from the gradient's method, on the box and on a periodic one (built on the images),
+// kept through updates; the Laplacian untouched; unmarked again, the plain rows.
+TEST(MovingOperators, MarkedRowsTakeTheirOwnGradientMethodThroughUpdates) {
+  for (const std::string periodic : {"", "x"}) {
+    const StudyCloud sc = operators_cloud(2, periodic);
+    OperatorsOptions o;
+    o.warm_start = false;
+    o.operators = {OperatorKind::Laplacian, OperatorKind::Gradient, OperatorKind::Dx};
+    o.gradient_method = "fpm";
+    o.gradient_method_options.set("gradient_order", "2");
+    o.marked_gradient_method = "fpm";
+    o.marked_gradient_method_options.set("gradient_order", "1");
+    Operators ops(sc.cloud, o);
+    const Stencil laplacian = ops.stencil(OperatorKind::Laplacian);
+    std::vector<char> marked(static_cast<std::size_t>(ops.cloud().size()), 0);
+    for (std::size_t i = 0; i < marked.size(); ++i) marked[i] = ops.cloud().positions[i][1] > 0.8;  // a top band
+    ops.set_marked_rows(marked);
+    EXPECT_EQ(ops.marked_rows(), marked);
+    expect_same_stencil(ops.stencil(OperatorKind::Laplacian), laplacian);
+    for (int step = 0; step < 3; ++step) {
+      if (step > 0) ops.update(advect(ops.cloud(), 0.004));
+      Operators quadratic(ops.cloud(), [&] { OperatorsOptions q = o; q.marked_gradient_method.clear(); return q; }());
+      OperatorsOptions lo = o;
+      lo.gradient_method_options.set("gradient_order", "1");
+      lo.marked_gradient_method.clear();
+      const Operators linear(ops.cloud(), lo);
+      for (const OperatorKind k : {OperatorKind::Gradient, OperatorKind::Dx}) {
+        Field u(ops.cloud().size());
+        for (Index i = 0; i < u.size(); ++i) u[i] = std::sin(2.0 * i) + ops.cloud().positions[static_cast<std::size_t>(i)][0];
+        const Eigen::MatrixXd got = ops.apply(k, u), q = quadratic.apply(k, u), l = linear.apply(k, u);
+        for (Index i = 0; i < u.size(); ++i)
+          for (Index c = 0; c < got.cols(); ++c)
+            EXPECT_EQ(got(i, c), marked[static_cast<std::size_t>(i)] ? l(i, c) : q(i, c)) << periodic << " step " << step;
+      }
+      // Both fits are exact on a linear field (along y alone on the box periodic in x).
+      const Real ax = periodic.empty() ? 2 : 0;
+      Field x(ops.cloud().size());
+      for (Index i = 0; i < x.size(); ++i) {
+        const Vec3& p = ops.cloud().positions[static_cast<std::size_t>(i)];
+        x[i] = ax * p[0] - p[1];
+      }
+      const Eigen::MatrixXd g = ops.apply(OperatorKind::Gradient, x);
+      for (Index i = 0; i < x.size(); ++i) {
+        EXPECT_NEAR(g(i, 0), ax, 1e-9);
+        EXPECT_NEAR(g(i, 1), -1, 1e-9);
+      }
+    }
+    ops.set_marked_rows({});
+    Operators plain(ops.cloud(), [&] { OperatorsOptions q = o; q.marked_gradient_method.clear(); return q; }());
+    expect_same_stencil(ops.stencil(OperatorKind::Gradient), plain.stencil(OperatorKind::Gradient));
+    EXPECT_THROW_MSG(ops.set_marked_rows({1, 0}), InputError, "2 marked-row flags for");
+    EXPECT_TRUE(ops.marked_rows().empty());  // nothing changed
+  }
+  const StudyCloud sc = operators_cloud(2);
+  Operators without(sc.cloud, {});
+  without.set_marked_rows(std::vector<char>(static_cast<std::size_t>(sc.cloud.size()), 0));  // none marked: fine
+  EXPECT_THROW_MSG(without.set_marked_rows(std::vector<char>(static_cast<std::size_t>(sc.cloud.size()), 1)), ConfigError,
+                   "no marked_gradient_method");
+  OperatorsOptions bad;
+  bad.marked_gradient_method = "nonesuch";
+  EXPECT_THROW(Operators(sc.cloud, bad), ConfigError);
+}

@@ -4,6 +4,7 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
+#include <vrsph/stencil/algebra.hpp>
 #include <vrsph/stencil/apply.hpp>
 #include "test_util.hpp"
 
@@ -79,4 +80,43 @@ TEST(Stencil, OperatorNamesRoundTrip) {
   EXPECT_EQ(parse_operator("hessian"), OperatorKind::Hessian);
   EXPECT_EQ(components(OperatorKind::Gradient, 3), 3);
   EXPECT_EQ(components(OperatorKind::Laplacian, 3), 1);
+}
+
+// Splicing: the marked rows from one stencil, the others from another, whatever their patterns
+// (FPM's Laplacian over the neighbour list against RKPM's nested one over two rings), each row's
+// per-row outputs with it, and applied it gives each source's result on its own rows.
+TEST(Stencil, SplicedRowsComeFromTheirOwnStencilWithTheirOutputs) {
+  Fixture f;
+  const Discretisation disc{f.cloud, f.nl, KernelType::CubicSpline, f.cloud.spacing};
+  const Stencil base = builtin_methods().create("fpm")->build(disc, {OperatorKind::Laplacian});
+  const Stencil from = builtin_methods().create("rkpm1")->build(disc, {OperatorKind::Laplacian});  // two rings
+  ASSERT_NE(base.nnz(), from.nnz());  // another pattern
+  ASSERT_FALSE(base.condition.empty());
+  std::vector<char> rows(static_cast<std::size_t>(f.cloud.size()), 0);
+  for (std::size_t i = 0; i < rows.size(); i += 3) rows[i] = 1;
+  Stencil out;
+  splice_rows(base, from, rows, out);
+  ASSERT_EQ(out.rows(), base.rows());
+  Field u(f.cloud.size());
+  for (Index i = 0; i < u.size(); ++i) u[i] = std::cos(0.7 * i);
+  const Eigen::MatrixXd a = apply(out, u), b = apply(base, u), c = apply(from, u);
+  for (Index i = 0; i < out.rows(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const Stencil& src = rows[si] ? from : base;
+    EXPECT_EQ(out.row_end(i) - out.row_begin(i), src.row_end(i) - src.row_begin(i));
+    EXPECT_EQ(out.col[static_cast<std::size_t>(out.diag[si])], i);
+    EXPECT_EQ(a(i, 0), rows[si] ? c(i, 0) : b(i, 0));  // bitwise: the same entries in the same order
+    EXPECT_EQ(out.condition[si], src.condition.empty() ? 0.0 : src.condition[si]);
+  }
+  EXPECT_EQ(out.method, "fpm");
+  Stencil no_outputs = from;  // an output only one stencil has: 0 in the other's rows
+  no_outputs.condition.clear();
+  splice_rows(base, no_outputs, rows, out);
+  for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(out.condition[i], rows[i] ? 0.0 : base.condition[i]);
+  splice_rows(base, from, std::vector<char>(rows.size(), 0), out);  // nothing marked: base itself
+  EXPECT_EQ(out.col, base.col);
+  EXPECT_EQ(out.values, base.values);
+  EXPECT_THROW_MSG(splice_rows(base, from, std::vector<char>(3, 1), out), InputError, "3 entries for");
+  const Stencil gradient = builtin_methods().create("fpm")->build(disc, {OperatorKind::Gradient});
+  EXPECT_THROW_MSG(splice_rows(base, gradient, rows, out), InputError, "cannot take rows of a gradient stencil");
 }
