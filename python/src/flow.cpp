@@ -234,7 +234,7 @@ void bind_flow(py::module_& m) {
       });
   m.def("_hydrostatic", [](int nx, int dim, const std::string& frame, const std::string& method, double jitter,
                            std::uint64_t seed, double t_end, double gravity, double ramp, double h_factor,
-                           const py::dict& options) {
+                           const py::dict& options, const std::string& surface_gradient) {
     HydrostaticRunOptions o;
     o.tank.dim = dim;
     o.tank.nx = nx;
@@ -244,6 +244,7 @@ void bind_flow(py::module_& m) {
     o.gravity = gravity;
     o.ramp = ramp;
     o.flow = flow_options(frame, method, "auto", 0.01, "rk3", h_factor, "cubic", options, "none", 0, false, "explicit");
+    o.flow.surface_gradient = parse_surface_gradient(surface_gradient);
     HydrostaticRow r;
     {
       py::gil_scoped_release release;
@@ -270,10 +271,12 @@ void bind_flow(py::module_& m) {
     d["line_p"] = r.line_p;
     return d;
   }, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("jitter"), py::arg("seed"),
-     py::arg("t_end"), py::arg("gravity"), py::arg("ramp"), py::arg("h_factor"), py::arg("options"));
+     py::arg("t_end"), py::arg("gravity"), py::arg("ramp"), py::arg("h_factor"), py::arg("options"),
+     py::arg("surface_gradient"));
   m.def("_dam_break", [](int nx, const std::string& method, double jitter, std::uint64_t seed, double t_star_end,
                          const std::string& shifting, double cfl, double h_factor, const py::dict& options,
-                         const std::string& geometry, const std::string& wall_acceleration) {
+                         const std::string& geometry, const std::string& wall_acceleration,
+                         const std::string& surface_gradient) {
     DamBreakRunOptions o;
     o.geometry = parse_dam_break_geometry(geometry);
     o.nx = nx;
@@ -283,6 +286,7 @@ void bind_flow(py::module_& m) {
     o.cfl = cfl;
     o.flow = flow_options("lagrangian", method, "auto", 0.01, "rk3", h_factor, "cubic", options, shifting, 0, false, "explicit");
     o.flow.wall_acceleration = parse_wall_acceleration(wall_acceleration);
+    o.flow.surface_gradient = parse_surface_gradient(surface_gradient);
     DamBreakRun r;
     {
       py::gil_scoped_release release;
@@ -320,7 +324,8 @@ void bind_flow(py::module_& m) {
     d["seconds_per_step"] = r.seconds_per_step;
     return d;
   }, py::arg("nx"), py::arg("method"), py::arg("jitter"), py::arg("seed"), py::arg("t_star_end"), py::arg("shifting"),
-     py::arg("cfl"), py::arg("h_factor"), py::arg("options"), py::arg("geometry"), py::arg("wall_acceleration"));
+     py::arg("cfl"), py::arg("h_factor"), py::arg("options"), py::arg("geometry"), py::arg("wall_acceleration"),
+     py::arg("surface_gradient"));
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
         py::arg("options"), py::arg("viscosity"), py::arg("frame"), py::arg("shifting"), py::arg("wall_layers"));

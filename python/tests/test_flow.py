@@ -109,6 +109,12 @@ def test_hydrostatic_tank_and_a_free_surface_flow():
     assert row["max_speed_after_ramp"] < 1e-3
     assert row["surface_particles"] == 9
     assert len(row["line_p"]) == 41
+    # The surface rows' gradient: the flow's quadratic fit there too ("same") gives another run;
+    # both hold the tank still over t = 1 (the quadratic rows' slow growth shows after t = 4).
+    same = vrsph.hydrostatic(nx=10, jitter=0.2, t_end=1.0, surface_gradient="same")
+    assert same["max_speed_after_ramp"] < 1e-3 and same["max_speed"] != row["max_speed"]
+    with pytest.raises(vrsph.ConfigError, match="unknown surface gradient"):
+        vrsph.hydrostatic(nx=10, surface_gradient="cubic")
     # A closed box has no free surface: the flags and the gravity reach the solver, which says so.
     box = vrsph.cloud.perturbed(dim=2, n=10, delta=0.2, seed=2)
     with pytest.raises(vrsph.GeometryError, match="no free-surface particle"):
@@ -129,6 +135,8 @@ def test_dam_break_front_and_references():
     assert row["max_outside_experiments"] < 0.25
     with pytest.raises(vrsph.ConfigError, match="unknown shifting"):
         vrsph.dam_break(nx=10, shifting="sideways")
+    with pytest.raises(vrsph.ConfigError, match="unknown surface gradient"):
+        vrsph.dam_break(nx=10, surface_gradient="")
     assert np.isnan(row["probe_pressure"]).all()  # the probe is Buchner's tank's
 
 

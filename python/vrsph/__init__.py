@@ -447,22 +447,25 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
 
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,
                 seed: int = 1, t_end: float = 2.0, gravity: float = 1.0, ramp: float = 0.5, h_factor: float = 3.0,
-                options: Mapping[str, Any] | None = None) -> dict:
+                options: Mapping[str, Any] | None = None, surface_gradient: str = "linear") -> dict:
     """One row of ``vrsph flow --case hydrostatic``: water of depth 1 at rest in a tank of width 1
     (``nx`` intervals across) under gravity ramped in over ``ramp``, run to ``t_end``: the bottom
-    pressure against g H, the spurious speeds in (g H)^(1/2), the surface's particles."""
+    pressure against g H, the spurious speeds in (g H)^(1/2), the surface's particles.
+    ``surface_gradient`` as ``--surface-gradient``: "linear" (the gradient rows of the surface
+    particles without a wall neighbour a linear fit) or "same" (the flow's quadratic fit there
+    too)."""
     return _vrsph._hydrostatic(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
                                _args.text(frame, "frame"), _args.text(method, "method"),
                                _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
                                _args.number(t_end, "t_end", positive=True), _args.number(gravity, "gravity"),
                                _args.number(ramp, "ramp", minimum=0.0), _args.number(h_factor, "h_factor", positive=True),
-                               _args.options(options, "options"))
+                               _args.options(options, "options"), _args.text(surface_gradient, "surface_gradient"))
 
 
 def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: int = 1, t_star_end: float = 3.0,
               shifting: str = "xu", cfl: float = 0.25, h_factor: float = 3.0,
               options: Mapping[str, Any] | None = None, geometry: str = "martin-moyce",
-              wall_acceleration: str = "momentum") -> dict:
+              wall_acceleration: str = "momentum", surface_gradient: str = "linear") -> dict:
     """``vrsph flow --case dam-break`` for one method and resolution. ``geometry="martin-moyce"``
     (``nx`` intervals across the column L x 2L, tank 4L): the surge front z/L and the column's
     height at samples of T = t (2g/L)^(1/2), beside Martin & Moyce's experiments (their spread)
@@ -470,14 +473,15 @@ def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: in
     intervals across H, T = t (g/H)^(1/2)): also ``probe_pressure`` p/(rho g H) on the far wall at
     probe P1 beside Buchner's record (``probe_reference``). The run goes on after the front
     reaches the far wall (``far_wall_t_star``); ``wall_acceleration="body-force"`` lets it run
-    through the impact (docs/free_surface.md); ``stopped`` says why a run ended early (its
-    samples before are kept)."""
+    through the impact (docs/free_surface.md); ``surface_gradient`` as for :func:`hydrostatic`;
+    ``stopped`` says why a run ended early (its samples before are kept)."""
     return _vrsph._dam_break(_args.integer(nx, "nx", minimum=2), _args.text(method, "method"),
                              _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
                              _args.number(t_star_end, "t_star_end", positive=True), _args.text(shifting, "shifting"),
                              _args.number(cfl, "cfl", positive=True), _args.number(h_factor, "h_factor", positive=True),
                              _args.options(options, "options"), _args.text(geometry, "geometry"),
-                             _args.text(wall_acceleration, "wall_acceleration"))
+                             _args.text(wall_acceleration, "wall_acceleration"),
+                             _args.text(surface_gradient, "surface_gradient"))
 
 
 class Solution(dict):

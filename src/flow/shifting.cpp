@@ -19,6 +19,8 @@ std::vector<Vec3> shifting_displacements(const Discretisation& disc, const Shift
                                          const Eigen::MatrixXd& u, Real dt) {
   check<ConfigError>(std::isfinite(options.coefficient) && options.coefficient >= 0,
                      "shifting: the coefficient must be finite and >= 0, got ", options.coefficient);
+  check<ConfigError>(std::isfinite(options.max_shift) && options.max_shift >= 0,
+                     "shifting: the largest shift must be finite and >= 0 spacings (0: unbounded), got ", options.max_shift);
   const PointCloud& cloud = disc.cloud;
   const NeighbourList& nl = disc.neighbours;
   const int d = cloud.dim;
@@ -53,6 +55,8 @@ std::vector<Vec3> shifting_displacements(const Discretisation& disc, const Shift
       const Real volume = std::pow(disc.spacing, d);
       out = -beta * ell * u.row(i).norm() * dt * volume * sum;
     }
+    const Real limit = options.max_shift * disc.spacing;
+    if (limit > 0 && out.norm() > limit) out *= limit / out.norm();
   }
   return dr;
 }

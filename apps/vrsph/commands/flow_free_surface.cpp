@@ -28,10 +28,16 @@ void write_frame(VtuSeries& series, const FlowSolver& s) {
   series.write(s.time(), s.operators().cloud(),
                {{"velocity", s.velocity()}, {"pressure", Eigen::MatrixXd(s.pressure())}, surface_field(s), isotropy_field(s)});
 }
+// The surface particles' gradient rows as the table says it: "linear" (their fit lowered to
+// linear order, FlowOptions::surface_gradient) or "same" (the gradient's own rows there too).
+std::string surface_gradient_of(FlowOptions flow) {
+  flow.free_surface = true;  // as the case's run sets it
+  return flow_operators(flow).marked_gradient_method.empty() ? "same" : "linear";
+}
 }  // namespace
 
 const std::vector<std::string> hydrostatic_columns = {
-    "case", "method", "gradient", "frame", "dim", "nx", "particles", "water_particles", "t", "steps", "dt",
+    "case", "method", "gradient", "surface_gradient", "frame", "dim", "nx", "particles", "water_particles", "t", "steps", "dt",
     "bottom_pressure", "bottom_pressure_error", "order_bottom_pressure", "pressure_profile_error", "max_speed",
     "max_speed_after_ramp", "surface_particles", "surface_rise", "surface_drop", "max_div_u", "ppe_iterations_per_step",
     "seconds_setup", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
@@ -94,7 +100,8 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
       errors["order_bottom_pressure"].push_back(r.bottom_pressure_error);
       const OperatorsOptions ops = flow_operators(o.flow);
       t.add_row({{"case", std::string("hydrostatic")}, {"method", m},
-                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"frame", a.frame},
+                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method},
+                 {"surface_gradient", surface_gradient_of(o.flow)}, {"frame", a.frame},
                  {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
                  {"particles", static_cast<long long>(r.particles)},
                  {"water_particles", static_cast<long long>(r.water_particles)}, {"t", r.t},
@@ -130,7 +137,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
 }
 
 const std::vector<std::string> dam_break_columns = {
-    "case", "method", "gradient", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
+    "case", "method", "gradient", "surface_gradient", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
     "experiment_low", "experiment_high", "outside_experiments", "mps_z_over_l", "max_speed", "surface_particles",
     "min_spacing", "probe_pressure", "probe_reference", "max_outside_experiments", "reached_far_wall",
     "far_wall_t_star", "probe_peak", "probe_peak_t_star", "reference_peak", "reference_peak_t_star", "probe_plateau",
@@ -190,7 +197,8 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
         const auto number = [](Real v) { return std::isfinite(v) ? TableCell(v) : TableCell(); };
         std::vector<std::pair<std::string, TableCell>> row = {
             {"case", std::string("dam-break")}, {"method", m},
-            {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"shifting", a.shifting},
+            {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method},
+            {"surface_gradient", surface_gradient_of(o.flow)}, {"shifting", a.shifting},
             {"nx", static_cast<long long>(n)}, {"particles", static_cast<long long>(r.particles)},
             {"t", buchner ? s.t_star : s.t_star / std::sqrt(2.0)}, {"t_star", s.t_star}, {"front_z_over_l", s.front_z_over_l},
             {"column_height_over_l", s.column_height_over_l}, {"experiment_low", number(s.experiment_low)},

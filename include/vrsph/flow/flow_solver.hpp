@@ -65,16 +65,29 @@ enum class FlowViscosity { Explicit, Implicit };
 /// thin front off the floor at nx = 40, BodyForce lets the run-up on the far wall rise and fall
 /// back where Momentum's wall term, the under-resolved shear of the jet, pumped it out of the tank.
 enum class WallAcceleration { Momentum, BodyForce };
+/// The first-derivative rows at free-surface particles, whose supports the air cuts, when the
+/// flow's gradient is a least-squares fit above linear order (FPM or KGF, gradient_order 2 or 3:
+/// the `auto` gradient beside VRSPH): Linear, that method's linear fit (gradient_order=1) at the
+/// surface particles without a wall particle among their neighbours (a wall's layers fill that
+/// side of a support), the higher order elsewhere; Same, the higher order there too (as before
+/// 2026-12-06). The one-sided quadratic fit at the surface row grew a dt-independent inviscid
+/// instability in a tank at rest (nx = 10: spurious speed e^{0.8 t}, 1.9e-2 by t = 20); the
+/// linear fit there holds it (docs/free_surface.md). Other gradients (a method's own) are left
+/// as they are.
+enum class SurfaceGradient { Linear, Same };
 /// "eulerian" | "lagrangian"; "rk2" | "rk3"; "explicit" | "implicit". ConfigError otherwise.
 FlowFrame parse_flow_frame(const std::string& name);
 FlowScheme parse_flow_scheme(const std::string& name);
 FlowViscosity parse_flow_viscosity(const std::string& name);
 /// "momentum" | "body-force"; ConfigError otherwise.
 WallAcceleration parse_wall_acceleration(const std::string& name);
+/// "linear" | "same"; ConfigError otherwise.
+SurfaceGradient parse_surface_gradient(const std::string& name);
 std::string to_string(FlowFrame f);
 std::string to_string(FlowScheme s);
 std::string to_string(FlowViscosity v);
 std::string to_string(WallAcceleration a);
+std::string to_string(SurfaceGradient g);
 
 /// Free surfaces: the largest condition number of a least-squares row (FPM's, the flow's
 /// gradient) that is used; rows beyond it are left zero (FlowSolver).
@@ -174,6 +187,8 @@ struct FlowOptions {
   Real body_force_ramp = 0;
   /// Free surfaces: what the walls' extrapolated pressure rows carry (WallAcceleration).
   WallAcceleration wall_acceleration = WallAcceleration::Momentum;
+  /// Free surfaces: the gradient rows at the surface particles (SurfaceGradient).
+  SurfaceGradient surface_gradient = SurfaceGradient::Linear;
   /// Without a body force, a step that leaves a particle faster than this many times the initial
   /// largest speed is an instability (NumericalError); 0: no such check. (The kinetic energy is
   /// checked too: it may not grow by 5 %.) With a body force g in a box closed along it: faster
@@ -211,7 +226,8 @@ struct FlowStepReport {
   std::vector<std::string> warnings;
 };
 
-/// The operators a flow with these options builds (FlowOptions::gradient resolved): ConfigError
+/// The operators a flow with these options builds (FlowOptions::gradient resolved; with a free
+/// surface and SurfaceGradient::Linear, marked_gradient_method the surface rows'): ConfigError
 /// for an unknown gradient choice.
 OperatorsOptions flow_operators(const FlowOptions& options);
 
@@ -281,6 +297,7 @@ class FlowSolver {
   Real force_limit() const;  ///< free surface: 0.25 (dx/|g|)^½, else infinity
   [[noreturn]] void explain_pressure_failure(const NumericalError& failure) const;
   void detect_surface();     ///< surface_ of the current positions
+  std::vector<char> open_surface_rows() const;  ///< surface particles without a wall neighbour (SurfaceGradient)
   void wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const;  ///< at walls: Σ_a G_a G_a u
   Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, Real t, FlowStepReport* r) const;
   Eigen::MatrixXd rate(const Eigen::MatrixXd& u, Real t, FlowStepReport& r);

@@ -9,6 +9,8 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/flow/flow_study.hpp>
 #include <vrsph/flow/projection.hpp>
+#include <vrsph/flow/shifting.hpp>
+#include <vrsph/neighbours/search.hpp>
 #include <vrsph/stencil/apply.hpp>
 #include "test_util.hpp"
 
@@ -554,6 +556,37 @@ TEST(FlowSolver, LagrangianParticlesMoveWithTheFlowAndShiftingSpreadsThem) {
   o.shifting.kind = Shifting::Lind;
   FlowSolver lind(c, vortex_at(c), o);
   EXPECT_GT(lind.step(dt).max_shift, 0);
+}
+
+// Xu's shift Σ x_ij / r_ij³ is singular as two particles meet: unbounded, a pair 1e-3 spacings
+// apart is thrown spacings away (a dam break's impact shifted a particle by 7 spacings in one
+// step). ShiftingOptions::max_shift bounds every shift, its direction kept.
+TEST(FlowSolver, ShiftsAreBoundedWhereParticlesNearlyMeet) {
+  PointCloud c = flow_cloud(16);
+  c.positions[1] = c.positions[0] + Vec3(1e-3 * c.spacing, 0, 0);
+  SearchParams sp;
+  sp.radius = 3 * c.spacing;
+  const NeighbourList nl = find_neighbours(c, sp);
+  const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
+  const Eigen::MatrixXd u = Eigen::MatrixXd::Ones(c.size(), 2);
+  for (const Shifting kind : {Shifting::Xu, Shifting::Lind}) {
+    ShiftingOptions o{kind};
+    o.max_shift = 0;
+    const std::vector<Vec3> free = shifting_displacements(disc, o, u, 0.01);
+    o.max_shift = 0.25;
+    const std::vector<Vec3> bounded = shifting_displacements(disc, o, u, 0.01);
+    Real longest = 0;
+    for (std::size_t i = 0; i < free.size(); ++i) {
+      longest = std::max(longest, free[i].norm() / c.spacing);
+      EXPECT_LE(bounded[i].norm(), 0.25 * c.spacing * (1 + 1e-12)) << i;
+      if (free[i].norm() <= 0.25 * c.spacing) EXPECT_EQ(bounded[i], free[i]) << i;  // untouched below the bound
+      else EXPECT_NEAR(bounded[i].normalized().dot(free[i].normalized()), 1.0, 1e-12) << i;
+    }
+    if (kind == Shifting::Xu) EXPECT_GT(longest, 1.0);  // unbounded: thrown past a neighbour
+  }
+  ShiftingOptions bad{Shifting::Xu};
+  bad.max_shift = -1;
+  EXPECT_THROW_MSG(shifting_displacements(disc, bad, u, 0.01), ConfigError, "largest shift");
 }
 
 TEST(FlowSolver, WithoutShiftingTheSupportsCloseOntoTheSaddlesSheetsAndXuShiftingKeepsThemOpen) {
