@@ -234,12 +234,13 @@ void bind_flow(py::module_& m) {
       });
   m.def("_hydrostatic", [](int nx, int dim, const std::string& frame, const std::string& method, double jitter,
                            std::uint64_t seed, double t_end, double gravity, double ramp, double h_factor,
-                           const py::dict& options, const std::string& surface_gradient) {
+                           const py::dict& options, const std::string& surface_gradient, double wall_height) {
     HydrostaticRunOptions o;
     o.tank.dim = dim;
     o.tank.nx = nx;
     o.tank.jitter = jitter;
     o.tank.seed = seed;
+    o.tank.wall_height = wall_height;  // 0: up to the water's level
     o.t_end = t_end;
     o.gravity = gravity;
     o.ramp = ramp;
@@ -272,7 +273,7 @@ void bind_flow(py::module_& m) {
     return d;
   }, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("jitter"), py::arg("seed"),
      py::arg("t_end"), py::arg("gravity"), py::arg("ramp"), py::arg("h_factor"), py::arg("options"),
-     py::arg("surface_gradient"));
+     py::arg("surface_gradient"), py::arg("wall_height"));
   m.def("_dam_break", [](int nx, const std::string& method, double jitter, std::uint64_t seed, double t_star_end,
                          const std::string& shifting, double cfl, double h_factor, const py::dict& options,
                          const std::string& geometry, const std::string& wall_acceleration,

@@ -115,6 +115,12 @@ def test_hydrostatic_tank_and_a_free_surface_flow():
     assert same["max_speed_after_ramp"] < 1e-3 and same["max_speed"] != row["max_speed"]
     with pytest.raises(vrsph.ConfigError, match="unknown surface gradient"):
         vrsph.hydrostatic(nx=10, surface_gradient="cubic")
+    # Walls 4 spacings above the water: the extrapolated wall rows carry the pressure's extension.
+    walled = vrsph.hydrostatic(nx=10, jitter=0.2, t_end=1.0, wall_height=1.4)
+    assert walled["bottom_pressure_error"] < 1e-3 and walled["max_speed_after_ramp"] < 1e-3
+    assert walled["particles"] > row["particles"]
+    with pytest.raises(vrsph.ConfigError, match="does not fit the tank"):
+        vrsph.hydrostatic(nx=10, wall_height=0.5)
     # A closed box has no free surface: the flags and the gravity reach the solver, which says so.
     box = vrsph.cloud.perturbed(dim=2, n=10, delta=0.2, seed=2)
     with pytest.raises(vrsph.GeometryError, match="no free-surface particle"):

@@ -447,19 +447,22 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
 
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,
                 seed: int = 1, t_end: float = 2.0, gravity: float = 1.0, ramp: float = 0.5, h_factor: float = 3.0,
-                options: Mapping[str, Any] | None = None, surface_gradient: str = "linear") -> dict:
+                options: Mapping[str, Any] | None = None, surface_gradient: str = "linear",
+                wall_height: float = 0.0) -> dict:
     """One row of ``vrsph flow --case hydrostatic``: water of depth 1 at rest in a tank of width 1
     (``nx`` intervals across) under gravity ramped in over ``ramp``, run to ``t_end``: the bottom
     pressure against g H, the spurious speeds in (g H)^(1/2), the surface's particles.
     ``surface_gradient`` as ``--surface-gradient``: "linear" (the gradient rows of the surface
     particles without a wall neighbour a linear fit) or "same" (the flow's quadratic fit there
-    too)."""
+    too). ``wall_height``: the walls' height (``--wall-height``; 0: the
+    water's depth, walls ending at its level)."""
     return _vrsph._hydrostatic(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
                                _args.text(frame, "frame"), _args.text(method, "method"),
                                _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
                                _args.number(t_end, "t_end", positive=True), _args.number(gravity, "gravity"),
                                _args.number(ramp, "ramp", minimum=0.0), _args.number(h_factor, "h_factor", positive=True),
-                               _args.options(options, "options"), _args.text(surface_gradient, "surface_gradient"))
+                               _args.options(options, "options"), _args.text(surface_gradient, "surface_gradient"),
+                               _args.number(wall_height, "wall_height", minimum=0.0))
 
 
 def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: int = 1, t_star_end: float = 3.0,

@@ -392,7 +392,8 @@ void run_flow(FlowArgs& a) {
                      "unknown --case '", a.flow_case, "' (known: taylor-green, projection, cavity, hydrostatic, dam-break)");
   const bool hydrostatic = a.flow_case == "hydrostatic", dam_break = a.flow_case == "dam-break";
   for (const auto& [value, name] : {std::pair{a.gravity != 1, "--gravity"}, {a.ramp != -1, "--ramp"},
-                                    {a.depth != 0, "--depth"}, {a.tank_width != 0, "--tank-width"}})
+                                    {a.depth != 0, "--depth"}, {a.tank_width != 0, "--tank-width"},
+                                    {a.wall_height != 0, "--wall-height"}})
     check<ConfigError>(hydrostatic || !value, name, " applies to --case hydrostatic");
   if ((hydrostatic || dam_break) && !a.frame_given) a.frame = "lagrangian";
   if (dam_break && !a.shifting_given) a.shifting = "xu";
@@ -507,6 +508,8 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--ramp", a->ramp, "Hydrostatic: gravity reaches |g| over this time (default 0.5 (H/g)^(1/2))");
   cmd->add_option("--depth", a->depth, "Hydrostatic: the water's depth H (default: the tank's width)");
   cmd->add_option("--tank-width", a->tank_width, "Hydrostatic: the tank's width (default 1; --nx intervals across it)");
+  cmd->add_option("--wall-height", a->wall_height, "Hydrostatic: the walls' height, a whole number of spacings at least the "
+                  "water's depth (default: the depth, walls ending at the water's level)");
   cmd->add_option("--wall-acceleration", a->wall_acceleration, "Free surfaces: the acceleration the walls' extrapolated "
                   "pressure carries from the water: momentum (nu lap u + g at the wall) | body-force (g alone, Adami et al. "
                   "2012: runs a dam break through its impact on the far wall at nx <= 20)")

@@ -33,6 +33,7 @@ struct FlowArgs {
   // Free-surface cases (flow_free_surface.cpp): |g|, its ramp time, the water's depth and width
   // (a dam break's column: width and height 2 width), the tank's width.
   double gravity = 1, ramp = -1, depth = 0, tank_width = 0;
+  double wall_height = 0;  // the hydrostatic tank's walls (TankSpec::wall_height); 0: up to the water's level
   std::string geometry = "martin-moyce";  // the dam break's tank (DamBreakGeometry)
   std::string wall_acceleration = "momentum";  // FlowOptions::wall_acceleration (free-surface cases)
   std::string surface_gradient = "linear";     // FlowOptions::surface_gradient (free-surface cases)

@@ -53,6 +53,8 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
   const Real depth = a.depth > 0 ? a.depth : width;
   check<ConfigError>(a.depth >= 0 && a.tank_width >= 0 && std::isfinite(a.depth) && std::isfinite(a.tank_width),
                      "--depth and --tank-width must be positive");
+  check<ConfigError>(std::isfinite(a.wall_height) && a.wall_height >= 0, "--wall-height must be positive (0: the "
+                     "water's depth), got ", a.wall_height);
   const Real scale = std::sqrt(a.gravity * depth);  // (g H)^½, the velocity scale
   const Real ramp = a.ramp >= 0 ? a.ramp : 0.5 * depth / scale;
   check<ConfigError>(std::isfinite(ramp), "--ramp must be finite and >= 0, got ", a.ramp);
@@ -73,6 +75,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
       o.tank.nx = n;
       o.tank.width = width;
       o.tank.depth = depth;
+      o.tank.wall_height = a.wall_height;  // 0: up to the water (run_hydrostatic)
       o.tank.jitter = a.cloud == "lattice" ? 0.0 : a.jitter;
       o.tank.seed = a.seed;
       if (a.wall_layers > 0) o.tank.wall_layers = a.wall_layers;
@@ -122,6 +125,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
   extra["gravity"] = a.gravity;
   extra["depth"] = depth;
   extra["tank_width"] = width;
+  extra["wall_height"] = a.wall_height > 0 ? a.wall_height : depth;
   extra["ramp"] = ramp;
   extra["t_end"] = t_end;
   extra["re"] = a.re;
