@@ -86,7 +86,9 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
                                         const py::dict& options, const std::string& shifting, double shift_coefficient,
                                         bool allow_unstable, const py::object& wall_velocity, const py::object& body_force,
                                         bool free_surface, double body_force_ramp, const std::string& viscosity,
-                                        double support_growth, double support_isotropy, std::optional<bool> warm_start) {
+                                        double support_growth, double support_isotropy, std::optional<bool> warm_start,
+                                        const std::string& wall_acceleration, const std::string& surface_gradient,
+                                        double wall_gap, double shift_limit) {
   const PointCloud& c = as_cloud(cloud);
   const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
   FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
@@ -100,6 +102,10 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
   o.support_growth = support_growth;
   o.support_isotropy_target = support_isotropy;
   o.warm_start = warm_start;
+  o.wall_acceleration = parse_wall_acceleration(wall_acceleration);
+  o.surface_gradient = parse_surface_gradient(surface_gradient);
+  o.wall_gap = wall_gap;
+  o.shifting.max_shift = shift_limit;
   if (!wall_velocity.is_none()) {
     // An (N, dim) array: the rows of the wall particles are their velocities (the rest unused).
     auto walls = std::make_shared<Eigen::MatrixXd>(matrix_from(wall_velocity, c.size(), c.dim, "wall_velocity"));
@@ -206,7 +212,9 @@ void bind_flow(py::module_& m) {
            py::arg("gradient"), py::arg("nu"), py::arg("scheme"), py::arg("h_factor"), py::arg("kernel"), py::arg("options"),
            py::arg("shifting"), py::arg("shift_coefficient"), py::arg("allow_unstable"), py::arg("wall_velocity"),
            py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"), py::arg("viscosity"),
-           py::arg("support_growth"), py::arg("support_isotropy"), py::arg("warm_start") = py::none())
+           py::arg("support_growth"), py::arg("support_isotropy"), py::arg("warm_start") = py::none(),
+           py::arg("wall_acceleration") = "momentum", py::arg("surface_gradient") = "linear", py::arg("wall_gap") = 0.0,
+           py::arg("shift_limit") = 0.25)
       .def("step", [](FlowSolver& s, double dt) {
         FlowStepReport r;
         {

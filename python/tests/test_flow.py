@@ -126,6 +126,14 @@ def test_hydrostatic_tank_and_a_free_surface_flow():
     with pytest.raises(vrsph.GeometryError, match="no free-surface particle"):
         vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", body_force=[0.0, -1.0], free_surface=True)
     closed = vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", body_force=[0.0, -1.0])
+    with pytest.raises(vrsph.ConfigError, match="unknown surface gradient"):
+        vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", body_force=[0.0, -1.0], surface_gradient="cubic")
+    with pytest.raises(vrsph.ConfigError, match="unknown wall acceleration"):
+        vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", body_force=[0.0, -1.0], wall_acceleration="none")
+    with pytest.raises(vrsph.ConfigError, match="wall gap must be in"):
+        vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", body_force=[0.0, -1.0], wall_gap=1.5)
+    with pytest.raises(vrsph.ConfigError, match="shift_limit"):
+        vrsph.Flow(box, np.zeros((len(box), 2)), frame="lagrangian", shifting="xu", shift_limit=-1.0)
     closed.step(0.5 * closed.stable_time_step())
     assert not closed.free_surface.any()
     # A closed box at rest under gravity stays at rest: 1.0e-6 after the step with this one layer

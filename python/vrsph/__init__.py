@@ -346,7 +346,12 @@ class Flow:
     to 9 spacings, capped below half the period, for a 2D Lagrangian flow on a periodic box without walls, free
     surface or shifting, 1 elsewhere. ``warm_start`` (VRSPH's volumes from each row's previous active
     set): None (the default) is off in that same case, where warm rows drift to less accurate ones
-    over many steps, and on elsewhere. ``method`` builds the Laplacian (pressure Poisson, viscous term);
+    over many steps, and on elsewhere. Free surfaces: ``wall_acceleration`` "momentum" or
+    "body-force" (what the walls' extrapolated pressure carries), ``surface_gradient`` "linear" (the
+    surface particles without a wall neighbour take the gradient's linear fit) or "same"; Lagrangian:
+    ``wall_gap`` (spacings a particle is kept off a wall's face; 0: none) and ``shift_limit`` (the
+    largest shift of a step, in spacings; 0: unbounded), as the CLI's options of those names.
+    ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""
 
@@ -355,7 +360,9 @@ class Flow:
                  options: Mapping[str, Any] | None = None, shifting: str = "none", shift_coefficient: float = 0.0,
                  allow_unstable: bool = False, wall_velocity: Any = None, body_force: Any = None,
                  free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit",
-                 support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None):
+                 support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None,
+                 wall_acceleration: str = "momentum", surface_gradient: str = "linear", wall_gap: float = 0.0,
+                 shift_limit: float = 0.25):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -371,7 +378,11 @@ class Flow:
                                      _args.text(viscosity, "viscosity"),
                                      _args.number(support_growth, "support_growth", minimum=0.0),
                                      _args.number(support_isotropy, "support_isotropy", positive=True),
-                                     None if warm_start is None else _args.flag(warm_start, "warm_start"))
+                                     None if warm_start is None else _args.flag(warm_start, "warm_start"),
+                                     _args.text(wall_acceleration, "wall_acceleration"),
+                                     _args.text(surface_gradient, "surface_gradient"),
+                                     _args.number(wall_gap, "wall_gap", minimum=0.0),
+                                     _args.number(shift_limit, "shift_limit", minimum=0.0))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))
