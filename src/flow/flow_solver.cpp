@@ -618,7 +618,16 @@ Eigen::MatrixXd FlowSolver::project_state(const Eigen::MatrixXd& w, FlowStepRepo
 
 void FlowSolver::move_to(const std::vector<Vec3>& x, FlowStepReport& r) {
   Stopwatch watch;
-  ops_->update(x);
+  // The surface's rows are marked anew after the detection below: unmarked for the update, which
+  // would otherwise build the old surface's rows only to replace them (kept if the update throws).
+  std::vector<char> marks = ops_->marked_rows();
+  if (!marks.empty()) ops_->set_marked_rows({});
+  try {
+    ops_->update(x);
+  } catch (...) {
+    if (!marks.empty()) ops_->set_marked_rows(std::move(marks));
+    throw;
+  }
   viscous_.reset();  // its matrix was the old positions'
   laplacian_bound_ = laplacian_radius(ops_->stencil(OperatorKind::Laplacian), eq_.walls, options_.frame);
   if (options_.free_surface) detect_surface();
