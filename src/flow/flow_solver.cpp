@@ -151,6 +151,10 @@ OperatorsOptions flow_operators(const FlowOptions& options) {
     o.gradient_method = options.gradient;
   }
   // The surface rows' linear fit (SurfaceGradient): the gradient's own method, one order lower.
+  // The flow marks the rows itself (the surface's, after each detection): a marked method given
+  // in options.operators is not used.
+  o.marked_gradient_method.clear();
+  o.marked_gradient_method_options = {};
   const bool fit = o.gradient_method == "fpm" || o.gradient_method == "kgf";
   const auto& given = o.gradient_method_options.values();
   const bool above_linear = !given.contains("gradient_order") || given.at("gradient_order") != "1";

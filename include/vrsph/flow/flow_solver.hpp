@@ -117,7 +117,8 @@ struct FlowOptions {
   /// walls at rest. It must not change in time, and walls may only slide along themselves
   /// (u·n = 0, checked).
   std::function<Vec3(Index, const Vec3&)> wall_velocity;
-  /// The method, kernel and support of the operators (Laplacian and gradient are kept).
+  /// The method, kernel and support of the operators (Laplacian and gradient are kept; the
+  /// marked rows' method is the flow's own choice, surface_gradient).
   OperatorsOptions operators;
   /// The first derivatives (the projection's G and D, the advection): "auto" (VRSPH: FPM's
   /// second-order least-squares gradient, with VRSPH's Laplacian taking prefer=near unless its
