@@ -45,19 +45,24 @@ void check_anchored_over_ranks(const Partition& part, const LinearSystem& sys, b
     offsets[static_cast<std::size_t>(i) + 1] = static_cast<Index>(targets.size());
   }
   const std::vector<char> reached = part.reach(offsets, targets, std::move(seeds));
-  long long floating = 0, first = std::numeric_limits<long long>::max();
+  // The first id as a double (exact below 2^53), +inf where none floats: converted back only when
+  // one does. (The largest long long as the sentinel came back from the double reduction as 2^63,
+  // outside long long: undefined behaviour, which UBSan reported on every connected system.)
+  long long floating = 0;
+  double first = std::numeric_limits<double>::infinity();
   for (Index d = 0; d < m; ++d) {
     const Index i = sys.particle_of_dof[static_cast<std::size_t>(d)];
     if (!reached[static_cast<std::size_t>(i)]) {
       ++floating;
-      first = std::min(first, part.global_id(i));
+      first = std::min(first, static_cast<double>(part.global_id(i)));
     }
   }
   floating = sum_over_ranks(comm, floating);
-  first = static_cast<long long>(-max_over_ranks(comm, -static_cast<double>(first)));
+  first = min_over_ranks(comm, first);
+  const long long first_id = floating > 0 ? static_cast<long long>(first) : -1;
   collective(comm, [&] {
     check<GeometryError>(floating == 0, floating, " unknown particle(s) are not connected to any Dirichlet particle "
-                         "(singular system); first: particle ", first);
+                         "(singular system); first: particle ", first_id);
   });
 }
 
