@@ -36,7 +36,13 @@ Index auto_direct_limit(int dimension) {
   // and between 3.4k and 6.9k in 3D; the limits sit below that because UMFPACK's memory
   // grows faster than its time (docs/solvers.md). 1D matrices are banded (fill-in O(nnz)).
   if (dimension == 1) return std::numeric_limits<Index>::max();
-  return dimension == 2 ? 20000 : 4000;
+  // Without PETSc the iterative choice is BiCGSTAB + ILUT. In 2D it was no faster than the direct
+  // solve at 2.5e4 and 1e5 unknowns, and its stop at a relative residual of 1e-10 left errors
+  // 100-1000 times the discretisation's (u = e^x sin 2y + x^2, a = 1 + xy, perturbed: 3.6e-8
+  // against 3.0e-10 at n = 160, 2.6e-8 against 2.5e-11 at n = 320; docs/solvers.md). In 3D it is
+  // 2-4 times faster with the direct solve's errors: the limit stays.
+  if (dimension == 2) return VRSPH_HAVE_PETSC ? 20000 : 250000;
+  return 4000;
 }
 
 SolverType auto_direct_solver() { return VRSPH_HAVE_SUITESPARSE ? SolverType::UmfPack : SolverType::SparseLU; }
