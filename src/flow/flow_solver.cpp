@@ -115,13 +115,6 @@ void count_solve(FlowStepReport& r, const SolveReport& solve, Real shift, double
   r.seconds_ppe += seconds;
 }
 
-// The options of the surface rows' fit: the gradient's, with gradient_order=1.
-MethodOptions surface_gradient_options(const OperatorsOptions& o) {
-  MethodOptions m = o.gradient_method_options;
-  m.set("gradient_order", "1");
-  return m;
-}
-
 }  // namespace
 
 OperatorsOptions flow_operators(const FlowOptions& options) {
@@ -160,7 +153,8 @@ OperatorsOptions flow_operators(const FlowOptions& options) {
   const bool above_linear = !given.contains("gradient_order") || given.at("gradient_order") != "1";
   if (options.free_surface && options.surface_gradient == SurfaceGradient::Linear && fit && above_linear) {
     o.marked_gradient_method = o.gradient_method;
-    o.marked_gradient_method_options = surface_gradient_options(o);
+    o.marked_gradient_method_options = o.gradient_method_options;  // its options, one order lower
+    o.marked_gradient_method_options.set("gradient_order", "1");
   }
   return o;
 }
@@ -216,11 +210,16 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
     // 1e18 through the methods' default limit of 1e12, and the row's weights of ~1e6 threw the
     // water out of the tank within a step (docs/free_surface.md). Healthy rows, one-sided ones at
     // a box's corners included, stay below 2e3 (FPM, perturbed boxes, 2D and 3D): 1e6 is the limit.
-    for (auto* m : {&options_.operators.method_options, &options_.operators.gradient_method_options}) {
-      const std::string& name = m == &options_.operators.method_options || options_.operators.gradient_method.empty()
-                                    ? options_.operators.method
-                                    : options_.operators.gradient_method;
-      const MethodInfo& info = builtin_methods().info(name);
+    // The same for every least-squares fit the flow builds: the Laplacian's method, the
+    // gradient's and the surface rows' (SurfaceGradient; empty name: none).
+    OperatorsOptions& ops = options_.operators;
+    const std::string& gradient = ops.gradient_method.empty() ? ops.method : ops.gradient_method;
+    const std::pair<MethodOptions*, const std::string*> fits[] = {{&ops.method_options, &ops.method},
+                                                                  {&ops.gradient_method_options, &gradient},
+                                                                  {&ops.marked_gradient_method_options, &ops.marked_gradient_method}};
+    for (const auto& [m, name] : fits) {
+      if (name->empty()) continue;
+      const MethodInfo& info = builtin_methods().info(*name);
       const auto declares = [&info](const char* key) {
         return std::any_of(info.options.begin(), info.options.end(), [key](const auto& kv) { return kv.first == key; });
       };
@@ -228,8 +227,6 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
       if (declares("max_condition") && !m->values().contains("max_condition"))
         m->set("max_condition", detail::concat(free_surface_max_condition));
     }
-    if (!options_.operators.marked_gradient_method.empty())  // the surface rows' fit: the same limit
-      options_.operators.marked_gradient_method_options = surface_gradient_options(options_.operators);
   }
   check<ConfigError>(options_.shifting.kind == Shifting::None || options_.frame == FlowFrame::Lagrangian,
                      "flow: particle shifting moves particles; it applies to the lagrangian frame only");
