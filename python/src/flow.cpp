@@ -88,7 +88,7 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
                                         bool free_surface, double body_force_ramp, const std::string& viscosity,
                                         double support_growth, double support_isotropy, std::optional<bool> warm_start,
                                         const std::string& wall_acceleration, const std::string& surface_gradient,
-                                        double wall_gap, double shift_limit) {
+                                        double wall_gap, double shift_limit, std::optional<int> pressure_corrections) {
   const PointCloud& c = as_cloud(cloud);
   const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
   FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
@@ -106,6 +106,7 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
   o.surface_gradient = parse_surface_gradient(surface_gradient);
   o.wall_gap = wall_gap;
   o.shifting.max_shift = shift_limit;
+  o.pressure_corrections = pressure_corrections;
   if (!wall_velocity.is_none()) {
     // An (N, dim) array: the rows of the wall particles are their velocities (the rest unused).
     auto walls = std::make_shared<Eigen::MatrixXd>(matrix_from(wall_velocity, c.size(), c.dim, "wall_velocity"));
@@ -214,7 +215,7 @@ void bind_flow(py::module_& m) {
            py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"), py::arg("viscosity"),
            py::arg("support_growth"), py::arg("support_isotropy"), py::arg("warm_start") = py::none(),
            py::arg("wall_acceleration") = "momentum", py::arg("surface_gradient") = "linear", py::arg("wall_gap") = 0.0,
-           py::arg("shift_limit") = 0.25)
+           py::arg("shift_limit") = 0.25, py::arg("pressure_corrections") = py::none())
       .def("step", [](FlowSolver& s, double dt) {
         FlowStepReport r;
         {

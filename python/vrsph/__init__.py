@@ -351,6 +351,9 @@ class Flow:
     surface particles without a wall neighbour take the gradient's linear fit) or "same"; Lagrangian:
     ``wall_gap`` (spacings a particle is kept off a wall's face; 0: none) and ``shift_limit`` (the
     largest shift of a step, in spacings; 0: unbounded), as the CLI's options of those names.
+    ``pressure_corrections``: defect corrections of every stage's pressure toward a divergence-free
+    rate (``--pressure-corrections``; 0: none, as before 2026-12-06; None, the default: 1 with
+    ``method="vrsph"``, 0 with the others; docs/flow.md).
     ``method`` builds the Laplacian (pressure Poisson, viscous term);
     ``gradient`` "auto" pairs VRSPH with FPM's second-order gradient. ``step(dt)`` returns the
     step's diagnostics; ``pressure()`` the pressure of the current velocity."""
@@ -362,7 +365,7 @@ class Flow:
                  free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit",
                  support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None,
                  wall_acceleration: str = "momentum", surface_gradient: str = "linear", wall_gap: float = 0.0,
-                 shift_limit: float = 0.25):
+                 shift_limit: float = 0.25, pressure_corrections: int | None = None):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -382,7 +385,9 @@ class Flow:
                                      _args.text(wall_acceleration, "wall_acceleration"),
                                      _args.text(surface_gradient, "surface_gradient"),
                                      _args.number(wall_gap, "wall_gap", minimum=0.0),
-                                     _args.number(shift_limit, "shift_limit", minimum=0.0))
+                                     _args.number(shift_limit, "shift_limit", minimum=0.0),
+                                     None if pressure_corrections is None else
+                                     _args.integer(pressure_corrections, "pressure_corrections", minimum=0))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))

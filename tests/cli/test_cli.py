@@ -440,12 +440,14 @@ class Study(unittest.TestCase):
 class Flow(unittest.TestCase):
     def test_taylor_green_rows(self):
         # The acceptance interface: rows[] with nx, t, error_u_mean, error_u_inf, error_p_mean,
-        # decay_rate_error, max_div_u, steps, seconds_per_step; errors falling with nx.
+        # decay_rate_error, max_div_u, steps, seconds_per_step; errors falling with nx (measured: velocity
+        # ratio 5.3 / 7.1, pressure order 1.63 / 1.62 in the Eulerian / Lagrangian frame; at nx = 16 the
+        # pressure is below its trend, so 16 -> 32 is not asymptotic).
         for frame in ("eulerian", "lagrangian"):
-            out = run_json("flow", "--case", "taylor-green", "--frame", frame, "--method", "vrsph", "--nx", "16,32",
+            out = run_json("flow", "--case", "taylor-green", "--frame", frame, "--method", "vrsph", "--nx", "32,64",
                            "--t-end", "0.05", "--threads", "1")
             rows = out["rows"]
-            self.assertEqual([r["nx"] for r in rows], [16, 32])
+            self.assertEqual([r["nx"] for r in rows], [32, 64])
             for r in rows:
                 for key in ("t", "error_u_mean", "error_u_inf", "error_p_mean", "decay_rate_error", "max_div_u", "steps",
                             "seconds_per_step"):

@@ -92,6 +92,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   o.allow_unstable = a.allow_unstable;
   o.reuse_factorisation = a.reuse_factorisation;
   o.reuse_hierarchy = a.reuse_hierarchy;
+  o.pressure_corrections = a.pressure_corrections;
   o.hyperviscosity = a.hyperviscosity;
   o.shifting = {parse_shifting(a.shifting), a.shift_coefficient, a.shift_limit};
   o.support_growth = a.support_growth;
@@ -574,6 +575,11 @@ void add_flow_command(CLI::App& app) {
                   "matrices while their solves take at most 1.1 times its own iterations (false: a new hierarchy every "
                   "stage; the result is the same to the solver's tolerance)")
       ->capture_default_str();
+  cmd->add_option("--pressure-corrections", a->pressure_corrections,
+                  "Defect corrections of every stage's pressure toward D(a - G p) = 0, the divergence of the rate the "
+                  "stage uses (one more pressure solve each; 0: none, the stage's divergence then left to the end-of-step "
+                  "projection, whose splitting error moves results with dt). Default: 1 with --method vrsph, 0 with the "
+                  "others (with FPM's own Laplacian they raise the pressure's error; SPH and MPS keep their published scheme)");
   cmd->add_option("--reuse-factorisation", a->reuse_factorisation,
                   "Lagrangian, direct solvers: an earlier stage's factorisation preconditions BiCGSTAB on the next "
                   "pressure matrices until it needs more than 30 iterations (false: factorise every stage)")

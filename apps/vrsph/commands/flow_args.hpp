@@ -44,6 +44,7 @@ struct FlowArgs {
   bool allow_unstable = false;
   bool reuse_factorisation = false;  // FlowOptions::reuse_factorisation
   bool reuse_hierarchy = true;       // FlowOptions::reuse_hierarchy
+  std::optional<int> pressure_corrections;  // FlowOptions::pressure_corrections; unset: the method's (vrsph 1, else 0)
   OutputOptions out;
 };
 

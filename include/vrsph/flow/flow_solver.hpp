@@ -10,6 +10,8 @@
 //                                 every stage through the moving-particle path)
 //   f(u) = ν L u + g,    L p = D (f(u) - (u·G)u)  (the pressure that keeps ∂u/∂t divergence-free)
 //
+// — with VRSPH's Laplacian that p is then corrected (L δ = D(k(u)), p += δ) so that the rate
+// itself is divergence-free to the defect's order, L ≠ D G (FlowOptions::pressure_corrections) —
 // and each step ends with the approximate projection of the new velocity (projection.hpp), which
 // removes the divergence the stages left instead of letting it drift. Heun's RK2 and Shu–Osher's
 // SSP-RK3 keep their order in time for the velocity (projecting the state at every stage instead
@@ -143,6 +145,17 @@ struct FlowOptions {
   /// solver's tolerance. Lagrangian Taylor-Green at 1e5 and 1e6 particles: 0.67-0.68 of the
   /// PPE's seconds per step, with as many iterations (docs/flow.md).
   bool reuse_hierarchy = true;
+  /// Defect corrections of every stage's pressure: after L p = D a (a the stage's forces minus
+  /// advection), each correction solves L δ = D(a - G p) (the divergence of the rate the stage
+  /// uses, walls held at rest) and adds δ, so that the rate is divergence-free to O(dx²) of the
+  /// last defect instead of the O(dx²) of L - D G. Without them the divergence a stage leaves is
+  /// removed by the end-of-step projection, a splitting whose error is O(dt dx²): results and
+  /// steady states move with dt (docs/flow.md, "Defect corrections of the stage pressure").
+  /// Each costs one more pressure solve per stage (a back substitution where the matrix is
+  /// factorised). 0: none, as before 2026-12-06. Empty (the default): 1 with VRSPH's Laplacian,
+  /// 0 with any other (with FPM's own Laplacian they raise the divergence they should remove and
+  /// the pressure's error; SPH and MPS keep their published scheme). options() holds the value used.
+  std::optional<int> pressure_corrections;
   bool allow_unstable = false;  ///< step() warns instead of refusing a time step beyond the limits
   /// Eulerian stabilisation: the term -c U dx³ L(L u) added to F (c this coefficient, U the
   /// velocity scale, dx the spacing), a hyperviscosity that damps the grid-scale modes a
@@ -300,7 +313,16 @@ class FlowSolver {
   void detect_surface();     ///< surface_ of the current positions
   std::vector<char> open_surface_rows() const;  ///< surface particles without a wall neighbour (SurfaceGradient)
   void wall_laplacian(const Eigen::MatrixXd& u, Eigen::MatrixXd& lap) const;  ///< at walls: Σ_a G_a G_a u
-  Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, Real t, FlowStepReport* r) const;
+  /// The stage's pressure for the rate f - adv - G p (FlowOptions::pressure_corrections). IMEX:
+  /// `implicit` is the stage's ν L u, which the first solve leaves to the end-of-step projection
+  /// (imex_rates says why) and the corrections count in the rate whose divergence they remove
+  /// (Stokes cavity, Re = 1: its kinetic energy at 15 times the explicit limit 1.7 % from a fine
+  /// explicit run's with it, 8.5 % without; docs/flow.md).
+  Field pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& adv, Real t, FlowStepReport* r,
+                    const Eigen::MatrixXd* implicit = nullptr) const;
+  /// D(a - G p) at the fluid particles (walls at rest; 0 at walls and surface particles): the
+  /// divergence a stage's rate keeps (FlowOptions::pressure_corrections).
+  Field rate_divergence(const Eigen::MatrixXd& a, const Field& p) const;
   Eigen::MatrixXd rate(const Eigen::MatrixXd& u, Real t, FlowStepReport& r);
   /// The IMEX split of the rate: the explicit part (advection, pressure, body force,
   /// hyperviscosity) and ν L u at the fluid particles (zero at walls).

@@ -271,6 +271,28 @@ TEST(Projection, IsStableWithTheFlowsOperatorsNotWithVrsphsOwnGradient) {
   EXPECT_GT(qw, 1.05);   // measured 1.093
 }
 
+TEST(FlowOperators, FpmKeepsItsPublishedLinearGradientAndRunsTheVortex) {
+  // FPM's default gradient rows for operators are exact on cubics; with FPM's own Laplacian in a
+  // flow they blew up (Taylor-Green nx = 32 at t = 0.07). The flow takes the published linear fit
+  // unless the options say otherwise.
+  FlowOptions fo;
+  fo.operators.method = "fpm";
+  EXPECT_EQ(flow_operators(fo).method_options.values().at("gradient_order"), "1");
+  fo.operators.method_options.set("gradient_order", "3");
+  EXPECT_EQ(flow_operators(fo).method_options.values().at("gradient_order"), "3");
+  VortexRunOptions o;
+  o.cloud.nx = 32;
+  o.t_end = 0.2;
+  o.flow.operators.method = "fpm";
+  const VortexRunRow r = run_periodic_vortex(o);
+  EXPECT_NEAR(r.t, 0.2, 1e-12);
+  EXPECT_LT(r.errors.error_u_mean, 0.05);  // measured 1.0e-2 (t = 1: 3.65e-2, docs/flow.md)
+  // The stage pressure's defect corrections: on with VRSPH's Laplacian, off with the others by default.
+  const PointCloud c = flow_cloud(12, 0.2);
+  EXPECT_EQ(FlowSolver(c, vortex_at(c), o.flow).options().pressure_corrections, 0);
+  EXPECT_EQ(FlowSolver(c, vortex_at(c), FlowOptions{}).options().pressure_corrections, 1);
+}
+
 TEST(FlowOperators, PairVrsphsLaplacianWithALeastSquaresGradient) {
   FlowOptions fo;
   OperatorsOptions o = flow_operators(fo);
@@ -422,7 +444,7 @@ TEST(FlowSolver, GrownSupportsFollowTheStretching) {
   EXPECT_NEAR(r.t, 0.3, 1e-12);
   EXPECT_TRUE(gradual);
   EXPECT_GE(largest, 1.15);
-  EXPECT_GT(lo, 0.45);  // fixed supports: 0.39
+  EXPECT_GT(lo, 0.44);  // fixed supports: 0.39 (measured 0.4496; 0.45 without the stage pressure's corrections)
 }
 
 TEST(FlowSolver, ARunShorterThanOneStepTakesThatOneStep) {
@@ -579,10 +601,15 @@ TEST(FlowSolver, ShiftsAreBoundedWhereParticlesNearlyMeet) {
     for (std::size_t i = 0; i < free.size(); ++i) {
       longest = std::max(longest, free[i].norm() / c.spacing);
       EXPECT_LE(bounded[i].norm(), 0.25 * c.spacing * (1 + 1e-12)) << i;
-      if (free[i].norm() <= 0.25 * c.spacing) EXPECT_EQ(bounded[i], free[i]) << i;  // untouched below the bound
-      else EXPECT_NEAR(bounded[i].normalized().dot(free[i].normalized()), 1.0, 1e-12) << i;
+      if (free[i].norm() <= 0.25 * c.spacing) {
+        EXPECT_EQ(bounded[i], free[i]) << i;  // untouched below the bound
+      } else {
+        EXPECT_NEAR(bounded[i].normalized().dot(free[i].normalized()), 1.0, 1e-12) << i;
+      }
     }
-    if (kind == Shifting::Xu) EXPECT_GT(longest, 1.0);  // unbounded: thrown past a neighbour
+    if (kind == Shifting::Xu) {
+      EXPECT_GT(longest, 1.0);  // unbounded: thrown past a neighbour
+    }
   }
   ShiftingOptions bad{Shifting::Xu};
   bad.max_shift = -1;

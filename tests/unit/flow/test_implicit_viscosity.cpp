@@ -129,7 +129,9 @@ TEST(ImplicitViscosity, ConvergesAtItsOrderInTimeAndStaysStableBeyondTheExplicit
 TEST(ImplicitViscosity, StokesCavityRunsAtStepsTheExplicitSchemeRefuses) {
   // Re = 1 (ν = 1): the explicit limit is ~dx²; the implicit run takes steps 15 times longer (30
   // times the limit of the Gershgorin bound used before ρ(L) was measured) and reaches the kinetic
-  // energy of a fine explicit run within a few per cent (measured: 3.3 % below at nx = 16).
+  // energy of a fine explicit run within a few per cent (measured: 1.7 % below at nx = 16; 3.3 %
+  // without the stage pressure's defect corrections, 8.5 % with corrections that leave the
+  // implicit term out of the rate they make divergence-free).
   const PointCloud c = cavity_cloud({16, 0.2, 1});
   FlowOptions o;
   o.nu = 1;
@@ -146,7 +148,7 @@ TEST(ImplicitViscosity, StokesCavityRunsAtStepsTheExplicitSchemeRefuses) {
   const int coarse_steps = std::max(10, fine_steps / 15);
   for (int k = 0; k < coarse_steps; ++k) im.step(0.5 / coarse_steps);
   EXPECT_GT(im.last().viscous_iterations, 0);
-  EXPECT_NEAR(im.last().kinetic_energy / ex.last().kinetic_energy, 1.0, 0.06);
+  EXPECT_NEAR(im.last().kinetic_energy / ex.last().kinetic_energy, 1.0, 0.04);
   // Not the velocity field: the approximate projection's steady state moves with dt at Re = 1 (the
   // explicit scheme's too: 17 % in l2 between dt = 1e-3 and 1e-4 at nx = 16; docs/flow.md).
   // The walls keep their velocity.
