@@ -117,6 +117,14 @@ void count_solve(FlowStepReport& r, const SolveReport& solve, Real shift, double
 
 }  // namespace
 
+int pressure_corrections_for(const FlowOptions& options) {
+  // Automatic: VRSPH's Laplacian only. With FPM's own Laplacian the first correction raises
+  // |D(a - G p)| (Taylor-Green nx = 32: 90 -> 102) and the pressure error (9.0e-3 -> 2.5e-2 at t =
+  // 1, the velocity's unchanged); the classic SPH and MPS keep their published scheme.
+  if (options.pressure_corrections) return *options.pressure_corrections;
+  return options.operators.method == "vrsph" ? 1 : 0;
+}
+
 OperatorsOptions flow_operators(const FlowOptions& options) {
   OperatorsOptions o = options.operators;
   o.operators = {OperatorKind::Laplacian, OperatorKind::Gradient};
@@ -272,10 +280,7 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
                          "), not below half the period ", box.period(k), " of axis ", k, ": lower it or refine the cloud");
   }
   laplacian_bound_ = laplacian_radius(ops_->stencil(OperatorKind::Laplacian), eq_.walls, options_.frame);
-  // Automatic: VRSPH's Laplacian only. With FPM's own Laplacian the first correction raises
-  // |D(a - G p)| (Taylor-Green nx = 32: 90 -> 102) and the pressure error (9.0e-3 -> 2.5e-2 at t =
-  // 1, the velocity's unchanged); the classic SPH and MPS keep their published scheme.
-  if (!options_.pressure_corrections) options_.pressure_corrections = options_.operators.method == "vrsph" ? 1 : 0;
+  options_.pressure_corrections = pressure_corrections_for(options_);
   check<ConfigError>(*options_.pressure_corrections >= 0 && *options_.pressure_corrections <= 10,
                      "flow: pressure_corrections must be in [0, 10], got ", *options_.pressure_corrections);
   check<ConfigError>(std::isfinite(options_.max_speed_growth) && options_.max_speed_growth >= 0,

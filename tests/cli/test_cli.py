@@ -453,6 +453,7 @@ class Flow(unittest.TestCase):
                             "seconds_per_step"):
                     self.assertIn(key, r)
                 self.assertAlmostEqual(r["t"], 0.05)
+                self.assertEqual(r["pressure_corrections"], 1)  # VRSPH's default (docs/flow.md)
             self.assertLess(rows[1]["error_u_mean"], rows[0]["error_u_mean"] / 2.5)
             self.assertGreater(rows[1]["order_p_mean"], 1.5)
 

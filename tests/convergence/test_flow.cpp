@@ -88,7 +88,8 @@ TEST(FlowConvergence, TaylorGreenEulerianDoesNotMoveWithTheTimeStepWithTheStageP
   // splitting whose error is O(dt dx^2); the stage pressure's defect correction makes the rate
   // divergence-free instead, and the result stops depending on dt. nx = 32, t = 1, error_u_mean
   // at CFL 0.25 / 0.125, measured: 4.90e-3 / 5.04e-3 corrected, 1.63e-3 / 3.29e-3 without
-  // (where the splitting error cancelled part of the spatial one: docs/flow.md).
+  // (where the splitting error cancelled part of the spatial one: docs/flow.md; the uncorrected
+  // pair is left out to keep the suite short, the bound below fails it by a factor of eight).
   auto error = [](Real cfl, int corrections) {
     VortexRunOptions o;
     o.cloud.nx = 32;
@@ -99,8 +100,6 @@ TEST(FlowConvergence, TaylorGreenEulerianDoesNotMoveWithTheTimeStepWithTheStageP
   const Real a = error(0.25, 1), b = error(0.125, 1);
   EXPECT_NEAR(a / b, 1.0, 0.06);
   EXPECT_LT(b, 6e-3);
-  const Real a0 = error(0.25, 0), b0 = error(0.125, 0);
-  EXPECT_LT(a0 / b0, 0.7);  // without: the longer step halves the error
 }
 
 TEST(FlowConvergence, TaylorGreenLagrangianShortRun) {

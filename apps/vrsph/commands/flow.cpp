@@ -122,13 +122,13 @@ const std::vector<std::string> projection_columns = {
     "error_phi_inf", "max_div_before", "max_div_after", "order_u_inf", "order_u_l2", "order_phi_inf",
     "solver_iterations", "seconds"};
 const std::vector<std::string> taylor_green_columns = {
-    "case", "method", "gradient", "frame", "scheme", "viscosity", "volumes", "support_growth", "dim", "nx", "particles",
+    "case", "method", "gradient", "pressure_corrections", "frame", "scheme", "viscosity", "volumes", "support_growth", "dim", "nx", "particles",
     "t", "steps", "dt", "error_u_mean", "error_u_inf", "error_p_mean", "error_p_inf", "decay_rate_error", "max_div_u",
     "order_u_mean", "order_u_inf", "order_p_mean", "kinetic_energy", "min_spacing", "max_spacing",
     "min_support_isotropy", "max_support_growth", "ppe_iterations_per_step", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
 
 const std::vector<std::string> cavity_columns = {
-    "case", "method", "gradient", "frame", "re", "nx", "particles", "t", "steps", "dt", "steady", "steady_residual",
+    "case", "method", "gradient", "pressure_corrections", "frame", "re", "nx", "particles", "t", "steps", "dt", "steady", "steady_residual",
     "average_time", "profile_fluctuation", "wall_pushes", "ghia_max_deviation_u", "ghia_max_deviation_v", "order_ghia_u", "order_ghia_v", "reference_max_deviation_u",
     "reference_max_deviation_v", "order_reference_u", "order_reference_v", "max_div_u", "kinetic_energy",
     "ppe_iterations_per_step", "seconds_setup", "seconds_per_step", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
@@ -228,7 +228,8 @@ void run_taylor_green(const FlowArgs& a, const std::vector<std::string>& methods
       errors["order_p_mean"].push_back(r.errors.error_p_mean);
       const OperatorsOptions ops = flow_operators(o.flow);
       t.add_row({{"case", std::string("taylor-green")}, {"method", m},
-                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"frame", a.frame},
+                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method},
+                 {"pressure_corrections", static_cast<long long>(pressure_corrections_for(o.flow))}, {"frame", a.frame},
                  {"scheme", a.scheme}, {"viscosity", a.viscosity},
                  {"volumes", std::string(r.warm_start ? "warm" : "cold")}, {"support_growth", r.support_growth}, {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
                  {"particles", static_cast<long long>(r.particles)}, {"t", r.t}, {"steps", static_cast<long long>(r.steps)},
@@ -342,7 +343,8 @@ void run_cavity_case(const FlowArgs& a, const std::vector<std::string>& methods,
       errors["order_reference_v"].push_back(r.reference_max_deviation_v);
       const OperatorsOptions ops = flow_operators(o.flow);
       t.add_row({{"case", std::string("cavity")}, {"method", m},
-                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method}, {"frame", a.frame}, {"re", a.re},
+                 {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method},
+                 {"pressure_corrections", static_cast<long long>(pressure_corrections_for(o.flow))}, {"frame", a.frame}, {"re", a.re},
                  {"nx", static_cast<long long>(n)}, {"particles", static_cast<long long>(r.particles)}, {"t", r.t},
                  {"steps", static_cast<long long>(r.steps)}, {"dt", r.dt}, {"steady", r.steady},
                  {"steady_residual", r.steady_residual}, {"average_time", r.average_time},
@@ -591,7 +593,7 @@ void add_flow_command(CLI::App& app) {
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
   cmd->add_option("--output", a->out.output, "Write the table to this file instead of stdout");
   cmd->add_option("--plot", a->out.plot, "PNG plot of the error against nx");
-  add_columns_option(cmd, a->out, {"method", "gradient", "frame", "nx", "particles", "steps", "error_u_mean", "error_u_inf",
+  add_columns_option(cmd, a->out, {"method", "gradient", "pressure_corrections", "frame", "nx", "particles", "steps", "error_u_mean", "error_u_inf",
                                    "error_u_l2", "error_p_mean", "error_phi_inf", "decay_rate_error", "max_div_u",
                                    "ghia_max_deviation_u", "ghia_max_deviation_v", "reference_max_deviation_u",
                                    "reference_max_deviation_v", "steady_residual", "status",

@@ -37,7 +37,7 @@ std::string surface_gradient_of(FlowOptions flow) {
 }  // namespace
 
 const std::vector<std::string> hydrostatic_columns = {
-    "case", "method", "gradient", "surface_gradient", "frame", "dim", "nx", "particles", "water_particles", "t", "steps", "dt",
+    "case", "method", "gradient", "surface_gradient", "pressure_corrections", "frame", "dim", "nx", "particles", "water_particles", "t", "steps", "dt",
     "bottom_pressure", "bottom_pressure_error", "order_bottom_pressure", "pressure_profile_error", "max_speed",
     "max_speed_after_ramp", "surface_particles", "surface_rise", "surface_drop", "max_div_u", "ppe_iterations_per_step",
     "seconds_setup", "seconds_per_step", "seconds_update", "seconds_ppe", "seconds_rhs", "seconds_viscous", "status"};
@@ -104,7 +104,8 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
       const OperatorsOptions ops = flow_operators(o.flow);
       t.add_row({{"case", std::string("hydrostatic")}, {"method", m},
                  {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method},
-                 {"surface_gradient", surface_gradient_of(o.flow)}, {"frame", a.frame},
+                 {"surface_gradient", surface_gradient_of(o.flow)},
+                 {"pressure_corrections", static_cast<long long>(pressure_corrections_for(o.flow))}, {"frame", a.frame},
                  {"dim", static_cast<long long>(a.dim)}, {"nx", static_cast<long long>(n)},
                  {"particles", static_cast<long long>(r.particles)},
                  {"water_particles", static_cast<long long>(r.water_particles)}, {"t", r.t},
@@ -141,7 +142,7 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
 }
 
 const std::vector<std::string> dam_break_columns = {
-    "case", "method", "gradient", "surface_gradient", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
+    "case", "method", "gradient", "surface_gradient", "pressure_corrections", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
     "experiment_low", "experiment_high", "outside_experiments", "mps_z_over_l", "max_speed", "surface_particles",
     "min_spacing", "probe_pressure", "probe_reference", "max_outside_experiments", "reached_far_wall",
     "far_wall_t_star", "probe_peak", "probe_peak_t_star", "reference_peak", "reference_peak_t_star", "probe_plateau",
@@ -202,7 +203,8 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
         std::vector<std::pair<std::string, TableCell>> row = {
             {"case", std::string("dam-break")}, {"method", m},
             {"gradient", ops.gradient_method.empty() ? m : ops.gradient_method},
-            {"surface_gradient", surface_gradient_of(o.flow)}, {"shifting", a.shifting},
+            {"surface_gradient", surface_gradient_of(o.flow)},
+            {"pressure_corrections", static_cast<long long>(pressure_corrections_for(o.flow))}, {"shifting", a.shifting},
             {"nx", static_cast<long long>(n)}, {"particles", static_cast<long long>(r.particles)},
             {"t", buchner ? s.t_star : s.t_star / std::sqrt(2.0)}, {"t_star", s.t_star}, {"front_z_over_l", s.front_z_over_l},
             {"column_height_over_l", s.column_height_over_l}, {"experiment_low", number(s.experiment_low)},

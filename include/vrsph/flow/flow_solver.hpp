@@ -244,6 +244,9 @@ struct FlowStepReport {
 /// surface and SurfaceGradient::Linear, marked_gradient_method the surface rows'): ConfigError
 /// for an unknown gradient choice.
 OperatorsOptions flow_operators(const FlowOptions& options);
+/// The defect corrections a flow with these options takes (FlowOptions::pressure_corrections:
+/// the value given, else 1 with VRSPH's Laplacian and 0 with the others).
+int pressure_corrections_for(const FlowOptions& options);
 
 /// FlowOptions::support_growth = 0 lets the supports grow up to this many spacings where it
 /// applies: 3 times the default h = 3 dx, what was measured (docs/flow.md, "Supports that grow
