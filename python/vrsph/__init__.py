@@ -387,7 +387,7 @@ class Flow:
                                      _args.number(wall_gap, "wall_gap", minimum=0.0),
                                      _args.number(shift_limit, "shift_limit", minimum=0.0),
                                      None if pressure_corrections is None else
-                                     _args.integer(pressure_corrections, "pressure_corrections", minimum=0))
+                                     _args.integer(pressure_corrections, "pressure_corrections", minimum=0, maximum=10))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))

@@ -38,7 +38,7 @@ def optional_length(value: Any, name: str) -> float:
     return 0.0 if value is None else number(value, name, positive=True)
 
 
-def integer(value: Any, name: str, *, minimum: int | None = None) -> int:
+def integer(value: Any, name: str, *, minimum: int | None = None, maximum: int | None = None) -> int:
     """An integer; a float is accepted only when it is one exactly (8.0, not 8.7)."""
     if isinstance(value, bool):
         raise ArgumentTypeError(f"the parameter {name} must be an integer, got bool {value!r}")
@@ -52,6 +52,8 @@ def integer(value: Any, name: str, *, minimum: int | None = None) -> int:
         raise ArgumentTypeError(f"the parameter {name} must be an integer, got {_kind(value)} {value!r}")
     if minimum is not None and v < minimum:
         raise ConfigError(f"the parameter {name} must be >= {minimum}, got {v}")
+    if maximum is not None and v > maximum:
+        raise ConfigError(f"the parameter {name} must be <= {maximum}, got {v}")
     return v
 
 
