@@ -123,7 +123,7 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
 py::dict cavity(int nx, double re, const std::string& method, const std::string& gradient, double jitter,
                 std::uint64_t seed, double t_end, double steady_tolerance, double cfl, double h_factor,
                 const py::dict& options, const std::string& viscosity, const std::string& frame,
-                const std::string& shifting, int wall_layers) {
+                const std::string& shifting, int wall_layers, std::optional<int> pressure_corrections) {
   CavityRunOptions o;
   o.cloud = {nx, jitter, seed, wall_layers};
   o.re = re;
@@ -131,6 +131,7 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
   o.steady_tolerance = steady_tolerance;
   o.cfl = cfl;
   o.flow = flow_options(frame, method, gradient, 0, "rk3", h_factor, "cubic", options, shifting, 0, false, viscosity);
+  o.flow.pressure_corrections = pressure_corrections;
   CavityRunRow r;
   {
     py::gil_scoped_release release;
@@ -140,6 +141,7 @@ py::dict cavity(int nx, double re, const std::string& method, const std::string&
   d["nx"] = r.nx;
   d["particles"] = r.particles;
   d["re"] = r.re;
+  d["pressure_corrections"] = pressure_corrections_for(o.flow);
   d["t"] = r.t;
   d["steps"] = r.steps;
   d["dt"] = r.dt;
@@ -166,7 +168,7 @@ py::dict taylor_green(int nx, int dim, const std::string& frame, const std::stri
                       double t_end, double re, double cfl, double jitter, std::uint64_t seed, const std::string& scheme,
                       double h_factor, const py::dict& options, const std::string& shifting, double shift_coefficient,
                       const std::string& viscosity, double support_growth, double support_isotropy,
-                      std::optional<bool> warm_start) {
+                      std::optional<bool> warm_start, std::optional<int> pressure_corrections) {
   VortexRunOptions o;
   o.cloud = {dim, nx, jitter, seed};
   o.vortex.Re = re;
@@ -177,6 +179,7 @@ py::dict taylor_green(int nx, int dim, const std::string& frame, const std::stri
   o.flow.support_growth = support_growth;
   o.flow.support_isotropy_target = support_isotropy;
   o.flow.warm_start = warm_start;
+  o.flow.pressure_corrections = pressure_corrections;
   VortexRunRow r;
   {
     py::gil_scoped_release release;
@@ -185,6 +188,7 @@ py::dict taylor_green(int nx, int dim, const std::string& frame, const std::stri
   py::dict d;
   d["nx"] = r.nx;
   d["particles"] = r.particles;
+  d["pressure_corrections"] = pressure_corrections_for(o.flow);
   d["t"] = r.t;
   d["steps"] = r.steps;
   d["dt"] = r.dt;
@@ -338,11 +342,13 @@ void bind_flow(py::module_& m) {
      py::arg("surface_gradient"));
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
-        py::arg("options"), py::arg("viscosity"), py::arg("frame"), py::arg("shifting"), py::arg("wall_layers"));
+        py::arg("options"), py::arg("viscosity"), py::arg("frame"), py::arg("shifting"), py::arg("wall_layers"),
+        py::arg("pressure_corrections") = py::none());
   m.def("_taylor_green", &taylor_green, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("gradient"),
         py::arg("t_end"), py::arg("re"), py::arg("cfl"), py::arg("jitter"), py::arg("seed"), py::arg("scheme"),
         py::arg("h_factor"), py::arg("options"), py::arg("shifting"), py::arg("shift_coefficient"), py::arg("viscosity"),
-        py::arg("support_growth"), py::arg("support_isotropy"), py::arg("warm_start") = py::none());
+        py::arg("support_growth"), py::arg("support_isotropy"), py::arg("warm_start") = py::none(),
+        py::arg("pressure_corrections") = py::none());
 }
 
 }  // namespace vrsph::python

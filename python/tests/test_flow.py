@@ -54,6 +54,17 @@ def test_stage_pressure_corrections_make_the_pressure_closer_to_the_exact_one():
         vrsph.Flow(c, _vortex(x), pressure_corrections=1.5)
 
 
+def test_case_helpers_take_the_stage_pressure_corrections():
+    default = vrsph.taylor_green(nx=16, t_end=0.02)
+    off = vrsph.taylor_green(nx=16, t_end=0.02, pressure_corrections=0)
+    assert (default["pressure_corrections"], off["pressure_corrections"]) == (1, 0)
+    assert default["error_p_mean"] != off["error_p_mean"]
+    assert vrsph.taylor_green(nx=16, t_end=0.02, method="sph")["pressure_corrections"] == 0
+    assert vrsph.cavity(nx=8, t_end=0.05, pressure_corrections=2)["pressure_corrections"] == 2
+    with pytest.raises(vrsph.ConfigError, match="pressure_corrections must be"):
+        vrsph.cavity(nx=8, t_end=0.05, pressure_corrections=11)
+
+
 def test_taylor_green_errors_fall_with_resolution():
     # Measured: velocity 3.7e-4, 7.1e-5; pressure 8.2e-3, 2.6e-3 (below nx = 32 the pressure is
     # pre-asymptotic: 3.0e-3 at nx = 16, 1.1e-2 at 24).

@@ -422,13 +422,14 @@ class Flow:
 def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str = "auto", jitter: float = 0.2,
            seed: int = 1, t_end: float = 100.0, steady_tol: float = 1e-4, cfl: float = 0.25, h_factor: float = 3.0,
            options: Mapping[str, Any] | None = None, viscosity: str = "explicit", frame: str = "eulerian",
-           shifting: str = "none", wall_layers: int = 0) -> dict:
+           shifting: str = "none", wall_layers: int = 0, pressure_corrections: int | None = None) -> dict:
     """One row of ``vrsph flow --case cavity``: the lid-driven cavity (Re 100 or 1000) on the unit
     square with ``nx`` intervals per side, run until steady; the largest centre-line deviations
     from Ghia et al. (1982), the values at their points and the profiles on 101 points.
     ``frame="lagrangian"`` moves the particles (``shifting="xu"`` advised; three wall layers by
     default): its profiles are the mean of samples every 0.5 time units over the last 4.5, with
-    ``profile_fluctuation`` their spread."""
+    ``profile_fluctuation`` their spread. ``pressure_corrections`` as for :class:`Flow`; the row
+    says how many were used."""
     return _vrsph._cavity(_args.integer(nx, "nx", minimum=8), _args.number(re, "re", positive=True),
                           _args.text(method, "method"), _args.text(gradient, "gradient"),
                           _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
@@ -436,17 +437,21 @@ def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str
                           _args.number(steady_tol, "steady_tol", positive=True), _args.number(cfl, "cfl", positive=True),
                           _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"),
                           _args.text(viscosity, "viscosity"), _args.text(frame, "frame"), _args.text(shifting, "shifting"),
-                          _args.integer(wall_layers, "wall_layers", minimum=0))
+                          _args.integer(wall_layers, "wall_layers", minimum=0),
+                          None if pressure_corrections is None else
+                          _args.integer(pressure_corrections, "pressure_corrections", minimum=0, maximum=10))
 
 
 def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
                  t_end: float = 1.0, re: float = 100.0, cfl: float = 0.25, jitter: float = 0.2, seed: int = 1,
                  scheme: str = "rk3", h_factor: float = 3.0, options: Mapping[str, Any] | None = None,
                  shifting: str = "none", shift_coefficient: float = 0.0, viscosity: str = "explicit",
-                 support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None) -> dict:
+                 support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None,
+                 pressure_corrections: int | None = None) -> dict:
     """One row of ``vrsph flow --case taylor-green`` (2D Taylor-Green, 3D Beltrami vortex): the
     errors at ``t_end`` on the periodic unit box with ``nx`` particles per period. ``warm_start``
-    as for :class:`Flow` (``--warm-start``): None picks per flow, the row's ``volumes`` says which."""
+    as for :class:`Flow` (``--warm-start``): None picks per flow, the row's ``volumes`` says which;
+    ``pressure_corrections`` likewise, the row's ``pressure_corrections`` the number used."""
     return _vrsph._taylor_green(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
                                 _args.text(frame, "frame"), _args.text(method, "method"), _args.text(gradient, "gradient"),
                                 _args.number(t_end, "t_end", positive=True), _args.number(re, "re", positive=True),
@@ -458,7 +463,9 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                                 _args.text(viscosity, "viscosity"),
                                 _args.number(support_growth, "support_growth", minimum=0.0),
                                 _args.number(support_isotropy, "support_isotropy", positive=True),
-                                None if warm_start is None else _args.flag(warm_start, "warm_start"))
+                                None if warm_start is None else _args.flag(warm_start, "warm_start"),
+                                None if pressure_corrections is None else
+                                _args.integer(pressure_corrections, "pressure_corrections", minimum=0, maximum=10))
 
 
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,

@@ -112,7 +112,8 @@ class Flow:
 
 def cavity(nx: int = ..., re: float = ..., method: str = ..., gradient: str = ..., jitter: float = ...,
            seed: int = ..., t_end: float = ..., steady_tol: float = ..., cfl: float = ..., h_factor: float = ...,
-           options: Mapping[str, Any] | None = ..., viscosity: str = ...) -> dict: ...
+           options: Mapping[str, Any] | None = ..., viscosity: str = ..., frame: str = ...,
+           shifting: str = ..., wall_layers: int = ..., pressure_corrections: int | None = ...) -> dict: ...
 
 def hydrostatic(nx: int = ..., dim: int = ..., frame: str = ..., method: str = ..., jitter: float = ...,
                 seed: int = ..., t_end: float = ..., gravity: float = ..., ramp: float = ..., h_factor: float = ...,
@@ -125,7 +126,9 @@ def dam_break(nx: int = ..., method: str = ..., jitter: float = ..., seed: int =
 def taylor_green(nx: int = ..., dim: int = ..., frame: str = ..., method: str = ..., gradient: str = ...,
                  t_end: float = ..., re: float = ..., cfl: float = ..., jitter: float = ..., seed: int = ...,
                  scheme: str = ..., h_factor: float = ..., options: Mapping[str, Any] | None = ...,
-                 shifting: str = ..., shift_coefficient: float = ..., viscosity: str = ...) -> dict: ...
+                 shifting: str = ..., shift_coefficient: float = ..., viscosity: str = ...,
+                 support_growth: float = ..., support_isotropy: float = ..., warm_start: bool | None = ...,
+                 pressure_corrections: int | None = ...) -> dict: ...
 
 def stencil(cloud: Cloud, method: str = "vrsph", operator: str = "laplacian", h: float | None = None,
             h_factor: float = 3.0, kernel: str = "cubic", options: Mapping[str, Any] | None = None,
