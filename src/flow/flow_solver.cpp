@@ -267,6 +267,10 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
   if (options_.warm_start) options_.operators.warm_start = *options_.warm_start;
   else if (stretches_freely(cloud)) options_.operators.warm_start = false;
   options_.warm_start = options_.operators.warm_start;
+  // Checked before the operators are built: a bad value costs no build.
+  options_.pressure_corrections = pressure_corrections_for(options_);
+  check<ConfigError>(*options_.pressure_corrections >= 0 && *options_.pressure_corrections <= 10,
+                     "flow: pressure_corrections must be in [0, 10], got ", *options_.pressure_corrections);
   ops_ = std::make_unique<Operators>(std::move(cloud), options_.operators);
   spacing_ = ops_->spacing();
   if (options_.support_growth == 0) options_.support_growth = automatic_support_growth();
@@ -280,9 +284,6 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
                          "), not below half the period ", box.period(k), " of axis ", k, ": lower it or refine the cloud");
   }
   laplacian_bound_ = laplacian_radius(ops_->stencil(OperatorKind::Laplacian), eq_.walls, options_.frame);
-  options_.pressure_corrections = pressure_corrections_for(options_);
-  check<ConfigError>(*options_.pressure_corrections >= 0 && *options_.pressure_corrections <= 10,
-                     "flow: pressure_corrections must be in [0, 10], got ", *options_.pressure_corrections);
   check<ConfigError>(std::isfinite(options_.max_speed_growth) && options_.max_speed_growth >= 0,
                      "flow: max_speed_growth must be finite and >= 0, got ", options_.max_speed_growth);
   check<ConfigError>(std::isfinite(options_.hyperviscosity) && options_.hyperviscosity >= 0 &&
@@ -538,10 +539,10 @@ Field FlowSolver::pressure_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& a
   Field p = phi_;
   const PressurePoisson::Result res = ppe_->solve(pressure_rhs(*ops_, eq_, a), p);
   const int corrections = *options_.pressure_corrections;  // set by the constructor
+  if (corrections > 0 && implicit) a += *implicit;  // the rate whose divergence they remove (a is not needed after)
   for (int c = 0; c < corrections; ++c) {
     Field delta = Field::Zero(p.size());
-    const PressurePoisson::Result more =
-        ppe_->solve(rate_divergence(implicit ? Eigen::MatrixXd(a + *implicit) : a, p), delta);
+    const PressurePoisson::Result more = ppe_->solve(rate_divergence(a, p), delta);
     p += delta;
     if (r) count_solve(*r, more.report, more.shift, 0.0);
   }
