@@ -386,8 +386,7 @@ class Flow:
                                      _args.text(surface_gradient, "surface_gradient"),
                                      _args.number(wall_gap, "wall_gap", minimum=0.0),
                                      _args.number(shift_limit, "shift_limit", minimum=0.0),
-                                     None if pressure_corrections is None else
-                                     _args.integer(pressure_corrections, "pressure_corrections", minimum=0, maximum=10))
+                                     _args.pressure_corrections(pressure_corrections))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))
@@ -438,8 +437,7 @@ def cavity(nx: int = 32, re: float = 100.0, method: str = "vrsph", gradient: str
                           _args.number(h_factor, "h_factor", positive=True), _args.options(options, "options"),
                           _args.text(viscosity, "viscosity"), _args.text(frame, "frame"), _args.text(shifting, "shifting"),
                           _args.integer(wall_layers, "wall_layers", minimum=0),
-                          None if pressure_corrections is None else
-                          _args.integer(pressure_corrections, "pressure_corrections", minimum=0, maximum=10))
+                          _args.pressure_corrections(pressure_corrections))
 
 
 def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: str = "vrsph", gradient: str = "auto",
@@ -464,8 +462,7 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
                                 _args.number(support_growth, "support_growth", minimum=0.0),
                                 _args.number(support_isotropy, "support_isotropy", positive=True),
                                 None if warm_start is None else _args.flag(warm_start, "warm_start"),
-                                None if pressure_corrections is None else
-                                _args.integer(pressure_corrections, "pressure_corrections", minimum=0, maximum=10))
+                                _args.pressure_corrections(pressure_corrections))
 
 
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,

@@ -79,6 +79,11 @@ def optional_text(value: Any, name: str) -> str | None:
     return None if value is None else text(value, name)
 
 
+def pressure_corrections(value: Any) -> int | None:
+    """FlowOptions::pressure_corrections: None lets the flow pick (1 with VRSPH, else 0), else 0-10."""
+    return None if value is None else integer(value, "pressure_corrections", minimum=0, maximum=10)
+
+
 def expression(value: Any, name: str) -> str | None:
     """An expression in x, y, z: a string, or a number (a constant, as documented)."""
     if value is None or isinstance(value, str):
