@@ -2,6 +2,8 @@
 // Divergence, curl and vector Laplacian from a method's gradient / Laplacian rows: exact on
 // the fields the rows are exact on (linear for the gradient, quadratic for VRSPH's and FPM's
 // Laplacian) at interior particles, and the shapes checked.
+#include <cmath>
+#include <vector>
 #include <vrsph/analysis/study_cloud.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -78,4 +80,35 @@ TEST(VectorOperators, ShapesAndKindsAreChecked) {
   EXPECT_THROW_MSG(output_components(VectorOperator::Curl, 1), ConfigError, "the curl needs 2 or 3 dimensions");
   EXPECT_EQ(parse_vector_operator("vector-laplacian"), VectorOperator::VectorLaplacian);
   EXPECT_FALSE(parse_vector_operator("laplacian").has_value());
+}
+
+// The divergence and the curl read only the derivatives they need in one pass: the same values,
+// bit for bit, as the gradient applied to every component and the derivatives combined.
+TEST(VectorOperators, DivergenceAndCurlEqualTheCombinedGradientBitForBit) {
+  for (int dim : {2, 3}) {
+    const Built b = build("vrsph", dim);
+    const Index n = b.cloud.size();
+    Eigen::MatrixXd U(n, dim);
+    for (Index i = 0; i < n; ++i) {
+      const Vec3& x = b.cloud.positions[static_cast<std::size_t>(i)];
+      for (int c = 0; c < dim; ++c) U(i, c) = std::sin(3 * x[c] + c) * std::exp(x[(c + 1) % dim]);
+    }
+    // d[c](:, b) = G_b U_c
+    std::vector<Eigen::MatrixXd> d;
+    for (int c = 0; c < dim; ++c) d.push_back(apply(b.gradient, Field(U.col(c))));
+    const Eigen::MatrixXd div = apply_vector(VectorOperator::Divergence, b.gradient, U);
+    const Eigen::MatrixXd curl = apply_vector(VectorOperator::Curl, b.gradient, U);
+    for (Index i = 0; i < n; ++i) {
+      Real sum = 0;
+      for (int c = 0; c < dim; ++c) sum += d[static_cast<std::size_t>(c)](i, c);
+      ASSERT_EQ(div(i, 0), sum) << dim << "D particle " << i;
+      if (dim == 2) {
+        ASSERT_EQ(curl(i, 0), d[1](i, 0) - d[0](i, 1)) << "particle " << i;
+      } else {
+        ASSERT_EQ(curl(i, 0), d[2](i, 1) - d[1](i, 2)) << "particle " << i;
+        ASSERT_EQ(curl(i, 1), d[0](i, 2) - d[2](i, 0)) << "particle " << i;
+        ASSERT_EQ(curl(i, 2), d[1](i, 0) - d[0](i, 1)) << "particle " << i;
+      }
+    }
+  }
 }
