@@ -362,6 +362,11 @@ class RanksOption(unittest.TestCase):
         p = run(2, "--ranks", "3", "study", "--n", "8")
         self.assertEqual(p.returncode, 2, p.stderr)
         self.assertIn("give the ranks one way, not both", p.stderr)
+        # A peer on several ranks would need an mpirun inside vrsph's own: refused by name (each
+        # rank sees only its share of the cores, which the check of the cores used to report).
+        p = run(2, "bench", "solve", "--n", "8", "--anchor", "fenicsx", "--anchor-ranks", "2")
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("the peer cannot start its own mpirun inside vrsph's", p.stderr)
 
 
 if __name__ == "__main__":

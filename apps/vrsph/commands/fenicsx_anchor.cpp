@@ -171,6 +171,12 @@ int anchor_ranks(int requested) {
   if (ranks == 0) ranks = omp_get_max_threads();
 #endif
   ranks = std::max(1, ranks);
+  // Under mpirun (vrsph --ranks P) each rank sees its own share of the cores, and a peer on
+  // several ranks would need an mpirun inside vrsph's own.
+  check<ConfigError>(ranks == 1 || !Communicator::launched_in_parallel(), "--anchor-ranks ", ranks,
+                     " with vrsph itself on ", communicator().size(), " MPI ranks: the peer cannot start its own mpirun "
+                     "inside vrsph's; give --anchor-ranks 1, or run vrsph in one process (--threads ", ranks,
+                     ") beside the peer on ", ranks, " ranks");
   const int cores = machine_cores();
   check<ConfigError>(ranks <= cores, "--anchor-ranks ", ranks, " is more than this machine's ", cores,
                      " cores: the peer runs on the same cores as vrsph, not oversubscribed");
