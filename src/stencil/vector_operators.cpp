@@ -43,7 +43,7 @@ namespace {
 // sum or difference of only the derivatives it needs, Σ_k G_b[k] U(j_k, c) per (b, c) in row order
 // and then combined as apply_vector combined whole columns (the same rounding). Applying the
 // whole gradient to every component took dim² products and dim temporaries of N x dim: at 10^6
-// particles the divergence cost more than a third again as much.
+// 2D particles the divergence took about twice as long.
 Eigen::MatrixXd first_derivative_combination(VectorOperator op, const Stencil& g, const Eigen::MatrixXd& U) {
   const int dim = g.dim;
   const Index n = g.rows();
