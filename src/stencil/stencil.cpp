@@ -101,15 +101,9 @@ Field apply_component(const Stencil& s, const Field& u, int component) {
                     " rows (size mismatch)");
   check<InputError>(component >= 0 && component < s.components(), "apply: component ", component,
                     " out of range for a stencil with ", s.components(), " components");
-  const auto& v = s.values[static_cast<std::size_t>(component)];
   Field out(s.rows());
 #pragma omp parallel for schedule(static)
-  for (Index i = 0; i < s.rows(); ++i) {
-    Real acc = 0;
-    for (Index k = s.row_begin(i); k < s.row_end(i); ++k)
-      acc += v[static_cast<std::size_t>(k)] * u[s.col[static_cast<std::size_t>(k)]];
-    out[i] = acc;
-  }
+  for (Index i = 0; i < s.rows(); ++i) out[i] = row_product(s, component, i, u.data());
   return out;
 }
 

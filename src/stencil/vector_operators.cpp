@@ -49,13 +49,7 @@ Eigen::MatrixXd first_derivative_combination(VectorOperator op, const Stencil& g
   const Index n = g.rows();
   Eigen::MatrixXd out(n, output_components(op, dim));
   // ∂_b U_c of row i, the pairs (b, c) the operator reads.
-  auto derivative = [&](Index i, int b, int c) {
-    const auto& v = g.values[static_cast<std::size_t>(b)];
-    const Real* u = U.col(c).data();
-    Real acc = 0;
-    for (Index k = g.row_begin(i); k < g.row_end(i); ++k) acc += v[static_cast<std::size_t>(k)] * u[g.col[static_cast<std::size_t>(k)]];
-    return acc;
-  };
+  auto derivative = [&](Index i, int b, int c) { return row_product(g, b, i, U.col(c).data()); };
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     if (op == VectorOperator::Divergence) {

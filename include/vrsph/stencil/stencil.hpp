@@ -80,6 +80,15 @@ inline Index neighbour_slot(const Stencil& s, Index i, Index k) {
   return pos >= s.diag[static_cast<std::size_t>(i)] ? pos + 1 : pos;
 }
 
+/// Row i of one component applied to a field: Σ_k values[component][k] u[col[k]], in row order
+/// (the loop of apply and of the divergence and curl).
+inline Real row_product(const Stencil& s, int component, Index i, const Real* u) {
+  const auto& v = s.values[static_cast<std::size_t>(component)];
+  Real acc = 0;
+  for (Index k = s.row_begin(i); k < s.row_end(i); ++k) acc += v[static_cast<std::size_t>(k)] * u[s.col[static_cast<std::size_t>(k)]];
+  return acc;
+}
+
 /// Sets L_ii = -sum_{j != i} L_ij in every component and row (difference form).
 void set_difference_diagonal(Stencil& s);
 
