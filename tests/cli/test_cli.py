@@ -790,6 +790,11 @@ class Solvers(unittest.TestCase):
         self.assertIn("petsc", out["slope_assemble_solve"])
         self.assertIn("umfpack", out["slope_iterations"])
 
+    def test_bench_solve_warns_of_an_unused_petsc_option_once(self):
+        # As study does: a misspelt option is named, not ignored in silence (once for all sizes).
+        p = run("bench", "solve", "--n", "8,16", "--solver", "petsc", "--petsc-options", "-ksp_tipe cg")
+        self.assertEqual(p.stderr.count("PETSc option -ksp_tipe was given but not used"), 1, p.stderr)
+
 
 FAKE_PEER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fake_fenicsx.py")
 

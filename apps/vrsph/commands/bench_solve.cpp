@@ -7,6 +7,8 @@
 #include <exception>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 #include <vrsph/io/json.hpp>
 #include <vrsph/analysis/bvp_study.hpp>
 #include <vrsph/analysis/convergence.hpp>
@@ -15,6 +17,7 @@
 #include "../commands.hpp"
 #include "bench_run.hpp"
 #include "fenicsx_anchor.hpp"
+#include "study_args.hpp"
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -167,6 +170,7 @@ void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<
                   double& done, double total_runs, Json& meta) {
   const Communicator& comm = p.communicator;
   std::vector<Real> big_n, work, iterations;
+  std::vector<std::string> warnings;  // the runs' (e.g. a PETSc option no object used), once each at the end
   warm_up_run(p, a.method, a.seed);
   for (std::size_t k = 0; k < sizes.size(); ++k) {
     progress.update(solver + " n=" + std::to_string(sizes[k]), done++ / total_runs);
@@ -180,7 +184,7 @@ void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<
       }
       idle_barrier(comm);
     }
-    const BvpRun r = run_bvp(p, a.method, sizes[k], a.seed, false, nullptr, nullptr);
+    const BvpRun r = run_bvp(p, a.method, sizes[k], a.seed, false, &warnings, nullptr);
     const StageTimes times = stage_times(r);
     auto row = bench_row(r, sizes[k], a.method, comm);
     if (a.baseline) {
@@ -215,6 +219,7 @@ void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<
     work.push_back(r.seconds_assemble + r.seconds_solve);
     iterations.push_back(std::max(1, r.solve.iterations));
   }
+  if (comm.is_root()) print_warnings(warnings, false);
   // Cost slopes in N: least_squares_order fits log(value) against log(1/size).
   if (sizes.size() < 2) return;
   std::vector<Real> inverse;
