@@ -93,6 +93,7 @@ std::optional<int> join_mpi_world() {
   if (!vrsph::Communicator::launched_in_parallel()) return std::nullopt;
   try {
     vrsph::cli::set_communicator(vrsph::Communicator::world());
+    vrsph::cli::mark_ranks_started();
   } catch (const vrsph::FeatureUnavailable& e) {
     return report("not in this build", e, 2);
   } catch (const vrsph::ConfigError& e) {
@@ -131,7 +132,7 @@ void require_distributed_command(const CLI::App& app) {
 struct GlobalOptions {
   std::string max_memory;
   bool verbose = false;
-  int ranks = 1;
+  std::string ranks = "auto";
 };
 
 void add_global_options(CLI::App& app, GlobalOptions& g, int argc, char** argv) {
@@ -143,7 +144,10 @@ void add_global_options(CLI::App& app, GlobalOptions& g, int argc, char** argv) 
                  "available when the run starts)");
   app.add_option("--ranks", g.ranks,
                  "Run study, solve, diffuse or bench solve on this many MPI ranks of this machine (vrsph starts "
-                 "mpirun itself; one thread per rank): faster than threads for large solves (docs/performance.md)")
+                 "mpirun itself; one thread per rank): faster than threads for large solves (docs/performance.md). "
+                 "auto (default): one rank per core for study, solve (without --vtu, --plot) and bench solve (without "
+                 "--threads, --anchor) runs of at least 150000 particles in 2D or 200000 in 3D solved by PETSc, unless "
+                 "OMP_NUM_THREADS is set (VRSPH_RANKS_AUTO_MIN_PARTICLES: another threshold); one process otherwise")
       ->capture_default_str();
   app.add_flag("--verbose", g.verbose, "Warnings with their full lists (e.g. every row that could not meet its moment "
                                        "conditions); without it one line per kind of condition");
@@ -152,7 +156,7 @@ void add_global_options(CLI::App& app, GlobalOptions& g, int argc, char** argv) 
     vrsph::cli::reject_empty_values(app);
     vrsph::cli::reject_output_over_input(app);
     require_distributed_command(app);
-    vrsph::cli::relaunch_on_ranks(g.ranks, app, argc, argv);  // returns only when already on g.ranks ranks
+    vrsph::cli::apply_ranks_option(g.ranks, app, argc, argv);  // a number: returns only when already on that many ranks
     if (app.count("--max-memory")) vrsph::set_memory_limit_bytes(vrsph::parse_memory_size(g.max_memory));
   });
 }

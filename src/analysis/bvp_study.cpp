@@ -208,11 +208,7 @@ namespace {
 // The run's memory estimate against the limit, before the cloud is made.
 void check_run_size(const BvpStudyParams& p, int n) {
   check_support_is_local(support_factor(p) / n, std::sqrt(static_cast<Real>(p.dim)), p.h_factor);  // [0,1]^d's diameter
-  const double per_side = p.cloud == CloudFamily::Disk ? n / 2.0 : n + 1.0;
-  const double particles = p.cloud == CloudFamily::Disk
-                               ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
-                                                                         : 4.2 * per_side * per_side * per_side)
-                               : std::pow(per_side, p.dim);
+  const double particles = study_particles(p, n);
   check_run_footprint(estimate_run_footprint(p.dim, particles / p.communicator.size(), support_factor(p), 1, true, p.solver.type),
                       detail::concat("n = ", n));
 }
@@ -388,6 +384,26 @@ BvpRun run_validated(const BvpStudyParams& p, const std::string& method_name, in
   return run;
 }
 }  // namespace
+
+double study_particles(const BvpStudyParams& p, int n) {
+  const double per_side = p.cloud == CloudFamily::Disk ? n / 2.0 : n + 1.0;
+  return p.cloud == CloudFamily::Disk ? (p.dim == 1 ? 2 * per_side : p.dim == 2 ? 3.2 * per_side * per_side
+                                                                               : 4.2 * per_side * per_side * per_side)
+                                      : std::pow(per_side, p.dim);
+}
+
+StudySize checked_study_size(const BvpStudyParams& p) {
+  validate_params(p);
+  StudySize size;
+  for (const int n : p.n) {
+    check_run_size(p, n);
+    size.particles = std::max(size.particles, static_cast<Index>(study_particles(p, n)));
+  }
+  const SolverType t = p.solver.type == SolverType::Auto ? resolve_auto(size.particles, p.dim, p.solver.auto_direct_max)
+                                                         : p.solver.type;
+  size.petsc = t == SolverType::Petsc;
+  return size;
+}
 
 BvpRun run_bvp(const BvpStudyParams& p, const std::string& method_name, int n, std::uint64_t seed, bool keep_fields,
                std::vector<std::string>* warnings, PointCloud* cloud_out) {

@@ -739,6 +739,156 @@ class Bench(unittest.TestCase):
         self.assertIn("volumes m/rho", out["methods"])
 
 
+class AutoRanks(unittest.TestCase):
+    """Issue 37, item 4: `--ranks auto`, the default, runs a large study, solve or bench solve
+    solved by PETSc on one MPI rank per core (faster than threads: hypre runs one thread per
+    process), and keeps every other run in one process. VRSPH_RANKS_AUTO_MIN_PARTICLES lowers
+    the threshold (300 000 particles) so that small runs take the path here."""
+
+    ARGS = ["study", "--cloud", "perturbed", "--n", "8,16", "--solver", "petsc", "--petsc-options",
+            "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps", "--format", "json"]
+
+    def setUp(self):
+        if (os.cpu_count() or 1) < 2:
+            self.skipTest("one core: --ranks auto never starts ranks")
+
+    def env(self, threshold="100", **extra):
+        e = {k: v for k, v in os.environ.items() if k != "OMP_NUM_THREADS"}
+        if threshold is not None:
+            e["VRSPH_RANKS_AUTO_MIN_PARTICLES"] = threshold
+        e.update(extra)
+        return e
+
+    def vrsph(self, *args, env, cwd=None):
+        return subprocess.run([VRSPH, *args], capture_output=True, text=True, timeout=300, env=env, cwd=cwd)
+
+    def test_large_study_runs_on_ranks_with_the_serial_table(self):
+        serial = self.vrsph("--ranks", "1", *self.ARGS, env=self.env())
+        auto = self.vrsph(*self.ARGS, env=self.env())
+        self.assertEqual(serial.returncode, 0, serial.stderr)
+        self.assertEqual(auto.returncode, 0, auto.stderr)
+        self.assertNotIn("MPI ranks", serial.stderr)
+        self.assertIn("MPI ranks of one thread each", auto.stderr)
+        a, b = json.loads(serial.stdout), json.loads(auto.stdout)
+        self.assertEqual(a["ranks"], 1)
+        self.assertGreaterEqual(b["ranks"], 2)
+        for ra, rb in zip(a["rows"], b["rows"]):
+            self.assertEqual(ra["N"], rb["N"])
+            self.assertLessEqual(abs(ra["error_inf"] - rb["error_inf"]), 1e-10 * ra["error_inf"] + 1e-13)
+        # The same for solve (no fields asked for) and for bench solve without --threads.
+        solve = self.vrsph("solve", "--n", "12", "--solver", "petsc", "--format", "json", env=self.env())
+        self.assertEqual(solve.returncode, 0, solve.stderr)
+        self.assertGreaterEqual(json.loads(solve.stdout)["rows"][0]["ranks"], 2)
+        bench = self.vrsph("bench", "solve", "--n", "12", "--format", "json", env=self.env())
+        self.assertEqual(bench.returncode, 0, bench.stderr)
+        self.assertGreaterEqual(json.loads(bench.stdout)["ranks"], 2)
+
+    def test_runs_that_stay_in_one_process(self):
+        cases = [
+            (["study", "--n", "8", "--solver", "petsc"], self.env(threshold=None)),  # small: under 300 000
+            (["study", "--n", "8", "--solver", "petsc"], self.env(OMP_NUM_THREADS="1")),  # threads chosen
+            (["study", "--n", "8", "--solver", "umfpack"], self.env()),  # not a PETSc solve
+            (["study", "--n", "8"], self.env()),  # auto: a direct solve at this size
+            (["study", "--dim", "1", "--n", "200", "--solver", "petsc"], self.env()),  # 1D
+            (["bench", "solve", "--n", "12", "--threads", "2"], self.env()),  # the threads are measured
+        ]
+        for args, env in cases:
+            p = self.vrsph(*args, "--format", "json", env=env)
+            self.assertEqual(p.returncode, 0, (args, p.stderr))
+            self.assertNotIn("MPI ranks", p.stderr, args)
+            self.assertEqual(json.loads(p.stdout)["ranks"], 1, args)
+        # A solve that writes its fields keeps one .vtu (on ranks it would be a .pvtu).
+        with tempfile.TemporaryDirectory() as work:
+            p = self.vrsph("solve", "--n", "12", "--solver", "petsc", "--vtu", "u.vtu", env=self.env(), cwd=work)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(os.listdir(work), ["u.vtu"])
+
+    def test_mpirun_that_cannot_start_leaves_the_run_in_this_process(self):
+        with tempfile.TemporaryDirectory() as fake, tempfile.TemporaryDirectory() as tmp:
+            script = os.path.join(fake, "mpirun")
+            with open(script, "w") as f:
+                f.write("#!/bin/sh\necho 'mpirun: no slots here' >&2\nexit 1\n")
+            os.chmod(script, 0o755)
+            env = self.env(PATH=fake + os.pathsep + os.environ.get("PATH", ""), TMPDIR=tmp)
+            p = self.vrsph(*self.ARGS[:-4], "--format", "json", env=env)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("mpirun could not start", p.stderr)
+            self.assertIn("exit status 1", p.stderr)
+            self.assertEqual(json.loads(p.stdout)["ranks"], 1)
+            self.assertEqual(os.listdir(tmp), [])  # the start marker removed
+
+    def test_a_failure_on_the_ranks_keeps_its_exit_code(self):
+        args = ["study", "--n", "16", "--solver", "petsc", "--petsc-options", "-ksp_max_it 1"]
+        serial = self.vrsph("--ranks", "1", *args, env=self.env())
+        auto = self.vrsph(*args, env=self.env())
+        self.assertEqual(serial.returncode, 5, serial.stderr)
+        self.assertEqual(auto.returncode, 5, auto.stderr)
+        self.assertIn("numerical error", auto.stderr)
+
+    def test_bad_values(self):
+        for env, args, message in (
+                (self.env(threshold="many"), ["study", "--n", "8"], "VRSPH_RANKS_AUTO_MIN_PARTICLES must be a whole number"),
+                (self.env(threshold="0"), ["study", "--n", "8"], "VRSPH_RANKS_AUTO_MIN_PARTICLES must be a whole number"),
+                (self.env(), ["--ranks", "two", "study", "--n", "8"], "--ranks must be auto or a whole number >= 1"),
+                (self.env(), ["--ranks", "-1", "study", "--n", "8"], "--ranks must be auto or a whole number >= 1")):
+            p = self.vrsph(*args, env=env)
+            self.assertEqual(p.returncode, 2, (args, p.stderr))
+            self.assertIn(message, p.stderr)
+        # A run this process would refuse is refused before any rank starts.
+        p = self.vrsph("study", "--dim", "3", "--n", "20000", "--max-memory", "8G", env=self.env())
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("resource limit", p.stderr)
+        self.assertNotIn("MPI ranks", p.stderr)
+
+    def test_sigterm_to_vrsph_ends_its_ranks(self):
+        import signal
+        import time
+        with tempfile.TemporaryDirectory() as tmp:
+            proc = subprocess.Popen([VRSPH, "study", "--n", "400,600", "--solver", "petsc"], stdout=subprocess.PIPE,
+                                    stderr=subprocess.PIPE, text=True, env=self.env(TMPDIR=tmp))
+            line = proc.stderr.readline()
+            self.assertIn("MPI ranks", line)
+
+            def stat(pid):  # state and parent of a process, None when it is gone
+                try:
+                    with open(f"/proc/{pid}/stat") as f:
+                        fields = f.read().rsplit(")", 1)[1].split()
+                    return fields[0], int(fields[1])
+                except (OSError, ValueError, IndexError):
+                    return None
+
+            def descendants(root):
+                children = {}
+                for d in os.listdir("/proc"):
+                    st = stat(d) if d.isdigit() else None
+                    if st:
+                        children.setdefault(st[1], []).append(int(d))
+                found, todo = [], [root]
+                while todo:
+                    for c in children.get(todo.pop(), []):
+                        found.append(c)
+                        todo.append(c)
+                return found
+
+            deadline = time.time() + 30
+            ranks = []
+            while time.time() < deadline and len(ranks) < 3:  # mpirun and its two ranks at least
+                ranks = descendants(proc.pid)
+                time.sleep(0.1)
+            self.assertGreaterEqual(len(ranks), 3, "the ranks did not start")
+            proc.send_signal(signal.SIGTERM)
+            out, _ = proc.communicate(timeout=60)
+            self.assertEqual(proc.returncode, -signal.SIGTERM)
+            self.assertEqual(out, "", "the ranks ran to the end: the signal did not reach them")
+            deadline = time.time() + 30
+            alive = ranks
+            while alive and time.time() < deadline:
+                alive = [p for p in ranks if (stat(p) or ("Z",))[0] != "Z"]
+                time.sleep(0.1)
+            self.assertEqual(alive, [], "processes of the run outlived it")
+            self.assertEqual(os.listdir(tmp), [])
+
+
 class Solvers(unittest.TestCase):
     """--solver petsc/auto, --petsc-options, --monitor and `bench solve` (issue 13 interface)."""
 

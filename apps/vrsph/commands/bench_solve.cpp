@@ -3,6 +3,7 @@
 // list of sizes and solvers in one run; optionally the FEniCSx Pk + BoomerAMG peer
 // (../shared/anchors/fenicsx_ex5.py, fenicsx_anchor.hpp) on about the same numbers of
 // unknowns, in the same run and on the same cores, with ratios.
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "bench_run.hpp"
+#include "../relaunch.hpp"
 #include "fenicsx_anchor.hpp"
 #include "study_args.hpp"
 #ifdef _OPENMP
@@ -228,13 +230,21 @@ void bench_solver(const SolveBenchArgs& a, BvpStudyParams& p, const std::vector<
   meta["slope_iterations"][solver] = -least_squares_order(inverse, iterations);
 }
 
-void run_solve_bench(const SolveBenchArgs& a) {
+void run_solve_bench(const SolveBenchArgs& a, bool threads_given) {
   validate_output(a.out);
+  const std::vector<int> sizes = parse_int_list(a.n, "--n");
+  const std::vector<std::string> solvers = parse_name_list(a.solvers, "--solver");
+  // --ranks auto: a large benchmark of PETSc solves on one rank per core, as study and solve
+  // run; not when the threads were given (they are what is measured) nor beside the peer
+  // (which starts its own mpirun).
+  if (!threads_given && a.peer.anchor.empty() && (a.dim == 2 || a.dim == 3) &&
+      std::all_of(solvers.begin(), solvers.end(), [](const std::string& s) { return s == "petsc"; })) {
+    const int largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
+    run_on_ranks_if_large(static_cast<Index>(std::pow(largest + 1.0, a.dim)), a.dim, true);
+  }
   set_thread_count(a.threads);
   const Communicator& comm = communicator();
   BvpStudyParams p = bench_params(a, comm);
-  const std::vector<int> sizes = parse_int_list(a.n, "--n");
-  const std::vector<std::string> solvers = parse_name_list(a.solvers, "--solver");
   std::vector<SolverOptions> solver_options;
   for (const auto& s : solvers) {
     SolverOptions o;
@@ -300,7 +310,7 @@ void add_solve_bench(CLI::App& bench) {
   cmd->add_option("--plot", a->out.plot, "Also plot seconds_total and solver_iterations against N (log-log, reference slopes 1 and 0) into this PNG file");
   cmd->callback([a, cmd] {
     reject_peer_options_without_peer(*cmd, a->peer);
-    run_solve_bench(*a);
+    run_solve_bench(*a, cmd->count("--threads") > 0);
   });
 }
 

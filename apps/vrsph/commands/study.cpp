@@ -12,6 +12,7 @@
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "../problem_file.hpp"
+#include "../relaunch.hpp"
 #include "heterogeneous_args.hpp"
 #include "study_args.hpp"
 
@@ -129,6 +130,13 @@ BvpStudyParams to_params(const StudyArgs& a, const std::vector<std::string>& met
   return p;
 }
 
+// --ranks auto: a large run solved by PETSc goes to one rank per core (relaunch.hpp).
+// The study's own checks first: a run this process would refuse is refused here, not on the ranks.
+void run_study_on_ranks_if_large(const BvpStudyParams& p) {
+  const StudySize size = checked_study_size(p);
+  vrsph::cli::run_on_ranks_if_large(size.particles, p.dim, size.petsc);
+}
+
 }  // namespace
 
 SolverOptions solver_options(const StudyArgs& a) {
@@ -243,6 +251,7 @@ void add_study_command(CLI::App& app) {
                             "negative_transmissibilities", "xi_max", "infeasible"};
     else if (!p.mobility.empty())
       a->out.key_columns.insert(a->out.key_columns.begin() + 10, "negative_transmissibilities");
+    run_study_on_ranks_if_large(p);
     p.communicator = communicator();
     Progress progress;
     p.progress = [&progress](const std::string& label, double f) { progress.update(label, f); };
@@ -295,6 +304,9 @@ void add_solve_command(CLI::App& app) {
     check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
     BvpStudyParams p = to_params(*a, methods);
     p.n = {*np};
+    // The fields of a run on ranks are written piecewise (a .pvtu) and cannot be drawn on
+    // one rank: a solve asked for a .vtu or a plot stays in one process.
+    if (a->vtu.empty() && a->out.plot.empty()) run_study_on_ranks_if_large(p);
     p.communicator = communicator();
     // Distributed: a piece per rank and a .pvtu that lists them (ParaView opens it as one).
     std::string vtu = a->vtu;

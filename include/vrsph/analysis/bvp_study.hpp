@@ -171,6 +171,17 @@ struct BvpStudyResult {
 BvpStudyResult run_bvp_study(const BvpStudyParams& params);
 /// Support radius over dx of the study: h_factor, times 2 for the [SPE] problems (f = l/dx).
 Real support_factor(const BvpStudyParams& params);
+/// The particles of the built-in cloud at n intervals (the disk's about), before it is made.
+double study_particles(const BvpStudyParams& params, int n);
+/// The study's largest run, after the checks run_bvp_study makes before its first run (the
+/// parameters, and each run's memory: ConfigError, ResourceError): its particles (the
+/// estimate of study_particles) and whether it solves with PETSc (petsc, or auto above the
+/// direct limit).
+struct StudySize {
+  Index particles = 0;
+  bool petsc = false;
+};
+StudySize checked_study_size(const BvpStudyParams& params);
 /// A single solve; keep_fields fills U, exact and local_residual (distributed: this rank's
 /// part, and cloud_out its particles, global numbers from BvpRun::first_id).
 BvpRun run_bvp(const BvpStudyParams& params, const std::string& method, int n, std::uint64_t seed, bool keep_fields,
