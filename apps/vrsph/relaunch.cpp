@@ -151,9 +151,19 @@ Index auto_ranks_min_particles(int dim) {
   return static_cast<Index>(value);
 }
 
+namespace {
+bool& started_automatically() {
+  static bool yes = false;
+  return yes;
+}
+}  // namespace
+
+bool ranks_started_automatically() { return started_automatically(); }
+
 void mark_ranks_started() {
   const char* path = std::getenv(kStartedFileVariable);
   if (!path) return;
+  started_automatically() = true;
   if (communicator().is_root()) {
     const int fd = ::open(path, O_WRONLY | O_APPEND);
     if (fd >= 0) {

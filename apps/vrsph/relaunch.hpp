@@ -59,5 +59,8 @@ void run_on_ranks_if_large(Index particles, int dim, bool petsc_solve);
 /// Under mpirun started by run_on_ranks_if_large: rank 0 tells the waiting parent that the
 /// ranks started (called once the world is joined; nothing otherwise).
 void mark_ranks_started();
+/// Whether this run is on ranks that --ranks auto started (mark_ranks_started saw the parent):
+/// its outputs are then those of one process (one .vtu file, plots), gathered on rank 0.
+bool ranks_started_automatically();
 
 }  // namespace vrsph::cli

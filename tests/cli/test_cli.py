@@ -797,11 +797,40 @@ class AutoRanks(unittest.TestCase):
             self.assertEqual(p.returncode, 0, (args, p.stderr))
             self.assertNotIn("MPI ranks", p.stderr, args)
             self.assertEqual(json.loads(p.stdout)["ranks"], 1, args)
-        # A solve that writes its fields keeps one .vtu (on ranks it would be a .pvtu).
-        with tempfile.TemporaryDirectory() as work:
-            p = self.vrsph("solve", "--n", "12", "--solver", "petsc", "--vtu", "u.vtu", env=self.env(), cwd=work)
-            self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertEqual(os.listdir(work), ["u.vtu"])
+
+    def test_solve_on_ranks_writes_the_one_vtu_and_plot_asked_for(self):
+        """A run that --ranks auto put on ranks writes what one process writes: one .vtu with
+        the serial cloud's particles in their order and the same fields, and the plot
+        (under an explicit mpirun a solve writes a .pvtu of pieces)."""
+        import xml.etree.ElementTree as ET
+
+        def arrays(path):
+            root = ET.parse(path).getroot()
+            out = {}
+            for a in root.iter("DataArray"):
+                name = a.get("Name") or "Points"
+                out[name] = [float(v) for v in a.text.split()]
+            return out
+
+        args = ["solve", "--cloud", "perturbed", "--n", "14", "--solver", "petsc", "--petsc-options",
+                "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps", "--vtu", "u.vtu", "--vtu-format", "ascii",
+                "--plot", "u.png", "--format", "json"]
+        with tempfile.TemporaryDirectory() as one, tempfile.TemporaryDirectory() as auto:
+            serial = self.vrsph("--ranks", "1", *args, env=self.env(), cwd=one)
+            ranks = self.vrsph(*args, env=self.env(), cwd=auto)
+            self.assertEqual(serial.returncode, 0, serial.stderr)
+            self.assertEqual(ranks.returncode, 0, ranks.stderr)
+            self.assertGreaterEqual(json.loads(ranks.stdout)["rows"][0]["ranks"], 2)
+            self.assertEqual(json.loads(ranks.stdout)["rows"][0]["vtu"], "u.vtu")
+            self.assertEqual(sorted(os.listdir(auto)), ["u.png", "u.vtu"])
+            self.assertGreater(os.path.getsize(os.path.join(auto, "u.png")), 1000)
+            a, b = arrays(os.path.join(one, "u.vtu")), arrays(os.path.join(auto, "u.vtu"))
+            self.assertEqual(sorted(a), sorted(b))
+            self.assertEqual(a["Points"], b["Points"])  # the same particles in the same order
+            self.assertEqual(a["tag"], b["tag"])
+            self.assertEqual(len(a["U"]), 15 * 15)
+            for x, y in zip(a["U"], b["U"]):
+                self.assertAlmostEqual(x, y, delta=1e-10)
 
     def test_mpirun_that_cannot_start_leaves_the_run_in_this_process(self):
         with tempfile.TemporaryDirectory() as fake, tempfile.TemporaryDirectory() as tmp:

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 #include <vrsph/io/json.hpp>
+#include <vrsph/io/output_file.hpp>
 #include <vrsph/flow/dam_break.hpp>
 #include <vrsph/flow/tank.hpp>
 #include "../vtu_series.hpp"

@@ -12,6 +12,7 @@
 #include "../cli_common.hpp"
 #include "../commands.hpp"
 #include "../problem_file.hpp"
+#include "../gathered_fields.hpp"
 #include "../relaunch.hpp"
 #include "heterogeneous_args.hpp"
 #include "study_args.hpp"
@@ -282,7 +283,7 @@ void add_solve_command(CLI::App& app) {
   add_geometry_options(cmd, *file, false);
   add_column_options(cmd, *file, "--cloud-file");
   cmd->add_option("--vtu", a->vtu, "Write U, exact u, error and local residual to this VTU file (none without it; "
-                                  "under mpirun a .pvtu with one piece per rank)");
+                                  "under mpirun a .pvtu with one piece per rank; one .vtu on the ranks --ranks auto starts)");
   cmd->add_option("--vtu-format", a->vtu_format, "VTU data: binary (base64, exact, smaller) or ascii")->capture_default_str();
   cmd->add_option("--format", a->out.format, "Summary format: md, csv or json")->capture_default_str();
   cmd->add_option("--plot", a->out.plot, "Also draw u (and, with an exact u, the error) into this PNG file "
@@ -304,13 +305,14 @@ void add_solve_command(CLI::App& app) {
     check<ConfigError>(methods.size() == 1, "vrsph solve takes exactly one --method");
     BvpStudyParams p = to_params(*a, methods);
     p.n = {*np};
-    // The fields of a run on ranks are written piecewise (a .pvtu) and cannot be drawn on
-    // one rank: a solve asked for a .vtu or a plot stays in one process.
-    if (a->vtu.empty() && a->out.plot.empty()) run_study_on_ranks_if_large(p);
+    run_study_on_ranks_if_large(p);
     p.communicator = communicator();
-    // Distributed: a piece per rank and a .pvtu that lists them (ParaView opens it as one).
+    // Distributed: a piece per rank and a .pvtu that lists them (ParaView opens it as one),
+    // except on ranks that --ranks auto started: the user asked one process for one .vtu
+    // file and a plot, and gets them (the fields gathered, rank 0 writes).
+    const bool whole = p.communicator.distributed() && ranks_started_automatically();
     std::string vtu = a->vtu;
-    if (p.communicator.distributed()) {
+    if (p.communicator.distributed() && !whole) {
       check<ConfigError>(a->out.plot.empty(), "--plot draws the whole field on one rank: not available under mpirun "
                          "(open the .pvtu in ParaView)");
       if (!vtu.empty()) vtu = pvtu_path(vtu);
@@ -328,7 +330,17 @@ void add_solve_command(CLI::App& app) {
     res.col(0) = r.local_residual;
     const std::vector<PointField> fields{{"U", U}, {"u_exact", ex}, {"error", err}, {"local_residual", res}};
     fault_point(p.communicator, "output");  // outside any collective: the MPI tests' abort path
-    if (vtu.empty()) {
+    if (whole && (!vtu.empty() || !a->out.plot.empty())) {
+      const WholeFields all = gather_whole(p.communicator, cloud, fields);
+      collective(p.communicator, [&] {
+        if (!p.communicator.is_root()) return;
+        if (!vtu.empty()) write_vtu(vtu, all.cloud, all.fields, parse_vtu_format(a->vtu_format));
+        if (!a->out.plot.empty()) {
+          const Field u = all.fields[0].values.col(0), exact = all.fields[1].values.col(0);
+          plot_solution(all.cloud, u, &exact, a->out.plot, r.method + " n=" + std::to_string(r.n));
+        }
+      });
+    } else if (vtu.empty()) {
     } else if (p.communicator.distributed()) {
       collective(p.communicator, [&] {
         write_pvtu_piece(vtu, p.communicator.rank(), p.communicator.size(), cloud, fields, parse_vtu_format(a->vtu_format));
@@ -336,7 +348,7 @@ void add_solve_command(CLI::App& app) {
     } else {
       write_vtu(vtu, cloud, fields, parse_vtu_format(a->vtu_format));
     }
-    if (!a->out.plot.empty()) plot_solution(cloud, r.U, &r.exact, a->out.plot, r.method + " n=" + std::to_string(r.n));
+    if (!whole && !a->out.plot.empty()) plot_solution(cloud, r.U, &r.exact, a->out.plot, r.method + " n=" + std::to_string(r.n));
     Table t;
     t.columns = {"method", "n", "N", "unknowns", "h", "error_inf", "error_l2", "mmatrix", "infeasible", "solver",
                  "solver_iterations", "solver_residual", "seconds_total", "vtu", "ranks"};
