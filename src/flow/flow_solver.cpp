@@ -250,6 +250,9 @@ FlowSolver::FlowSolver(PointCloud cloud, const Eigen::MatrixXd& u0, FlowOptions 
                      "flow: the largest shift must be finite and >= 0 spacings (0: unbounded), got ",
                      options_.shifting.max_shift);
   options_.solver.dimension = d;
+  // Every pressure set-up serves several solves: the stages of a fixed cloud, or the nearby
+  // matrices of the next stages (reuse_hierarchy): the solver's defaults favour iterations.
+  options_.solver.reused_setup = options_.frame == FlowFrame::Eulerian || options_.reuse_hierarchy;
   // The Lagrangian frame sets up a new pressure matrix at every stage, where auto's direct limit
   // was measured for one set-up per solve: Taylor-Green, per step, UMFPACK against GMRES +
   // BoomerAMG 2D 0.0089 / 0.011 s at 625 particles, 0.022 / 0.018 at 1089, 0.74 / 0.22 at

@@ -24,6 +24,7 @@ DiffusionStepper::DiffusionStepper(const DiffusionOperator& op, const DiffusionP
   SolverOptions so = o.solver;
   so.communicator = comm_;
   if (so.dimension == 0) so.dimension = cloud_.dim;
+  so.reused_setup = true;  // one set-up for every step
   if (o.scheme != TimeScheme::Explicit) {
     solver_ = std::make_unique<PreparedSolver>(implicit_matrix(op, theta_, o.dt), so);
   } else if (op.neumann) {

@@ -49,9 +49,15 @@ struct SolverOptions {
   /// BoomerAMG's Galerkin coarse levels (R = P^T) then fit our non-symmetric Laplacians
   /// better (about a fifth fewer iterations at 10^6 perturbed particles, docs/solvers.md).
   bool balance_columns = true;
-  /// Dimension of the problem's geometry, for the fill-in estimate of the direct solvers
-  /// and the direct-solve limit of auto (0: unknown, treated as 3, the most cautious).
+  /// Dimension of the problem's geometry, for the fill-in estimate of the direct solvers,
+  /// the direct-solve limit of auto and PETSc's default AMG settings (0: unknown, treated as
+  /// 3, the most cautious; a 2D system then gets the 3D settings, which converge but take
+  /// about 1.4 x the time).
   int dimension = 0;
+  /// The set-up (AMG hierarchy, factorisation) serves many solves: a time stepper's, a flow's
+  /// pressure stages. PETSc's defaults then keep the fuller hierarchy whose fewer iterations
+  /// repay it (3D: no aggressive coarsening, which suits one solve per set-up; docs/solvers.md).
+  bool reused_setup = false;
   /// auto: the largest system solved directly (0: by dimension, see auto_direct_limit).
   Index auto_direct_max = 0;
   /// The ranks the system is spread over. Distributed (more than one rank): each rank passes
@@ -73,8 +79,9 @@ SolverType auto_direct_solver();
 
 /// The PETSc options vrsph starts from (before PETSC_OPTIONS and the user's): GMRES with
 /// BoomerAMG settings tuned for non-symmetric M-matrices of particle Laplacians in
-/// dimension d (docs/solvers.md has the measured iteration table).
-std::string default_petsc_options(int dimension);
+/// dimension d; in 3D, for a set-up that serves one solve (reused_setup false), aggressive
+/// coarsening on the first level (docs/solvers.md has the measured iteration tables).
+std::string default_petsc_options(int dimension, bool reused_setup = false);
 
 /// Memory a sparse LU factorisation (SparseLU/COLAMD or UMFPACK) of A is expected to
 /// need, in bytes: c nnz(A) N^((d-1)/d), the nested-dissection growth of the fill-in,
