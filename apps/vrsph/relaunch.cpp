@@ -51,10 +51,13 @@ std::string this_program() {
 }
 
 // mpirun -np <ranks> <this program> <argv without --ranks>, as execvp takes it (the strings
-// live in `storage`).
-std::vector<char*> mpirun_command(int ranks, int argc, char** argv, std::vector<std::string>& storage) {
+// live in `storage`). quiet: without OpenMPI's banners (an MPI_Abort's, a rank's non-zero
+// exit), which a user who did not ask for MPI would only be puzzled by; our own message and
+// exit status say what happened.
+std::vector<char*> mpirun_command(int ranks, int argc, char** argv, std::vector<std::string>& storage, bool quiet) {
   storage = {"mpirun"};
   if (::geteuid() == 0) storage.emplace_back("--allow-run-as-root");
+  if (quiet) storage.emplace_back("--quiet");
   storage.insert(storage.end(), {"-np", std::to_string(ranks), this_program()});
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
@@ -115,7 +118,7 @@ void relaunch_on_ranks(int ranks, const CLI::App& app, int argc, char** argv) {
                      " cores (run mpirun yourself to oversubscribe or to use several machines)");
   check<ConfigError>(mpirun_on_path(), "--ranks needs mpirun (Debian's openmpi-bin), which is not on PATH");
   std::vector<std::string> storage;
-  const std::vector<char*> c_args = mpirun_command(ranks, argc, argv, storage);
+  const std::vector<char*> c_args = mpirun_command(ranks, argc, argv, storage, false);
   std::cout.flush();
   std::cerr.flush();
   ::execvp("mpirun", c_args.data());
@@ -185,7 +188,12 @@ void run_on_ranks_if_large(Index particles, int dim, bool petsc_solve) {
   const int ranks = large_run_ranks(particles, dim, cores_here(), min_particles);
   if (ranks <= 1 || !mpirun_on_path()) return;
   std::vector<std::string> storage;
-  const std::vector<char*> c_args = mpirun_command(ranks, a.argc, a.argv, storage);
+  std::vector<char*> c_args;
+  try {
+    c_args = mpirun_command(ranks, a.argc, a.argv, storage, true);
+  } catch (const IoError&) {
+    return;  // this program's path unknown (no /proc): the run stays in this process
+  }
   std::error_code ec;
   std::string marker = (std::filesystem::temp_directory_path(ec) / "vrsph-ranks-XXXXXX").string();
   const int fd = ec ? -1 : ::mkstemp(marker.data());

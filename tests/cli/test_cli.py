@@ -853,6 +853,12 @@ class AutoRanks(unittest.TestCase):
         self.assertEqual(serial.returncode, 5, serial.stderr)
         self.assertEqual(auto.returncode, 5, auto.stderr)
         self.assertIn("numerical error", auto.stderr)
+        # One rank's error ends every rank (MPI_Abort): its message and exit status, without
+        # OpenMPI's banners, which a user who did not ask for MPI would only be puzzled by.
+        full = self.vrsph("study", "--n", "16", "--solver", "petsc", "--output", "/dev/full", env=self.env())
+        self.assertEqual(full.returncode, 3, full.stderr)
+        self.assertIn("I/O error", full.stderr)
+        self.assertNotIn("MPI_ABORT", full.stderr)
 
     def test_bad_values(self):
         for env, args, message in (
