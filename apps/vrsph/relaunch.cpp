@@ -58,6 +58,10 @@ std::vector<char*> mpirun_command(int ranks, int argc, char** argv, std::vector<
   storage = {"mpirun"};
   if (::geteuid() == 0) storage.emplace_back("--allow-run-as-root");
   if (quiet) storage.emplace_back("--quiet");
+  // A slot per logical CPU, as the cores counted here (OpenMP's): OpenMPI counts physical cores
+  // by default, and on a machine with two hardware threads per core `-np <CPUs>` would find too
+  // few slots.
+  storage.emplace_back("--use-hwthread-cpus");
   storage.insert(storage.end(), {"-np", std::to_string(ranks), this_program()});
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
