@@ -145,7 +145,8 @@ void add_global_options(CLI::App& app, GlobalOptions& g, int argc, char** argv) 
   app.add_option("--ranks", g.ranks,
                  "Run study, solve, diffuse or bench solve on this many MPI ranks of this machine (vrsph starts "
                  "mpirun itself; one thread per rank): faster than threads for large solves (docs/performance.md). "
-                 "auto (default): one rank per core for study, solve and bench solve (without --threads, --anchor) runs of at least 150000 particles in 2D or 200000 in 3D solved by PETSc, unless "
+                 "auto (default): one rank per core for study, solve and bench solve (without --threads, "
+                 "--anchor) runs of at least 150000 particles in 2D or 200000 in 3D solved by PETSc, unless "
                  "OMP_NUM_THREADS is set (VRSPH_RANKS_AUTO_MIN_PARTICLES: another threshold); one process otherwise")
       ->capture_default_str();
   app.add_flag("--verbose", g.verbose, "Warnings with their full lists (e.g. every row that could not meet its moment "

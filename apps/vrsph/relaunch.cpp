@@ -78,11 +78,13 @@ std::vector<char*> mpirun_command(int ranks, int argc, char** argv, std::vector<
   return c_args;
 }
 
-// --ranks auto: the command line, kept until the command knows its size.
+// --ranks auto: the command line, kept until the command knows its size; and, on the ranks
+// it started, that they were started so (mark_ranks_started).
 struct AutoRanks {
   bool on = false;
   int argc = 0;
   char** argv = nullptr;
+  bool started_here = false;
 };
 AutoRanks& auto_ranks() {
   static AutoRanks a;
@@ -158,19 +160,12 @@ Index auto_ranks_min_particles(int dim) {
   return static_cast<Index>(value);
 }
 
-namespace {
-bool& started_automatically() {
-  static bool yes = false;
-  return yes;
-}
-}  // namespace
-
-bool ranks_started_automatically() { return started_automatically(); }
+bool ranks_started_automatically() { return auto_ranks().started_here; }
 
 void mark_ranks_started() {
   const char* path = std::getenv(kStartedFileVariable);
   if (!path) return;
-  started_automatically() = true;
+  auto_ranks().started_here = true;
   if (communicator().is_root()) {
     const int fd = ::open(path, O_WRONLY | O_APPEND);
     if (fd >= 0) {
