@@ -23,7 +23,7 @@ py::array_t<T> copy_array(const std::vector<T>& v) {
 
 std::unique_ptr<Operators> make_operators(const py::object& self, const std::string& method, const std::vector<std::string>& ops,
                                           double h, double h_factor, const std::string& kernel, const py::dict& options,
-                                          double skin, bool warm_start) {
+                                          double skin, bool warm_start, bool share_volumes) {
   const PointCloud& cloud = as_cloud(self);
   OperatorsOptions o;
   o.method = method;
@@ -34,6 +34,7 @@ std::unique_ptr<Operators> make_operators(const py::object& self, const std::str
   o.h_factor = h_factor;
   o.skin = skin;
   o.warm_start = warm_start;
+  o.share_volumes = share_volumes;
   o.operators.clear();
   for (const auto& name : ops) o.operators.push_back(parse_operator(name));
   py::gil_scoped_release release;
@@ -116,6 +117,7 @@ py::dict stats(const Operators& ops) {
   d["searched"] = s.searched;
   d["warm_rows"] = s.warm_rows;
   d["warm_hits"] = s.warm_hits;
+  d["borrowed_rows"] = s.borrowed_rows;
   d["seconds_neighbours"] = s.seconds_neighbours;
   d["seconds_stencils"] = s.seconds_stencils;
   return d;
@@ -125,7 +127,8 @@ py::dict stats(const Operators& ops) {
 void bind_moving(py::module_& m) {
   py::class_<Operators>(m, "_Operators")
       .def(py::init(&make_operators), py::arg("cloud"), py::arg("method"), py::arg("operators"), py::arg("h"),
-           py::arg("h_factor"), py::arg("kernel"), py::arg("options"), py::arg("skin"), py::arg("warm_start"))
+           py::arg("h_factor"), py::arg("kernel"), py::arg("options"), py::arg("skin"), py::arg("warm_start"),
+           py::arg("share_volumes"))
       .def("update", &update, py::arg("positions"))
       .def("wrap", &wrap, py::arg("positions"))
       .def("stencil", &raw_stencil, py::arg("operator"))

@@ -130,6 +130,10 @@ def test_a_periodic_box_keeps_the_warm_start_across_the_faces():
         x[:, 0] = np.mod(x[:, 0] + 0.003 * (1 + np.sin(2 * np.pi * x[:, 1])), 1.0)
         ops.update(x)
     assert ops.stats["warm_hits"] > 0.9 * ops.stats["warm_rows"] > 0
+    assert ops.stats["borrowed_rows"] > 0.8 * len(x)  # the divergence's gradient rows take the Laplacian's volumes
+    own = vrsph.Operators(c, operators=("laplacian", "divergence"), share_volumes=False)
+    own.update(x)
+    assert own.stats["borrowed_rows"] == 0
     p = ops.positions
     u = np.sin(2 * np.pi * p[:, 0]) * np.cos(2 * np.pi * p[:, 1])
     err = np.max(np.abs(ops.apply("laplacian", u) + 8 * np.pi ** 2 * u))

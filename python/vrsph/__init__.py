@@ -212,17 +212,20 @@ class Operators:
     the Hessian) and "vector-laplacian" (from the Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
     Verlet skin as a fraction of the support radius; ``warm_start=False`` makes every update
     equal a fresh build bit for bit (with it VRSPH's rows meet the same moment conditions but may
-    pick other volumes). On a periodic cloud the rows that read only pair vectors (VRSPH's point
+    pick other volumes; ``share_volumes``, on by default with it, lets VRSPH's gradient rows take the
+    Laplacian's volumes where these meet the Laplace conditions, which contain the gradient's,
+    instead of solving their own: ``stats["borrowed_rows"]``). On a periodic cloud the rows that read only pair vectors (VRSPH's point
     rows, FPM with v = dx^d) take the minimum-image list; others are rebuilt on the images.
 
     ``update(positions)`` takes an (N, dim) array (the same particles; InputError otherwise, and
     the operators stay as they were). ``stencil(op)`` returns what :func:`stencil` returns (a
     CSR matrix, or a tuple of them); ``apply(op, values)`` applies it to (N,) or (N, dim) values;
-    ``stats`` reports the last update (searches, warm-start rows and hits, seconds)."""
+    ``stats`` reports the last update (searches, warm-start rows and hits, borrowed rows, seconds)."""
 
     def __init__(self, cloud: Cloud, method: str = "vrsph", operators: Sequence[str] = ("laplacian", "gradient"),
                  h: float | None = None, h_factor: float = 3.0, kernel: str = "cubic",
-                 options: Mapping[str, Any] | None = None, skin: float = 0.2, warm_start: bool = True):
+                 options: Mapping[str, Any] | None = None, skin: float = 0.2, warm_start: bool = True,
+                 share_volumes: bool = True):
         _check_cloud(cloud)
         wanted = _args.names(operators, "operators")
         base: list[str] = []
@@ -234,7 +237,7 @@ class Operators:
         self._ops = _vrsph._Operators(cloud, _args.text(method, "method"), base, _args.optional_length(h, "h"),
                                       _args.number(h_factor, "h_factor", positive=True), _args.text(kernel, "kernel"),
                                       _args.options(options, "options"), _args.number(skin, "skin", minimum=0.0),
-                                      _args.flag(warm_start, "warm_start"))
+                                      _args.flag(warm_start, "warm_start"), _args.flag(share_volumes, "share_volumes"))
 
     @staticmethod
     def _positions(positions: Any) -> np.ndarray:

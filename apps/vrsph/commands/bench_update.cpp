@@ -32,6 +32,7 @@ struct UpdateArgs {
   std::string method = "vrsph";
   std::vector<std::string> method_opts;
   bool warm_start = true;
+  bool share_volumes = true;
   bool periodic = false;
   std::uint64_t seed = 1;
   OutputOptions out;
@@ -116,6 +117,7 @@ struct PathTimes {
 struct UpdateRun {
   PathTimes update, fresh;
   Index hits = 0, warm_rows = 0, searches = 0, particles = 0;
+  Index borrowed = 0, first_derivative_rows = 0;  // gradient rows that took the Laplacian's volumes, of all
   Errors e_update, e_fresh;
   double first_build = 0;
 };
@@ -146,6 +148,7 @@ UpdateRun run_steps(const UpdateArgs& a) {
   o.h_factor = a.h_factor;
   o.skin = a.skin;
   o.warm_start = a.warm_start;
+  o.share_volumes = a.share_volumes;
   UpdateRun run;
   run.particles = sc.cloud.size();
   Stopwatch build_watch;
@@ -163,6 +166,8 @@ UpdateRun run_steps(const UpdateArgs& a) {
     run.update.stencils += ops.stats().seconds_stencils;
     run.hits += ops.stats().warm_hits;
     run.warm_rows += ops.stats().warm_rows;
+    run.borrowed += ops.stats().borrowed_rows;
+    run.first_derivative_rows += ops.cloud().size();
     Eigen::MatrixXd U(sc.cloud.size(), a.dim);
     for (Index i = 0; i < sc.cloud.size(); ++i) U.row(i) = flow_velocity(x[static_cast<std::size_t>(i)], sc.cloud).head(a.dim).transpose();
     Stopwatch w;
@@ -205,14 +210,17 @@ void run_update_bench(const UpdateArgs& a) {
   const UpdateRun run = run_steps(a);
   Table t;
   t.columns = {"stage", "dim", "particles", "threads", "steps", "seconds_per_step", "seconds_fresh_per_step",
-               "ratio_to_fresh", "searches", "warm_start_hit_rate", "laplacian_error", "laplacian_error_fresh",
+               "ratio_to_fresh", "searches", "warm_start_hit_rate", "borrowed_volume_rate", "laplacian_error", "laplacian_error_fresh",
                "divergence_error", "divergence_error_fresh"};
   const double hit_rate = run.warm_rows > 0 ? static_cast<double>(run.hits) / static_cast<double>(run.warm_rows) : 0.0;
+  const double borrow_rate =
+      run.first_derivative_rows > 0 ? static_cast<double>(run.borrowed) / static_cast<double>(run.first_derivative_rows) : 0.0;
   auto row = [&](const std::string& stage, double u, double f) {
     t.add_row({{"stage", stage}, {"dim", static_cast<long long>(a.dim)}, {"particles", static_cast<long long>(run.particles)},
                {"threads", threads_in_use()}, {"steps", static_cast<long long>(a.steps)},
                {"seconds_per_step", u / a.steps}, {"seconds_fresh_per_step", f / a.steps}, {"ratio_to_fresh", u / f},
                {"searches", static_cast<long long>(run.searches)}, {"warm_start_hit_rate", hit_rate},
+               {"borrowed_volume_rate", borrow_rate},
                {"laplacian_error", run.e_update.laplacian}, {"laplacian_error_fresh", run.e_fresh.laplacian},
                {"divergence_error", run.e_update.divergence}, {"divergence_error_fresh", run.e_fresh.divergence}});
   };
@@ -230,6 +238,7 @@ void run_update_bench(const UpdateArgs& a) {
   extra["move_per_step_dx"] = a.move;
   extra["skin_fraction"] = a.skin;
   extra["warm_start"] = a.warm_start;
+  extra["share_volumes"] = a.share_volumes;
   extra["periodic"] = a.periodic;
   extra["first_build_seconds"] = run.first_build;
   extra["peak_memory_mib"] = peak_memory_mib();
@@ -250,6 +259,10 @@ void add_update_bench(CLI::App& bench) {
   cmd->add_option("--method", a->method, "Method (any with a Laplacian and a gradient)")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value (repeatable)");
   cmd->add_option("--warm-start", a->warm_start, "Start VRSPH's NNLS from each row's previous active set")->capture_default_str();
+  cmd->add_option("--share-volumes", a->share_volumes,
+                  "With --warm-start, VRSPH's gradient rows take the Laplacian's volumes where these meet the "
+                  "Laplace conditions instead of solving their own NNLS (borrowed_volume_rate)")
+      ->capture_default_str();
   cmd->add_flag("--periodic", a->periodic, "A fully periodic box moved by the Taylor-Green field (else the unit box and "
                                           "a cellular flow)");
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();

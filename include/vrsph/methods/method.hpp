@@ -126,9 +126,19 @@ class Method {
   /// given directly (Operators on a periodic box: Verlet list and warm start). False: such a list
   /// is refused and periodic boxes go through periodic_stencil's images.
   virtual bool reads_periodic_pairs(const StencilRequest& /*request*/) const { return false; }
+  /// Moving particles: lets the next rebuild of a first-derivative request (its state
+  /// `borrower`, created if null) take the volumes that this method's rebuild of a Laplacian
+  /// request (its state `lender`) has just found on the same neighbour list, in the rows where
+  /// they also meet the first-derivative moment conditions; null: nothing lent. For one rebuild
+  /// only, and only with a warm start (which already lets a rebuild take another optimum of
+  /// the same NNLS: VRSPH's Laplace conditions contain the gradient's, so a Laplace solution
+  /// is one). Default: nothing is shared.
+  virtual void lend_volumes(std::unique_ptr<BuildState>& /*borrower*/, const BuildState* /*lender*/) const {}
   /// Rows of the last rebuild whose NNLS started warm, and those the guess solved as it stood
   /// (0, 0 for methods without a warm start).
   virtual std::pair<Index, Index> warm_start_counts(const BuildState* /*state*/) const { return {0, 0}; }
+  /// Rows of the last rebuild that took lent volumes (lend_volumes) instead of solving their own.
+  virtual Index borrowed_volume_rows(const BuildState* /*state*/) const { return 0; }
   /// How many supports away from a row's particle its weights read the cloud: 1 when row i
   /// uses only its own neighbours; 2 when it also uses quantities built from each neighbour's
   /// own neighbour list (D2 = D D, Shepard or Voronoi volumes of the neighbours); 3 for VRSPH

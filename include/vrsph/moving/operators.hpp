@@ -42,6 +42,10 @@ struct OperatorsOptions {
   StencilUse use = StencilUse::Values;
   Real skin = 0.2;         ///< Verlet skin as a fraction of the support radius (0: search every update)
   bool warm_start = true;  ///< VRSPH: start each row's NNLS from its previous active set
+  /// With warm_start, VRSPH: the gradient (dx/dy/dz) rows take the Laplacian's volumes where these
+  /// meet the Laplace conditions (which contain the gradient's) instead of solving their own NNLS
+  /// (UpdateStats::borrowed_rows; docs/moving.md). False: every stencil solves its own.
+  bool share_volumes = true;
   SearchBackend backend = SearchBackend::CellList;
   /// Rows with fewer neighbours than this raise GeometryError (SearchParams::min_neighbours).
   /// 0 lets a particle stand alone with empty rows: a free-surface flow's droplet, whose
@@ -56,6 +60,9 @@ struct UpdateStats {
   bool searched = false;        ///< whether the last build searched
   Index warm_rows = 0;          ///< rows of the last build whose NNLS started warm (all stencils)
   Index warm_hits = 0;          ///< of those, rows whose guess was optimal as it stood
+  /// First-derivative rows of the last build that took the Laplacian's volumes (VRSPH with a warm
+  /// start: its Laplace conditions contain the gradient's) instead of solving their own NNLS.
+  Index borrowed_rows = 0;
   double seconds_neighbours = 0;  ///< the last build's neighbour list
   double seconds_stencils = 0;    ///< the last build's stencils
 };
@@ -119,7 +126,8 @@ class Operators {
     Stencil spliced;  ///< stencil with the marked rows from `marked`: what stencil() gives when rows are marked
     bool use_spliced = false;
   };
-  void build_rows(const Method& method, const Discretisation& disc, StencilRequest req, Stencil& out,
+  /// False when the rows were built afresh on periodic images (the method's state untouched).
+  bool build_rows(const Method& method, const Discretisation& disc, StencilRequest req, Stencil& out,
                   std::unique_ptr<BuildState>& state);
   void splice_marked(Kept& k, const Discretisation& disc);
   PointCloud cloud_;

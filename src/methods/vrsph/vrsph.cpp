@@ -9,6 +9,7 @@
 #include <cmath>
 #include <optional>
 #include <set>
+#include <utility>
 #include <vrsph/methods/gradient_consistency.hpp>
 #include <vrsph/methods/pair_mean.hpp>
 #include <vrsph/stencil/apply.hpp>
@@ -175,6 +176,17 @@ class Vrsph final : public Method {
     build_into(disc, req, out, &st);
   }
 
+  void lend_volumes(std::unique_ptr<BuildState>& borrower, const BuildState* lender) const override {
+    if (!dynamic_cast<VrsphBuildState*>(borrower.get())) borrower = std::make_unique<VrsphBuildState>();
+    const auto* from = dynamic_cast<const VrsphBuildState*>(lender);
+    static_cast<VrsphBuildState&>(*borrower).lender = from && from->lends ? from : nullptr;
+  }
+
+  Index borrowed_volume_rows(const BuildState* state) const override {
+    const auto* st = dynamic_cast<const VrsphBuildState*>(state);
+    return st ? st->borrowed_rows : 0;
+  }
+
   std::pair<Index, Index> warm_start_counts(const BuildState* state) const override {
     const auto* st = dynamic_cast<const VrsphBuildState*>(state);
     return st ? std::pair{st->volumes.warm_rows, st->volumes.warm_hits} : std::pair<Index, Index>{0, 0};
@@ -187,6 +199,14 @@ class Vrsph final : public Method {
     ReconstructedVolumes volumes;
     ActiveSets active;
     bool warm = true;
+    // A Laplacian request's state: whether its last build's volumes are plain point volumes
+    // under the Laplace conditions (no compact, balance or tensor rows), which a first-derivative
+    // request of the same neighbour list may borrow (lend_volumes).
+    bool lends = false;
+    // A first-derivative request's state: the Laplacian's state to borrow from at the next
+    // build (lend_volumes), cleared by that build.
+    const VrsphBuildState* lender = nullptr;
+    Index borrowed_rows = 0;  // rows of the last build whose volumes were borrowed
   };
 
   // build() and rebuild(): with a state, its arrays are reused and (warm) its active sets start
@@ -247,8 +267,18 @@ class Vrsph final : public Method {
       vo.warm_start = &state->active;
       vo.record_active = true;
     }
-    reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient, volume_rows, vo,
-                        targets, vol);
+    // Borrowed volumes (moving particles, warm start only): a first-derivative row takes the
+    // Laplacian's volumes where they meet the Laplace conditions, which contain its own: they
+    // are an optimum of its NNLS (another vertex, as a warm start may give), and its own NNLS
+    // is skipped. The other rows solve theirs.
+    const VrsphBuildState* lender = state ? std::exchange(state->lender, nullptr) : nullptr;
+    if (!state || !state->warm || laplace || compact_form) lender = nullptr;
+    std::vector<char> own_rows;
+    if (lender) own_rows = rows_not_borrowed(disc, req, lender->volumes, vo.signed_threshold);
+    reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
+                        lender ? std::span<const char>(own_rows) : volume_rows, vo, targets, vol);
+    if (state) state->borrowed_rows = lender ? borrow_volumes(disc, req, lender->volumes, own_rows, vol) : 0;
+    if (state) state->lends = laplace && !tensor && !compact_form && vo.wall.rows.empty();
     if (state && state->warm) std::swap(state->active, vol.active);  // this build's sets start the next
     if (tensor)  // residuals relative to |b| as for the Laplacian (|b| = sqrt(d)), so one tolerance serves both
       for (std::size_t i = 0; i < targets.size(); ++i) {
@@ -303,6 +333,58 @@ class Vrsph final : public Method {
         for (int k = 0; k < cloud.dim; ++k) conormal[si][k] *= (*req.mobility)(i, k);
     }
     return true;
+  }
+
+  // Per particle: 1 where a first-derivative row of `req` solves its own NNLS, 0 where it
+  // borrows the Laplace volumes `lent` (computed, positive, not signed, residual at most
+  // `threshold` times |b| = sqrt(d): the moment conditions met to rounding).
+  static std::vector<char> rows_not_borrowed(const Discretisation& disc, const StencilRequest& req,
+                                             const ReconstructedVolumes& lent, Real threshold) {
+    const PointCloud& cloud = disc.cloud;
+    const auto n = static_cast<std::size_t>(cloud.size());
+    std::vector<char> own(n, 0);
+    const bool usable = lent.conditions == MomentConditions::Laplace &&
+                        lent.v.size() == static_cast<std::size_t>(disc.neighbours.total()) && lent.residual.size() == n &&
+                        lent.positive.size() == n && lent.failed.size() == n;
+    const Real limit = threshold * std::sqrt(static_cast<Real>(cloud.dim));
+    const NeighbourList& nl = disc.neighbours;
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (!row_requested(cloud, req, i)) continue;
+      bool lendable = usable && lent.positive[si] > 0 && !lent.failed[si] &&
+                      (lent.signed_row.empty() || !lent.signed_row[si]) && lent.residual[si] <= limit;
+      // Not where the support reaches a wall: there the Laplace volumes must also cancel the
+      // first moments of a one-sided support, and the gradient's own NNLS, free of them, finds
+      // volumes whose rows were measured more accurate (3D, n = 10: the flow's divergence 1.6 times
+      // smaller at the worst row).
+      for (const Index j : nl.of(i)) {
+        const Tag t = cloud.tags[static_cast<std::size_t>(j)];
+        lendable = lendable && t != Tag::Dirichlet && t != Tag::Neumann;
+      }
+      own[si] = lendable ? 0 : 1;
+    }
+    return own;
+  }
+
+  // The borrowed rows' volumes (rows_not_borrowed 0 and requested) copied into `vol`; returns
+  // their count.
+  static Index borrow_volumes(const Discretisation& disc, const StencilRequest& req, const ReconstructedVolumes& lent,
+                              const std::vector<char>& own, ReconstructedVolumes& vol) {
+    const PointCloud& cloud = disc.cloud;
+    const NeighbourList& nl = disc.neighbours;
+    Index borrowed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : borrowed)
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (own[si] || !row_requested(cloud, req, i)) continue;
+      const Real* from = lent.v.data() + nl.offsets[si];
+      std::copy(from, from + nl.count(i), vol.v.data() + nl.offsets[si]);
+      vol.residual[si] = lent.residual[si];  // the Laplace residual bounds the gradient conditions' own
+      vol.positive[si] = lent.positive[si];
+      ++borrowed;
+    }
+    return borrowed;
   }
 
   // The pattern of a sparse rebuild: per row the requested row's neighbours with a volume and

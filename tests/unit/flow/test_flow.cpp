@@ -27,11 +27,14 @@ PointCloud flow_cloud(int nx, Real jitter = 0.2, int dim = 2) {
   return periodic_flow_cloud(spec);
 }
 
-Operators flow_ops(const PointCloud& cloud, const std::string& gradient = "auto", const std::string& option = "") {
+Operators flow_ops(const PointCloud& cloud, const std::string& gradient = "auto", const std::string& option = "",
+                   bool share_volumes = true) {
   FlowOptions fo;
   fo.gradient = gradient;
   if (!option.empty()) fo.operators.method_options = MethodOptions::parse({option});
-  return Operators(cloud, flow_operators(fo));
+  OperatorsOptions oo = flow_operators(fo);
+  oo.share_volumes = share_volumes;
+  return Operators(cloud, oo);
 }
 
 Eigen::MatrixXd vortex_at(const PointCloud& c, Real t = 0) {
@@ -263,12 +266,18 @@ TEST(Projection, IsStableWithTheFlowsOperatorsNotWithVrsphsOwnGradient) {
   const Real flow = projection_radius(flow_ops(c));
   EXPECT_LT(flow, 1 + 1e-6);
   // VRSPH's NNLS gradient composed with its Laplacian amplifies some modes at every projection:
-  // [QW]'s rows, and the same rows raised to cubic exactness (the default) alike.
-  const Real own = projection_radius(flow_ops(c, "own"));
-  const Real qw = projection_radius(flow_ops(c, "own", "gradient_order=2"));
-  std::cout << "rho(P): least squares " << flow << ", VRSPH's cubic rows " << own << ", [QW]'s rows " << qw << "\n";
+  // [QW]'s rows, and the same rows raised to cubic exactness (the default) alike, whether their
+  // volumes are their own NNLS's or the Laplacian's (Operators' default, share_volumes: less so).
+  const Real own = projection_radius(flow_ops(c, "own", "", false));
+  const Real qw = projection_radius(flow_ops(c, "own", "gradient_order=2", false));
+  const Real own_shared = projection_radius(flow_ops(c, "own"));
+  const Real qw_shared = projection_radius(flow_ops(c, "own", "gradient_order=2"));
+  std::cout << "rho(P): least squares " << flow << ", VRSPH's cubic rows " << own << " (Laplace volumes " << own_shared
+            << "), [QW]'s rows " << qw << " (Laplace volumes " << qw_shared << ")\n";
   EXPECT_GT(own, 1.02);  // measured 1.059
   EXPECT_GT(qw, 1.05);   // measured 1.093
+  EXPECT_GT(own_shared, 1.005);  // measured 1.014
+  EXPECT_GT(qw_shared, 1.01);    // measured 1.024
 }
 
 TEST(FlowOperators, FpmKeepsItsPublishedLinearGradientAndRunsTheVortex) {
