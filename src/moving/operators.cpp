@@ -144,6 +144,7 @@ void Operators::update_stencils(const NeighbourList& nl) {
       if (first_derivative(k.kind) && options_.warm_start && options_.share_volumes && lender_method == &method)
         method.lend_volumes(k.state, lender);
       const bool rebuilt = build_rows(method, disc, req, k.stencil, k.state);
+      if (!rebuilt && k.state) method.lend_volumes(k.state, nullptr);  // built on images: nothing left lent
       if (k.kind == OperatorKind::Laplacian && rebuilt) {
         lender = k.state.get();
         lender_method = &method;
