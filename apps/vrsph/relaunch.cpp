@@ -104,6 +104,12 @@ extern "C" void forward_signal(int sig) {
   if (forwarded_to > 0) ::kill(static_cast<pid_t>(forwarded_to), sig);
 }
 
+// Ends this process by `sig` as its default action would (the parent of vrsph sees the signal).
+void end_by_signal(int sig) {
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
 }  // namespace
 
 void relaunch_on_ranks(int ranks, const CLI::App& app, int argc, char** argv) {
@@ -228,15 +234,9 @@ void run_on_ranks_if_large(Index particles, int dim, bool petsc_solve) {
   for (int k = 0; k < 3; ++k) ::sigaction(signals[k], &before[k], nullptr);
   const bool started = child > 0 && std::filesystem::file_size(marker, ec) > 0 && !ec;
   std::filesystem::remove(marker, ec);
-  if (received_signal) {
-    std::signal(received_signal, SIG_DFL);
-    std::raise(received_signal);
-  }
+  if (received_signal) end_by_signal(received_signal);
   if (started) {
-    if (WIFSIGNALED(status)) {
-      std::signal(WTERMSIG(status), SIG_DFL);
-      std::raise(WTERMSIG(status));
-    }
+    if (WIFSIGNALED(status)) end_by_signal(WTERMSIG(status));
     std::exit(WIFEXITED(status) ? WEXITSTATUS(status) : 1);
   }
   std::cerr << "vrsph: warning: mpirun could not start " << ranks << " ranks ("

@@ -272,13 +272,15 @@ class Vrsph final : public Method {
     // are an optimum of its NNLS (another vertex, as a warm start may give), and its own NNLS
     // is skipped. The other rows solve theirs.
     const VrsphBuildState* lender = state ? std::exchange(state->lender, nullptr) : nullptr;
-    if (!state || !state->warm || laplace || compact_form) lender = nullptr;
+    if (lender && (laplace || !state->warm)) lender = nullptr;
     std::vector<char> own_rows;
     if (lender) own_rows = rows_not_borrowed(disc, req, lender->volumes, vo.signed_threshold);
     reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
                         lender ? std::span<const char>(own_rows) : volume_rows, vo, targets, vol);
-    if (state) state->borrowed_rows = lender ? borrow_volumes(disc, req, lender->volumes, own_rows, vol) : 0;
-    if (state) state->lends = laplace && !tensor && !compact_form && vo.wall.rows.empty();
+    if (state) {
+      state->borrowed_rows = lender ? borrow_volumes(disc, req, lender->volumes, own_rows, vol) : 0;
+      state->lends = laplace && !tensor && !compact_form && vo.wall.rows.empty();
+    }
     if (state && state->warm) std::swap(state->active, vol.active);  // this build's sets start the next
     if (tensor)  // residuals relative to |b| as for the Laplacian (|b| = sqrt(d)), so one tolerance serves both
       for (std::size_t i = 0; i < targets.size(); ++i) {
