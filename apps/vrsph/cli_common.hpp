@@ -102,6 +102,9 @@ void check_h_knn_applies(const CLI::Option* h_knn, const std::string& h_mode);
 
 /// --seed: digits only. CLI11 would read "-1" into an unsigned seed as 2^64 - 1.
 CLI::Validator seed_validator();
+/// Options that take a boolean value: the words CLI11 reads as one. Without it any number
+/// passes (1e300 read as true).
+CLI::Validator boolean_validator();
 
 /// --threads: 0 = one per core; more threads than cores are capped to the core count
 /// with a warning (oversubscription only slows the run, and the OpenMP runtime fails

@@ -729,6 +729,14 @@ class Bench(unittest.TestCase):
         self.assertEqual(total["particles"], 40 * 40)
         self.assertGreater(total["warm_start_hit_rate"], 0.9)
         self.assertLess(total["laplacian_error"], 1.5 * total["laplacian_error_fresh"] + 1e-9)
+        # Boolean options take boolean words only (CLI11 alone read any number as true).
+        for option, value in (("--share-volumes", "1e300"), ("--warm-start", "7"), ("--share-volumes", "maybe")):
+            p = run("bench", "update", "--n", "10", "--steps", "1", option, value, check=False)
+            self.assertEqual(p.returncode, 2, (option, value))
+            self.assertIn("expected 1/0, true/false, on/off or yes/no", p.stderr)
+        off = run_json("bench", "update", "--n", "10", "--steps", "1", "--threads", "1", "--share-volumes", "off")
+        self.assertFalse(off["share_volumes"])
+        self.assertEqual(off["rows"][-1]["borrowed_volume_rate"], 0)
 
     def test_stencils_bench_json(self):
         out = run_json("bench", "stencils", "--dim", "2", "--n", "32", "--h-factor", "3", "--repeat", "2")

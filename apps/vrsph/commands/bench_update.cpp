@@ -258,10 +258,13 @@ void add_update_bench(CLI::App& bench) {
   cmd->add_option("--skin", a->skin, "Verlet skin as a fraction of the support radius")->capture_default_str();
   cmd->add_option("--method", a->method, "Method (any with a Laplacian and a gradient)")->capture_default_str();
   cmd->add_option("--method-opt", a->method_opts, "Method option key=value, or method:key=value (repeatable)");
-  cmd->add_option("--warm-start", a->warm_start, "Start VRSPH's NNLS from each row's previous active set")->capture_default_str();
+  cmd->add_option("--warm-start", a->warm_start, "Start VRSPH's NNLS from each row's previous active set")
+      ->check(boolean_validator())
+      ->capture_default_str();
   cmd->add_option("--share-volumes", a->share_volumes,
                   "With --warm-start, VRSPH's gradient rows take the Laplacian's volumes where these meet the "
                   "Laplace conditions instead of solving their own NNLS (borrowed_volume_rate)")
+      ->check(boolean_validator())
       ->capture_default_str();
   cmd->add_flag("--periodic", a->periodic, "A fully periodic box moved by the Taylor-Green field (else the unit box and "
                                           "a cellular flow)");
