@@ -53,14 +53,12 @@ NeighbourList search_dim(const PointCloud& cloud, std::vector<Real> radii, const
                          NeighbourList storage) {
   CloudAdaptor adaptor{cloud};
   Tree<D> tree(D, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  auto visit = [&](Index i, auto&& emit) {
-    const Real r = radii[static_cast<std::size_t>(i)];
+  auto visit = [&](Index i, Real r, auto&& emit) {
     // Slightly enlarge the tree's bound; the driver applies the strict r < radius test.
     CallbackResultSet<std::remove_reference_t<decltype(emit)>> rs{r * r * (1 + 1e-12), emit};
     tree.findNeighbors(rs, cloud.positions[static_cast<std::size_t>(i)].data(), nanoflann::SearchParams(32, 0, false));
   };
-  // `visit` reads `radii`, so the driver gets a copy rather than the moved vector.
-  return two_pass_search(cloud, radii, params, visit, std::move(storage));
+  return two_pass_search(cloud, std::move(radii), params, visit, std::move(storage));
 }
 
 // Index and squared distance of the k nearest other particles of every particle.

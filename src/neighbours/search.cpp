@@ -22,6 +22,7 @@ void estimate_pairs_before_search(const PointCloud& cloud, const std::vector<Rea
   constexpr Index exact_below = 20000, samples = 64;
   if (n < exact_below) return;  // the exact count pass is cheap enough
   double found = 0;
+#pragma omp parallel for schedule(static) reduction(+ : found)
   for (Index s = 0; s < samples; ++s) {
     const auto i = static_cast<std::size_t>(static_cast<long long>(s) * n / samples);
     const Real r2 = radii[i] * radii[i];
@@ -76,7 +77,7 @@ NeighbourList find_neighbours(const PointCloud& cloud, const SearchParams& param
 NeighbourList find_neighbours_brute_force(const PointCloud& cloud, const SearchParams& params) {
   auto radii = detail::resolve_radii(cloud, params);
   const Index n = cloud.size();
-  auto visit = [&](Index i, auto&& emit) {
+  auto visit = [&](Index i, Real, auto&& emit) {
     const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
     for (Index j = 0; j < n; ++j) emit(j, (cloud.positions[static_cast<std::size_t>(j)] - xi).squaredNorm());
   };

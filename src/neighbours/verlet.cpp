@@ -158,11 +158,12 @@ void VerletNeighbours::refilter(const PointCloud& cloud) {
       const std::uint8_t code = periodic ? minimum_image_code(dom, xi, xj) : no_shift;
       const Real r2 = code == no_shift ? (xj - xi).squaredNorm() : (Vec3(xj + periodic_shift(dom, code)) - xi).squaredNorm();
       if (j != i && r2 <= dup2) duplicate = std::min(duplicate, static_cast<long long>(std::min(i, j)) * n + std::max(i, j));
-      if (!(j == i ? params_.include_self : r2 < r2max)) continue;
+      // Written whether kept or not, then passed over: as a branch around the stores, the
+      // (unpredictable) test cost more than the stores (two_pass.hpp).
       scratch_index_[at] = j;
       scratch_distance_[at] = std::sqrt(r2);
       if (periodic) scratch_shift_[at] = code;
-      ++at;
+      at += (j == i ? params_.include_self : r2 < r2max) ? 1 : 0;
     }
     kept_[si] = static_cast<Index>(at - begin);
   }

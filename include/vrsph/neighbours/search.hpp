@@ -3,8 +3,10 @@
 // Radius neighbour search, built in two passes (count, then fill) so the CSR
 // arrays are sized once and never reallocated.
 //
-// How to choose the backend: CellList (default) bins particles into cells of the
-// largest search radius; expected O(N) for quasi-uniform clouds and the faster of
+// How to choose the backend: CellList (default) bins particles into cells of half the
+// largest search radius (whole where half would make many more cells than particles) and scans
+// per row of cells only the run each particle's ball can touch; expected O(N) for quasi-uniform
+// clouds and the faster of
 // the two in `vrsph bench neighbours` on every cloud we ship. KdTree (nanoflann)
 // is the robust choice for strongly graded clouds or radii that vary by orders of
 // magnitude, where a uniform cell size wastes work.

@@ -125,6 +125,43 @@ TEST(Search, StrictRadiusAndSelf) {
   EXPECT_EQ(nl.count(12), 5);  // centre particle: itself + 4 face neighbours
 }
 
+// The cell list scans, per row of cells, only the run its ball can touch, trusting a gap to a
+// row of cells only beyond rounding. Lattices whose points lie on the cells' faces and whose
+// pairs sit at the radius to rounding, and clouds far from the origin (where rounding is
+// largest against the radius), must still give exactly the brute-force sets.
+TEST(Search, CellListStripsMissNoPairOnCellFacesOrFarFromTheOrigin) {
+  for (const int dim : {1, 2, 3}) {
+    for (const Real offset : {0.0, 1e6, -3.7e8}) {
+      for (const Real radius : {0.2, 0.2 * (1 + 1e-15), 0.1 * std::sqrt(2.0), 0.1 * std::sqrt(5.0), 0.35}) {
+        PointCloud c = vertex_lattice(Domain::unit_box(dim), dim == 3 ? 8 : 10);
+        for (Vec3& x : c.positions)
+          for (int k = 0; k < dim; ++k) x[k] += offset;
+        SearchParams p;
+        p.min_neighbours = 0;
+        p.radius = radius;
+        const NeighbourList fast = find_neighbours(c, p), ref = find_neighbours_brute_force(c, p);
+        ASSERT_EQ(fast.offsets, ref.offsets) << dim << "D, offset " << offset << ", radius " << radius;
+        ASSERT_EQ(fast.indices, ref.indices);
+        ASSERT_TRUE(fast.distances == ref.distances);
+      }
+    }
+    // Random points far from the origin with radii spread over a factor 8.
+    PointCloud c = random_cloud(dim, dim == 1 ? 300 : 1200, 31u + static_cast<unsigned>(dim));
+    for (Vec3& x : c.positions)
+      for (int k = 0; k < dim; ++k) x[k] = 2.5e7 + x[k];
+    SearchParams p;
+    p.min_neighbours = 0;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.25, 2.0);
+    const Real base = dim == 1 ? 0.02 : dim == 2 ? 0.06 : 0.15;
+    for (Index i = 0; i < c.size(); ++i) p.radii.push_back(base * u(rng));
+    const NeighbourList fast = find_neighbours(c, p), ref = find_neighbours_brute_force(c, p);
+    ASSERT_EQ(fast.offsets, ref.offsets) << dim << "D random";
+    ASSERT_EQ(fast.indices, ref.indices);
+    ASSERT_TRUE(fast.distances == ref.distances);
+  }
+}
+
 TEST(Search, DuplicatesAreReportedByIndex) {
   PointCloud c = random_cloud(2, 50, 1);
   c.add(c.positions[17], Tag::Interior);
