@@ -36,12 +36,17 @@ inline void check_min_neighbours(const PointCloud& cloud, const NeighbourList& l
   }
 }
 
-/// InputError naming the duplicate pair (a, b): the lowest pair within the duplicate tolerance.
-[[noreturn]] inline void throw_duplicate(const PointCloud& cloud, long long a, long long b) {
+/// InputError naming the duplicate pair (a, b): the lowest pair within the duplicate tolerance
+/// (`tolerance` times the support radius of the row that found it: at most the larger of the
+/// pair's, `radius`). The tolerance is stated: a radius far above the spacing (an outlier
+/// particle inflates an estimated spacing) makes distinct particles duplicates, and the message
+/// then shows it.
+[[noreturn]] inline void throw_duplicate(const PointCloud& cloud, long long a, long long b, Real tolerance, Real radius) {
   const Vec3& x = cloud.positions[static_cast<std::size_t>(a)];
   throw InputError(concat("duplicate particles ", a, " and ", b, " at (", x[0], ", ", x[1], ", ", x[2], "): distance ",
                           (cloud.positions[static_cast<std::size_t>(a)] - cloud.positions[static_cast<std::size_t>(b)]).norm(),
-                          " is below the duplicate tolerance"));
+                          " is below the duplicate tolerance ", tolerance * radius, " (", tolerance,
+                          " times the support radius ", radius, ")"));
 }
 
 /// Bytes per stored pair: the neighbour index and, if cached, the distance.
@@ -82,7 +87,8 @@ NeighbourList two_pass_search(const PointCloud& cloud, std::vector<Real> radii, 
     list.offsets[static_cast<std::size_t>(i) + 1] = count;
   }
   if (const long long code = duplicate.load(); code != std::numeric_limits<long long>::max())
-    throw_duplicate(cloud, code / n, code % n);
+    throw_duplicate(cloud, code / n, code % n, dup_tol,
+                    std::max(radii[static_cast<std::size_t>(code / n)], radii[static_cast<std::size_t>(code % n)]));
   long long total = 0;
   for (Index i = 0; i < n; ++i) {
     total += list.offsets[static_cast<std::size_t>(i) + 1];

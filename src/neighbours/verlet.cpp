@@ -167,7 +167,11 @@ void VerletNeighbours::refilter(const PointCloud& cloud) {
     }
     kept_[si] = static_cast<Index>(at - begin);
   }
-  if (duplicate != std::numeric_limits<long long>::max()) detail::throw_duplicate(cloud, duplicate / n, duplicate % n);
+  if (duplicate != std::numeric_limits<long long>::max()) {
+    const auto a = static_cast<std::size_t>(duplicate / n), b = static_cast<std::size_t>(duplicate % n);
+    detail::throw_duplicate(cloud, duplicate / n, duplicate % n, params_.duplicate_tolerance,
+                            std::max(list_.radii[a], list_.radii[b]));
+  }
   // The new row pointers are checked before they replace the list's: a refused update leaves
   // the last list as it was.
   next_.offsets.resize(static_cast<std::size_t>(n) + 1);

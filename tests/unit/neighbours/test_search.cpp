@@ -170,6 +170,12 @@ TEST(Search, DuplicatesAreReportedByIndex) {
   EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "duplicate particles 17 and 50");
   p.backend = SearchBackend::KdTree;
   EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "duplicate particles 17 and 50");
+  // The message states the tolerance and the radius it scales with: a radius inflated by an
+  // outlier (a spacing estimated from a stray particle) shows there.
+  p.backend = SearchBackend::CellList;
+  p.radius = 2e9;
+  c = random_cloud(2, 50, 1);
+  EXPECT_THROW_MSG(find_neighbours(c, p), InputError, "is below the duplicate tolerance 0.2 (1e-10 times the support radius 2000000000)");
 }
 
 TEST(Search, TooFewNeighboursIsAGeometryError) {
