@@ -4,7 +4,8 @@
 // arrays are sized once and never reallocated.
 //
 // How to choose the backend: CellList (default) bins particles into cells of half the
-// largest search radius (whole where half would make many more cells than particles) and scans
+// largest search radius (whole where half cells would hold few particles, or be many more than
+// the particles) and scans
 // per row of cells only the run each particle's ball can touch; expected O(N) for quasi-uniform
 // clouds and the faster of
 // the two in `vrsph bench neighbours` on every cloud we ship. KdTree (nanoflann)
