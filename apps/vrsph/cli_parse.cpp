@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // CLI parsing helpers: comma-separated lists, method options, seeds, and the checks that reject options that do not apply.
 #include "cli_common.hpp"
-#include <cctype>
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
@@ -133,10 +132,8 @@ CLI::Validator seed_validator() {
 CLI::Validator boolean_validator() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
-        std::string t = text;
-        for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        for (const char* w : {"0", "1", "true", "false", "on", "off", "yes", "no"})
-          if (t == w) return {};
+        // Any case: CLI11 itself reads "TRUE" as true.
+        if (parse_boolean(to_lower(text))) return {};
         return "expected 1/0, true/false, on/off or yes/no, got '" + printable(text) + "'";
       },
       "");  // the option's type already reads BOOLEAN in --help

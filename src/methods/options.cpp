@@ -62,8 +62,7 @@ long long MethodOptions::get_int(const std::string& key, long long fallback, lon
 
 bool MethodOptions::get_bool(const std::string& key, bool fallback) const {
   const std::string v = get_string(key, fallback ? "true" : "false");
-  if (v == "true" || v == "1" || v == "yes" || v == "on") return true;
-  if (v == "false" || v == "0" || v == "no" || v == "off") return false;
+  if (const std::optional<bool> b = parse_boolean(v)) return *b;
   throw ConfigError(detail::concat("method option ", key, "='", printable(v), "' is not a boolean"));
 }
 

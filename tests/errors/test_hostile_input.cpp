@@ -135,6 +135,13 @@ TEST(HostileInput, StrictNumbers) {
   EXPECT_THROW_MSG(o.get_int("i", 1, 1, 100), ConfigError, "i='1e30' is not an integer");
   EXPECT_EQ(o.get_int("j", 1, 1, 100), 7);
   EXPECT_THROW_MSG(o.get_int("k", 1, 1, 100), ConfigError, "k=-3 is out of range (1 to 100)");
+  // One boolean vocabulary for method options and boolean CLI options.
+  for (const char* yes : {"true", "1", "yes", "on"}) EXPECT_EQ(parse_boolean(yes), true) << yes;
+  for (const char* no : {"false", "0", "no", "off"}) EXPECT_EQ(parse_boolean(no), false) << no;
+  for (const char* neither : {"", "TRUE", "1e300", "2", " yes", "y"}) EXPECT_FALSE(parse_boolean(neither).has_value()) << neither;
+  const MethodOptions b = MethodOptions::parse({"p=on", "q=1e300"});
+  EXPECT_TRUE(b.get_bool("p", false));
+  EXPECT_THROW_MSG(b.get_bool("q", false), ConfigError, "q='1e300' is not a boolean");
 }
 
 // The divergence theorem in every dimension and on both domain shapes:

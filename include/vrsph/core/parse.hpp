@@ -19,6 +19,11 @@ std::optional<Real> parse_real(std::string_view text);
 /// "1e3" is not an integer.
 std::optional<std::int64_t> parse_integer(std::string_view text);
 
+/// The boolean a word names: true for "true", "1", "yes", "on"; false for "false", "0", "no",
+/// "off" (exactly these, in lower case); nullopt for anything else. The one vocabulary of
+/// method options (MethodOptions::get_bool) and boolean CLI options.
+std::optional<bool> parse_boolean(std::string_view text);
+
 /// `text` with ASCII letters in lower case (file extensions, keywords, array names).
 std::string to_lower(std::string text);
 
