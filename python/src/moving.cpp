@@ -23,7 +23,7 @@ py::array_t<T> copy_array(const std::vector<T>& v) {
 
 std::unique_ptr<Operators> make_operators(const py::object& self, const std::string& method, const std::vector<std::string>& ops,
                                           double h, double h_factor, const std::string& kernel, const py::dict& options,
-                                          double skin, bool warm_start, bool share_volumes) {
+                                          double skin, bool warm_start, bool share_volumes, const py::object& coefficient) {
   const PointCloud& cloud = as_cloud(self);
   OperatorsOptions o;
   o.method = method;
@@ -37,6 +37,7 @@ std::unique_ptr<Operators> make_operators(const py::object& self, const std::str
   o.share_volumes = share_volumes;
   o.operators.clear();
   for (const auto& name : ops) o.operators.push_back(parse_operator(name));
+  if (!coefficient.is_none()) o.coefficient = field_from(coefficient, cloud.size(), "coefficient");
   py::gil_scoped_release release;
   return std::make_unique<Operators>(cloud, std::move(o));
 }
@@ -52,7 +53,7 @@ std::vector<Vec3> points_of(const PositionArray& x, int dim) {
   return p;
 }
 
-void update(Operators& ops, const py::handle& positions) {
+void update(Operators& ops, const py::handle& positions, const py::object& coefficient) {
   const auto x = PositionArray::ensure(positions);
   check<InputError>(static_cast<bool>(x), "update: positions must be an (N, dim) array of numbers");
   const Index n = ops.cloud().size();
@@ -65,8 +66,14 @@ void update(Operators& ops, const py::handle& positions) {
                     n, " particles in ", dim, "D: give an (N, dim) = (", n, ", ", dim,
                     ") array (particles cannot be added or removed: build new Operators)");
   const std::vector<Vec3> p = points_of(x, dim);
+  if (coefficient.is_none()) {
+    py::gil_scoped_release release;
+    ops.update(p);
+    return;
+  }
+  const Field a = field_from(coefficient, n, "coefficient");
   py::gil_scoped_release release;
-  ops.update(p);
+  ops.update(p, a);
 }
 
 // The positions moved back into the periodic box along its periodic axes (Domain::wrap), the
@@ -128,8 +135,19 @@ void bind_moving(py::module_& m) {
   py::class_<Operators>(m, "_Operators")
       .def(py::init(&make_operators), py::arg("cloud"), py::arg("method"), py::arg("operators"), py::arg("h"),
            py::arg("h_factor"), py::arg("kernel"), py::arg("options"), py::arg("skin"), py::arg("warm_start"),
-           py::arg("share_volumes"))
-      .def("update", &update, py::arg("positions"))
+           py::arg("share_volumes"), py::arg("coefficient"))
+      .def("update", &update, py::arg("positions"), py::arg("coefficient"))
+      .def("set_coefficient",
+           [](Operators& o, const py::handle& a) {
+             Field f = field_from(a, o.cloud().size(), "coefficient");
+             py::gil_scoped_release release;
+             o.set_coefficient(std::move(f));
+           },
+           py::arg("coefficient"))
+      .def_property_readonly("coefficient", [](const Operators& o) {
+        const Field& a = o.coefficient();
+        return py::array_t<Real>(static_cast<py::ssize_t>(a.size()), a.data());
+      })
       .def("wrap", &wrap, py::arg("positions"))
       .def("stencil", &raw_stencil, py::arg("operator"))
       .def("stats", &stats)

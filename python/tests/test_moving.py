@@ -208,3 +208,42 @@ def test_per_particle_radii_reach_the_rows():
     with pytest.raises(vrsph.InputError, match="particle 5 must be positive and finite"):
         ops.set_support_radii(bad)
     assert np.array_equal(ops.support_radii, radii)
+
+
+def test_div_a_grad_moves_with_its_coefficient():
+    c = vrsph.cloud.perturbed(dim=2, n=20, seed=3)
+    x = np.asarray(c.points)
+    a = 1 + 0.5 * np.sin(3 * x[:, 0]) * np.cos(2 * x[:, 1])
+    ops = vrsph.Operators(c, operators=("laplacian", "div-a-grad"), coefficient=lambda x, y: 1 + 0.5 * np.sin(3 * x) * np.cos(2 * y),
+                          warm_start=False)
+    assert np.array_equal(ops.coefficient, a)
+    for step in range(3):
+        x = _move(x, 0.01)
+        if step == 1:
+            a = 2.0 + x[:, 0]  # a new coefficient with the new places
+            ops.update(x, coefficient=a)
+        else:
+            ops.update(x)  # a stays with its particles
+        moved = vrsph.cloud.from_arrays(x, c.tags, c.normals)
+        fresh = vrsph.stencil(moved, operator="div-a-grad", coefficient=a, h=ops.radius)
+        _same_nonzeros(ops.stencil("div-a-grad"), fresh)
+    ops.set_coefficient(3.0)  # a number: every particle
+    assert np.all(ops.coefficient == 3.0)
+    moved = vrsph.cloud.from_arrays(x, c.tags, c.normals)
+    lap = vrsph.stencil(moved, operator="laplacian", h=ops.radius)
+    assert abs(ops.stencil("div-a-grad") - 3 * lap).max() < 1e-9 * abs(lap).max()
+    # Refusals name the problem and change nothing.
+    before = ops.stencil("div-a-grad").copy()
+    with pytest.raises(vrsph.InputError, match="at particle 4"):
+        bad = np.full(len(x), 1.0)
+        bad[4] = -1
+        ops.update(_move(x, 0.01), coefficient=bad)
+    with pytest.raises(vrsph.InputError, match="expected shape"):
+        ops.set_coefficient(np.ones(3))
+    _same_nonzeros(ops.stencil("div-a-grad"), before)
+    with pytest.raises(vrsph.ConfigError, match="needs the coefficient"):
+        vrsph.Operators(c, operators=("div-a-grad",))
+    with pytest.raises(vrsph.ConfigError, match="not among the operators"):
+        vrsph.Operators(c, operators=("laplacian",), coefficient=1.0)
+    with pytest.raises(vrsph.ConfigError, match="not kept"):
+        vrsph.Operators(c).update(x, coefficient=np.ones(len(x)))

@@ -207,7 +207,7 @@ class Operators:
     time step at a fraction of the cost of new stencils (the neighbour list kept with a Verlet
     skin, storage reused, VRSPH's NNLS started from each row's previous volumes).
 
-    ``operators``: the stencils kept — "laplacian", "gradient", "dx"/"dy"/"dz", "hessian", and the
+    ``operators``: the stencils kept — "laplacian", "div-a-grad", "gradient", "dx"/"dy"/"dz", "hessian", and the
     vector operators "divergence", "curl", "grad-div-composed" (from the gradient), "grad-div" (from
     the Hessian) and "vector-laplacian" (from the Laplacian). ``h``/``h_factor``/``kernel``/``options`` as for :func:`stencil`; ``skin``: the
     Verlet skin as a fraction of the support radius; ``warm_start=False`` makes every update
@@ -217,6 +217,11 @@ class Operators:
     instead of solving their own: ``stats["borrowed_rows"]``). On a periodic cloud the rows that read only pair vectors (VRSPH's point
     rows, FPM with v = dx^d) take the minimum-image list; others are rebuilt on the images.
 
+    ``coefficient`` (with "div-a-grad", required): a in div(a grad u), one value per particle
+    (an array, a number, or a callable of the coordinates evaluated at the cloud's); it moves
+    with its particle. ``update(positions, coefficient=a)`` replaces it with the positions,
+    ``set_coefficient(a)`` replaces it now (the stencil rebuilt on the current positions).
+
     ``update(positions)`` takes an (N, dim) array (the same particles; InputError otherwise, and
     the operators stay as they were). ``stencil(op)`` returns what :func:`stencil` returns (a
     CSR matrix, or a tuple of them); ``apply(op, values)`` applies it to (N,) or (N, dim) values;
@@ -225,7 +230,7 @@ class Operators:
     def __init__(self, cloud: Cloud, method: str = "vrsph", operators: Sequence[str] = ("laplacian", "gradient"),
                  h: float | None = None, h_factor: float = 3.0, kernel: str = "cubic",
                  options: Mapping[str, Any] | None = None, skin: float = 0.2, warm_start: bool = True,
-                 share_volumes: bool = True):
+                 share_volumes: bool = True, coefficient: Data = None):
         _check_cloud(cloud)
         wanted = _args.names(operators, "operators")
         base: list[str] = []
@@ -237,7 +242,8 @@ class Operators:
         self._ops = _vrsph._Operators(cloud, _args.text(method, "method"), base, _args.optional_length(h, "h"),
                                       _args.number(h_factor, "h_factor", positive=True), _args.text(kernel, "kernel"),
                                       _args.options(options, "options"), _args.number(skin, "skin", minimum=0.0),
-                                      _args.flag(warm_start, "warm_start"), _args.flag(share_volumes, "share_volumes"))
+                                      _args.flag(warm_start, "warm_start"), _args.flag(share_volumes, "share_volumes"),
+                                      None if coefficient is None else _values(cloud, coefficient, "coefficient"))
 
     @staticmethod
     def _positions(positions: Any) -> np.ndarray:
@@ -246,8 +252,22 @@ class Operators:
         except (TypeError, ValueError) as e:
             raise ArgumentTypeError(f"the parameter positions must be an (N, dim) array of numbers: {e}") from None
 
-    def update(self, positions: Any) -> None:
-        self._ops.update(self._positions(positions))
+    def _coefficient(self, a: Any) -> Any:
+        if np.isscalar(a) and not isinstance(a, str):
+            return np.full(self._ops.n, float(a))
+        return a  # an array: the library checks dtype, shape and values
+
+    def update(self, positions: Any, coefficient: Any = None) -> None:
+        self._ops.update(self._positions(positions), None if coefficient is None else self._coefficient(coefficient))
+
+    def set_coefficient(self, coefficient: Any) -> None:
+        """div(a grad)'s a from now on (N positive values, or a number): its stencil is rebuilt on
+        the current positions."""
+        self._ops.set_coefficient(self._coefficient(coefficient))
+
+    @property
+    def coefficient(self) -> np.ndarray:
+        return self._ops.coefficient
 
     def wrap(self, positions: Any) -> np.ndarray:
         """``positions`` (N, dim) moved into the cloud's periodic box along its periodic axes

@@ -26,13 +26,20 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
   }
   check<ConfigError>(!options_.operators.empty(), "operators: no operator asked for");
   for (const OperatorKind k : options_.operators) {
-    check<ConfigError>(k != OperatorKind::DivAGrad, "operators: div-a-grad needs a coefficient at the moving particles, "
-                       "which Operators does not take yet; keep the laplacian (and the gradient)");
     check<ConfigError>(method_of(k).info().provides(k), "operators: method ", method_of(k).info().name, " has no ",
                        to_string(k), " operator");
     const bool repeated = std::count(options_.operators.begin(), options_.operators.end(), k) > 1;
     check<ConfigError>(!repeated, "operators: ", to_string(k), " asked for twice");
     kept_.emplace_back().kind = k;
+  }
+  const bool div_a_grad = keeps(OperatorKind::DivAGrad);
+  check<ConfigError>(div_a_grad || options_.coefficient.size() == 0, "operators: a coefficient was given but div-a-grad is "
+                     "not among the operators (the coefficient serves only div(a grad))");
+  if (div_a_grad) {
+    check<ConfigError>(options_.coefficient.size() > 0, "operators: div-a-grad needs the coefficient a at every particle "
+                       "(OperatorsOptions::coefficient; Python: coefficient=)");
+    check_coefficient(options_.coefficient);
+    coefficient_ = options_.coefficient;
   }
   check<ConfigError>(std::isfinite(options_.skin) && options_.skin >= 0, "operators: the Verlet skin (a fraction of the "
                      "support radius) must be finite and >= 0, got ", options_.skin);
@@ -60,13 +67,22 @@ Operators::~Operators() = default;
 Operators::Operators(Operators&&) noexcept = default;
 Operators& Operators::operator=(Operators&&) noexcept = default;
 
-void Operators::update(std::span<const Vec3> positions) {
+void Operators::update(std::span<const Vec3> positions) { move_to(positions, nullptr); }
+
+void Operators::update(std::span<const Vec3> positions, const Field& coefficient) {
+  check<ConfigError>(keeps(OperatorKind::DivAGrad), "operators update: a coefficient was given but div-a-grad is not kept");
+  check_coefficient(coefficient);
+  move_to(positions, &coefficient);
+}
+
+void Operators::move_to(std::span<const Vec3> positions, const Field* coefficient) {
   check<InputError>(static_cast<Index>(positions.size()) == cloud_.size(), "operators update: ", positions.size(),
                     " positions for ", cloud_.size(), " particles (particles cannot be added or removed: build new "
                     "Operators)");
   // The old positions are kept (swapped: no allocation after the first step) so that a failed
   // update leaves the operators as they were: the neighbour phase changes nothing when it
-  // throws; a stencil phase that throws half-way is redone on the old positions.
+  // throws; a stencil phase that throws half-way is redone on the old positions (and the old
+  // coefficient).
   previous_.swap(cloud_.positions);
   cloud_.positions.assign(positions.begin(), positions.end());
   const NeighbourList* nl = nullptr;
@@ -76,14 +92,49 @@ void Operators::update(std::span<const Vec3> positions) {
     cloud_.positions.swap(previous_);
     throw;
   }
+  Field old_coefficient;
+  if (coefficient) {
+    old_coefficient = std::move(coefficient_);
+    coefficient_ = *coefficient;
+  }
   try {
     update_stencils(*nl);
   } catch (...) {
     cloud_.positions.swap(previous_);
+    if (coefficient) coefficient_ = std::move(old_coefficient);
     update_stencils(update_neighbours());
     throw;
   }
   ++stats_.updates;
+}
+
+void Operators::set_coefficient(Field coefficient) {
+  check<ConfigError>(keeps(OperatorKind::DivAGrad), "operators: set_coefficient, but div-a-grad is not among the operators");
+  check_coefficient(coefficient);
+  coefficient_.swap(coefficient);
+  try {
+    update_stencils(verlet_->list(), OperatorKind::DivAGrad);
+  } catch (...) {
+    coefficient_.swap(coefficient);
+    update_stencils(verlet_->list(), OperatorKind::DivAGrad);
+    throw;
+  }
+}
+
+bool Operators::keeps(OperatorKind kind) const {
+  return std::find(options_.operators.begin(), options_.operators.end(), kind) != options_.operators.end();
+}
+
+// One positive, finite value per particle, checked before anything changes (a method would
+// check too, but only half-way through an update).
+void Operators::check_coefficient(const Field& a) const {
+  check<InputError>(a.size() == cloud_.size(), "operators: the coefficient a has ", a.size(), " values for ", cloud_.size(),
+                    " particles (one per particle)");
+  for (Index i = 0; i < a.size(); ++i) {
+    const Vec3& x = cloud_.positions[static_cast<std::size_t>(i)];
+    check<InputError>(std::isfinite(a[i]) && a[i] > 0, "operators: the coefficient a must be positive and finite: a = ",
+                      a[i], " at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
+  }
 }
 
 void Operators::set_support_radii(std::vector<Real> radii) {
@@ -120,7 +171,7 @@ bool first_derivative(OperatorKind kind) {
 
 }  // namespace
 
-void Operators::update_stencils(const NeighbourList& nl) {
+void Operators::update_stencils(const NeighbourList& nl, std::optional<OperatorKind> only) {
   const Stopwatch watch;
   stats_.warm_rows = stats_.warm_hits = stats_.borrowed_rows = 0;
   const Discretisation disc{cloud_, nl, options_.kernel, spacing_};
@@ -133,17 +184,29 @@ void Operators::update_stencils(const NeighbourList& nl) {
   for (const bool laplacian_pass : {true, false})
     for (Kept& k : kept_) {
       if ((k.kind == OperatorKind::Laplacian) != laplacian_pass) continue;
+      if (only && k.kind != *only) {
+        // Not rebuilt (set_coefficient): the Laplacian's volumes, still those of this list, lend.
+        if (k.kind == OperatorKind::Laplacian && k.rebuilt) {
+          lender = k.state.get();
+          lender_method = &method_of(k.kind);
+        }
+        continue;
+      }
       StencilRequest req;
       req.kind = k.kind;
       req.use = options_.use;
+      if (k.kind == OperatorKind::DivAGrad) req.coefficient = &coefficient_;
       const Method& method = method_of(k.kind);
       if (k.kind == OperatorKind::Hessian) {  // rows read only pair vectors: the minimum-image list serves
         k.stencil = hessian_rows(disc, req, method.info().name);
         continue;
       }
-      if (first_derivative(k.kind) && options_.warm_start && options_.share_volumes && lender_method == &method)
+      // (And div(a grad)'s rows, whose NNLS is the Laplacian's own problem: they take all its volumes.)
+      if ((first_derivative(k.kind) || k.kind == OperatorKind::DivAGrad) && options_.warm_start && options_.share_volumes &&
+          lender_method == &method)
         method.lend_volumes(k.state, lender);
       const bool rebuilt = build_rows(method, disc, req, k.stencil, k.state);
+      k.rebuilt = rebuilt;
       if (!rebuilt && k.state) method.lend_volumes(k.state, nullptr);  // built on images: nothing left lent
       if (k.kind == OperatorKind::Laplacian && rebuilt) {
         lender = k.state.get();

@@ -12,6 +12,7 @@
 // directly, with the skin and the warm start; other methods' rows are built afresh on the
 // periodic images at each update (periodic_stencil; docs/moving.md).
 #include <memory>
+#include <optional>
 #include <span>
 #include <vrsph/methods/method.hpp>
 #include <vrsph/neighbours/verlet.hpp>
@@ -36,9 +37,13 @@ struct OperatorsOptions {
   KernelType kernel = KernelType::CubicSpline;
   Real h_factor = 3;  ///< support radius = h_factor x spacing (estimate_spacing: the cloud's, else from its nearest distances)
   Real radius = 0;    ///< > 0: this support radius instead
-  /// The stencils kept: Laplacian, Gradient, Dx/Dy/Dz, Hessian (operators without a coefficient; the
-  /// Hessian rows are hessian_rows', rebuilt at every update: they keep nothing from one to the next).
+  /// The stencils kept: Laplacian, DivAGrad, Gradient, Dx/Dy/Dz, Hessian (the Hessian rows are
+  /// hessian_rows', rebuilt at every update: they keep nothing from one to the next).
   std::vector<OperatorKind> operators = {OperatorKind::Laplacian, OperatorKind::Gradient};
+  /// DivAGrad's scalar coefficient a > 0, one value per particle, carried by its particle (a
+  /// material property: ISPH's 1/rho of two fluids, a conductivity); set_coefficient() or
+  /// update(positions, coefficient) replace it. Required with DivAGrad, refused without it.
+  Field coefficient;
   StencilUse use = StencilUse::Values;
   Real skin = 0.2;         ///< Verlet skin as a fraction of the support radius (0: search every update)
   bool warm_start = true;  ///< VRSPH: start each row's NNLS from its previous active set
@@ -69,9 +74,9 @@ struct UpdateStats {
 
 class Operators {
  public:
-  /// Builds the stencils on the cloud as given. ConfigError for an operator that needs a
-  /// coefficient or that the method lacks, bad options; InputError/GeometryError as a search
-  /// and the method raise them.
+  /// Builds the stencils on the cloud as given. ConfigError for an operator that the method
+  /// lacks, DivAGrad without a coefficient (or a coefficient without DivAGrad), bad options;
+  /// InputError for a bad coefficient, InputError/GeometryError as a search and the method raise them.
   Operators(PointCloud cloud, OperatorsOptions options);
   ~Operators();
   Operators(Operators&&) noexcept;
@@ -82,6 +87,15 @@ class Operators {
   /// or out-of-dimension coordinates, a particle outside a periodic box; the previous state
   /// is kept when it throws.
   void update(std::span<const Vec3> positions);
+  /// The same with a new coefficient of div(a grad) (DivAGrad kept; one positive finite value per
+  /// particle): both replaced together, or neither when it throws.
+  void update(std::span<const Vec3> positions, const Field& coefficient);
+
+  /// DivAGrad's coefficient from now on: its stencil is rebuilt on the current positions.
+  /// ConfigError when DivAGrad is not kept, InputError for another count or a value that is not
+  /// positive and finite (naming the particle); nothing changed when it throws.
+  void set_coefficient(Field coefficient);
+  const Field& coefficient() const { return coefficient_; }
 
   /// Per-particle support radii from the next update() on, one per particle (each positive,
   /// finite and, on a periodic box, below half the shortest period less the skin): e.g. supports
@@ -114,8 +128,12 @@ class Operators {
 
  private:
   SearchParams search_params() const;
+  bool keeps(OperatorKind kind) const;
+  void move_to(std::span<const Vec3> positions, const Field* coefficient);
+  void check_coefficient(const Field& a) const;
   const NeighbourList& update_neighbours();
-  void update_stencils(const NeighbourList& neighbours);
+  /// Every kept stencil, or only `only`'s (the others as they are).
+  void update_stencils(const NeighbourList& neighbours, std::optional<OperatorKind> only = std::nullopt);
 
   struct Kept {
     OperatorKind kind;
@@ -125,6 +143,7 @@ class Operators {
     std::unique_ptr<BuildState> marked_state;
     Stencil spliced;  ///< stencil with the marked rows from `marked`: what stencil() gives when rows are marked
     bool use_spliced = false;
+    bool rebuilt = false;  ///< the last build was the method's rebuild (its state describes it), not on images
   };
   /// False when the rows were built afresh on periodic images (the method's state untouched).
   bool build_rows(const Method& method, const Discretisation& disc, StencilRequest req, Stencil& out,
@@ -137,6 +156,7 @@ class Operators {
   std::unique_ptr<Method> gradient_method_;  ///< null: method_ builds the first derivatives too
   std::unique_ptr<Method> marked_method_;    ///< null: no marked rows
   std::vector<char> marked_;                 ///< set_marked_rows's flags (empty or all 0: none)
+  Field coefficient_;                        ///< DivAGrad's a at the particles (empty without DivAGrad)
   Real spacing_ = 0, radius_ = 0;
   std::unique_ptr<VerletNeighbours> verlet_;
   std::vector<Vec3> previous_;   ///< the positions before the update under way

@@ -271,14 +271,27 @@ class Vrsph final : public Method {
     // Laplacian's volumes where they meet the Laplace conditions, which contain its own: they
     // are an optimum of its NNLS (another vertex, as a warm start may give), and its own NNLS
     // is skipped. The other rows solve theirs.
+    // A scalar div(a grad)'s point rows solve the Laplacian's very problem (the coefficient
+    // enters only the weights, as a pair mean): they take all its volumes, and its active sets
+    // as their next warm start.
     const VrsphBuildState* lender = state ? std::exchange(state->lender, nullptr) : nullptr;
-    if (lender && (laplace || !state->warm)) lender = nullptr;
+    const bool takes_all = lender && state->warm && req.kind == OperatorKind::DivAGrad && !tensor && !compact_form &&
+                           vo.wall.rows.empty() && !signed_ && req.rows.empty() &&
+                           lender->volumes.conditions == MomentConditions::Laplace &&
+                           lender->volumes.v.size() == static_cast<std::size_t>(disc.neighbours.total()) &&
+                           lender->volumes.residual.size() == static_cast<std::size_t>(cloud.size());
+    if (lender && !takes_all && (laplace || !state->warm)) lender = nullptr;
     std::vector<char> own_rows;
-    if (lender) own_rows = rows_not_borrowed(disc, req, lender->volumes, vo.signed_threshold);
-    reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
-                        lender ? std::span<const char>(own_rows) : volume_rows, vo, targets, vol);
+    if (takes_all) {
+      take_volumes(lender->volumes, vol);
+      vol.active = lender->active;
+    } else {
+      if (lender) own_rows = rows_not_borrowed(disc, req, lender->volumes, vo.signed_threshold);
+      reconstruct_volumes(disc, laplace ? MomentConditions::Laplace : MomentConditions::Gradient,
+                          lender ? std::span<const char>(own_rows) : volume_rows, vo, targets, vol);
+    }
     if (state) {
-      state->borrowed_rows = lender ? borrow_volumes(disc, req, lender->volumes, own_rows, vol) : 0;
+      state->borrowed_rows = takes_all ? cloud.size() : lender ? borrow_volumes(disc, req, lender->volumes, own_rows, vol) : 0;
       state->lends = laplace && !tensor && !compact_form && vo.wall.rows.empty();
     }
     if (state && state->warm) std::swap(state->active, vol.active);  // this build's sets start the next
@@ -367,6 +380,22 @@ class Vrsph final : public Method {
       own[si] = lendable ? 0 : 1;
     }
     return own;
+  }
+
+  // Every row's volumes and their record (not the warm-start counts: no NNLS ran) into `vol`,
+  // its storage reused.
+  static void take_volumes(const ReconstructedVolumes& lent, ReconstructedVolumes& vol) {
+    vol.conditions = lent.conditions;
+    resize_for_overwrite(vol.v, lent.v.size());
+    std::copy(lent.v.begin(), lent.v.end(), vol.v.begin());
+    vol.residual = lent.residual;
+    vol.failed = lent.failed;
+    vol.iterations = lent.iterations;
+    vol.positive = lent.positive;
+    vol.signed_row = lent.signed_row;
+    vol.negative = lent.negative;
+    vol.wall_flux.clear();
+    vol.warm_rows = vol.warm_hits = 0;
   }
 
   // The borrowed rows' volumes (rows_not_borrowed 0 and requested) copied into `vol`; returns
