@@ -53,7 +53,7 @@ std::vector<Vec3> points_of(const PositionArray& x, int dim) {
   return p;
 }
 
-void update(Operators& ops, const py::handle& positions, const py::object& coefficient) {
+void update(Operators& ops, const py::handle& positions, const py::object& coefficient, const py::object& candidates) {
   const auto x = PositionArray::ensure(positions);
   check<InputError>(static_cast<bool>(x), "update: positions must be an (N, dim) array of numbers");
   const Index n = ops.cloud().size();
@@ -66,14 +66,33 @@ void update(Operators& ops, const py::handle& positions, const py::object& coeff
                     n, " particles in ", dim, "D: give an (N, dim) = (", n, ", ", dim,
                     ") array (particles cannot be added or removed: build new Operators)");
   const std::vector<Vec3> p = points_of(x, dim);
-  if (coefficient.is_none()) {
-    py::gil_scoped_release release;
-    ops.update(p);
-    return;
+  Field a;
+  UpdateWith with;
+  if (!coefficient.is_none()) {
+    a = field_from(coefficient, n, "coefficient");
+    with.coefficient = &a;
   }
-  const Field a = field_from(coefficient, n, "coefficient");
+  // The caller's candidate pairs (indptr, indices, distances or None), as _args.neighbour_list
+  // gives them: int32 and float64, contiguous.
+  using IndexArray = py::array_t<Index, py::array::c_style | py::array::forcecast>;
+  using RealArray = py::array_t<Real, py::array::c_style | py::array::forcecast>;
+  IndexArray indptr, indices;
+  RealArray distances;
+  UserNeighbours u;
+  if (!candidates.is_none()) {
+    const auto list = candidates.cast<py::tuple>();
+    indptr = list[0].cast<IndexArray>();
+    indices = list[1].cast<IndexArray>();
+    u.offsets = {indptr.data(), static_cast<std::size_t>(indptr.size())};
+    u.indices = {indices.data(), static_cast<std::size_t>(indices.size())};
+    if (!list[2].is_none()) {
+      distances = list[2].cast<RealArray>();
+      u.distances = {distances.data(), static_cast<std::size_t>(distances.size())};
+    }
+    with.candidates = &u;
+  }
   py::gil_scoped_release release;
-  ops.update(p, a);
+  ops.update(p, with);
 }
 
 // The positions moved back into the periodic box along its periodic axes (Domain::wrap), the
@@ -136,7 +155,7 @@ void bind_moving(py::module_& m) {
       .def(py::init(&make_operators), py::arg("cloud"), py::arg("method"), py::arg("operators"), py::arg("h"),
            py::arg("h_factor"), py::arg("kernel"), py::arg("options"), py::arg("skin"), py::arg("warm_start"),
            py::arg("share_volumes"), py::arg("coefficient"))
-      .def("update", &update, py::arg("positions"), py::arg("coefficient"))
+      .def("update", &update, py::arg("positions"), py::arg("coefficient"), py::arg("neighbours"))
       .def("set_coefficient",
            [](Operators& o, const py::handle& a) {
              Field f = field_from(a, o.cloud().size(), "coefficient");

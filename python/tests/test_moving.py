@@ -247,3 +247,31 @@ def test_div_a_grad_moves_with_its_coefficient():
         vrsph.Operators(c, operators=("laplacian",), coefficient=1.0)
     with pytest.raises(vrsph.ConfigError, match="not kept"):
         vrsph.Operators(c).update(x, coefficient=np.ones(len(x)))
+
+
+def test_the_callers_candidate_pairs_replace_the_verlet_list():
+    scipy_spatial = pytest.importorskip("scipy.spatial")
+    import scipy.sparse
+    c = vrsph.cloud.perturbed(dim=2, n=20, seed=3)
+    own = vrsph.Operators(c, warm_start=False)
+    given = vrsph.Operators(c, warm_start=False)
+    x = np.asarray(c.points)
+    for step in range(3):
+        x = _move(x, 0.01)
+        own.update(x)
+        pairs = scipy_spatial.cKDTree(x).query_pairs(1.3 * own.radius, output_type="ndarray")  # wider than the support
+        m = scipy.sparse.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(x), len(x)))
+        given.update(x, neighbours=m + m.T)
+        assert not given.stats["searched"]
+        _same_nonzeros(given.stencil("laplacian"), own.stencil("laplacian"))
+        for a, b in zip(given.stencil("gradient"), own.stencil("gradient")):
+            _same_nonzeros(a, b)
+    one_sided = (m + m.T).tolil()
+    j = int(np.argmin(np.linalg.norm(x - x[200], axis=1) + 9 * (np.arange(len(x)) == 200)))  # 200's nearest
+    one_sided[200, j] = 0  # the pair in row j only
+    one_sided = one_sided.tocsr()
+    one_sided.eliminate_zeros()
+    before = given.stencil("laplacian").copy()
+    with pytest.raises(vrsph.InputError, match="one-sided"):
+        given.update(_move(x, 0.01), neighbours=one_sided)
+    _same_nonzeros(given.stencil("laplacian"), before)

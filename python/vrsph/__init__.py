@@ -223,7 +223,11 @@ class Operators:
     ``set_coefficient(a)`` replaces it now (the stencil rebuilt on the current positions).
 
     ``update(positions)`` takes an (N, dim) array (the same particles; InputError otherwise, and
-    the operators stay as they were). ``stencil(op)`` returns what :func:`stencil` returns (a
+    the operators stay as they were). ``update(positions, neighbours=...)`` uses the caller's
+    candidate pairs at the new positions instead of the operators' own Verlet list: ``(indptr,
+    indices[, distances])`` or a SciPy sparse matrix's pattern, any superset of the pairs within
+    the support radius (a cell list's or Verlet list's pairs); pairs beyond the radius are dropped,
+    the rest checked as :func:`stencil` checks a list. ``stencil(op)`` returns what :func:`stencil` returns (a
     CSR matrix, or a tuple of them); ``apply(op, values)`` applies it to (N,) or (N, dim) values;
     ``stats`` reports the last update (searches, warm-start rows and hits, borrowed rows, seconds)."""
 
@@ -257,8 +261,10 @@ class Operators:
             return np.full(self._ops.n, float(a))
         return a  # an array: the library checks dtype, shape and values
 
-    def update(self, positions: Any, coefficient: Any = None) -> None:
-        self._ops.update(self._positions(positions), None if coefficient is None else self._coefficient(coefficient))
+    def update(self, positions: Any, coefficient: Any = None, neighbours: Any = None) -> None:
+        x = self._positions(positions)
+        candidates = _args.neighbour_list(neighbours, "neighbours", self._ops.n)
+        self._ops.update(x, None if coefficient is None else self._coefficient(coefficient), candidates)
 
     def set_coefficient(self, coefficient: Any) -> None:
         """div(a grad)'s a from now on (N positive values, or a number): its stencil is rebuilt on

@@ -2,6 +2,7 @@
 // Operators on moving particles (operators.hpp).
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/stopwatch.hpp>
@@ -67,56 +68,82 @@ Operators::~Operators() = default;
 Operators::Operators(Operators&&) noexcept = default;
 Operators& Operators::operator=(Operators&&) noexcept = default;
 
-void Operators::update(std::span<const Vec3> positions) { move_to(positions, nullptr); }
+void Operators::update(std::span<const Vec3> positions) { update(positions, UpdateWith{}); }
 
 void Operators::update(std::span<const Vec3> positions, const Field& coefficient) {
-  check<ConfigError>(keeps(OperatorKind::DivAGrad), "operators update: a coefficient was given but div-a-grad is not kept");
-  check_coefficient(coefficient);
-  move_to(positions, &coefficient);
+  update(positions, UpdateWith{&coefficient, nullptr});
 }
 
-void Operators::move_to(std::span<const Vec3> positions, const Field* coefficient) {
+void Operators::update(std::span<const Vec3> positions, const UpdateWith& with) {
   check<InputError>(static_cast<Index>(positions.size()) == cloud_.size(), "operators update: ", positions.size(),
                     " positions for ", cloud_.size(), " particles (particles cannot be added or removed: build new "
                     "Operators)");
+  if (with.coefficient) {
+    check<ConfigError>(keeps(OperatorKind::DivAGrad), "operators update: a coefficient was given but div-a-grad is not kept");
+    check_coefficient(*with.coefficient);
+  }
   // The old positions are kept (swapped: no allocation after the first step) so that a failed
   // update leaves the operators as they were: the neighbour phase changes nothing when it
-  // throws; a stencil phase that throws half-way is redone on the old positions (and the old
-  // coefficient).
+  // throws; a stencil phase that throws half-way is redone on the old positions (the old
+  // coefficient, the old list).
   previous_.swap(cloud_.positions);
   cloud_.positions.assign(positions.begin(), positions.end());
   const NeighbourList* nl = nullptr;
+  NeighbourList given;
   try {
-    nl = &update_neighbours();
+    if (with.candidates) {
+      validate(cloud_);
+      const Stopwatch watch;
+      UserNeighbours u = *with.candidates;
+      u.radii = verlet_->radii();
+      u.candidates = true;
+      u.min_neighbours = options_.min_neighbours;
+      given = neighbour_list_from(cloud_, u);
+      stats_.searched = false;
+      stats_.seconds_neighbours = watch.seconds();
+      nl = &given;
+    } else {
+      nl = &update_neighbours();
+    }
   } catch (...) {
     cloud_.positions.swap(previous_);
     throw;
   }
   Field old_coefficient;
-  if (coefficient) {
+  if (with.coefficient) {
     old_coefficient = std::move(coefficient_);
-    coefficient_ = *coefficient;
+    coefficient_ = *with.coefficient;
   }
+  const bool was_given = given_current_;
+  if (with.candidates) {  // the list the stencils will hold on to (the previous kept until they are built)
+    std::swap(given, given_);
+    nl = &given_;
+  }
+  given_current_ = with.candidates != nullptr;
   try {
     update_stencils(*nl);
   } catch (...) {
     cloud_.positions.swap(previous_);
-    if (coefficient) coefficient_ = std::move(old_coefficient);
-    update_stencils(update_neighbours());
+    if (with.coefficient) coefficient_ = std::move(old_coefficient);
+    given_current_ = was_given;
+    if (with.candidates) std::swap(given, given_);
+    update_stencils(was_given ? given_ : update_neighbours());
     throw;
   }
   ++stats_.updates;
 }
+
+const NeighbourList& Operators::current_list() const { return given_current_ ? given_ : verlet_->list(); }
 
 void Operators::set_coefficient(Field coefficient) {
   check<ConfigError>(keeps(OperatorKind::DivAGrad), "operators: set_coefficient, but div-a-grad is not among the operators");
   check_coefficient(coefficient);
   coefficient_.swap(coefficient);
   try {
-    update_stencils(verlet_->list(), OperatorKind::DivAGrad);
+    update_stencils(current_list(), OperatorKind::DivAGrad);
   } catch (...) {
     coefficient_.swap(coefficient);
-    update_stencils(verlet_->list(), OperatorKind::DivAGrad);
+    update_stencils(current_list(), OperatorKind::DivAGrad);
     throw;
   }
 }
@@ -252,7 +279,7 @@ void Operators::set_marked_rows(std::vector<char> marked) {
   check<ConfigError>(!any || marked_method_, "operators: rows were marked but no marked_gradient_method builds them");
   std::vector<char> before = std::move(marked_);
   marked_ = std::move(marked);
-  const Discretisation disc{cloud_, verlet_->list(), options_.kernel, spacing_};
+  const Discretisation disc{cloud_, current_list(), options_.kernel, spacing_};
   try {
     for (Kept& k : kept_) splice_marked(k, disc);
   } catch (...) {
@@ -266,7 +293,7 @@ const Method& Operators::method_of(OperatorKind kind) const {
   return first_derivative(kind) && gradient_method_ ? *gradient_method_ : *method_;
 }
 
-const NeighbourList& Operators::neighbours() const { return verlet_->list(); }
+const NeighbourList& Operators::neighbours() const { return current_list(); }
 
 const Stencil& Operators::stencil(OperatorKind kind) const {
   for (const Kept& k : kept_)

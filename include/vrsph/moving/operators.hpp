@@ -15,6 +15,7 @@
 #include <optional>
 #include <span>
 #include <vrsph/methods/method.hpp>
+#include <vrsph/neighbours/user_list.hpp>
 #include <vrsph/neighbours/verlet.hpp>
 #include <vrsph/stencil/vector_operators.hpp>
 
@@ -58,6 +59,18 @@ struct OperatorsOptions {
   Index min_neighbours = 1;
 };
 
+/// What an update may change besides the positions (Operators::update).
+struct UpdateWith {
+  /// DivAGrad's new coefficient, one value per particle (null: a stays with its particles).
+  const Field* coefficient = nullptr;
+  /// The caller's candidate pairs at the new positions (its own cell or Verlet list: offsets,
+  /// indices, optionally distances; any superset of the pairs within the support radii), used
+  /// instead of the operators' Verlet list for this update (null: the Verlet list). Filtered
+  /// to the radii and checked by neighbour_list_from (user_list.hpp; its `radii` and
+  /// `candidates` are the operators' own); the Verlet list stays valid for later updates.
+  const UserNeighbours* candidates = nullptr;
+};
+
 /// What the last update did and cost.
 struct UpdateStats {
   Index updates = 0;            ///< update() calls so far (the construction not counted)
@@ -90,6 +103,9 @@ class Operators {
   /// The same with a new coefficient of div(a grad) (DivAGrad kept; one positive finite value per
   /// particle): both replaced together, or neither when it throws.
   void update(std::span<const Vec3> positions, const Field& coefficient);
+  /// The same with what `with` gives (a coefficient, the caller's candidate pairs); InputError for
+  /// a candidate list neighbour_list_from refuses (naming the row), nothing changed.
+  void update(std::span<const Vec3> positions, const UpdateWith& with);
 
   /// DivAGrad's coefficient from now on: its stencil is rebuilt on the current positions.
   /// ConfigError when DivAGrad is not kept, InputError for another count or a value that is not
@@ -129,7 +145,7 @@ class Operators {
  private:
   SearchParams search_params() const;
   bool keeps(OperatorKind kind) const;
-  void move_to(std::span<const Vec3> positions, const Field* coefficient);
+  const NeighbourList& current_list() const;
   void check_coefficient(const Field& a) const;
   const NeighbourList& update_neighbours();
   /// Every kept stencil, or only `only`'s (the others as they are).
@@ -162,6 +178,8 @@ class Operators {
   std::vector<Vec3> previous_;   ///< the positions before the update under way
   bool own_radii_ = false;       ///< set_support_radii was called: searches take the per-particle radii
   std::vector<Kept> kept_;
+  NeighbourList given_;        ///< the last update's list from the caller's candidates
+  bool given_current_ = false; ///< the stencils were built on given_ (else on the Verlet list)
   UpdateStats stats_;
 };
 

@@ -630,3 +630,105 @@ TEST(MovingOperators, DivAGradCoefficientRefusalsLeaveTheOperatorsAsTheyWere) {
   const Stencil& twice = ops.stencil(OperatorKind::DivAGrad);
   for (std::size_t k = 0; k < twice.values[0].size(); ++k) EXPECT_NEAR(twice.values[0][k], 2 * before.values[0][k], 1e-9 * std::abs(before.values[0][k]) + 1e-300);
 }
+
+namespace {
+// A superset of the pairs within `radius` (a caller's cell or Verlet list), in CSR form.
+struct Candidates {
+  std::vector<Index> offsets, indices;
+  std::vector<Real> distances;
+  UserNeighbours view(bool with_distances) const {
+    UserNeighbours u;
+    u.offsets = offsets;
+    u.indices = indices;
+    if (with_distances) u.distances = distances;
+    return u;
+  }
+};
+Candidates candidates_within(const PointCloud& c, Real radius) {
+  SearchParams sp;
+  sp.radius = radius;
+  sp.wrap_periodic = true;
+  const NeighbourList nl = find_neighbours(c, sp);
+  Candidates out;
+  out.offsets.assign(nl.offsets.begin(), nl.offsets.end());
+  out.indices.assign(nl.indices.begin(), nl.indices.end());
+  out.distances.assign(nl.distances.begin(), nl.distances.end());
+  // Rows in another order than the library's: reversed.
+  for (std::size_t i = 0; i < static_cast<std::size_t>(c.size()); ++i) {
+    const auto b = static_cast<std::ptrdiff_t>(out.offsets[i]), e = static_cast<std::ptrdiff_t>(out.offsets[i + 1]);
+    std::reverse(out.indices.begin() + b, out.indices.begin() + e);
+    std::reverse(out.distances.begin() + b, out.distances.begin() + e);
+  }
+  return out;
+}
+}  // namespace
+
+// The caller's candidate pairs (its own cell or Verlet list, wider than the support) instead of
+// the operators' Verlet list: the same list after filtering, so (cold) the same stencils bit for
+// bit, on the box and on a periodic one; plain updates after them still use the Verlet list.
+TEST(MovingOperators, TheCallersCandidatePairsGiveTheStencilsOfTheVerletList) {
+  for (const std::string periodic : {"", "x,y"}) {
+    const StudyCloud sc = operators_cloud(2, periodic);
+    OperatorsOptions o;
+    o.warm_start = false;
+    o.operators = {OperatorKind::Laplacian, OperatorKind::Gradient};
+    Operators own(sc.cloud, o), given(sc.cloud, o);
+    for (int step = 0; step < 4; ++step) {
+      const std::vector<Vec3> x = advect(own.cloud(), 0.01);
+      own.update(x);
+      if (step == 3) {
+        given.update(x);  // back to the Verlet list
+      } else {
+        PointCloud moved = own.cloud();
+        const Candidates c = candidates_within(moved, 1.3 * own.radius());
+        const UserNeighbours u = c.view(step == 1);
+        given.update(x, UpdateWith{nullptr, &u});
+        EXPECT_FALSE(given.stats().searched);
+      }
+      EXPECT_EQ(given.neighbours().offsets, own.neighbours().offsets);
+      EXPECT_EQ(given.neighbours().indices, own.neighbours().indices);
+      EXPECT_EQ(given.neighbours().distances, own.neighbours().distances);
+      EXPECT_EQ(given.neighbours().shifts, own.neighbours().shifts);
+      for (const OperatorKind k : {OperatorKind::Laplacian, OperatorKind::Gradient})
+        expect_same_stencil(given.stencil(k), own.stencil(k));
+    }
+  }
+}
+
+// Candidate lists refused with the row named; the operators stay as they were.
+TEST(MovingOperators, BadCandidatePairsAreRefusedAndChangeNothing) {
+  const StudyCloud sc = operators_cloud(2);
+  Operators ops(sc.cloud, {});
+  ops.update(advect(ops.cloud(), 0.01));
+  const Stencil before = ops.stencil(OperatorKind::Laplacian);
+  const std::vector<Real> distances_before(ops.neighbours().distances.begin(), ops.neighbours().distances.end());
+  std::vector<Vec3> x = advect(ops.cloud(), 0.01);
+  PointCloud moved = ops.cloud();
+  moved.positions = x;
+  Candidates c = candidates_within(moved, 1.2 * ops.radius());
+  // One direction of a close pair dropped: row 40's first candidate within the radius.
+  const auto row = static_cast<std::size_t>(40);
+  auto drop = static_cast<std::size_t>(c.offsets[row]);  // its first candidate within the radius
+  while (c.distances[drop] >= ops.radius()) ++drop;
+  Candidates one_sided = c;
+  one_sided.indices.erase(one_sided.indices.begin() + static_cast<std::ptrdiff_t>(drop));
+  one_sided.distances.erase(one_sided.distances.begin() + static_cast<std::ptrdiff_t>(drop));
+  for (std::size_t i = row + 1; i < one_sided.offsets.size(); ++i) --one_sided.offsets[i];
+  UserNeighbours u = one_sided.view(false);
+  EXPECT_THROW_MSG(ops.update(x, UpdateWith{nullptr, &u}), InputError, "one-sided");
+  Candidates out_of_range = c;
+  out_of_range.indices[5] = ops.cloud().size();
+  u = out_of_range.view(false);
+  EXPECT_THROW_MSG(ops.update(x, UpdateWith{nullptr, &u}), InputError, "outside 0..");
+  Candidates wrong_distance = c;
+  wrong_distance.distances[drop] *= 0.5;
+  u = wrong_distance.view(true);
+  EXPECT_THROW_MSG(ops.update(x, UpdateWith{nullptr, &u}), InputError, "but the positions give");
+  std::vector<Vec3> twin = x;
+  twin[40] = twin[41];
+  u = c.view(false);  // 40 and 41 list each other
+  EXPECT_THROW_MSG(ops.update(twin, UpdateWith{nullptr, &u}), InputError, "duplicate particles 40 and 41");
+  expect_same_stencil(ops.stencil(OperatorKind::Laplacian), before);
+  EXPECT_EQ(std::vector<Real>(ops.neighbours().distances.begin(), ops.neighbours().distances.end()), distances_before);
+  EXPECT_EQ(ops.stats().updates, 1);
+}
