@@ -35,7 +35,9 @@ void apply_ranks_option(const std::string& value, const CLI::App& app, int argc,
 /// (about 0.5-0.7 s) included (docs/time_to_accuracy.md, "Threads or ranks"): in 2D one rank
 /// per core takes 0.91-0.93 x the time at 1.6 10^5 particles, 0.82-0.90 x at 3.0-4.9 10^5 and
 /// 0.78-0.81 x at 10^6; in 3D, where the stencils are most of a run, 0.93 x at 2.3 10^5, 0.96-1.01
-/// x at 3.1 10^5 and 0.87-0.90 x at 5.3 10^5. 1D runs are small and solved directly. The environment variable
+/// x at 3.1 10^5 and 0.87-0.90 x at 5.3 10^5 (since 3D solves coarsen aggressively, 0.87-1.19 x: break-even
+/// on 2 cores; kept for machines with more cores, where one process's solve stays on one).
+/// 1D runs are small and solved directly. The environment variable
 /// VRSPH_RANKS_AUTO_MIN_PARTICLES sets one threshold for every dimension instead (where the
 /// crossing lies depends on the machine).
 inline constexpr Index kAutoRanksMinParticles2d = 150000;
