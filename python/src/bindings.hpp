@@ -38,6 +38,9 @@ py::array_t<Real> positions_array(const PointCloud& cloud);
 /// A float64 vector of exactly n values from a Python object (array-like), or InputError
 /// naming `what` and the problem (shape, dtype, non-finite values are left to the library).
 Field field_from(const py::handle& values, Index n, const char* what);
+/// The same, or an expression in x, y, z (a string; a catalogue name too, as the CLI takes it)
+/// evaluated at the cloud's particles.
+Field field_or_expression(const py::handle& values, const PointCloud& cloud, const char* what);
 
 /// Method options from {key: value} (booleans as "true"/"false", everything else as str()).
 MethodOptions method_options_from(const py::dict& options);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // vrsph._vrsph: the compiled half of the Python package.
 #include <new>
+#include <vrsph/analysis/functions.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/features.hpp>
 #include <vrsph/core/interrupt.hpp>
@@ -92,6 +93,12 @@ Field field_from(const py::handle& values, Index n, const char* what) {
   Field out(n);
   std::copy(f64.data(), f64.data() + n, out.data());
   return out;
+}
+
+Field field_or_expression(const py::handle& values, const PointCloud& cloud, const char* what) {
+  if (!py::isinstance<py::str>(values)) return field_from(values, cloud.size(), what);
+  const auto u = make_function_or_expression(values.cast<std::string>(), cloud.dim);
+  return sample(*u, cloud, what);
 }
 
 MethodOptions method_options_from(const py::dict& options) {

@@ -37,7 +37,7 @@ std::unique_ptr<Operators> make_operators(const py::object& self, const std::str
   o.share_volumes = share_volumes;
   o.operators.clear();
   for (const auto& name : ops) o.operators.push_back(parse_operator(name));
-  if (!coefficient.is_none()) o.coefficient = field_from(coefficient, cloud.size(), "coefficient");
+  if (!coefficient.is_none()) o.coefficient = field_or_expression(coefficient, cloud, "coefficient");
   py::gil_scoped_release release;
   return std::make_unique<Operators>(cloud, std::move(o));
 }
@@ -69,7 +69,13 @@ void update(Operators& ops, const py::handle& positions, const py::object& coeff
   Field a;
   UpdateWith with;
   if (!coefficient.is_none()) {
-    a = field_from(coefficient, n, "coefficient");
+    if (py::isinstance<py::str>(coefficient)) {  // an expression: at the new positions
+      PointCloud moved = ops.cloud();
+      moved.positions = p;
+      a = field_or_expression(coefficient, moved, "coefficient");
+    } else {
+      a = field_from(coefficient, n, "coefficient");
+    }
     with.coefficient = &a;
   }
   // The caller's candidate pairs (indptr, indices, distances or None), as _args.neighbour_list
@@ -158,7 +164,7 @@ void bind_moving(py::module_& m) {
       .def("update", &update, py::arg("positions"), py::arg("coefficient"), py::arg("neighbours"))
       .def("set_coefficient",
            [](Operators& o, const py::handle& a) {
-             Field f = field_from(a, o.cloud().size(), "coefficient");
+             Field f = field_or_expression(a, o.cloud(), "coefficient");
              py::gil_scoped_release release;
              o.set_coefficient(std::move(f));
            },

@@ -73,7 +73,7 @@ py::dict stencil(const py::object& self, const std::string& method_name, const s
   Field a;
   if (kind == OperatorKind::DivAGrad) {
     check<ConfigError>(!coefficient.is_none(), "operator div-a-grad needs the coefficient a (an array of N values)");
-    a = field_from(coefficient, cloud.size(), "coefficient");
+    a = field_or_expression(coefficient, cloud, "coefficient");
   } else {
     check<ConfigError>(coefficient.is_none(), "a coefficient applies to operator div-a-grad only, not ", op);
   }

@@ -275,3 +275,24 @@ def test_the_callers_candidate_pairs_replace_the_verlet_list():
     with pytest.raises(vrsph.InputError, match="one-sided"):
         given.update(_move(x, 0.01), neighbours=one_sided)
     _same_nonzeros(given.stencil("laplacian"), before)
+
+
+def test_a_coefficient_may_be_an_expression_at_the_particles_places():
+    c = vrsph.cloud.perturbed(dim=2, n=10, seed=1)
+    x = np.asarray(c.points)
+    # stencil() as documented: values, a callable or an expression give the same rows.
+    by_expression = vrsph.stencil(c, operator="div-a-grad", coefficient="1+x")
+    by_values = vrsph.stencil(c, operator="div-a-grad", coefficient=1 + x[:, 0])
+    assert abs(by_expression - by_values).max() == 0
+    ops = vrsph.Operators(c, operators=("div-a-grad",), coefficient="1+x*y", warm_start=False)
+    assert np.allclose(ops.coefficient, 1 + x[:, 0] * x[:, 1])
+    y = _move(x, 0.01)
+    ops.update(y, coefficient="2+x")  # evaluated at the new places
+    assert np.allclose(ops.coefficient, 2 + y[:, 0])
+    ops.set_coefficient("one-plus-r2")  # a catalogue name, as the CLI takes it
+    assert np.allclose(ops.coefficient, 1 + (y ** 2).sum(axis=1))
+    with pytest.raises(vrsph.InputError, match="cannot parse expression"):
+        ops.set_coefficient("1+")
+    with pytest.raises(vrsph.InputError, match="not finite"):
+        ops.set_coefficient("sqrt(x-2)")
+    assert np.allclose(ops.coefficient, 1 + (y ** 2).sum(axis=1))

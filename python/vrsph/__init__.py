@@ -218,8 +218,8 @@ class Operators:
     rows, FPM with v = dx^d) take the minimum-image list; others are rebuilt on the images.
 
     ``coefficient`` (with "div-a-grad", required): a in div(a grad u), one value per particle
-    (an array, a number, or a callable of the coordinates evaluated at the cloud's); it moves
-    with its particle. ``update(positions, coefficient=a)`` replaces it with the positions,
+    (an array, a number, a callable of the coordinates or an expression in x, y, z, evaluated
+    at the cloud's places); it moves with its particle. ``update(positions, coefficient=a)`` replaces it with the positions,
     ``set_coefficient(a)`` replaces it now (the stencil rebuilt on the current positions).
 
     ``update(positions)`` takes an (N, dim) array (the same particles; InputError otherwise, and
@@ -267,8 +267,8 @@ class Operators:
         self._ops.update(x, None if coefficient is None else self._coefficient(coefficient), candidates)
 
     def set_coefficient(self, coefficient: Any) -> None:
-        """div(a grad)'s a from now on (N positive values, or a number): its stencil is rebuilt on
-        the current positions."""
+        """div(a grad)'s a from now on (N positive values, a number, or an expression evaluated at
+        the current positions): its stencil is rebuilt on them."""
         self._ops.set_coefficient(self._coefficient(coefficient))
 
     @property
