@@ -23,13 +23,13 @@ using namespace vrsph;
 
 namespace {
 
-StudyCloud operators_cloud(int dim, const std::string& periodic = "") {
+StudyCloud operators_cloud(int dim, const std::string& periodic = "", int n = 0, std::uint64_t seed = 9) {
   CloudSpec spec;
   spec.family = CloudFamily::Perturbed;
   spec.box = Domain::unit_box(dim);
   spec.box.set_periodic(periodic);
-  spec.n = dim == 3 ? 10 : 24;
-  spec.seed = 9;
+  spec.n = n > 0 ? n : dim == 3 ? 10 : 24;
+  spec.seed = seed;
   return make_study_cloud(spec);
 }
 
@@ -552,13 +552,7 @@ TEST(MovingOperators, VrsphDivAGradIsSecondOrderOnMovingParticles) {
   const auto a_at = [](const Vec3& p) { return 1 + 0.5 * std::sin(2 * std::numbers::pi * p[0]) * std::cos(2 * std::numbers::pi * p[1]); };
   std::vector<Real> errors;
   for (const int n : {16, 32, 64}) {
-    CloudSpec spec;
-    spec.family = CloudFamily::Perturbed;
-    spec.box = Domain::unit_box(2);
-    spec.box.set_periodic("x,y");
-    spec.n = n;
-    spec.seed = 4;
-    const StudyCloud sc = make_study_cloud(spec);
+    const StudyCloud sc = operators_cloud(2, "x,y", n, 4);
     OperatorsOptions o;
     o.operators = {OperatorKind::Laplacian, OperatorKind::DivAGrad};
     Field a(sc.cloud.size());
