@@ -737,6 +737,20 @@ class Bench(unittest.TestCase):
         off = run_json("bench", "update", "--n", "10", "--steps", "1", "--threads", "1", "--share-volumes", "off")
         self.assertFalse(off["share_volumes"])
         self.assertEqual(off["rows"][-1]["borrowed_volume_rate"], 0)
+        # --div-a-grad: div(a grad) kept too, a given with the positions; its rows take the
+        # Laplacian's volumes (the same NNLS), as accurate as the fresh build's.
+        for extra in ([], ["--periodic"]):
+            out = run_json("bench", "update", "--n", "24", "--steps", "2", "--threads", "1", "--div-a-grad", *extra)
+            self.assertTrue(out["div_a_grad"])
+            rows = {r["stage"]: r for r in out["rows"]}
+            self.assertIn("stencils (laplacian + gradient + div-a-grad)", rows)
+            total = rows["total"]
+            self.assertGreater(total["div_a_grad_error"], 0)
+            self.assertLess(total["div_a_grad_error"], 1.5 * total["div_a_grad_error_fresh"] + 1e-9)
+            self.assertLessEqual(total["borrowed_volume_rate"], 1)
+            self.assertGreater(total["borrowed_volume_rate"], 0.5)
+        plain = run_json("bench", "update", "--n", "10", "--steps", "1", "--threads", "1")
+        self.assertNotIn("div_a_grad_error", plain["rows"][-1])
 
     def test_stencils_bench_json(self):
         out = run_json("bench", "stencils", "--dim", "2", "--n", "32", "--h-factor", "3", "--repeat", "2")

@@ -34,6 +34,7 @@ struct UpdateArgs {
   bool warm_start = true;
   bool share_volumes = true;
   bool periodic = false;
+  bool div_a_grad = false;
   std::uint64_t seed = 1;
   OutputOptions out;
 };
@@ -71,8 +72,51 @@ void advect(std::vector<Vec3>& x, const PointCloud& c, Real dt) {
 }
 
 struct Errors {
-  double laplacian = 0, divergence = 0;
+  double laplacian = 0, divergence = 0, div_a_grad = std::nan("");
 };
+
+// Π sin(w x_k) and its gradient, w = π on the unit box (zero on its faces), 2π on the periodic one.
+Real product_of_sines(const Vec3& x, const PointCloud& c, Vec3* gradient = nullptr) {
+  const Real w = c.domain.any_periodic() ? 2 * pi : pi;
+  Real f = 1;
+  for (int k = 0; k < c.dim; ++k) f *= std::sin(w * x[k]);
+  if (gradient) {
+    *gradient = Vec3::Zero();
+    for (int k = 0; k < c.dim; ++k) {
+      Real g = w * std::cos(w * x[k]);
+      for (int j = 0; j < c.dim; ++j)
+        if (j != k) g *= std::sin(w * x[j]);
+      (*gradient)[k] = g;
+    }
+  }
+  return f;
+}
+
+// --div-a-grad's coefficient at the particles' places: a = 1 + f / 2 with f = Π sin(w x_k).
+Field bench_coefficient(const std::vector<Vec3>& x, const PointCloud& c) {
+  Field a(static_cast<Index>(x.size()));
+  for (std::size_t i = 0; i < x.size(); ++i) a[static_cast<Index>(i)] = 1 + 0.5 * product_of_sines(x[i], c);
+  return a;
+}
+
+// Max error of div(a grad f) over the interior rows that meet their moments, for a = 1 + f/2:
+// grad a . grad f + a lap f = |grad f|^2 / 2 - d w^2 f a.
+double div_a_grad_error(const PointCloud& c, const Stencil& s) {
+  const Real w = c.domain.any_periodic() ? 2 * pi : pi;
+  Field f(c.size());
+  for (Index i = 0; i < c.size(); ++i) f[i] = product_of_sines(c.positions[static_cast<std::size_t>(i)], c);
+  const Eigen::MatrixXd A = apply(s, f);
+  double e = 0;
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Interior || (!s.residual.empty() && s.residual[si] > 1e-8)) continue;
+    Vec3 g;
+    product_of_sines(c.positions[si], c, &g);
+    const Real exact = 0.5 * g.squaredNorm() - c.dim * w * w * f[i] * (1 + 0.5 * f[i]);
+    e = std::max(e, std::abs(A(i, 0) - exact));
+  }
+  return e;
+}
 
 // Max errors over the interior rows whose moment conditions hold: the Laplacian of
 // prod sin(pi x_k) and the divergence of the flow (0).
@@ -117,7 +161,7 @@ struct PathTimes {
 struct UpdateRun {
   PathTimes update, fresh;
   Index hits = 0, warm_rows = 0, searches = 0, particles = 0;
-  Index borrowed = 0, first_derivative_rows = 0;  // gradient rows that took the Laplacian's volumes, of all
+  Index borrowed = 0, first_derivative_rows = 0;  // gradient (and div(a grad)) rows that took the Laplacian's volumes, of all
   Errors e_update, e_fresh;
   double first_build = 0;
 };
@@ -149,6 +193,10 @@ UpdateRun run_steps(const UpdateArgs& a) {
   o.skin = a.skin;
   o.warm_start = a.warm_start;
   o.share_volumes = a.share_volumes;
+  if (a.div_a_grad) {
+    o.operators.push_back(OperatorKind::DivAGrad);
+    o.coefficient = bench_coefficient(sc.cloud.positions, sc.cloud);
+  }
   UpdateRun run;
   run.particles = sc.cloud.size();
   Stopwatch build_watch;
@@ -161,13 +209,19 @@ UpdateRun run_steps(const UpdateArgs& a) {
   for (int step = 0; step < a.steps; ++step) {
     progress.update("step " + std::to_string(step + 1) + "/" + std::to_string(a.steps), static_cast<double>(step) / a.steps);
     advect(x, sc.cloud, dt);
-    ops.update(x);
+    Field coefficient;  // --div-a-grad: a at the new places, given with them
+    if (a.div_a_grad) {
+      coefficient = bench_coefficient(x, sc.cloud);
+      ops.update(x, coefficient);
+    } else {
+      ops.update(x);
+    }
     run.update.neighbours += ops.stats().seconds_neighbours;
     run.update.stencils += ops.stats().seconds_stencils;
     run.hits += ops.stats().warm_hits;
     run.warm_rows += ops.stats().warm_rows;
     run.borrowed += ops.stats().borrowed_rows;
-    run.first_derivative_rows += ops.cloud().size();
+    run.first_derivative_rows += ops.cloud().size() * (a.div_a_grad ? 2 : 1);  // the rows that may borrow
     Eigen::MatrixXd U(sc.cloud.size(), a.dim);
     for (Index i = 0; i < sc.cloud.size(); ++i) U.row(i) = flow_velocity(x[static_cast<std::size_t>(i)], sc.cloud).head(a.dim).transpose();
     Stopwatch w;
@@ -183,14 +237,16 @@ UpdateRun run_steps(const UpdateArgs& a) {
     // A periodic box: the minimum-image list as it is where the method reads pair vectors, else
     // the images (what a user without the update path would run).
     const Discretisation disc{fresh_cloud, nl, KernelType::CubicSpline, ops.spacing()};
-    auto fresh_build = [&](OperatorKind kind) {
-      const StencilRequest req{kind};
+    auto fresh_build_with = [&](const StencilRequest& req) {
       return nl.shifts.empty() || method->reads_periodic_pairs(req)
                  ? method->build(disc, req)
                  : periodic_stencil(*method, fresh_cloud, sp, KernelType::CubicSpline, ops.spacing(), req);
     };
+    auto fresh_build = [&](OperatorKind kind) { return fresh_build_with(StencilRequest{kind}); };
     const Stencil lap = fresh_build(OperatorKind::Laplacian);
     const Stencil grad = fresh_build(OperatorKind::Gradient);
+    Stencil div_a_grad;
+    if (a.div_a_grad) div_a_grad = fresh_build_with(StencilRequest{OperatorKind::DivAGrad, &coefficient});
     run.fresh.stencils += w.seconds();
     w.restart();
     if (a.dim > 1) (void)apply_vector(VectorOperator::Divergence, grad, U);
@@ -198,6 +254,10 @@ UpdateRun run_steps(const UpdateArgs& a) {
     if (step + 1 == a.steps) {
       run.e_update = operator_errors(ops.cloud(), ops.stencil(OperatorKind::Laplacian), ops.stencil(OperatorKind::Gradient));
       run.e_fresh = operator_errors(fresh_cloud, lap, grad);
+      if (a.div_a_grad) {
+        run.e_update.div_a_grad = div_a_grad_error(ops.cloud(), ops.stencil(OperatorKind::DivAGrad));
+        run.e_fresh.div_a_grad = div_a_grad_error(fresh_cloud, div_a_grad);
+      }
     }
   }
   run.searches = ops.stats().searches - 1;  // the construction's not counted
@@ -212,20 +272,31 @@ void run_update_bench(const UpdateArgs& a) {
   t.columns = {"stage", "dim", "particles", "threads", "steps", "seconds_per_step", "seconds_fresh_per_step",
                "ratio_to_fresh", "searches", "warm_start_hit_rate", "borrowed_volume_rate", "laplacian_error", "laplacian_error_fresh",
                "divergence_error", "divergence_error_fresh"};
+  if (a.div_a_grad) {
+    t.columns.push_back("div_a_grad_error");
+    t.columns.push_back("div_a_grad_error_fresh");
+  }
   const double hit_rate = run.warm_rows > 0 ? static_cast<double>(run.hits) / static_cast<double>(run.warm_rows) : 0.0;
   const double borrow_rate =
       run.first_derivative_rows > 0 ? static_cast<double>(run.borrowed) / static_cast<double>(run.first_derivative_rows) : 0.0;
   auto row = [&](const std::string& stage, double u, double f) {
-    t.add_row({{"stage", stage}, {"dim", static_cast<long long>(a.dim)}, {"particles", static_cast<long long>(run.particles)},
-               {"threads", threads_in_use()}, {"steps", static_cast<long long>(a.steps)},
-               {"seconds_per_step", u / a.steps}, {"seconds_fresh_per_step", f / a.steps}, {"ratio_to_fresh", u / f},
-               {"searches", static_cast<long long>(run.searches)}, {"warm_start_hit_rate", hit_rate},
-               {"borrowed_volume_rate", borrow_rate},
-               {"laplacian_error", run.e_update.laplacian}, {"laplacian_error_fresh", run.e_fresh.laplacian},
-               {"divergence_error", run.e_update.divergence}, {"divergence_error_fresh", run.e_fresh.divergence}});
+    std::vector<std::pair<std::string, TableCell>> cells{
+        {"stage", stage}, {"dim", static_cast<long long>(a.dim)}, {"particles", static_cast<long long>(run.particles)},
+        {"threads", threads_in_use()}, {"steps", static_cast<long long>(a.steps)},
+        {"seconds_per_step", u / a.steps}, {"seconds_fresh_per_step", f / a.steps}, {"ratio_to_fresh", u / f},
+        {"searches", static_cast<long long>(run.searches)}, {"warm_start_hit_rate", hit_rate},
+        {"borrowed_volume_rate", borrow_rate},
+        {"laplacian_error", run.e_update.laplacian}, {"laplacian_error_fresh", run.e_fresh.laplacian},
+        {"divergence_error", run.e_update.divergence}, {"divergence_error_fresh", run.e_fresh.divergence}};
+    if (a.div_a_grad) {
+      cells.emplace_back("div_a_grad_error", run.e_update.div_a_grad);
+      cells.emplace_back("div_a_grad_error_fresh", run.e_fresh.div_a_grad);
+    }
+    t.add_row(cells);
   };
   row("neighbours", run.update.neighbours, run.fresh.neighbours);
-  row("stencils (laplacian + gradient)", run.update.stencils, run.fresh.stencils);
+  row(a.div_a_grad ? "stencils (laplacian + gradient + div-a-grad)" : "stencils (laplacian + gradient)", run.update.stencils,
+      run.fresh.stencils);
   row("divergence (apply)", run.update.divergence, run.fresh.divergence);
   row("total", run.update.total(), run.fresh.total());
   Json extra;
@@ -240,6 +311,7 @@ void run_update_bench(const UpdateArgs& a) {
   extra["warm_start"] = a.warm_start;
   extra["share_volumes"] = a.share_volumes;
   extra["periodic"] = a.periodic;
+  extra["div_a_grad"] = a.div_a_grad;
   extra["first_build_seconds"] = run.first_build;
   extra["peak_memory_mib"] = peak_memory_mib();
   emit(t, a.out, extra, "", "", "", "");
@@ -268,6 +340,8 @@ void add_update_bench(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_flag("--periodic", a->periodic, "A fully periodic box moved by the Taylor-Green field (else the unit box and "
                                           "a cellular flow)");
+  cmd->add_flag("--div-a-grad", a->div_a_grad, "Keep div(a grad) too, a = 1 + f/2 (f the Laplacian's test field) given "
+                                              "with the positions every step (div_a_grad_error)");
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed of the perturbation")->check(seed_validator())->capture_default_str();
   cmd->add_option("--format", a->out.format, "Output format: md, csv or json")->capture_default_str();
