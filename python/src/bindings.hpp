@@ -12,6 +12,7 @@
 #include <vector>
 #include <vrsph/cloud/point_cloud.hpp>
 #include <vrsph/methods/options.hpp>
+#include <vrsph/neighbours/user_list.hpp>
 
 namespace vrsph::python {
 
@@ -41,6 +42,18 @@ Field field_from(const py::handle& values, Index n, const char* what);
 /// The same, or an expression in x, y, z (a string; a catalogue name too, as the CLI takes it)
 /// evaluated at the cloud's particles.
 Field field_or_expression(const py::handle& values, const PointCloud& cloud, const char* what);
+
+/// A caller's neighbour list as _args.neighbour_list gives it, (indptr, indices, distances or
+/// None) in int32 and float64, and a view of it (`radii` and `candidates` left to the caller).
+/// The view points into the arrays held here: not copied, not moved.
+struct UserListArrays {
+  explicit UserListArrays(const py::tuple& list);
+  UserListArrays(const UserListArrays&) = delete;
+  UserListArrays& operator=(const UserListArrays&) = delete;
+  py::array_t<Index, py::array::c_style | py::array::forcecast> indptr, indices;
+  py::array_t<Real, py::array::c_style | py::array::forcecast> distances;
+  UserNeighbours view;
+};
 
 /// Method options from {key: value} (booleans as "true"/"false", everything else as str()).
 MethodOptions method_options_from(const py::dict& options);

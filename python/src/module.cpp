@@ -101,6 +101,16 @@ Field field_or_expression(const py::handle& values, const PointCloud& cloud, con
   return sample(*u, cloud, what);
 }
 
+UserListArrays::UserListArrays(const py::tuple& list)
+    : indptr(list[0].cast<decltype(indptr)>()), indices(list[1].cast<decltype(indices)>()) {
+  view.offsets = {indptr.data(), static_cast<std::size_t>(indptr.size())};
+  view.indices = {indices.data(), static_cast<std::size_t>(indices.size())};
+  if (!list[2].is_none()) {
+    distances = list[2].cast<decltype(distances)>();
+    view.distances = {distances.data(), static_cast<std::size_t>(distances.size())};
+  }
+}
+
 MethodOptions method_options_from(const py::dict& options) {
   MethodOptions o;
   for (const auto& [key, value] : options)

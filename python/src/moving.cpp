@@ -4,6 +4,7 @@
 // next update).
 #include <pybind11/stl.h>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vrsph/analysis/support_isotropy.hpp>
 #include <vrsph/core/error.hpp>
@@ -78,24 +79,10 @@ void update(Operators& ops, const py::handle& positions, const py::object& coeff
     }
     with.coefficient = &a;
   }
-  // The caller's candidate pairs (indptr, indices, distances or None), as _args.neighbour_list
-  // gives them: int32 and float64, contiguous.
-  using IndexArray = py::array_t<Index, py::array::c_style | py::array::forcecast>;
-  using RealArray = py::array_t<Real, py::array::c_style | py::array::forcecast>;
-  IndexArray indptr, indices;
-  RealArray distances;
-  UserNeighbours u;
+  std::optional<UserListArrays> pairs;  // the caller's candidate pairs, as _args.neighbour_list gives them
   if (!candidates.is_none()) {
-    const auto list = candidates.cast<py::tuple>();
-    indptr = list[0].cast<IndexArray>();
-    indices = list[1].cast<IndexArray>();
-    u.offsets = {indptr.data(), static_cast<std::size_t>(indptr.size())};
-    u.indices = {indices.data(), static_cast<std::size_t>(indices.size())};
-    if (!list[2].is_none()) {
-      distances = list[2].cast<RealArray>();
-      u.distances = {distances.data(), static_cast<std::size_t>(distances.size())};
-    }
-    with.candidates = &u;
+    pairs.emplace(candidates.cast<py::tuple>());
+    with.candidates = &pairs->view;
   }
   py::gil_scoped_release release;
   ops.update(p, with);

@@ -25,17 +25,10 @@ namespace {
 // One stencil over every non-ghost particle: support radius h (> 0) or h_factor x spacing.
 // The caller's neighbour list (indptr, indices, distances or None), checked and completed.
 std::shared_ptr<const NeighbourList> user_neighbours(const PointCloud& cloud, const py::tuple& list, Real radius) {
-  const auto indptr = list[0].cast<py::array_t<Index, py::array::c_style | py::array::forcecast>>();
-  const auto indices = list[1].cast<py::array_t<Index, py::array::c_style | py::array::forcecast>>();
-  py::array_t<Real, py::array::c_style | py::array::forcecast> distances;
-  if (!list[2].is_none()) distances = list[2].cast<py::array_t<Real, py::array::c_style | py::array::forcecast>>();
+  UserListArrays u(list);
   const std::vector<Real> radii{radius};
-  UserNeighbours u;
-  u.offsets = {indptr.data(), static_cast<std::size_t>(indptr.size())};
-  u.indices = {indices.data(), static_cast<std::size_t>(indices.size())};
-  if (!list[2].is_none()) u.distances = {distances.data(), static_cast<std::size_t>(distances.size())};
-  u.radii = radii;
-  return std::make_shared<const NeighbourList>(neighbour_list_from(cloud, u));
+  u.view.radii = radii;
+  return std::make_shared<const NeighbourList>(neighbour_list_from(cloud, u.view));
 }
 
 // Only the entries some component (or the rhs weights) needs, and the diagonal: NNLS leaves

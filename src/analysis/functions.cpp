@@ -6,6 +6,7 @@
 #include <vrsph/analysis/functions.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/parse.hpp>
+#include "../core/first_failure.hpp"
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -266,8 +267,7 @@ void for_each_sample(std::vector<const ScalarFunction*> fs, Index n, Body body) 
     for (Index i = 0; i < n; ++i) body(fs, i);
     return;
   }
-  std::exception_ptr failure;
-  Index failed_at = n;
+  detail::FirstFailure failure;
 #pragma omp parallel
   {
     std::vector<std::unique_ptr<ScalarFunction>> own;
@@ -277,25 +277,19 @@ void for_each_sample(std::vector<const ScalarFunction*> fs, Index n, Body body) 
       for (auto& f : mine)
         if (f) f = own.emplace_back(f->clone()).get();
 #endif
-    std::exception_ptr local;
-    Index local_at = n;
+    bool failed = false;  // this thread's first failure is its lowest index (static schedule)
 #pragma omp for schedule(static)
     for (Index i = 0; i < n; ++i) {
-      if (local) continue;
+      if (failed) continue;
       try {
         body(mine, i);
       } catch (...) {
-        local = std::current_exception();
-        local_at = i;
+        failure.record(i);
+        failed = true;
       }
     }
-#pragma omp critical(vrsph_sampling_failure)
-    if (local && local_at < failed_at) {
-      failure = local;
-      failed_at = local_at;
-    }
   }
-  if (failure) std::rethrow_exception(failure);
+  failure.rethrow();
 }
 }  // namespace
 

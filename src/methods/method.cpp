@@ -46,11 +46,14 @@ void check_request(const MethodInfo& info, const Discretisation& disc, const Ste
     return;
   }
   check<InputError>(request.coefficient != nullptr, "operator div-a-grad needs the coefficient a at every particle");
-  const Field& a = *request.coefficient;
-  check<InputError>(a.size() == disc.cloud.size(), "coefficient a has ", a.size(), " values for ", disc.cloud.size(),
+  check_scalar_coefficient(disc.cloud, *request.coefficient);
+}
+
+void check_scalar_coefficient(const PointCloud& cloud, const Field& a) {
+  check<InputError>(a.size() == cloud.size(), "coefficient a has ", a.size(), " values for ", cloud.size(),
                     " particles (size mismatch)");
   for (Index i = 0; i < a.size(); ++i) {
-    const Vec3& x = disc.cloud.positions[static_cast<std::size_t>(i)];
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
     check<InputError>(std::isfinite(a[i]) && a[i] > 0, "coefficient a must be positive and finite: a = ", a[i],
                       " at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
   }

@@ -39,7 +39,7 @@ Operators::Operators(PointCloud cloud, OperatorsOptions options) : cloud_(std::m
   if (div_a_grad) {
     check<ConfigError>(options_.coefficient.size() > 0, "operators: div-a-grad needs the coefficient a at every particle "
                        "(OperatorsOptions::coefficient; Python: coefficient=)");
-    check_coefficient(options_.coefficient);
+    check_scalar_coefficient(cloud_, options_.coefficient);
     coefficient_ = options_.coefficient;
   }
   check<ConfigError>(std::isfinite(options_.skin) && options_.skin >= 0, "operators: the Verlet skin (a fraction of the "
@@ -80,7 +80,7 @@ void Operators::update(std::span<const Vec3> positions, const UpdateWith& with) 
                     "Operators)");
   if (with.coefficient) {
     check<ConfigError>(keeps(OperatorKind::DivAGrad), "operators update: a coefficient was given but div-a-grad is not kept");
-    check_coefficient(*with.coefficient);
+    check_scalar_coefficient(cloud_, *with.coefficient);  // before anything changes (a method checks half-way)
   }
   // The old positions are kept (swapped: no allocation after the first step) so that a failed
   // update leaves the operators as they were: the neighbour phase changes nothing when it
@@ -137,7 +137,7 @@ const NeighbourList& Operators::current_list() const { return given_current_ ? g
 
 void Operators::set_coefficient(Field coefficient) {
   check<ConfigError>(keeps(OperatorKind::DivAGrad), "operators: set_coefficient, but div-a-grad is not among the operators");
-  check_coefficient(coefficient);
+  check_scalar_coefficient(cloud_, coefficient);
   coefficient_.swap(coefficient);
   try {
     update_stencils(current_list(), OperatorKind::DivAGrad);
@@ -150,18 +150,6 @@ void Operators::set_coefficient(Field coefficient) {
 
 bool Operators::keeps(OperatorKind kind) const {
   return std::find(options_.operators.begin(), options_.operators.end(), kind) != options_.operators.end();
-}
-
-// One positive, finite value per particle, checked before anything changes (a method would
-// check too, but only half-way through an update).
-void Operators::check_coefficient(const Field& a) const {
-  check<InputError>(a.size() == cloud_.size(), "operators: the coefficient a has ", a.size(), " values for ", cloud_.size(),
-                    " particles (one per particle)");
-  for (Index i = 0; i < a.size(); ++i) {
-    const Vec3& x = cloud_.positions[static_cast<std::size_t>(i)];
-    check<InputError>(std::isfinite(a[i]) && a[i] > 0, "operators: the coefficient a must be positive and finite: a = ",
-                      a[i], " at particle ", i, " (", x[0], ", ", x[1], ", ", x[2], ")");
-  }
 }
 
 void Operators::set_support_radii(std::vector<Real> radii) {

@@ -2,13 +2,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <exception>
-#include <limits>
 #include <utility>
 #include <vector>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/neighbours/user_list.hpp>
+#include "../core/first_failure.hpp"
 #include "two_pass.hpp"
 
 namespace vrsph {
@@ -36,26 +35,6 @@ std::uint8_t nearest_image(const Domain& d, const Vec3& xi, const Vec3& xj) {
   return shift_code(s[0], s[1], s[2]);
 }
 }  // namespace
-
-// The error of the lowest row among those a parallel loop found (each row's own checks run in
-// row order): the one a serial pass would have met first among them.
-class FirstRowError {
- public:
-  void record(Index row) {
-#pragma omp critical(vrsph_user_list_error)
-    if (row < row_) {
-      row_ = row;
-      error_ = std::current_exception();
-    }
-  }
-  void rethrow() const {
-    if (error_) std::rethrow_exception(error_);
-  }
-
- private:
-  Index row_ = std::numeric_limits<Index>::max();
-  std::exception_ptr error_;
-};
 
 NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours& user) {
   const Index n = cloud.size();
@@ -92,7 +71,7 @@ NeighbourList neighbour_list_from(const PointCloud& cloud, const UserNeighbours&
   std::vector<std::uint8_t> code(entries, no_shift);
   std::vector<char> keep(entries, 1);
   std::vector<Index> count(static_cast<std::size_t>(n), 0);
-  FirstRowError error;
+  detail::FirstFailure error;
 #pragma omp parallel for schedule(dynamic, 1024)
   for (Index i = 0; i < n; ++i) {
     try {

@@ -75,9 +75,12 @@ struct Errors {
   double laplacian = 0, divergence = 0, div_a_grad = std::nan("");
 };
 
-// Π sin(w x_k) and its gradient, w = π on the unit box (zero on its faces), 2π on the periodic one.
+// The test field's wave number: π on the unit box (zero on its faces), 2π on the periodic one.
+Real test_frequency(const PointCloud& c) { return c.domain.any_periodic() ? 2 * pi : pi; }
+
+// The test field f = Π sin(w x_k) and its gradient.
 Real product_of_sines(const Vec3& x, const PointCloud& c, Vec3* gradient = nullptr) {
-  const Real w = c.domain.any_periodic() ? 2 * pi : pi;
+  const Real w = test_frequency(c);
   Real f = 1;
   for (int k = 0; k < c.dim; ++k) f *= std::sin(w * x[k]);
   if (gradient) {
@@ -102,7 +105,7 @@ Field bench_coefficient(const std::vector<Vec3>& x, const PointCloud& c) {
 // Max error of div(a grad f) over the interior rows that meet their moments, for a = 1 + f/2:
 // grad a . grad f + a lap f = |grad f|^2 / 2 - d w^2 f a.
 double div_a_grad_error(const PointCloud& c, const Stencil& s) {
-  const Real w = c.domain.any_periodic() ? 2 * pi : pi;
+  const Real w = test_frequency(c);
   Field f(c.size());
   for (Index i = 0; i < c.size(); ++i) f[i] = product_of_sines(c.positions[static_cast<std::size_t>(i)], c);
   const Eigen::MatrixXd A = apply(s, f);
@@ -125,9 +128,7 @@ Errors operator_errors(const PointCloud& c, const Stencil& lap, const Stencil& g
   Eigen::MatrixXd U(c.size(), c.dim);
   for (Index i = 0; i < c.size(); ++i) {
     const Vec3& x = c.positions[static_cast<std::size_t>(i)];
-    const Real w = c.domain.any_periodic() ? 2 * pi : pi;  // Π sin(w x_k): periodic on the periodic box
-    f[i] = 1;
-    for (int k = 0; k < c.dim; ++k) f[i] *= std::sin(w * x[k]);
+    f[i] = product_of_sines(x, c);
     const Vec3 u = flow_velocity(x, c);
     for (int k = 0; k < c.dim; ++k) U(i, k) = u[k];
   }
@@ -137,7 +138,7 @@ Errors operator_errors(const PointCloud& c, const Stencil& lap, const Stencil& g
   for (Index i = 0; i < c.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (c.tags[si] != Tag::Interior || (!lap.residual.empty() && lap.residual[si] > 1e-8)) continue;
-    const Real w = c.domain.any_periodic() ? 2 * pi : pi;
+    const Real w = test_frequency(c);
     e.laplacian = std::max(e.laplacian, std::abs(L(i, 0) + c.dim * w * w * f[i]));
     if (c.dim > 1 && (grad.residual.empty() || grad.residual[si] <= 1e-8)) e.divergence = std::max(e.divergence, std::abs(D(i, 0)));
   }

@@ -173,6 +173,9 @@ int rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_g
 /// periodic shifts in the list unless `periodic_pairs` (the method reads them).
 void check_request(const MethodInfo& info, const Discretisation& disc, const StencilRequest& request,
                    bool periodic_pairs = false);
+/// div(a grad)'s scalar coefficient: one value per particle, each positive and finite
+/// (InputError naming the count or the particle).
+void check_scalar_coefficient(const PointCloud& cloud, const Field& a);
 
 /// Whether row i is to be built: the requested rows, or every non-ghost particle.
 inline bool row_requested(const PointCloud& cloud, const StencilRequest& req, Index i) {

@@ -146,7 +146,6 @@ class Operators {
   SearchParams search_params() const;
   bool keeps(OperatorKind kind) const;
   const NeighbourList& current_list() const;
-  void check_coefficient(const Field& a) const;
   const NeighbourList& update_neighbours();
   /// Every kept stencil, or only `only`'s (the others as they are).
   void update_stencils(const NeighbourList& neighbours, std::optional<OperatorKind> only = std::nullopt);
