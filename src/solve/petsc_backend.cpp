@@ -21,16 +21,34 @@
 
 namespace vrsph {
 
-std::string default_petsc_options(int dimension, bool reused_setup) {
+namespace {
+// On top of the smoother below: BoomerAMG applied as two V-cycles whose up-sweeps are hybrid
+// Gauss-Seidel (Gauss-Seidel within a process, Jacobi across processes). With one Jacobi-smoothed
+// V-cycle the first two FGMRES iterations gained nothing (the correction's rough part raised the
+// true residual tenfold: CG measured in that norm showed it) and each later one divided the
+// residual by 4-5; with these, 10 iterations instead of 19 at 10^6 2D particles and 14 instead of
+// 24 in 3D (3.6e5), the solve's time unchanged within this machine's spread (medians of six runs
+// at 4.9e5 particles: 2.72 against 2.75 s). Measured over the problem classes: docs/solvers.md.
+constexpr const char* kFewerIterationOptions =
+    "-pc_hypre_boomeramg_max_iter 2 -pc_hypre_boomeramg_relax_type_up SOR/Jacobi";
+constexpr const char* kRelaxAll = "-pc_hypre_boomeramg_relax_type_all";
+constexpr const char* kRelaxUp = "-pc_hypre_boomeramg_relax_type_up";
+}  // namespace
+
+std::string default_petsc_options(int dimension, bool reused_setup, bool two_cycles) {
   // Right-preconditioned flexible GMRES: the convergence test sees the true residual, so
   // rtol means what it says. BoomerAMG with PMIS coarsening and extended+i interpolation
   // (the usual choice for non-symmetric M-matrices) and Jacobi smoothing, which beat
-  // HMIS, hybrid Gauss-Seidel, P_max 2 and threshold 0.5 in time to solution on VRSPH
-  // Example 5 in 2D (10^6) and 3D (2.3 10^5). Measured table: docs/solvers.md.
+  // HMIS, hybrid Gauss-Seidel on every sweep, P_max 2 and threshold 0.5 in time to solution on
+  // VRSPH Example 5 in 2D (10^6) and 3D (2.3 10^5). Measured table: docs/solvers.md. Then, with
+  // two_cycles, two V-cycles per application whose up-sweeps are hybrid Gauss-Seidel
+  // (kFewerIterationOptions): about half the iterations at the same time (docs/solvers.md, "Ten
+  // iterations at no extra time").
   std::string o = "-ksp_type fgmres -ksp_gmres_restart 50 -pc_type hypre -pc_hypre_type boomeramg "
                   "-pc_hypre_boomeramg_coarsen_type PMIS -pc_hypre_boomeramg_interp_type ext+i "
                   "-pc_hypre_boomeramg_P_max 4 -pc_hypre_boomeramg_strong_threshold 0.25 "
                   "-pc_hypre_boomeramg_relax_type_all Jacobi";
+  if (two_cycles) o.append(" ").append(kFewerIterationOptions);
   // 3D: aggressive coarsening on the first level. A 3D row couples about four times the
   // neighbours of a 2D one, and the default coarsening's operator complexity made the set-up
   // most of the solve; aggressive coarsening takes 1.5-2 times the iterations but a third of
@@ -224,10 +242,15 @@ class PetscBackend final : public Backend {
     const char* env = std::getenv("PETSC_OPTIONS");
     const std::string from_env = env ? env : "";
     call(PetscOptionsCreate(&options_), "options");
-    call(PetscOptionsInsertString(options_, default_petsc_options(o.dimension, o.reused_setup).c_str()), "default options");
+    call(PetscOptionsInsertString(options_, default_petsc_options(o.dimension, o.reused_setup, o.two_cycles && o.scale_rows).c_str()), "default options");
     call(PetscOptionsInsertString(options_, from_env.c_str()), "options from PETSC_OPTIONS", Blame::Options);
     call(PetscOptionsInsertString(options_, o.petsc_options.c_str()), "options '" + o.petsc_options + "'",
          Blame::Options);
+    // PETSc applies relax_type_up after relax_type_all: a caller's smoother for all sweeps would
+    // leave our default up-sweep in place. Theirs wins.
+    const std::vector<std::string> given = option_names(from_env + " " + o.petsc_options);
+    const auto named = [&](const char* option) { return std::find(given.begin(), given.end(), option + 1) != given.end(); };
+    if (named(kRelaxAll) && !named(kRelaxUp)) call(PetscOptionsClearValue(options_, kRelaxUp), "options");
   }
 
   void create_matrix(const CsrMatrix& A, const SolverOptions& o) {

@@ -103,6 +103,11 @@ constexpr Index lagrangian_direct_limit(int dim) { return dim == 3 ? 500 : 1000;
 inline SolverOptions pressure_solver_defaults() {
   SolverOptions o;
   o.max_iterations = 1000;
+  // One V-cycle a preconditioner application: a stage that reuses an earlier stage's hierarchy
+  // (FlowOptions::reuse_hierarchy) has a weaker preconditioner, which two cycles compound (the
+  // Lagrangian vortex at nx = 32: 495 iterations over six steps against 443 with a new hierarchy
+  // every stage, both with two cycles).
+  o.two_cycles = false;
   return o;
 }
 

@@ -58,6 +58,14 @@ struct SolverOptions {
   /// pressure stages. PETSc's defaults then keep the fuller hierarchy whose fewer iterations
   /// repay it (3D: no aggressive coarsening, which suits one solve per set-up; docs/solvers.md).
   bool reused_setup = false;
+  /// petsc, on row-scaled systems (scale_rows): BoomerAMG applied as two V-cycles whose
+  /// up-sweeps are hybrid Gauss-Seidel, about half the iterations of one Jacobi-smoothed cycle
+  /// at the same time (10 against 19 at 10^6 2D particles, docs/solvers.md). False: one cycle,
+  /// what the flows' pressure solves keep (pressure_solver_defaults: a reused, stale hierarchy
+  /// is a weaker preconditioner, which two cycles compound). Unscaled systems always take one:
+  /// where a V-cycle alone diverges (the [SPE] lognormal field's rows as assembled) two of them
+  /// broke GMRES down.
+  bool two_cycles = true;
   /// auto: the largest system solved directly (0: by dimension, see auto_direct_limit).
   Index auto_direct_max = 0;
   /// The ranks the system is spread over. Distributed (more than one rank): each rank passes
@@ -80,8 +88,9 @@ SolverType auto_direct_solver();
 /// The PETSc options vrsph starts from (before PETSC_OPTIONS and the user's): GMRES with
 /// BoomerAMG settings tuned for non-symmetric M-matrices of particle Laplacians in
 /// dimension d; in 3D, for a set-up that serves one solve (reused_setup false), aggressive
-/// coarsening on the first level (docs/solvers.md has the measured iteration tables).
-std::string default_petsc_options(int dimension, bool reused_setup = false);
+/// coarsening on the first level; with two_cycles (SolverOptions::two_cycles on a row-scaled
+/// system), two V-cycles with Gauss-Seidel up-sweeps (docs/solvers.md has the measured tables).
+std::string default_petsc_options(int dimension, bool reused_setup = false, bool two_cycles = true);
 
 /// Memory a sparse LU factorisation (SparseLU/COLAMD or UMFPACK) of A is expected to
 /// need, in bytes: c nnz(A) N^((d-1)/d), the nested-dissection growth of the fill-in,
