@@ -33,30 +33,42 @@ struct UpdateArgs {
   std::vector<std::string> method_opts;
   bool warm_start = true;
   bool share_volumes = true;
-  bool periodic = false;
+  std::string periodic;  // periodic axes ("x,y", "all"; empty: none)
   bool div_a_grad = false;
   std::uint64_t seed = 1;
   OutputOptions out;
 };
 
-// The cellular flow of the unit box: divergence-free, its normal component zero on every face
-// (particles stay inside), |u| <= 1 in 2D and <= 2 in 3D.
-Vec3 cellular_velocity(const Vec3& x, int dim) {
-  const Real sx = std::sin(pi * x[0]), cx = std::cos(pi * x[0]), sy = std::sin(pi * x[1]), cy = std::cos(pi * x[1]);
-  if (dim == 1) return {0.3 * sx, 0, 0};  // 1D: not divergence-free (nothing is but a constant)
-  if (dim == 2) return {sx * cy, -cx * sy, 0};
-  const Real sz = std::sin(pi * x[2]), cz = std::cos(pi * x[2]);
-  return {2 * sx * cy * cz, -cx * sy * cz, -cx * cy * sz};
+// Per axis the wave number of the flow and of the test field: 2π along a periodic axis (one
+// period of the box), π across walls (the sine vanishes on both faces).
+Vec3 wave_numbers(const PointCloud& c) {
+  Vec3 w = Vec3::Constant(pi);
+  for (int k = 0; k < c.dim; ++k)
+    if (c.domain.periodic[static_cast<std::size_t>(k)]) w[k] = 2 * pi;
+  return w;
 }
 
-// The Taylor–Green field of the periodic unit box (2D; 3D: its first two components), |u| <= 1.
+// A cellular flow of the unit box, periodic along its periodic axes: divergence-free, its normal
+// component zero on every wall (particles stay inside), |u| <= 1 in 2D and <= 2 in 3D. With
+// walls only it is (sin πx cos πy, -cos πx sin πy) and its 3D analogue.
+Vec3 cellular_velocity(const Vec3& x, const PointCloud& c) {
+  const Vec3 w = wave_numbers(c);
+  const Real sx = std::sin(w[0] * x[0]), cx = std::cos(w[0] * x[0]), sy = std::sin(w[1] * x[1]), cy = std::cos(w[1] * x[1]);
+  if (c.dim == 1) return {0.3 * sx, 0, 0};  // 1D: not divergence-free (nothing is but a constant)
+  // Amplitudes A_k with Σ_k A_k w_k = 0: the divergence (Σ_k A_k w_k) Π cos vanishes.
+  if (c.dim == 2) return {pi / w[0] * sx * cy, -pi / w[1] * cx * sy, 0};
+  const Real sz = std::sin(w[2] * x[2]), cz = std::cos(w[2] * x[2]);
+  return {2 * pi / w[0] * sx * cy * cz, -pi / w[1] * cx * sy * cz, -pi / w[2] * cx * cy * sz};
+}
+
+// The Taylor–Green field of the fully periodic unit box (2D; 3D: its first two components), |u| <= 1.
 Vec3 taylor_green_velocity(const Vec3& x, int dim) {
   const Real u = -std::cos(2 * pi * x[0]) * std::sin(2 * pi * x[1]), v = std::sin(2 * pi * x[0]) * std::cos(2 * pi * x[1]);
   return dim == 1 ? Vec3(0.3 * std::sin(2 * pi * x[0]), 0, 0) : Vec3(u, v, 0);
 }
 
 Vec3 flow_velocity(const Vec3& x, const PointCloud& c) {
-  return c.domain.any_periodic() ? taylor_green_velocity(x, c.dim) : cellular_velocity(x, c.dim);
+  return c.domain.fully_periodic() ? taylor_green_velocity(x, c.dim) : cellular_velocity(x, c);
 }
 
 // Midpoint (RK2) step of the interior particles (boundary particles stay), wrapped into a
@@ -75,24 +87,29 @@ struct Errors {
   double laplacian = 0, divergence = 0, div_a_grad = std::nan("");
 };
 
-// The test field's wave number: π on the unit box (zero on its faces), 2π on the periodic one.
-Real test_frequency(const PointCloud& c) { return c.domain.any_periodic() ? 2 * pi : pi; }
-
-// The test field f = Π sin(w x_k) and its gradient.
+// The test field f = Π sin(w_k x_k) (wave_numbers: zero on the walls, periodic along the
+// periodic axes), its gradient, and its Laplacian -|w|² f.
 Real product_of_sines(const Vec3& x, const PointCloud& c, Vec3* gradient = nullptr) {
-  const Real w = test_frequency(c);
+  const Vec3 w = wave_numbers(c);
   Real f = 1;
-  for (int k = 0; k < c.dim; ++k) f *= std::sin(w * x[k]);
+  for (int k = 0; k < c.dim; ++k) f *= std::sin(w[k] * x[k]);
   if (gradient) {
     *gradient = Vec3::Zero();
     for (int k = 0; k < c.dim; ++k) {
-      Real g = w * std::cos(w * x[k]);
+      Real g = w[k] * std::cos(w[k] * x[k]);
       for (int j = 0; j < c.dim; ++j)
-        if (j != k) g *= std::sin(w * x[j]);
+        if (j != k) g *= std::sin(w[j] * x[j]);
       (*gradient)[k] = g;
     }
   }
   return f;
+}
+
+Real test_laplacian_factor(const PointCloud& c) {
+  const Vec3 w = wave_numbers(c);
+  Real sum = 0;
+  for (int k = 0; k < c.dim; ++k) sum += w[k] * w[k];
+  return sum;
 }
 
 // --div-a-grad's coefficient at the particles' places: a = 1 + f / 2 with f = Π sin(w x_k).
@@ -103,9 +120,9 @@ Field bench_coefficient(const std::vector<Vec3>& x, const PointCloud& c) {
 }
 
 // Max error of div(a grad f) over the interior rows that meet their moments, for a = 1 + f/2:
-// grad a . grad f + a lap f = |grad f|^2 / 2 - d w^2 f a.
+// grad a . grad f + a lap f = |grad f|^2 / 2 - |w|^2 f a.
 double div_a_grad_error(const PointCloud& c, const Stencil& s) {
-  const Real w = test_frequency(c);
+  const Real w2 = test_laplacian_factor(c);
   Field f(c.size());
   for (Index i = 0; i < c.size(); ++i) f[i] = product_of_sines(c.positions[static_cast<std::size_t>(i)], c);
   const Eigen::MatrixXd A = apply(s, f);
@@ -115,14 +132,14 @@ double div_a_grad_error(const PointCloud& c, const Stencil& s) {
     if (c.tags[si] != Tag::Interior || (!s.residual.empty() && s.residual[si] > 1e-8)) continue;
     Vec3 g;
     product_of_sines(c.positions[si], c, &g);
-    const Real exact = 0.5 * g.squaredNorm() - c.dim * w * w * f[i] * (1 + 0.5 * f[i]);
+    const Real exact = 0.5 * g.squaredNorm() - w2 * f[i] * (1 + 0.5 * f[i]);
     e = std::max(e, std::abs(A(i, 0) - exact));
   }
   return e;
 }
 
 // Max errors over the interior rows whose moment conditions hold: the Laplacian of
-// prod sin(pi x_k) and the divergence of the flow (0).
+// prod sin(w_k x_k) and the divergence of the flow (0).
 Errors operator_errors(const PointCloud& c, const Stencil& lap, const Stencil& grad) {
   Field f(c.size());
   Eigen::MatrixXd U(c.size(), c.dim);
@@ -138,8 +155,7 @@ Errors operator_errors(const PointCloud& c, const Stencil& lap, const Stencil& g
   for (Index i = 0; i < c.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (c.tags[si] != Tag::Interior || (!lap.residual.empty() && lap.residual[si] > 1e-8)) continue;
-    const Real w = test_frequency(c);
-    e.laplacian = std::max(e.laplacian, std::abs(L(i, 0) + c.dim * w * w * f[i]));
+    e.laplacian = std::max(e.laplacian, std::abs(L(i, 0) + test_laplacian_factor(c) * f[i]));
     if (c.dim > 1 && (grad.residual.empty() || grad.residual[si] <= 1e-8)) e.divergence = std::max(e.divergence, std::abs(D(i, 0)));
   }
   return e;
@@ -181,11 +197,12 @@ UpdateRun run_steps(const UpdateArgs& a) {
   CloudSpec spec;
   spec.family = CloudFamily::Perturbed;
   spec.box = Domain::unit_box(a.dim);
-  if (a.periodic) spec.box.set_periodic("all");
+  spec.box.set_periodic(a.periodic);
   spec.n = a.n;
   spec.seed = a.seed;
   const StudyCloud sc = make_study_cloud(spec);
-  const Real dt = a.move * sc.dx / (a.dim == 3 && !a.periodic ? 2.0 : 1.0);  // the largest speed is 1 (2 in 3D)
+  // The largest speed is 1 (2 in 3D but on the fully periodic box's Taylor–Green field).
+  const Real dt = a.move * sc.dx / (a.dim == 3 && !sc.cloud.domain.fully_periodic() ? 2.0 : 1.0);
   OperatorsOptions o;
   o.method = a.method;
   if (auto per_method = parse_method_options(a.method_opts, {a.method}); per_method.contains(a.method))
@@ -311,7 +328,10 @@ void run_update_bench(const UpdateArgs& a) {
   extra["skin_fraction"] = a.skin;
   extra["warm_start"] = a.warm_start;
   extra["share_volumes"] = a.share_volumes;
-  extra["periodic"] = a.periodic;
+  Domain box = Domain::unit_box(a.dim);
+  box.set_periodic(a.periodic);
+  extra["periodic"] = box.any_periodic();
+  extra["periodic_axes"] = box.periodic_axes();
   extra["div_a_grad"] = a.div_a_grad;
   extra["first_build_seconds"] = run.first_build;
   extra["peak_memory_mib"] = peak_memory_mib();
@@ -339,8 +359,11 @@ void add_update_bench(CLI::App& bench) {
                   "Laplace conditions instead of solving their own NNLS (borrowed_volume_rate)")
       ->check(boolean_validator())
       ->capture_default_str();
-  cmd->add_flag("--periodic", a->periodic, "A fully periodic box moved by the Taylor-Green field (else the unit box and "
-                                          "a cellular flow)");
+  cmd->add_option("--periodic", a->periodic,
+                  "Periodic axes x,y,z or all (given alone: all). Fully periodic: the Taylor-Green field moves the "
+                  "particles; otherwise a cellular flow, periodic along these axes and tangential to the walls")
+      ->expected(0, 1)
+      ->default_str("all");
   cmd->add_flag("--div-a-grad", a->div_a_grad, "Keep div(a grad) too, a = 1 + f/2 (f the Laplacian's test field) given "
                                               "with the positions every step (div_a_grad_error)");
   cmd->add_option("--threads", a->threads, "OpenMP threads (0 = all cores)")->capture_default_str();
