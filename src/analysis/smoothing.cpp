@@ -5,6 +5,7 @@
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/neighbours/search.hpp>
 
 namespace vrsph {
@@ -52,6 +53,8 @@ SmoothingChoice choose_smoothing(const PointCloud& cloud, Real dx, Real kappa, S
       c.h = kappa * dx;
       break;
     case SmoothingMode::Covering:
+      check<ConfigError>(!cloud.domain.any_periodic(), "a periodic box takes --h-mode fixed or knn (the covering "
+                                                       "radius is not computed across periodic faces yet)");
       check<ConfigError>(cloud.domain.shape != Domain::Shape::None,
                          "--h-mode covering needs a known domain (box or ball) for the covering radius; a cloud "
                          "without one (e.g. read from a file) cannot use it: use fixed or knn");
@@ -60,7 +63,7 @@ SmoothingChoice choose_smoothing(const PointCloud& cloud, Real dx, Real kappa, S
       break;
     case SmoothingMode::Knn: {
       const int k = knn > 0 ? knn : 2 * cloud.dim;
-      c.radii = kth_neighbour_distance(cloud, k);
+      c.radii = minimum_image_kth_neighbour_distance(cloud, k);  // plain without periodic axes
       for (auto& r : c.radii) r *= kappa;
       c.h = std::accumulate(c.radii.begin(), c.radii.end(), 0.0) / static_cast<Real>(c.radii.size());
       break;

@@ -33,6 +33,23 @@ void check_periodic_cloud(const PointCloud& cloud, Real radius) {
   }
 }
 
+std::vector<Real> minimum_image_kth_neighbour_distance(const PointCloud& cloud, int k) {
+  std::vector<Real> plain = kth_neighbour_distance(cloud, k);
+  if (!cloud.domain.any_periodic()) return plain;
+  // A plain distance bounds the minimum-image one from above (its candidates are a subset), so
+  // the images within the largest plain distance of a face hold every nearer neighbour.
+  const Real width = *std::max_element(plain.begin(), plain.end());
+  for (int a = 0; a < cloud.dim; ++a)
+    check<ConfigError>(!cloud.domain.periodic[static_cast<std::size_t>(a)] || 2 * width < cloud.domain.period(a),
+                       "the distance to the ", k, "-th neighbour (up to ", width, ") reaches half the period ",
+                       cloud.domain.period(a), " along ", "xyz"[a],
+                       ": too few particles across the periodic box for knn radii (use a smaller k or more particles)");
+  const PeriodicImages images = periodic_images(cloud, width);
+  std::vector<Real> d = kth_neighbour_distance(images.cloud, k);
+  d.resize(static_cast<std::size_t>(cloud.size()));  // the originals come first
+  return d;
+}
+
 PeriodicImages periodic_images(const PointCloud& cloud, Real width) {
   const Domain& d = cloud.domain;
   check_image_width(d, cloud.dim, width, "rows read particles up to");

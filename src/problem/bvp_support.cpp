@@ -101,16 +101,23 @@ std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolv
       check<InputError>(n > dim, "the covering radius needs more than ", dim, " particles");
     });
   }
-  if (any_rank(comm, chunk.domain.any_periodic())) {
+  const bool periodic = any_rank(comm, chunk.domain.any_periodic());
+  if (periodic) {
     collective(comm, [&] {
-      check<ConfigError>(!covering && !knn, "a periodic domain takes --h-mode fixed (the covering radius and the knn "
-                                            "radii are not computed across periodic faces yet)");
+      check<ConfigError>(!covering, "a periodic domain takes --h-mode fixed or knn (the covering radius is not "
+                                    "computed across periodic faces yet)");
       check_periodic_cloud(chunk, sup.h);
     });
   }
   auto part = make_partition(chunk, reach * sup.h * kHaloMargin, comm);
   if (covering) covering_support(*part, o, reach, sup);
+  // knn on a periodic box: the local cloud holds the images (its halo), so each k-th distance
+  // is the minimum-image one once the halo reaches it, as across ranks.
   if (knn) knn_support(*part, o, reach, sup);
+  if (periodic && knn) {
+    const Real h_max = max_over_ranks(comm, sup.radii.empty() ? sup.h : *std::max_element(sup.radii.begin(), sup.radii.end()));
+    collective(comm, [&] { check_periodic_cloud(chunk, h_max); });
+  }
   check_local_support(*part, o, sup);
   return part;
 }

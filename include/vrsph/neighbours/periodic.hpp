@@ -61,6 +61,12 @@ PeriodicImages periodic_images(const PointCloud& cloud, Real width);
 /// periodic axis of the first `dim`), in the order periodic_images lists them: no_shift first,
 /// then loops over x, y, z, each taking the shifts 0, +1, -1 that apply.
 std::vector<std::uint8_t> image_codes(const Domain& domain, int dim, const Vec3& x, Real width);
+/// Distance from each particle to its k-th nearest other particle with minimum-image distances
+/// along the box's periodic axes (kth_neighbour_distance otherwise): what a knn support radius
+/// h_i = factor * dist_k reads on a periodic cloud, where the plain distance of a particle near a
+/// face misses the neighbours across it. ConfigError when a particle's k-th neighbour lies half a
+/// period away or more (it would count two images of one neighbour: too few particles across).
+std::vector<Real> minimum_image_kth_neighbour_distance(const PointCloud& cloud, int k);
 /// ConfigError unless `width` (how far rows read: the images' or a halo's width) is less than
 /// every periodic axis's period among the first `dim`; `what` names that width in the message.
 void check_image_width(const Domain& domain, int dim, Real width, const char* what);

@@ -85,6 +85,45 @@ INSTANTIATE_TEST_SUITE_P(Axes, PeriodicSearch,
                                            std::make_tuple(3, std::string("all"), SearchBackend::CellList),
                                            std::make_tuple(3, std::string("x,z"), SearchBackend::KdTree)));
 
+// knn support radii on a periodic box: the k-th minimum-image distance, as the brute force over
+// the images finds it; a particle near a face counts its neighbours across it.
+TEST(PeriodicKnn, KthDistanceIsTheMinimumImageOne) {
+  for (const auto& [dim, axes] : {std::pair{1, "x"}, std::pair{2, "x,y"}, std::pair{2, "y"}, std::pair{3, "x,z"}}) {
+    const PointCloud c = random_periodic_cloud(dim, dim == 1 ? 150 : dim == 2 ? 500 : 800, axes, 5u);
+    for (int k : {1, 2 * dim, 7}) {
+      const std::vector<Real> d = minimum_image_kth_neighbour_distance(c, k);
+      const auto ref = brute_force(c, 0.45);  // every minimum-image pair within 0.45 (< half the shortest period)
+      ASSERT_EQ(d.size(), static_cast<std::size_t>(c.size()));
+      Index shorter = 0;
+      const std::vector<Real> plain = kth_neighbour_distance(c, k);
+      for (Index i = 0; i < c.size(); ++i) {
+        std::vector<Real> dist;
+        for (const auto& [j, code] : ref[static_cast<std::size_t>(i)])
+          dist.push_back((c.positions[static_cast<std::size_t>(j)] + periodic_shift(c.domain, code) - c.positions[static_cast<std::size_t>(i)]).norm());
+        ASSERT_GE(dist.size(), static_cast<std::size_t>(k)) << axes << " particle " << i;
+        std::nth_element(dist.begin(), dist.begin() + (k - 1), dist.end());
+        EXPECT_NEAR(d[static_cast<std::size_t>(i)], dist[static_cast<std::size_t>(k - 1)], 1e-14) << axes << " k " << k << " particle " << i;
+        EXPECT_LE(d[static_cast<std::size_t>(i)], plain[static_cast<std::size_t>(i)]);
+        shorter += d[static_cast<std::size_t>(i)] < plain[static_cast<std::size_t>(i)];
+      }
+      if (k == 7) EXPECT_GT(shorter, 0) << axes;  // some particles saw nearer neighbours across a face
+    }
+  }
+  // A lattice periodic in x and y: every particle has its four nearest at dx (plainly, a
+  // particle on an edge of the box has three, its fourth at dx √2).
+  PointCloud lattice;
+  lattice.dim = 2;
+  lattice.domain = Domain::unit_box(2);
+  lattice.domain.set_periodic("x,y");
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) lattice.add(Vec3(0.1 * i, 0.1 * j, 0), Tag::Interior);
+  for (Real r : minimum_image_kth_neighbour_distance(lattice, 4)) EXPECT_NEAR(r, 0.1, 1e-12);
+  EXPECT_NEAR(kth_neighbour_distance(lattice, 4)[5], 0.1 * std::sqrt(2.0), 1e-12);  // (0, 0.5)
+  // Too few particles across the box: the k-th neighbour half a period away.
+  PointCloud sparse = random_periodic_cloud(2, 6, "x,y", 2u);
+  EXPECT_THROW_MSG(minimum_image_kth_neighbour_distance(sparse, 5), ConfigError, "too few particles across the periodic box");
+}
+
 TEST(PeriodicSearch, RefusesAShortPeriodAndParticlesOutsideTheBox) {
   PointCloud c = random_periodic_cloud(2, 100, "x,y", 3u);
   SearchParams sp;
