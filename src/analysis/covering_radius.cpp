@@ -1,19 +1,16 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/neighbours/search.hpp>
+#include "../neighbours/nearest_particles.hpp"
 
 namespace vrsph {
-
-namespace detail {
-// Nearest particle of each query point (k-d tree); defined in neighbours/kd_tree.cpp.
-void nearest_particles(const PointCloud& cloud, const std::vector<Vec3>& queries, std::vector<Real>& dist,
-                       std::vector<Index>& index);
-}  // namespace detail
 
 namespace {
 // The candidate farthest from its nearest particle.
@@ -81,10 +78,38 @@ void check_box_or_ball(const PointCloud& cloud) {
 }
 }  // namespace
 
+namespace {
+// A box periodic along some axes: the largest empty ball of the periodic point set, from the
+// cloud extended by its images within w of the periodic faces, the originals owned
+// (covering_radius_of_owned, exact once r_N <= w / 2; w doubles from 3 spacings until it is).
+CoveringRadius periodic_covering_radius(const PointCloud& cloud) {
+  const Domain& dom = cloud.domain;
+  check_periodic_cloud(cloud, 0);  // every particle inside the box along the periodic axes
+  Real min_period = std::numeric_limits<Real>::infinity();
+  for (int k = 0; k < cloud.dim; ++k)
+    if (dom.periodic[static_cast<std::size_t>(k)]) min_period = std::min(min_period, dom.period(k));
+  const Real spacing = estimate_spacing(cloud), cap = (1 - 1e-9) * min_period;
+  for (Real width = std::min(3 * spacing, cap);; width = std::min(2 * width, cap)) {
+    const PeriodicImages images = periodic_images(cloud, width);
+    std::vector<char> owned(static_cast<std::size_t>(images.cloud.size()), 0);
+    std::fill(owned.begin(), owned.begin() + cloud.size(), 1);
+    CoveringRadius r = covering_radius_of_owned(images.cloud, owned, spacing);
+    if (r.radius <= 0.5 * width) {
+      r.nearest = images.image_of[static_cast<std::size_t>(r.nearest)];
+      r.point = dom.wrap(r.point);
+      return r;
+    }
+    check<ConfigError>(width < cap, "the covering radius of this periodic cloud (", r.radius,
+                       ") reaches half the period ", min_period, ": too few particles across the box");
+  }
+}
+}  // namespace
+
 CoveringRadius covering_radius(const PointCloud& cloud) {
   validate(cloud);
   check_box_or_ball(cloud);
   check<InputError>(cloud.size() > cloud.dim, "the covering radius needs more than ", cloud.dim, " particles");
+  if (cloud.domain.any_periodic()) return periodic_covering_radius(cloud);
   return farthest_candidate(cloud, box_or_ball_candidates(cloud, estimate_spacing(cloud)));
 }
 

@@ -313,9 +313,6 @@ OperatorStudyResult run_operator_study(const OperatorStudyParams& p) {
   validate_params(p);
   Domain box = problem_domain(p.problem, p.dim);
   box.set_periodic(p.periodic);
-  check<ConfigError>(!box.any_periodic() || p.h_mode != SmoothingMode::Covering,
-                     "a periodic box takes --h-mode fixed or knn (the covering radius is not computed across periodic "
-                     "faces yet)");
   const StudyFunctions fn = study_functions(p);
   OperatorStudyResult result;
   result.params = p;

@@ -53,12 +53,10 @@ SmoothingChoice choose_smoothing(const PointCloud& cloud, Real dx, Real kappa, S
       c.h = kappa * dx;
       break;
     case SmoothingMode::Covering:
-      check<ConfigError>(!cloud.domain.any_periodic(), "a periodic box takes --h-mode fixed or knn (the covering "
-                                                       "radius is not computed across periodic faces yet)");
       check<ConfigError>(cloud.domain.shape != Domain::Shape::None,
                          "--h-mode covering needs a known domain (box or ball) for the covering radius; a cloud "
                          "without one (e.g. read from a file) cannot use it: use fixed or knn");
-      c.covering_radius = covering_radius(cloud).radius;
+      c.covering_radius = covering_radius(cloud).radius;  // periodic: across the faces
       c.h = kappa * std::max(dx, c.covering_radius);
       break;
     case SmoothingMode::Knn: {

@@ -3,9 +3,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <numeric>
 #include <vrsph/cloud/voronoi.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
+#include "../neighbours/nearest_particles.hpp"
 
 namespace vrsph {
 
@@ -149,25 +153,18 @@ std::vector<Real> measures_1d(const PointCloud& cloud) {
   return out;
 }
 
-}  // namespace
-
-std::vector<Real> voronoi_cell_measures(const PointCloud& cloud) {
-  validate(cloud);
+// The cells of the first `count` particles, clipped to [lo, hi] (box) or to the disk: their
+// measures and, with `reach`, each cell's farthest vertex from its particle (2D/3D).
+std::vector<Real> cell_measures(const PointCloud& cloud, Index count, std::vector<Real>* reach) {
   const Domain& dom = cloud.domain;
-  check<ConfigError>(!dom.any_periodic(), "Voronoi cells are not computed across periodic faces yet (they would be "
-                                          "clipped at the faces): use another volume (uniform or vrsph)");
   const bool box = dom.shape == Domain::Shape::Box;
-  check<InputError>(box || (dom.shape == Domain::Shape::Ball && cloud.dim == 2),
-                    "Voronoi cells are clipped to box domains (1D-3D) and disks only; this cloud's domain is ",
-                    dom.shape == Domain::Shape::None ? "unknown" : "a 3D ball");
-  if (cloud.dim == 1) return measures_1d(cloud);
-  check<InputError>(cloud.size() > cloud.dim, "Voronoi cells need more than ", cloud.dim, " particles");
   const auto nbrs = detail::delaunay_neighbours(cloud);
   const Vec3 lo = box ? dom.lo : Vec3(dom.centre - Vec3(dom.radius, dom.radius, 0));
   const Vec3 hi = box ? dom.hi : Vec3(dom.centre + Vec3(dom.radius, dom.radius, 0));
-  std::vector<Real> out(cloud.positions.size(), 0);
+  std::vector<Real> out(static_cast<std::size_t>(count), 0);
+  if (reach) reach->assign(static_cast<std::size_t>(count), 0);
 #pragma omp parallel for schedule(dynamic, 256)
-  for (Index i = 0; i < cloud.size(); ++i) {
+  for (Index i = 0; i < count; ++i) {
     const auto si = static_cast<std::size_t>(i);
     const Vec3& p = cloud.positions[si];
     // Nearest neighbours first: they cut most, so later clips work on small cells.
@@ -175,17 +172,134 @@ std::vector<Real> voronoi_cell_measures(const PointCloud& cloud) {
     std::sort(nb.begin(), nb.end(), [&](Index a, Index b) {
       return (cloud.positions[static_cast<std::size_t>(a)] - p).squaredNorm() < (cloud.positions[static_cast<std::size_t>(b)] - p).squaredNorm();
     });
+    Real far = 0;
     if (cloud.dim == 2) {
       FacePolygon cell{Vec3(lo[0], lo[1], 0), Vec3(hi[0], lo[1], 0), Vec3(hi[0], hi[1], 0), Vec3(lo[0], hi[1], 0)};
       for (Index j : nb) clip(cell, bisector(p, cloud.positions[static_cast<std::size_t>(j)]));
       out[si] = box ? polygon_area(cell) : polygon_disk_area(cell, dom.centre, dom.radius);
+      for (const Vec3& v : cell) far = std::max(far, (v - p).norm());
     } else {
       Polyhedron cell = box_polyhedron(lo, hi);
       for (Index j : nb) clip(cell, bisector(p, cloud.positions[static_cast<std::size_t>(j)]));
       out[si] = polyhedron_volume(cell);
+      for (const auto& face : cell)
+        for (const Vec3& v : face) far = std::max(far, (v - p).norm());
+    }
+    if (reach) (*reach)[si] = far;
+  }
+  return out;
+}
+
+// 1D, periodic: each cell is half the gaps on either side, the last gap wrapping around.
+std::vector<Real> periodic_measures_1d(const PointCloud& cloud) {
+  const Domain& dom = cloud.domain;
+  const std::size_t n = cloud.positions.size();
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return cloud.positions[a][0] < cloud.positions[b][0]; });
+  std::vector<Real> out(n, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Real x = cloud.positions[order[k]][0];
+    const Real next = k + 1 < n ? cloud.positions[order[k + 1]][0] : cloud.positions[order[0]][0] + dom.period(0);
+    const Real prev = k > 0 ? cloud.positions[order[k - 1]][0] : cloud.positions[order[n - 1]][0] - dom.period(0);
+    check<GeometryError>(next > x, "particles ", order[k], " and ", order[(k + 1) % n], " coincide: their Voronoi cells are undefined");
+    out[order[k]] = 0.5 * (next - prev);
+  }
+  return out;
+}
+
+bool inside_periodic_axes(const Domain& dom, int dim, const Vec3& x) {
+  for (int k = 0; k < dim; ++k)
+    if (dom.periodic[static_cast<std::size_t>(k)] && !(x[k] >= dom.lo[k] && x[k] < dom.hi[k])) return false;
+  return true;
+}
+
+// A box periodic along some axes: the cells of the periodic tessellation. The particles inside
+// the box along the periodic axes are the originals; any others (the images of a cloud extended
+// by them, as periodic_stencil builds rows on) take their originals' cells. The originals' cells
+// come from the cloud extended by their images within w of the periodic faces, clipped to the
+// box widened by w along those axes: a computed cell contains the true one (fewer bisectors),
+// and a point that could cut it lies within twice its farthest vertex ρ, so the cell is exact
+// once 2ρ <= w, every particle within w being there. w starts at 3 spacings and doubles until
+// that holds.
+std::vector<Real> periodic_measures(const PointCloud& cloud) {
+  const Domain& dom = cloud.domain;
+  PointCloud originals;
+  originals.dim = cloud.dim;
+  originals.domain = dom;
+  originals.spacing = cloud.spacing;
+  std::vector<Index> original_index(static_cast<std::size_t>(cloud.size()), -1), images;
+  for (Index i = 0; i < cloud.size(); ++i) {
+    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
+    if (inside_periodic_axes(dom, cloud.dim, x)) {
+      original_index[static_cast<std::size_t>(i)] = originals.size();
+      originals.add(x, cloud.tags[static_cast<std::size_t>(i)]);
+    } else {
+      images.push_back(i);
+    }
+  }
+  check<InputError>(originals.size() > cloud.dim, "Voronoi cells need more than ", cloud.dim, " particles inside the periodic box");
+  std::vector<Real> mine;
+  if (cloud.dim == 1) {
+    mine = periodic_measures_1d(originals);
+  } else {
+    Real min_period = std::numeric_limits<Real>::infinity();
+    for (int k = 0; k < cloud.dim; ++k)
+      if (dom.periodic[static_cast<std::size_t>(k)]) min_period = std::min(min_period, dom.period(k));
+    const Real spacing = std::pow(dom.measure() / static_cast<Real>(originals.size()), 1.0 / cloud.dim);
+    // Images exist for widths below a period (periodic_images); exactness needs 2 ρ <= w.
+    const Real cap = (1 - 1e-9) * min_period;
+    for (Real width = std::min(3 * spacing, cap);; width = std::min(2 * width, cap)) {
+      PeriodicImages extended = periodic_images(originals, width);
+      Domain& box = extended.cloud.domain;
+      for (int k = 0; k < cloud.dim; ++k)
+        if (box.periodic[static_cast<std::size_t>(k)]) {
+          box.lo[k] -= width;
+          box.hi[k] += width;
+        }
+      box.periodic = {false, false, false};
+      std::vector<Real> reach;
+      mine = cell_measures(extended.cloud, originals.size(), &reach);
+      const Real rho = *std::max_element(reach.begin(), reach.end());
+      if (2 * rho <= width) break;
+      check<ConfigError>(width < cap, "a Voronoi cell of this periodic cloud reaches ", rho,
+                         " from its particle, over half the period ", min_period,
+                         ": too few particles across the box for its cells");
+    }
+  }
+  std::vector<Real> out(static_cast<std::size_t>(cloud.size()), 0);
+  for (Index i = 0; i < cloud.size(); ++i)
+    if (original_index[static_cast<std::size_t>(i)] >= 0) out[static_cast<std::size_t>(i)] = mine[static_cast<std::size_t>(original_index[static_cast<std::size_t>(i)])];
+  if (!images.empty()) {  // each image: the original at its wrapped place
+    std::vector<Vec3> wrapped;
+    for (Index i : images) wrapped.push_back(dom.wrap(cloud.positions[static_cast<std::size_t>(i)]));
+    std::vector<Real> dist;
+    std::vector<Index> nearest;
+    detail::nearest_particles(originals, wrapped, dist, nearest);
+    const Real tol = 1e-9 * std::pow(dom.measure() / static_cast<Real>(originals.size()), 1.0 / cloud.dim);
+    for (std::size_t k = 0; k < images.size(); ++k) {
+      const Vec3& x = cloud.positions[static_cast<std::size_t>(images[k])];
+      check<InputError>(dist[k] <= tol, "particle ", images[k], " at (", x[0], ", ", x[1], ", ", x[2],
+                        ") lies outside the periodic box and is no image of a particle inside it");
+      out[static_cast<std::size_t>(images[k])] = mine[static_cast<std::size_t>(nearest[k])];
     }
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<Real> voronoi_cell_measures(const PointCloud& cloud) {
+  validate(cloud);
+  const Domain& dom = cloud.domain;
+  const bool box = dom.shape == Domain::Shape::Box;
+  check<InputError>(box || (dom.shape == Domain::Shape::Ball && cloud.dim == 2),
+                    "Voronoi cells are clipped to box domains (1D-3D) and disks only; this cloud's domain is ",
+                    dom.shape == Domain::Shape::None ? "unknown" : "a 3D ball");
+  if (dom.any_periodic()) return periodic_measures(cloud);
+  if (cloud.dim == 1) return measures_1d(cloud);
+  check<InputError>(cloud.size() > cloud.dim, "Voronoi cells need more than ", cloud.dim, " particles");
+  return cell_measures(cloud, cloud.size(), nullptr);
 }
 
 }  // namespace vrsph

@@ -10,6 +10,7 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <nanoflann.hpp>
+#include "nearest_particles.hpp"
 #include "two_pass.hpp"
 
 namespace vrsph::detail {

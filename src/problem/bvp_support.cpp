@@ -102,19 +102,13 @@ std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolv
     });
   }
   const bool periodic = any_rank(comm, chunk.domain.any_periodic());
-  if (periodic) {
-    collective(comm, [&] {
-      check<ConfigError>(!covering, "a periodic domain takes --h-mode fixed or knn (the covering radius is not "
-                                    "computed across periodic faces yet)");
-      check_periodic_cloud(chunk, sup.h);
-    });
-  }
+  if (periodic) collective(comm, [&] { check_periodic_cloud(chunk, sup.h); });
   auto part = make_partition(chunk, reach * sup.h * kHaloMargin, comm);
+  // On a periodic box the local cloud holds the images (its halo): the covering radius and each
+  // k-th distance are the periodic ones once the halo reaches far enough, as across ranks.
   if (covering) covering_support(*part, o, reach, sup);
-  // knn on a periodic box: the local cloud holds the images (its halo), so each k-th distance
-  // is the minimum-image one once the halo reaches it, as across ranks.
   if (knn) knn_support(*part, o, reach, sup);
-  if (periodic && knn) {
+  if (periodic && (knn || covering)) {
     const Real h_max = max_over_ranks(comm, sup.radii.empty() ? sup.h : *std::max_element(sup.radii.begin(), sup.radii.end()));
     collective(comm, [&] { check_periodic_cloud(chunk, h_max); });
   }

@@ -371,21 +371,24 @@ class Study(unittest.TestCase):
         self.assertTrue(rows[1]["mmatrix"])
         self.assertGreater(rows[1]["order_inf"], 1.9)
 
-    def test_knn_radii_on_a_periodic_box(self):
-        # h_i = kappa x the k-th minimum-image distance: a particle near a face counts its neighbours
-        # across it. The periodic Poisson problem keeps its M-matrix and its order (measured with the
-        # default compact rows: 2.13e-3, 1.55e-4, 8.01e-6 at n = 16, 32, 64, orders 3.78 and 4.28);
-        # the covering radius is still refused there.
+    def test_knn_and_covering_radii_on_a_periodic_box(self):
+        # h_i = kappa x the k-th minimum-image distance, and h = kappa max(dx, r_N) with the covering
+        # radius of the periodic point set: a particle near a face counts its neighbours across it.
+        # The periodic Poisson problem keeps its M-matrix and its order (measured with the default
+        # compact rows: knn 2.13e-3, 1.55e-4, 8.01e-6 at n = 16, 32, 64, orders 3.78 and 4.28;
+        # covering 2.10e-3, 1.16e-4, 9.89e-6, orders 4.18 and 3.55).
         u = "sin(2*pi*x)*cos(2*pi*y)"
-        rows = run_json("study", "--periodic", "x,y", "--h-mode", "knn", "--u", u, "--cloud", "perturbed",
-                        "--n", "16,32,64")["rows"]
-        for r in rows:
-            self.assertTrue(r["mmatrix"])
-        for r in rows[1:]:
-            self.assertGreater(r["order_inf"], 2.8)
-        p = run("study", "--periodic", "x,y", "--h-mode", "covering", "--u", u, "--n", "16", check=False)
-        self.assertEqual(p.returncode, 2)
-        self.assertIn("a periodic domain takes --h-mode fixed or knn", p.stderr)
+        for mode in ("knn", "covering"):
+            rows = run_json("study", "--periodic", "x,y", "--h-mode", mode, "--u", u, "--cloud", "perturbed",
+                            "--n", "16,32,64")["rows"]
+            for r in rows:
+                self.assertTrue(r["mmatrix"], mode)
+            for r in rows[1:]:
+                self.assertGreater(r["order_inf"], 2.8, mode)
+        # The cloud report's covering radius across the faces: half a cell's diagonal on a lattice.
+        out = run_json("cloud", "--family", "uniform", "--n", "16", "--periodic", "x,y")
+        self.assertEqual(out["periodic"], "x,y")
+        self.assertAlmostEqual(out["covering_radius_over_spacing"], 0.5 ** 0.5, places=12)
 
     def test_expression_form_3d_and_seeds(self):
         out = run_json("study", "--dim", "3", "--u", "sin(pi*x)*sin(pi*y)*sin(pi*z)", "--a", "1+x^2+y^2+z^2",

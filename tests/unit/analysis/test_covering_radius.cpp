@@ -3,6 +3,7 @@
 #include <vrsph/analysis/covering_radius.hpp>
 #include <vrsph/analysis/smoothing.hpp>
 #include <vrsph/analysis/study_cloud.hpp>
+#include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
 #include "test_util.hpp"
 
@@ -69,6 +70,58 @@ TEST(CoveringRadius, PerturbedLatticeIsAboutOneSpacing) {
   const double ratio = covering_radius(sc.cloud).radius / sc.dx;
   EXPECT_GT(ratio, 0.9);
   EXPECT_LT(ratio, 1.3);
+}
+
+// A box periodic along some axes: the largest empty ball of the periodic point set, against a
+// sampling with minimum-image distances (unit periods), the same when the cloud is moved along
+// the periodic axes; a periodic lattice's is half its cell diagonal.
+TEST(CoveringRadius, PeriodicBoxesAcrossTheirFaces) {
+  for (const auto& [dim, axes] : {std::pair{1, "x"}, std::pair{2, "x,y"}, std::pair{2, "y"}, std::pair{3, "x,z"}}) {
+    CloudSpec spec;
+    spec.family = CloudFamily::Perturbed;
+    spec.box = Domain::unit_box(dim);
+    spec.box.set_periodic(axes);
+    spec.n = dim == 3 ? 6 : 12;
+    spec.seed = 4;
+    const PointCloud c = make_study_cloud(spec).cloud;
+    const CoveringRadius r = covering_radius(c);
+    const int grid = dim == 1 ? 20000 : dim == 2 ? 300 : 50;
+    double lower = 0;
+    const int ny = dim > 1 ? grid : 0, nz = dim > 2 ? grid : 0;
+    for (int a = 0; a <= grid; ++a)
+      for (int b = 0; b <= ny; ++b)
+        for (int e = 0; e <= nz; ++e) {
+          const Vec3 x(static_cast<double>(a) / grid, dim > 1 ? static_cast<double>(b) / grid : 0.0,
+                       dim > 2 ? static_cast<double>(e) / grid : 0.0);
+          double m = 1e300;
+          for (const auto& p : c.positions) {
+            Vec3 d = p - x;
+            for (int k = 0; k < dim; ++k)
+              if (c.domain.periodic[static_cast<std::size_t>(k)]) d[k] -= std::round(d[k]);
+            m = std::min(m, d.norm());
+          }
+          lower = std::max(lower, m);
+        }
+    SCOPED_TRACE(axes);
+    EXPECT_GE(r.radius, lower - 1e-12);
+    EXPECT_LE(r.radius, lower + std::sqrt(static_cast<double>(dim)) / grid);
+    for (int k = 0; k < dim; ++k) {  // the point where it is attained lies in the box
+      EXPECT_GE(r.point[k], 0.0);
+      EXPECT_LE(r.point[k], 1.0);
+    }
+    PointCloud moved = c;
+    for (auto& x : moved.positions) {
+      for (int k = 0; k < dim; ++k)
+        if (c.domain.periodic[static_cast<std::size_t>(k)]) x[k] += 0.31 + 0.1 * k;
+      x = moved.domain.wrap(x);
+    }
+    EXPECT_NEAR(covering_radius(moved).radius, r.radius, 1e-12);
+  }
+  for (int dim = 1; dim <= 3; ++dim) {
+    PointCloud lattice = cell_centred_lattice(Domain::unit_box(dim), 8, false);
+    lattice.domain.set_periodic("all");
+    EXPECT_NEAR(covering_radius(lattice).radius, std::sqrt(static_cast<double>(dim)) / 2 / 8, 1e-12) << dim << "D";
+  }
 }
 
 TEST(CoveringRadius, NeedsADomain) {

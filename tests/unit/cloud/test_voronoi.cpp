@@ -5,6 +5,7 @@
 #include <random>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/cloud/voronoi.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/core/error.hpp>
 #include "test_util.hpp"
 
@@ -77,4 +78,65 @@ TEST(Voronoi, RefusesWhatItCannotClip) {
   PointCloud none = perturbed_cloud(2, 4, 1);
   none.domain = Domain{};
   EXPECT_THROW(voronoi_cell_measures(none), InputError);
+}
+
+// A box periodic along some axes: the cells of the periodic tessellation, against a Monte Carlo
+// count with minimum-image distances; unchanged when the cloud is moved along the periodic axes
+// (a cell cut by a face becomes an interior one); an image (as periodic_stencil's extended
+// clouds hold) takes its original's cell.
+TEST(Voronoi, PeriodicCellsMatchMonteCarloAndMoveWithTheCloud) {
+  for (const auto& [dim, axes] : {std::pair{2, "x,y"}, std::pair{2, "x"}, std::pair{3, "x,z"}, std::pair{3, "all"}}) {
+    PointCloud c = perturbed_cloud(dim, dim == 2 ? 7 : 4, 5);
+    c.domain.set_periodic(axes);
+    const auto m = voronoi_cell_measures(c);
+    EXPECT_NEAR(sum(m), 1.0, 1e-12) << axes;
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<double> u(0, 1);
+    const int samples = 300000;
+    std::vector<double> hits(m.size(), 0);
+    for (int s = 0; s < samples; ++s) {
+      Vec3 x = Vec3::Zero();
+      for (int k = 0; k < dim; ++k) x[k] = u(rng);
+      std::size_t best = 0;
+      double best_d = 1e300;
+      for (std::size_t i = 0; i < c.positions.size(); ++i) {
+        Vec3 d = c.positions[i] - x;
+        for (int k = 0; k < dim; ++k)
+          if (c.domain.periodic[static_cast<std::size_t>(k)]) d[k] -= std::round(d[k]);  // period 1
+        if (d.squaredNorm() < best_d) best_d = d.squaredNorm(), best = i;
+      }
+      hits[best] += 1.0 / samples;
+    }
+    for (std::size_t i = 0; i < m.size(); ++i)
+      EXPECT_NEAR(m[i], hits[i], 5 * std::sqrt(m[i] / samples) + 1e-12) << axes << " particle " << i;
+    PointCloud moved = c;
+    const Vec3 shift(0.37, 0.21, 0.13);
+    for (auto& x : moved.positions) {
+      for (int k = 0; k < dim; ++k)
+        if (c.domain.periodic[static_cast<std::size_t>(k)]) x[k] += shift[k];
+      x = moved.domain.wrap(x);
+    }
+    const auto mm = voronoi_cell_measures(moved);
+    for (std::size_t i = 0; i < m.size(); ++i) EXPECT_NEAR(mm[i], m[i], 1e-12) << axes << " particle " << i;
+    const PeriodicImages images = periodic_images(c, 0.3);
+    ASSERT_GT(images.cloud.size(), c.size());
+    const auto mi = voronoi_cell_measures(images.cloud);
+    for (Index i = 0; i < images.cloud.size(); ++i)
+      EXPECT_NEAR(mi[static_cast<std::size_t>(i)], m[static_cast<std::size_t>(images.image_of[static_cast<std::size_t>(i)])], 1e-12)
+          << axes << " particle " << i;
+  }
+  // 1D, and a periodic lattice: every cell one spacing (squared, cubed).
+  for (int dim = 1; dim <= 3; ++dim) {
+    PointCloud c = cell_centred_lattice(Domain::unit_box(dim), 5, false);
+    c.domain.set_periodic("all");
+    for (Real v : voronoi_cell_measures(c)) EXPECT_NEAR(v, std::pow(0.2, dim), 1e-14) << dim << "D";
+  }
+  PointCloud line = perturbed_cloud(1, 9, 2);
+  line.domain.set_periodic("x");
+  EXPECT_NEAR(sum(voronoi_cell_measures(line)), 1.0, 1e-14);
+  // A particle outside the box that is no image of one inside.
+  PointCloud stray = perturbed_cloud(2, 5, 1);
+  stray.domain.set_periodic("x,y");
+  stray.positions[4][0] = 1.5 + 1e-3;
+  EXPECT_THROW_MSG(voronoi_cell_measures(stray), InputError, "is no image of a particle inside it");
 }

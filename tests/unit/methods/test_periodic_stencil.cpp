@@ -46,9 +46,13 @@ TEST(PeriodicStencil, RowsAreThoseOfTheTiledBox) {
   const NeighbourList tnl = find_neighbours(t, sp);
   // (VRSPH's NNLS has many solutions per row and may pick another in another column order:
   // its rows are checked by their moment conditions below.)
-  for (const char* name : {"fpm", "cspm", "sph"})
+  // (gpm with Voronoi volumes: the cells of the periodic tessellation, the tiled box's middle
+  // copy's cells.)
+  for (const char* name : {"fpm", "cspm", "sph", "gpm"})
     for (OperatorKind kind : {OperatorKind::Laplacian, OperatorKind::Gradient}) {
-      const auto method = builtin_methods().create(name);
+      MethodOptions options;
+      if (std::string(name) == "gpm") options.set("volume", "voronoi");
+      const auto method = builtin_methods().create(name, options);
       StencilRequest req;
       req.kind = kind;
       const Stencil p = periodic_stencil(*method, c, sp, KernelType::CubicSpline, c.spacing, req);
