@@ -371,7 +371,7 @@ class Study(unittest.TestCase):
         self.assertTrue(rows[1]["mmatrix"])
         self.assertGreater(rows[1]["order_inf"], 1.9)
 
-    def test_knn_and_covering_radii_on_a_periodic_box(self):
+    def test_knn_and_covering_radii_and_regularity_on_a_periodic_box(self):
         # h_i = kappa x the k-th minimum-image distance, and h = kappa max(dx, r_N) with the covering
         # radius of the periodic point set: a particle near a face counts its neighbours across it.
         # The periodic Poisson problem keeps its M-matrix and its order (measured with the default
@@ -385,10 +385,21 @@ class Study(unittest.TestCase):
                 self.assertTrue(r["mmatrix"], mode)
             for r in rows[1:]:
                 self.assertGreater(r["order_inf"], 2.8, mode)
-        # The cloud report's covering radius across the faces: half a cell's diagonal on a lattice.
-        out = run_json("cloud", "--family", "uniform", "--n", "16", "--periodic", "x,y")
+        # The cloud report across the faces: on a periodic lattice the covering radius is half a
+        # cell's diagonal and every cell is |box| / N, so uniform volumes deviate by nothing (d_N = 0;
+        # with faces the halved face cells give d_N > 0).
+        out = run_json("cloud", "--family", "uniform", "--n", "16", "--periodic", "x,y", "--regularity",
+                       "--volumes", "uniform")
         self.assertEqual(out["periodic"], "x,y")
         self.assertAlmostEqual(out["covering_radius_over_spacing"], 0.5 ** 0.5, places=12)
+        self.assertLess(out["voronoi_deviation"], 1e-12)
+        walls = run_json("cloud", "--family", "uniform", "--n", "16", "--regularity", "--volumes", "uniform")
+        self.assertGreater(walls["voronoi_deviation"], 1e-3)
+        # Perturbed: measured 0.98 dx (LP) against 3.08 dx with walls at n = 60.
+        out = run_json("cloud", "--family", "perturbed", "--n", "24", "--periodic", "x,y", "--regularity",
+                       "--volumes", "uniform")
+        self.assertGreater(out["voronoi_deviation_over_spacing"], 0.3)
+        self.assertLess(out["voronoi_deviation_over_spacing"], 2.0)
 
     def test_expression_form_3d_and_seeds(self):
         out = run_json("study", "--dim", "3", "--u", "sin(pi*x)*sin(pi*y)*sin(pi*z)", "--a", "1+x^2+y^2+z^2",

@@ -431,7 +431,6 @@ void run_cloud(const CloudArgs& a, const CLI::App& cmd) {
   if (a.regularity) {
     check<ConfigError>(!c.geometry && cloud.domain.shape != Domain::Shape::None,
                        "--regularity needs a box or disk domain (a generated family, or a cloud file whose domain is known)");
-    check<ConfigError>(!cloud.domain.any_periodic(), "--regularity is not computed on periodic boxes yet");
     add_regularity_rows(cloud, a, sp.radius, add);
   } else {
     for (const char* opt : {"--volumes", "--dn-radius", "--dn-direct-limit", "--dn-block", "--dn-method", "--dn-flow-above",
