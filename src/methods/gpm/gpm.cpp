@@ -47,9 +47,14 @@ class Gpm final : public Method {
         mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
   int reach() const override { return volume_ == "vrsph" ? 3 : volume_ == "shepard" || volume_ == "voronoi" ? 2 : 1; }
+  // Rows read distances, pair vectors and the neighbours' volumes and coefficient values; every
+  // volume reads the list or the cloud as a periodic box allows (Shepard sums over each
+  // neighbour's own list, VRSPH's point volumes over pair vectors, Voronoi cells and |Ω|/N over
+  // the periodic box).
+  bool reads_periodic_pairs(const StencilRequest& /*req*/) const override { return true; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
-    check_request(info_, disc, req);
+    check_request(info_, disc, req, reads_periodic_pairs(req));
     const auto& cloud = disc.cloud;
     const int d = cloud.dim;
     const ReferenceWeight value_w = reference_weight("pi" + family_, d);
@@ -78,7 +83,8 @@ class Gpm final : public Method {
             break;
           }
           default: {
-            const Vec3 g = gpm::gradient_weight(d, V[j], grad_w.value(r, h), r, cloud.positions[j] - cloud.positions[si]);
+            const Vec3 g = gpm::gradient_weight(d, V[j], grad_w.value(r, h), r,
+                                                disc.neighbour_position(i, static_cast<Index>(k)) - cloud.positions[si]);
             store_pair_gradient(s, req.kind, d, slot, g);
           }
         }

@@ -47,9 +47,12 @@ class Mps final : public Method {
         weight_(o.get_choice("weight", "classic", {"classic", "pi1", "pi2", "pi3"})),
         uniform_(o.get_choice("volume", "lattice", {"lattice", "uniform"}) == "uniform") {}
   const MethodInfo& info() const override { return info_; }
+  // Rows read distances and pair vectors only (the volumes are one number): a minimum-image
+  // list gives every row.
+  bool reads_periodic_pairs(const StencilRequest& /*req*/) const override { return true; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
-    check_request(info_, disc, req);
+    check_request(info_, disc, req, reads_periodic_pairs(req));
     const auto& cloud = disc.cloud;
     const int d = cloud.dim;
     const MpsWeight mw = mps_weight(weight_, d);
@@ -73,7 +76,7 @@ class Mps final : public Method {
         if (req.kind == OperatorKind::Laplacian) {
           s.values[0][slot] = 2 * d * inv_n * wh / lambda;
         } else {
-          const Vec3 g = (d * inv_n * wh / (r * r)) * (cloud.positions[j] - cloud.positions[si]);
+          const Vec3 g = (d * inv_n * wh / (r * r)) * (disc.neighbour_position(i, static_cast<Index>(k)) - cloud.positions[si]);
           store_pair_gradient(s, req.kind, d, slot, g);
         }
       }

@@ -39,9 +39,13 @@ class Sph final : public Method {
         mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
   int reach() const override { return volume_ == SphVolume::Shepard ? 2 : 1; }
+  // Rows read distances, pair vectors (Discretisation::neighbour_position), the neighbours'
+  // coefficient values and volumes; Shepard volumes sum each neighbour's own distances. A
+  // minimum-image list then gives every row (Operators on a periodic box: the Verlet skin).
+  bool reads_periodic_pairs(const StencilRequest& /*req*/) const override { return true; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
-    check_request(info_, disc, req);
+    check_request(info_, disc, req, reads_periodic_pairs(req));
     check<InputError>(disc.neighbours.distances.size() == disc.neighbours.indices.size(),
                       "SPH needs neighbour lists with cached distances");
     const auto v = sph_volumes(disc, volume_);
@@ -68,7 +72,7 @@ class Sph final : public Method {
           case OperatorKind::Dz:
           case OperatorKind::Gradient: {
             // grad_i W_ij = W'(r) (x_i - x_j)/r
-            const Vec3 g = v[j] * ker.dW_over_r(r) * (xi - cloud.positions[j]);
+            const Vec3 g = v[j] * ker.dW_over_r(r) * (xi - disc.neighbour_position(i, static_cast<Index>(k)));
             if (req.kind == OperatorKind::Gradient)
               for (int c = 0; c < cloud.dim; ++c) s.values[static_cast<std::size_t>(c)][slot] = g[c];
             else
