@@ -183,7 +183,11 @@ TEST(DistributedSolve, EqualsSerialForEveryFluxMethod) {
                         Case{"sph", 2, 20, false, {"volume=shepard"}}, Case{"gpm", 2, 20, false, {"volume=vrsph"}},
                         Case{"gpm", 2, 20, false, {"volume=voronoi"}}, Case{"gpm", 2, 20, false, {"volume=shepard"}},
                         Case{"gpm", 2, 20, false, {"volume=uniform"}}, Case{"m-sph", 2, 20, false},
-                        Case{"fpm", 2, 16, true}, Case{"vrsph", 3, 8, true}}) {
+                        Case{"fpm", 2, 16, true}, Case{"vrsph", 3, 8, true},
+                        // (With one ring of halo, as these methods once declared, the last halo
+                        // particles' Shepard sums were short: FPM's error on 2 ranks was 0.6 % off.)
+                        Case{"fpm", 2, 16, false, {"volume=shepard"}}, Case{"kgf", 2, 16, false, {"volume=shepard"}},
+                        Case{"cspm", 2, 16, false, {"volume=shepard"}}, Case{"m-sph", 2, 16, false, {"volume=shepard"}}}) {
     PointCloud full = perturbed_box(c.dim, c.n, 11);
     if (c.neumann) retag_neumann_faces(full, parse_box_faces({"x1", "y0"}, c.dim), 1.0 / c.n);
     const BoundaryValueProblem whole = problem_on(full);

@@ -140,6 +140,9 @@ class SpeScheme final : public Method {
         volume_(o.get_choice("volume", "dx", {"dx", "shepard"})), policy_(taylor::read_singular_policy(o)),
         mean_(read_pair_mean(o)) {}
   const MethodInfo& info() const override { return info_; }
+  // Shepard volumes sum each neighbour's own list: one more ring of particles than the rows
+  // (a rank's halo, a periodic box's images; with one ring the halo's last volumes were short).
+  int reach() const override { return info().stencil_rings + (volume_ == "shepard" ? 1 : 0); }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req);

@@ -19,9 +19,16 @@ class Corrective final : public Method {
       : info_(std::move(info)), second_(second), volume_(o.get_choice("volume", "dx", {"dx", "shepard"})),
         policy_(taylor::read_singular_policy(o)) {}
   const MethodInfo& info() const override { return info_; }
+  // Shepard volumes sum each neighbour's own list: one more ring of particles than the rows
+  // (a rank's halo, a periodic box's images; with one ring the halo's last volumes were short).
+  int reach() const override { return info().stencil_rings + (volume_ == "shepard" ? 1 : 0); }
+  // Rows read pair vectors (Discretisation::neighbour_position), the neighbours' volumes (Shepard:
+  // sums over each neighbour's own distances) and coefficient values: a minimum-image list gives
+  // every row (Operators on a periodic box: the Verlet skin).
+  bool reads_periodic_pairs(const StencilRequest& /*req*/) const override { return true; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
-    check_request(info_, disc, req);
+    check_request(info_, disc, req, reads_periodic_pairs(req));
     const auto& cloud = disc.cloud;
     const int dim = cloud.dim;
     const auto v = taylor::method_volumes(disc, volume_);
@@ -64,14 +71,15 @@ class Corrective final : public Method {
     const auto nbr = disc.neighbours.of(i);
     const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
     Real sum = v[static_cast<std::size_t>(i)] * ker.W(0);
-    for (Index j : nbr) sum += v[static_cast<std::size_t>(j)] * ker.W((cloud.positions[static_cast<std::size_t>(j)] - xi).norm());
+    for (std::size_t k = 0; k < nbr.size(); ++k)
+      sum += v[static_cast<std::size_t>(nbr[k])] * ker.W((disc.neighbour_position(i, static_cast<Index>(k)) - xi).norm());
     const bool ok = sum > 0 && std::isfinite(sum);
     s.condition[static_cast<std::size_t>(i)] = ok ? 1 : std::numeric_limits<Real>::infinity();
     if (!ok) return;
     for (std::size_t k = 0; k < nbr.size(); ++k) {
       const auto j = static_cast<std::size_t>(nbr[k]);
       s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] =
-          v[j] * ker.W((cloud.positions[j] - xi).norm()) / sum;
+          v[j] * ker.W((disc.neighbour_position(i, static_cast<Index>(k)) - xi).norm()) / sum;
     }
     s.values[0][static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])] = v[static_cast<std::size_t>(i)] * ker.W(0) / sum;
   }
@@ -87,17 +95,17 @@ class Corrective final : public Method {
     const auto nbr = disc.neighbours.of(i);
     const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
     A.setZero(dim, dim);
-    for (Index j : nbr) {
-      const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
       const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;  // grad_i W_ij = W'(r) x_ij / r
       for (int a = 0; a < dim; ++a)
-        for (int b = 0; b < dim; ++b) A(a, b) += v[static_cast<std::size_t>(j)] * xji[a] * gw[b];
+        for (int b = 0; b < dim; ++b) A(a, b) += v[static_cast<std::size_t>(nbr[k])] * xji[a] * gw[b];
     }
     const Real cond = taylor::equilibrated_inverse(A, Ainv);
     if (!std::isfinite(cond)) return cond;
     g.assign(nbr.size(), Vec3::Zero());
     for (std::size_t k = 0; k < nbr.size(); ++k) {
-      const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
+      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
       const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;
       for (int a = 0; a < dim; ++a) {
         Real acc = 0;
@@ -130,10 +138,10 @@ class Corrective final : public Method {
     const int directions = second_ == SecondDerivative::KernelHessian ? dim : 1;
     Vec3 D = Vec3::Zero(), Dabs = Vec3::Zero();
     std::array<Vec3, 3> S{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-    for (Index j : nbr) {
-      const Vec3 xji = cloud.positions[static_cast<std::size_t>(j)] - xi;
+    for (std::size_t k = 0; k < nbr.size(); ++k) {
+      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
       const Real r = xji.norm();
-      const Real vj = v[static_cast<std::size_t>(j)];
+      const Real vj = v[static_cast<std::size_t>(nbr[k])];
       for (int a = 0; a < directions; ++a) {
         const Real q = weight_function(ker, xji, r, a);
         const Real moment = second_ == SecondDerivative::KernelHessian ? xji[a] * xji[a] : xji.squaredNorm();
@@ -153,7 +161,7 @@ class Corrective final : public Method {
                             : taylor::coefficient_gradient(req, i, nbr, dim, [&](std::size_t k) { return g[k]; });
     const Real iso = second_ == SecondDerivative::KernelOnly ? static_cast<Real>(dim) : 1;
     for (std::size_t k = 0; k < nbr.size(); ++k) {
-      const Vec3 xji = cloud.positions[static_cast<std::size_t>(nbr[k])] - xi;
+      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
       const Real r = xji.norm();
       Real w = 0;
       for (int a = 0; a < directions; ++a)

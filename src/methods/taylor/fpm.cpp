@@ -41,6 +41,9 @@ class TaylorProjection final : public Method {
     policy_ = taylor::read_singular_policy(o);
   }
   const MethodInfo& info() const override { return info_; }
+  // Shepard volumes sum each neighbour's own list: one more ring of particles than the rows
+  // (a rank's halo, a periodic box's images; with one ring the halo's last volumes were short).
+  int reach() const override { return info().stencil_rings + (volume_ == "shepard" ? 1 : 0); }
 
   // Rows read pair vectors, the neighbours' values and v = dx^d; Shepard volumes and a
   // coefficient's gradient are sums over each neighbour's own list, left to the images.

@@ -118,22 +118,23 @@ TEST(PeriodicStencil, ListsAcrossPeriodicFacesOnlyWhereAMethodReadsPairVectors) 
   const NeighbourList nl = find_neighbours(c, sp);
   ASSERT_FALSE(nl.shifts.empty());
   const Discretisation disc{c, nl, KernelType::CubicSpline, c.spacing};
-  EXPECT_THROW_MSG(builtin_methods().create("cspm")->build(disc, StencilRequest{}), ConfigError,
+  EXPECT_THROW_MSG(builtin_methods().create("brookshaw")->build(disc, StencilRequest{}), ConfigError,
                    "build the stencil with periodic_stencil()");
-  // SPH's, GPM's and MPS's rows read distances, pair vectors, the neighbours' volumes (Shepard
+  // SPH's, CSPM's, Chen–Beraun's, GPM's and MPS's rows read distances, pair vectors, the neighbours' volumes (Shepard
   // sums over each neighbour's own list, Voronoi cells and |Ω|/N of the periodic box) and
   // coefficient values: the list gives the rows the images give, for every operator and volume.
-  const Field a = Field::LinSpaced(c.size(), 1.0, 2.0);
+  const Field coefficient = Field::LinSpaced(c.size(), 1.0, 2.0);
   for (const auto& [name, volume] : {std::pair{"sph", "dx"}, std::pair{"sph", "shepard"}, std::pair{"gpm", "lattice"},
                                      std::pair{"gpm", "shepard"}, std::pair{"gpm", "uniform"}, std::pair{"gpm", "voronoi"},
-                                     std::pair{"mps", "lattice"}, std::pair{"mps", "uniform"}}) {
+                                     std::pair{"mps", "lattice"}, std::pair{"mps", "uniform"}, std::pair{"cspm", "dx"},
+                                     std::pair{"cspm", "shepard"}, std::pair{"chen-beraun", "dx"}}) {
     MethodOptions o;
     o.set("volume", volume);
     const auto method = builtin_methods().create(name, o);
     for (const OperatorKind kind : {OperatorKind::Value, OperatorKind::Gradient, OperatorKind::Laplacian, OperatorKind::DivAGrad}) {
       if (!method->info().supports(kind)) continue;
       StencilRequest req{kind};
-      if (kind == OperatorKind::DivAGrad) req.coefficient = &a;
+      if (kind == OperatorKind::DivAGrad) req.coefficient = &coefficient;
       ASSERT_TRUE(method->reads_periodic_pairs(req));
       const Stencil direct = method->build(disc, req);
       const Stencil images = periodic_stencil(*method, c, sp, KernelType::CubicSpline, c.spacing, req);

@@ -263,19 +263,19 @@ TEST_P(MovingOperatorsWarm, GradientRowsBorrowTheLaplaciansVolumesAndStayExact) 
 // On a periodic box, rows that read only pair vectors and distances — SPH's (since 2026-12-07;
 // before, they were built on the images at every update), FPM's with v = dx^d and the Hessian
 // rows — read the minimum-image list (the Verlet skin) and equal periodic_stencil's image-cloud
-// rows to round-off (the summation order differs, and the skin's pairs are zeros). CSPM's rows,
-// which read positions beyond their pairs, are still built on the images, bit for bit those.
+// rows to round-off (the summation order differs, and the skin's pairs are zeros). The [SPE]
+// schemes' rows, which read more than their pairs, are still built on the images, bit for bit those.
 TEST(MovingOperators, PeriodicBoxesBuildOnTheImagesOrReadTheMinimumImages) {
   {
     const StudyCloud sc = operators_cloud(2, "x,y");
     OperatorsOptions o;
-    o.method = "cspm";
+    o.method = "brookshaw";
     o.operators = {OperatorKind::Laplacian};
     Operators ops(sc.cloud, o);
     ops.update(advect(ops.cloud(), 0.05));
     SearchParams sp;
     sp.radius = ops.radius();
-    const auto method = builtin_methods().create("cspm");
+    const auto method = builtin_methods().create("brookshaw");
     expect_same_stencil(ops.stencil(OperatorKind::Laplacian),
                         periodic_stencil(*method, ops.cloud(), sp, KernelType::CubicSpline, ops.spacing(), {OperatorKind::Laplacian}));
   }
@@ -292,8 +292,8 @@ TEST(MovingOperators, PeriodicBoxesBuildOnTheImagesOrReadTheMinimumImages) {
       sp.radius = ops.radius();
       const Stencil images =
           periodic_stencil(*method, ops.cloud(), sp, KernelType::CubicSpline, ops.spacing(), {OperatorKind::Laplacian});
-      const SparseMatrix a(as_eigen(ops.stencil(OperatorKind::Laplacian))), b(as_eigen(images));
-      EXPECT_LT((a - b).norm(), 1e-10 * b.norm()) << name << " step " << step;
+      const SparseMatrix moving(as_eigen(ops.stencil(OperatorKind::Laplacian))), fresh(as_eigen(images));
+      EXPECT_LT((moving - fresh).norm(), 1e-10 * fresh.norm()) << name << " step " << step;
       const Stencil hessian =
           periodic_stencil(*method, ops.cloud(), sp, KernelType::CubicSpline, ops.spacing(), {OperatorKind::Hessian});
       for (int c = 0; c < 3; ++c) {

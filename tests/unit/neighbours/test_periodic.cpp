@@ -106,7 +106,9 @@ TEST(PeriodicKnn, KthDistanceIsTheMinimumImageOne) {
         EXPECT_LE(d[static_cast<std::size_t>(i)], plain[static_cast<std::size_t>(i)]);
         shorter += d[static_cast<std::size_t>(i)] < plain[static_cast<std::size_t>(i)];
       }
-      if (k == 7) EXPECT_GT(shorter, 0) << axes;  // some particles saw nearer neighbours across a face
+      if (k == 7) {
+        EXPECT_GT(shorter, 0) << axes;  // some particles saw nearer neighbours across a face
+      }
     }
   }
   // A lattice periodic in x and y: every particle has its four nearest at dx (plainly, a
