@@ -4,9 +4,10 @@
 #include <numeric>
 #include <random>
 #include <vrsph/cloud/generate.hpp>
+#include <string>
 #include <vrsph/cloud/voronoi.hpp>
-#include <vrsph/neighbours/periodic.hpp>
 #include <vrsph/core/error.hpp>
+#include <vrsph/neighbours/periodic.hpp>
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -18,6 +19,37 @@ PointCloud perturbed_cloud(int dim, int n, std::uint64_t seed) {
   return c;
 }
 double sum(const std::vector<Real>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
+
+// The share of `samples` uniform points of the unit box nearest to each particle (an independent
+// computation of the cells' measures), distances taken to the nearest image along the cloud's
+// periodic axes (period 1).
+std::vector<double> monte_carlo_cells(const PointCloud& c, int samples, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> hits(c.positions.size(), 0);
+  for (int s = 0; s < samples; ++s) {
+    Vec3 x = Vec3::Zero();
+    for (int k = 0; k < c.dim; ++k) x[k] = u(rng);
+    std::size_t best = 0;
+    double best_d = 1e300;
+    for (std::size_t i = 0; i < c.positions.size(); ++i) {
+      Vec3 d = c.positions[i] - x;
+      for (int k = 0; k < c.dim; ++k)
+        if (c.domain.periodic[static_cast<std::size_t>(k)]) d[k] -= std::round(d[k]);
+      if (d.squaredNorm() < best_d) best_d = d.squaredNorm(), best = i;
+    }
+    hits[best] += 1.0 / samples;
+  }
+  return hits;
+}
+
+// Each measure within 5 binomial standard deviations of its Monte Carlo share.
+void expect_monte_carlo(const PointCloud& c, const std::vector<Real>& m, int samples, std::uint64_t seed,
+                        const std::string& what) {
+  const std::vector<double> hits = monte_carlo_cells(c, samples, seed);
+  for (std::size_t i = 0; i < m.size(); ++i)
+    EXPECT_NEAR(m[i], hits[i], 5 * std::sqrt(m[i] / samples) + 1e-12) << what << " particle " << i;
+}
 }  // namespace
 
 TEST(Voronoi, LatticeCellsAreExact) {
@@ -41,20 +73,7 @@ TEST(Voronoi, PerturbedCellsMatchMonteCarlo) {
     const PointCloud c = perturbed_cloud(dim, dim == 2 ? 7 : 4, 3);
     const auto m = voronoi_cell_measures(c);
     EXPECT_NEAR(sum(m), 1.0, 1e-12) << dim << "D";
-    std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> u(0, 1);
-    const int samples = 400000;
-    std::vector<double> hits(m.size(), 0);
-    for (int s = 0; s < samples; ++s) {
-      Vec3 x = Vec3::Zero();
-      for (int k = 0; k < dim; ++k) x[k] = u(rng);
-      std::size_t best = 0;
-      for (std::size_t i = 1; i < c.positions.size(); ++i)
-        if ((c.positions[i] - x).squaredNorm() < (c.positions[best] - x).squaredNorm()) best = i;
-      hits[best] += 1.0 / samples;
-    }
-    for (std::size_t i = 0; i < m.size(); ++i)  // 5 binomial standard deviations
-      EXPECT_NEAR(m[i], hits[i], 5 * std::sqrt(m[i] / samples) + 1e-12) << dim << "D particle " << i;
+    expect_monte_carlo(c, m, 400000, 11, std::to_string(dim) + "D");
   }
 }
 
@@ -90,25 +109,7 @@ TEST(Voronoi, PeriodicCellsMatchMonteCarloAndMoveWithTheCloud) {
     c.domain.set_periodic(axes);
     const auto m = voronoi_cell_measures(c);
     EXPECT_NEAR(sum(m), 1.0, 1e-12) << axes;
-    std::mt19937_64 rng(13);
-    std::uniform_real_distribution<double> u(0, 1);
-    const int samples = 300000;
-    std::vector<double> hits(m.size(), 0);
-    for (int s = 0; s < samples; ++s) {
-      Vec3 x = Vec3::Zero();
-      for (int k = 0; k < dim; ++k) x[k] = u(rng);
-      std::size_t best = 0;
-      double best_d = 1e300;
-      for (std::size_t i = 0; i < c.positions.size(); ++i) {
-        Vec3 d = c.positions[i] - x;
-        for (int k = 0; k < dim; ++k)
-          if (c.domain.periodic[static_cast<std::size_t>(k)]) d[k] -= std::round(d[k]);  // period 1
-        if (d.squaredNorm() < best_d) best_d = d.squaredNorm(), best = i;
-      }
-      hits[best] += 1.0 / samples;
-    }
-    for (std::size_t i = 0; i < m.size(); ++i)
-      EXPECT_NEAR(m[i], hits[i], 5 * std::sqrt(m[i] / samples) + 1e-12) << axes << " particle " << i;
+    expect_monte_carlo(c, m, 300000, 13, axes);
     PointCloud moved = c;
     const Vec3 shift(0.37, 0.21, 0.13);
     for (auto& x : moved.positions) {
