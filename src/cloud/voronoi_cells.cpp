@@ -214,89 +214,74 @@ bool inside_periodic_axes(const Domain& dom, int dim, const Vec3& x) {
   return true;
 }
 
-// A box periodic along some axes: the cells of the periodic tessellation. The particles inside
-// the box along the periodic axes are the originals; any others (the images of a cloud extended
-// by them, as periodic_stencil builds rows on) take their originals' cells. The originals' cells
-// come from the cloud extended by their images within w of the periodic faces, clipped to the
-// box widened by w along those axes: a computed cell contains the true one (fewer bisectors),
+// A box periodic along some axes, every particle inside it: the cells of the periodic
+// tessellation, from the cloud extended by its images within w of the periodic faces, clipped to
+// the box widened by w along those axes: a computed cell contains the true one (fewer bisectors),
 // and a point that could cut it lies within twice its farthest vertex ρ, so the cell is exact
 // once 2ρ <= w, every particle within w being there. w starts at 3 spacings and doubles until
 // that holds.
 std::vector<Real> periodic_measures(const PointCloud& cloud) {
   const Domain& dom = cloud.domain;
-  PointCloud originals;
-  originals.dim = cloud.dim;
-  originals.domain = dom;
-  originals.spacing = cloud.spacing;
-  std::vector<Index> original_index(static_cast<std::size_t>(cloud.size()), -1), images;
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const Vec3& x = cloud.positions[static_cast<std::size_t>(i)];
-    if (inside_periodic_axes(dom, cloud.dim, x)) {
-      original_index[static_cast<std::size_t>(i)] = originals.size();
-      originals.add(x, cloud.tags[static_cast<std::size_t>(i)]);
-    } else {
-      images.push_back(i);
-    }
-  }
-  check<InputError>(originals.size() > cloud.dim, "Voronoi cells need more than ", cloud.dim, " particles inside the periodic box");
-  std::vector<Real> mine;
-  if (cloud.dim == 1) {
-    mine = periodic_measures_1d(originals);
-  } else {
-    Real min_period = std::numeric_limits<Real>::infinity();
+  check<InputError>(cloud.size() > cloud.dim, "Voronoi cells need more than ", cloud.dim, " particles");
+  if (cloud.dim == 1) return periodic_measures_1d(cloud);
+  Real min_period = std::numeric_limits<Real>::infinity();
+  for (int k = 0; k < cloud.dim; ++k)
+    if (dom.periodic[static_cast<std::size_t>(k)]) min_period = std::min(min_period, dom.period(k));
+  const Real spacing = std::pow(dom.measure() / static_cast<Real>(cloud.size()), 1.0 / cloud.dim);
+  // Images exist for widths below a period (periodic_images); exactness needs 2 ρ <= w.
+  const Real cap = (1 - 1e-9) * min_period;
+  for (Real width = std::min(3 * spacing, cap);; width = std::min(2 * width, cap)) {
+    PeriodicImages extended = periodic_images(cloud, width);
+    Domain& box = extended.cloud.domain;
     for (int k = 0; k < cloud.dim; ++k)
-      if (dom.periodic[static_cast<std::size_t>(k)]) min_period = std::min(min_period, dom.period(k));
-    const Real spacing = std::pow(dom.measure() / static_cast<Real>(originals.size()), 1.0 / cloud.dim);
-    // Images exist for widths below a period (periodic_images); exactness needs 2 ρ <= w.
-    const Real cap = (1 - 1e-9) * min_period;
-    for (Real width = std::min(3 * spacing, cap);; width = std::min(2 * width, cap)) {
-      PeriodicImages extended = periodic_images(originals, width);
-      Domain& box = extended.cloud.domain;
-      for (int k = 0; k < cloud.dim; ++k)
-        if (box.periodic[static_cast<std::size_t>(k)]) {
-          box.lo[k] -= width;
-          box.hi[k] += width;
-        }
-      box.periodic = {false, false, false};
-      std::vector<Real> reach;
-      mine = cell_measures(extended.cloud, originals.size(), &reach);
-      const Real rho = *std::max_element(reach.begin(), reach.end());
-      if (2 * rho <= width) break;
-      check<ConfigError>(width < cap, "a Voronoi cell of this periodic cloud reaches ", rho,
-                         " from its particle, over half the period ", min_period,
-                         ": too few particles across the box for its cells");
-    }
+      if (box.periodic[static_cast<std::size_t>(k)]) {
+        box.lo[k] -= width;
+        box.hi[k] += width;
+      }
+    box.periodic = {false, false, false};
+    std::vector<Real> reach;
+    std::vector<Real> mine = cell_measures(extended.cloud, cloud.size(), &reach);
+    const Real rho = *std::max_element(reach.begin(), reach.end());
+    if (2 * rho <= width) return mine;
+    check<ConfigError>(width < cap, "a Voronoi cell of this periodic cloud reaches ", rho, " from its particle, over half the period ",
+                       min_period, ": too few particles across the box for its cells");
   }
-  std::vector<Real> out(static_cast<std::size_t>(cloud.size()), 0);
-  for (Index i = 0; i < cloud.size(); ++i)
-    if (original_index[static_cast<std::size_t>(i)] >= 0) out[static_cast<std::size_t>(i)] = mine[static_cast<std::size_t>(original_index[static_cast<std::size_t>(i)])];
-  if (!images.empty()) {  // each image: the original at its wrapped place
-    std::vector<Vec3> wrapped;
-    for (Index i : images) wrapped.push_back(dom.wrap(cloud.positions[static_cast<std::size_t>(i)]));
-    std::vector<Real> dist;
-    std::vector<Index> nearest;
-    detail::nearest_particles(originals, wrapped, dist, nearest);
-    const Real tol = 1e-9 * std::pow(dom.measure() / static_cast<Real>(originals.size()), 1.0 / cloud.dim);
-    for (std::size_t k = 0; k < images.size(); ++k) {
-      const Vec3& x = cloud.positions[static_cast<std::size_t>(images[k])];
-      check<InputError>(dist[k] <= tol, "particle ", images[k], " at (", x[0], ", ", x[1], ", ", x[2],
-                        ") lies outside the periodic box and is no image of a particle inside it");
-      out[static_cast<std::size_t>(images[k])] = mine[static_cast<std::size_t>(nearest[k])];
+}
+
+// The cells of the cloud's own points, none wrapped: along a periodic axis with particles beyond
+// a face the box is widened to hold them (a spacing past the outermost), else clipped there.
+std::vector<Real> explicit_point_measures(const PointCloud& cloud) {
+  PointCloud plain = cloud;
+  Domain& box = plain.domain;
+  const Real margin = std::pow(box.measure() / static_cast<Real>(cloud.size()), 1.0 / cloud.dim);
+  for (int k = 0; k < cloud.dim; ++k) {
+    if (!box.periodic[static_cast<std::size_t>(k)]) continue;
+    Real lo = box.lo[k], hi = box.hi[k];
+    for (const Vec3& x : cloud.positions) {
+      if (x[k] < box.lo[k]) lo = std::min(lo, x[k] - margin);
+      if (x[k] >= box.hi[k]) hi = std::max(hi, x[k] + margin);
     }
+    box.lo[k] = lo;
+    box.hi[k] = hi;
   }
-  return out;
+  box.periodic = {false, false, false};
+  return voronoi_cell_measures(plain);
 }
 
 }  // namespace
 
-std::vector<Real> voronoi_cell_measures(const PointCloud& cloud) {
+std::vector<Real> voronoi_cell_measures(const PointCloud& cloud, bool whole) {
   validate(cloud);
   const Domain& dom = cloud.domain;
   const bool box = dom.shape == Domain::Shape::Box;
   check<InputError>(box || (dom.shape == Domain::Shape::Ball && cloud.dim == 2),
                     "Voronoi cells are clipped to box domains (1D-3D) and disks only; this cloud's domain is ",
                     dom.shape == Domain::Shape::None ? "unknown" : "a 3D ball");
-  if (dom.any_periodic()) return periodic_measures(cloud);
+  if (dom.any_periodic()) {
+    bool images = false;  // particles outside the box along a periodic axis: the cloud carries its images
+    for (const Vec3& x : cloud.positions) images = images || !inside_periodic_axes(dom, cloud.dim, x);
+    return whole && !images ? periodic_measures(cloud) : explicit_point_measures(cloud);
+  }
   if (cloud.dim == 1) return measures_1d(cloud);
   check<InputError>(cloud.size() > cloud.dim, "Voronoi cells need more than ", cloud.dim, " particles");
   return cell_measures(cloud, cloud.size(), nullptr);

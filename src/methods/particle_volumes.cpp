@@ -20,7 +20,9 @@ const char* particle_volumes_name(ParticleVolumes v) {
 std::vector<Real> particle_volumes(const Discretisation& disc, ParticleVolumes kind) {
   const PointCloud& cloud = disc.cloud;
   const auto n = static_cast<std::size_t>(cloud.size());
-  if (kind == ParticleVolumes::Voronoi) return voronoi_cell_measures(cloud);
+  // A rank's part (fewer particles than the whole cloud) is no whole periodic tessellation.
+  if (kind == ParticleVolumes::Voronoi)
+    return voronoi_cell_measures(cloud, disc.total_particles <= 0 || disc.total_particles == cloud.size());
   if (kind == ParticleVolumes::Uniform) {
     check<InputError>(cloud.domain.shape != Domain::Shape::None, "uniform volumes |Omega|/N need the cloud's domain");
     const Real total = disc.total_particles > 0 ? disc.total_particles : static_cast<Real>(n);

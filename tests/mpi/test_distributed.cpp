@@ -360,16 +360,22 @@ TEST(DistributedSolve, PeriodicBoxesAsSerial) {
     int dim, n;
     const char* axes;
     Layout layout = Layout::Vertex;
+    std::vector<std::string> options = {};
   };
   // Cell centres put the first particles half a spacing from the Dirichlet faces, where VRSPH's
   // rows are the most degenerate: its NNLS then picks among optimal vertices by column order and
   // tolerances, so the images' order and the length unit must be the serial ones.
   for (const Case& c : {Case{"vrsph", 2, 20, "x"}, Case{"vrsph", 2, 20, "x,y"}, Case{"sph", 2, 16, "x,y"},
                         Case{"fpm", 2, 16, "y"}, Case{"vrsph", 2, 12, "y", Layout::CellCentred},
-                        Case{"vrsph", 2, 24, "y", Layout::CellCentred}, Case{"vrsph", 3, 8, "x,y,z"}}) {
+                        Case{"vrsph", 2, 24, "y", Layout::CellCentred}, Case{"vrsph", 3, 8, "x,y,z"},
+                        // Volumes of the neighbours: a rank's part holds its images explicitly, and
+                        // its Voronoi cells are those of its own points (the periodic ones where it matters).
+                        Case{"gpm", 2, 16, "x,y", Layout::Vertex, {"volume=voronoi"}},
+                        Case{"sph", 2, 16, "x", Layout::Vertex, {"volume=shepard"}}}) {
     const PointCloud full = periodic_box(c.dim, c.n, c.axes, 9, c.layout);
     const BoundaryValueProblem whole = periodic_problem_on(full);
-    const BvpSolveOptions serial = serial_options(c.method, c.n);
+    BvpSolveOptions serial = serial_options(c.method, c.n);
+    serial.method_options = MethodOptions::parse(c.options);
     const BvpSolution ref = solve(whole, serial);
     const auto [s, b] = solve_my_part(whole, serial);
     const Real scale = ref.u.cwiseAbs().maxCoeff();

@@ -17,11 +17,14 @@ namespace vrsph {
 
 /// |sigma_i| for every particle. Box domains in 1D, 2D and 3D and disks in 2D; a 3D ball or
 /// a cloud without a domain -> InputError; coincident particles -> GeometryError naming them.
-/// A box periodic along some axes: the cells of the periodic tessellation of the particles
-/// inside the box (no clipping at its periodic faces); a particle outside it along a periodic
-/// axis is an image and takes its original's cell (InputError if it is none); ConfigError when
-/// a cell reaches half a period (too few particles across the box).
-std::vector<Real> voronoi_cell_measures(const PointCloud& cloud);
+/// A box periodic along some axes: the cells of the periodic tessellation (no clipping at its
+/// periodic faces) when the cloud is `whole` and every particle lies inside the box; ConfigError
+/// when a cell reaches half a period (too few particles across the box). A cloud that carries its
+/// images explicitly (particles outside the box along a periodic axis, as periodic_stencil's
+/// extended clouds) or that is a part (`whole` false: a rank's particles and halo) gets the cells
+/// of its own points, the box widened along the periodic axes to hold them: exact wherever every
+/// particle within twice a cell's reach is there, as a halo of two supports provides.
+std::vector<Real> voronoi_cell_measures(const PointCloud& cloud, bool whole = true);
 
 namespace detail {
 /// The Delaunay neighbours of every particle (2D/3D, CGAL); throws GeometryError on
