@@ -45,11 +45,9 @@ class TaylorProjection final : public Method {
   // (a rank's halo, a periodic box's images; with one ring the halo's last volumes were short).
   int reach() const override { return info().stencil_rings + (volume_ == "shepard" ? 1 : 0); }
 
-  // Rows read pair vectors, the neighbours' values and v = dx^d; Shepard volumes and a
-  // coefficient's gradient are sums over each neighbour's own list, left to the images.
-  bool reads_periodic_pairs(const StencilRequest& req) const override {
-    return volume_ == "dx" && req.kind != OperatorKind::DivAGrad;
-  }
+  // Rows read pair vectors, the neighbours' values and volumes (Shepard: sums over each
+  // neighbour's own distances, as SPH's); a coefficient's gradient is left to the images.
+  bool reads_periodic_pairs(const StencilRequest& req) const override { return req.kind != OperatorKind::DivAGrad; }
 
   Stencil build(const Discretisation& disc, const StencilRequest& req) const override {
     check_request(info_, disc, req, reads_periodic_pairs(req));
