@@ -9,7 +9,6 @@
 #include <vrsph/cloud/voronoi.hpp>
 #include <vrsph/core/error.hpp>
 #include <vrsph/neighbours/periodic.hpp>
-#include "../neighbours/nearest_particles.hpp"
 
 namespace vrsph {
 
