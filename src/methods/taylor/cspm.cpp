@@ -39,22 +39,26 @@ class Corrective final : public Method {
 #pragma omp parallel
     {
       std::vector<Vec3> g;  // corrected gradient weights of the row
+      std::vector<Vec3> d;  // the row's pair vectors x_j - x_i (periodic: to the image it sees), formed once
       SmallMatrix A(dim, dim), Ainv(dim, dim);
 #pragma omp for schedule(dynamic, 128)
       for (Index i = 0; i < cloud.size(); ++i) {
         if (!taylor::wants_row(cloud, req, i)) continue;
+        const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
+        d.resize(disc.neighbours.of(i).size());
+        for (std::size_t k = 0; k < d.size(); ++k) d[k] = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
         if (req.kind == OperatorKind::Value) {
-          shepard_row(disc, v, i, s);
+          shepard_row(disc, v, i, d, s);
           continue;
         }
-        const Real cond = corrected_gradient(disc, v, i, A, Ainv, g);
+        const Real cond = corrected_gradient(disc, v, i, d, A, Ainv, g);
         if (!std::isfinite(cond)) {
           s.condition[static_cast<std::size_t>(i)] = cond;
         } else if (!second) {
           s.condition[static_cast<std::size_t>(i)] = cond;
           store_gradient_row(req, dim, i, g, s);
         } else {
-          second_derivative_row(disc, req, v, i, g, cond, s);
+          second_derivative_row(disc, req, v, i, d, g, cond, s);
         }
       }
     }
@@ -65,21 +69,19 @@ class Corrective final : public Method {
 
  private:
   // Value rows: the Shepard-normalised kernel sum.
-  static void shepard_row(const Discretisation& disc, const std::vector<Real>& v, Index i, Stencil& s) {
-    const auto& cloud = disc.cloud;
+  static void shepard_row(const Discretisation& disc, const std::vector<Real>& v, Index i, const std::vector<Vec3>& d,
+                          Stencil& s) {
     const Kernel ker = disc.kernel_at(i);
     const auto nbr = disc.neighbours.of(i);
-    const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
     Real sum = v[static_cast<std::size_t>(i)] * ker.W(0);
-    for (std::size_t k = 0; k < nbr.size(); ++k)
-      sum += v[static_cast<std::size_t>(nbr[k])] * ker.W((disc.neighbour_position(i, static_cast<Index>(k)) - xi).norm());
+    for (std::size_t k = 0; k < nbr.size(); ++k) sum += v[static_cast<std::size_t>(nbr[k])] * ker.W(d[k].norm());
     const bool ok = sum > 0 && std::isfinite(sum);
     s.condition[static_cast<std::size_t>(i)] = ok ? 1 : std::numeric_limits<Real>::infinity();
     if (!ok) return;
     for (std::size_t k = 0; k < nbr.size(); ++k) {
       const auto j = static_cast<std::size_t>(nbr[k]);
       s.values[0][static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)))] =
-          v[j] * ker.W((disc.neighbour_position(i, static_cast<Index>(k)) - xi).norm()) / sum;
+          v[j] * ker.W(d[k].norm()) / sum;
     }
     s.values[0][static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])] = v[static_cast<std::size_t>(i)] * ker.W(0) / sum;
   }
@@ -87,16 +89,14 @@ class Corrective final : public Method {
   // The corrected gradient weights g_k = v_k A_i^{-T} grad W of row i, with the correction
   // matrix A_i = sum_j v_j x_ji ⊗ grad_i W_ij. Returns A_i's condition (infinite: singular,
   // g untouched).
-  static Real corrected_gradient(const Discretisation& disc, const std::vector<Real>& v, Index i, SmallMatrix& A,
-                                 SmallMatrix& Ainv, std::vector<Vec3>& g) {
-    const auto& cloud = disc.cloud;
-    const int dim = cloud.dim;
+  static Real corrected_gradient(const Discretisation& disc, const std::vector<Real>& v, Index i,
+                                 const std::vector<Vec3>& d, SmallMatrix& A, SmallMatrix& Ainv, std::vector<Vec3>& g) {
+    const int dim = disc.cloud.dim;
     const Kernel ker = disc.kernel_at(i);
     const auto nbr = disc.neighbours.of(i);
-    const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
     A.setZero(dim, dim);
     for (std::size_t k = 0; k < nbr.size(); ++k) {
-      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
+      const Vec3& xji = d[k];
       const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;  // grad_i W_ij = W'(r) x_ij / r
       for (int a = 0; a < dim; ++a)
         for (int b = 0; b < dim; ++b) A(a, b) += v[static_cast<std::size_t>(nbr[k])] * xji[a] * gw[b];
@@ -105,7 +105,7 @@ class Corrective final : public Method {
     if (!std::isfinite(cond)) return cond;
     g.assign(nbr.size(), Vec3::Zero());
     for (std::size_t k = 0; k < nbr.size(); ++k) {
-      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
+      const Vec3& xji = d[k];
       const Vec3 gw = -ker.dW_over_r(xji.norm()) * xji;
       for (int a = 0; a < dim; ++a) {
         Real acc = 0;
@@ -129,17 +129,15 @@ class Corrective final : public Method {
 
   // Second derivative: per direction (cspm) or isotropic (chen-beraun); cond is A_i's.
   void second_derivative_row(const Discretisation& disc, const StencilRequest& req, const std::vector<Real>& v, Index i,
-                             const std::vector<Vec3>& g, Real cond, Stencil& s) const {
-    const auto& cloud = disc.cloud;
-    const int dim = cloud.dim;
+                             const std::vector<Vec3>& d, const std::vector<Vec3>& g, Real cond, Stencil& s) const {
+    const int dim = disc.cloud.dim;
     const Kernel ker = disc.kernel_at(i);
     const auto nbr = disc.neighbours.of(i);
-    const Vec3& xi = cloud.positions[static_cast<std::size_t>(i)];
     const int directions = second_ == SecondDerivative::KernelHessian ? dim : 1;
     Vec3 D = Vec3::Zero(), Dabs = Vec3::Zero();
     std::array<Vec3, 3> S{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
     for (std::size_t k = 0; k < nbr.size(); ++k) {
-      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
+      const Vec3& xji = d[k];
       const Real r = xji.norm();
       const Real vj = v[static_cast<std::size_t>(nbr[k])];
       for (int a = 0; a < directions; ++a) {
@@ -161,7 +159,7 @@ class Corrective final : public Method {
                             : taylor::coefficient_gradient(req, i, nbr, dim, [&](std::size_t k) { return g[k]; });
     const Real iso = second_ == SecondDerivative::KernelOnly ? static_cast<Real>(dim) : 1;
     for (std::size_t k = 0; k < nbr.size(); ++k) {
-      const Vec3 xji = disc.neighbour_position(i, static_cast<Index>(k)) - xi;
+      const Vec3& xji = d[k];
       const Real r = xji.norm();
       Real w = 0;
       for (int a = 0; a < directions; ++a)
