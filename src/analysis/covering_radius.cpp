@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <span>
 #include <vrsph/analysis/covering_radius.hpp>
@@ -85,9 +84,7 @@ namespace {
 CoveringRadius periodic_covering_radius(const PointCloud& cloud) {
   const Domain& dom = cloud.domain;
   check_periodic_cloud(cloud, 0);  // every particle inside the box along the periodic axes
-  Real min_period = std::numeric_limits<Real>::infinity();
-  for (int k = 0; k < cloud.dim; ++k)
-    if (dom.periodic[static_cast<std::size_t>(k)]) min_period = std::min(min_period, dom.period(k));
+  const Real min_period = dom.shortest_period();
   const Real spacing = estimate_spacing(cloud), cap = (1 - 1e-9) * min_period;
   for (Real width = std::min(3 * spacing, cap);; width = std::min(2 * width, cap)) {
     const PeriodicImages images = periodic_images(cloud, width);

@@ -123,6 +123,14 @@ bool Domain::any_periodic() const {
   return shape == Shape::Box && (periodic[0] || periodic[1] || periodic[2]);
 }
 
+Real Domain::shortest_period() const {
+  Real shortest = std::numeric_limits<Real>::infinity();
+  if (shape != Shape::Box) return shortest;
+  for (int k = 0; k < dim; ++k)
+    if (periodic[static_cast<std::size_t>(k)]) shortest = std::min(shortest, period(k));
+  return shortest;
+}
+
 bool Domain::fully_periodic() const {
   if (shape != Shape::Box) return false;
   for (int k = 0; k < dim; ++k)

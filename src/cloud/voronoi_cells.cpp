@@ -3,7 +3,6 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <numeric>
 #include <vrsph/cloud/voronoi.hpp>
@@ -207,6 +206,11 @@ std::vector<Real> periodic_measures_1d(const PointCloud& cloud) {
   return out;
 }
 
+// The side of a cube of the box's measure per particle: the length unit of the periodic paths.
+Real mean_spacing(const PointCloud& cloud) {
+  return std::pow(cloud.domain.measure() / static_cast<Real>(cloud.size()), 1.0 / cloud.dim);
+}
+
 bool inside_periodic_axes(const Domain& dom, int dim, const Vec3& x) {
   for (int k = 0; k < dim; ++k)
     if (dom.periodic[static_cast<std::size_t>(k)] && !(x[k] >= dom.lo[k] && x[k] < dom.hi[k])) return false;
@@ -223,10 +227,8 @@ std::vector<Real> periodic_measures(const PointCloud& cloud) {
   const Domain& dom = cloud.domain;
   check<InputError>(cloud.size() > cloud.dim, "Voronoi cells need more than ", cloud.dim, " particles");
   if (cloud.dim == 1) return periodic_measures_1d(cloud);
-  Real min_period = std::numeric_limits<Real>::infinity();
-  for (int k = 0; k < cloud.dim; ++k)
-    if (dom.periodic[static_cast<std::size_t>(k)]) min_period = std::min(min_period, dom.period(k));
-  const Real spacing = std::pow(dom.measure() / static_cast<Real>(cloud.size()), 1.0 / cloud.dim);
+  const Real min_period = dom.shortest_period();
+  const Real spacing = mean_spacing(cloud);
   // Images exist for widths below a period (periodic_images); exactness needs 2 ρ <= w.
   const Real cap = (1 - 1e-9) * min_period;
   for (Real width = std::min(3 * spacing, cap);; width = std::min(2 * width, cap)) {
@@ -252,7 +254,7 @@ std::vector<Real> periodic_measures(const PointCloud& cloud) {
 std::vector<Real> explicit_point_measures(const PointCloud& cloud) {
   PointCloud plain = cloud;
   Domain& box = plain.domain;
-  const Real margin = std::pow(box.measure() / static_cast<Real>(cloud.size()), 1.0 / cloud.dim);
+  const Real margin = mean_spacing(cloud);
   for (int k = 0; k < cloud.dim; ++k) {
     if (!box.periodic[static_cast<std::size_t>(k)]) continue;
     Real lo = box.lo[k], hi = box.hi[k];

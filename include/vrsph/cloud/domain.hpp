@@ -42,6 +42,8 @@ struct Domain {
   bool any_periodic() const;
   bool fully_periodic() const;
   Real period(int axis) const { return hi[axis] - lo[axis]; }
+  /// The shortest period among the periodic axes of the dimension (+infinity without one).
+  Real shortest_period() const;
   /// x moved by whole periods into [lo, hi) along the periodic axes.
   Vec3 wrap(const Vec3& x) const;
   /// The box periodic along these axes ("x,y", "all" or "" for none); throws ConfigError
