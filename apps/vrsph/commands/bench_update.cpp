@@ -151,11 +151,12 @@ Errors operator_errors(const PointCloud& c, const Stencil& lap, const Stencil& g
   }
   const Eigen::MatrixXd L = apply(lap, f), D = apply_vector(VectorOperator::Divergence, grad, U);
   Errors e;
+  const Real w2 = test_laplacian_factor(c);
   if (c.dim == 1) e.divergence = std::nan("");  // no divergence-free flow in 1D: not measured
   for (Index i = 0; i < c.size(); ++i) {
     const auto si = static_cast<std::size_t>(i);
     if (c.tags[si] != Tag::Interior || (!lap.residual.empty() && lap.residual[si] > 1e-8)) continue;
-    e.laplacian = std::max(e.laplacian, std::abs(L(i, 0) + test_laplacian_factor(c) * f[i]));
+    e.laplacian = std::max(e.laplacian, std::abs(L(i, 0) + w2 * f[i]));
     if (c.dim > 1 && (grad.residual.empty() || grad.residual[si] <= 1e-8)) e.divergence = std::max(e.divergence, std::abs(D(i, 0)));
   }
   return e;

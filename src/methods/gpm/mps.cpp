@@ -69,7 +69,6 @@ class Mps final : public Method {
       const auto nbr = disc.neighbours.of(i);
       const auto dist = disc.neighbours.distances_of(i);
       for (std::size_t k = 0; k < nbr.size(); ++k) {
-        const auto j = static_cast<std::size_t>(nbr[k]);
         const auto slot = static_cast<std::size_t>(neighbour_slot(s, i, static_cast<Index>(k)));
         const Real r = dist[k];
         const Real wh = mw.w(r / h) / hd;
