@@ -131,6 +131,7 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
     std::vector<Real> weight;  // W(r_k) / W(0)
     std::vector<Real> work;    // a row's correction δ_k of one component
     std::vector<Index> slots;  // each neighbour's slot in the stencil row
+    std::vector<std::size_t> live;  // the neighbours with a weight in the given row
     std::optional<Kernel> ker;
     Columns R;
 #pragma omp for schedule(dynamic, 256)
@@ -151,6 +152,7 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
         weight.resize(stride);
         work.resize(stride);
         slots.resize(stride);
+        live.resize(stride);
       }
       // Neighbours inside the support: a Verlet list holds some beyond it, where every row's
       // weight is zero. (Giving the correction to the nearer ones only, r < 0.8 h, cost 3D rows
@@ -193,14 +195,26 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
       for (const auto& [a, b] : computed) A(a, b) = row(P, a).dot(row(WP, b));
       for (std::size_t e = 0; e < copied_to.size(); ++e)
         A(copied_to[e].first, copied_to[e].second) = A(copied_from[e].first, copied_from[e].second);
-      // R = b - P w per component, over every neighbour the row has.
+      // R = b - P w per component. The given rows are sparse: VRSPH's keep a weight for about
+      // one neighbour per moment condition (9 of the 2D support's 28), the Hessian's none. The
+      // sums run over the neighbours with a weight in some component, listed without a branch
+      // per neighbour; the terms left out are products with zero, which change no bit of a sum
+      // that starts at +0.
+      std::size_t weighted = 0;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) {
+        bool any = false;
+        for (const Target& t : targets) any |= s.values[t.array][static_cast<std::size_t>(slots[k])] != 0;
+        live[weighted] = k;
+        weighted += any ? 1 : 0;
+      }
       R.setZero();
       for (Eigen::Index c = 0; c < comps; ++c) {
         const Target& t = targets[static_cast<std::size_t>(c)];
         const std::vector<Real>& g = s.values[t.array];
         // The M sums side by side over the neighbours (one pass over P, each weight loaded once).
         std::array<Real, static_cast<std::size_t>(M)> pg{};
-        for (std::size_t k = 0; k < static_cast<std::size_t>(K); ++k) {
+        for (std::size_t e = 0; e < weighted; ++e) {
+          const std::size_t k = live[e];
           const Real gk = g[static_cast<std::size_t>(slots[k])];
           for (std::size_t a = 0; a < static_cast<std::size_t>(M); ++a) pg[a] += P[a * stride + k] * gk;
         }

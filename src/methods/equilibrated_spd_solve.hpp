@@ -10,6 +10,17 @@
 
 namespace vrsph::cubic_rows {
 
+// Every loop of the solve unrolled up to 10 trips: the 9 x 9 systems of the 2D cubic rows
+// become straight-line code the compiler schedules across the Cholesky's sqrt and division
+// chains, 1.5 times faster a solve (395 -> 255 ns, the same bits); M = 14, 19 and 34 gain 0-7 %.
+// (Unrolled up to 16 trips, M = 14 was 9 % slower: twice the code for no gain.) GCC only, as
+// the warm start's LU (nnls.cpp): clang's builds are the sanitizer and fuzz ones.
+#if defined(__GNUC__) && !defined(__clang__)
+#define VRSPH_UNROLL_SMALL _Pragma("GCC unroll 10")
+#else
+#define VRSPH_UNROLL_SMALL
+#endif
+
 // Y = A^-1 R (the first `comps` columns) for the symmetric positive definite A (its lower
 // triangle read), through its symmetric equilibration B = D A D (unit diagonal: the monomials'
 // scales differ by h^-1 ... h^-3 and the test should see geometry, not units) and a Cholesky
@@ -30,30 +41,37 @@ bool equilibrated_spd_solve(const Eigen::Matrix<Real, M, M>& A, const Eigen::Mat
                             Eigen::Matrix<Real, M, C>& Y, Real max_condition) {
   constexpr auto m = static_cast<std::size_t>(M);
   std::array<Real, m> scale{};
+  VRSPH_UNROLL_SMALL
   for (std::size_t a = 0; a < m; ++a) {
     const Real d = A(static_cast<int>(a), static_cast<int>(a));
     if (!(d > 0) || !std::isfinite(d)) return false;
     scale[a] = 1 / std::sqrt(d);
   }
   // L (lower, row-major in a plain array) and 1 / L_jj: divisions are products with these.
-  std::array<Real, m * m> L{};
+  std::array<Real, m * m> L;  // its lower triangle is all that is written and read
   std::array<Real, m> inv_diag{};
+  VRSPH_UNROLL_SMALL
   for (std::size_t j = 0; j < m; ++j) {
     Real d = 1;  // the equilibrated diagonal
+    VRSPH_UNROLL_SMALL
     for (std::size_t k = 0; k < j; ++k) d -= L[j * m + k] * L[j * m + k];
     if (!(d > 0)) return false;
     const Real ljj = std::sqrt(d);
     L[j * m + j] = ljj;
     inv_diag[j] = 1 / ljj;
+    VRSPH_UNROLL_SMALL
     for (std::size_t i = j + 1; i < m; ++i) {
       Real v = A(static_cast<int>(i), static_cast<int>(j)) * scale[i] * scale[j];
+      VRSPH_UNROLL_SMALL
       for (std::size_t k = 0; k < j; ++k) v -= L[i * m + k] * L[j * m + k];
       L[i * m + j] = v * inv_diag[j];
     }
   }
   Real norm = 0;  // ||B||_1
+  VRSPH_UNROLL_SMALL
   for (int c = 0; c < M; ++c) {
     Real col = 0;
+    VRSPH_UNROLL_SMALL
     for (int i = 0; i < M; ++i)
       col += std::abs(i >= c ? A(i, c) : A(c, i)) * scale[static_cast<std::size_t>(i)] * scale[static_cast<std::size_t>(c)];
     norm = std::max(norm, col);
@@ -66,12 +84,17 @@ bool equilibrated_spd_solve(const Eigen::Matrix<Real, M, M>& A, const Eigen::Mat
   std::array<Real, m> x, y;
   x.fill(1);
   y.fill(1);
+  VRSPH_UNROLL_SMALL
   for (std::size_t k = 0; k < m; ++k) {
     x[k] *= inv_diag[k];
+    VRSPH_UNROLL_SMALL
     for (std::size_t i = k + 1; i < m; ++i) x[i] += std::abs(L[i * m + k]) * x[k];
   }
-  for (std::size_t k = m; k-- > 0;) {
+  VRSPH_UNROLL_SMALL
+  for (std::size_t back = 0; back < m; ++back) {
+    const std::size_t k = m - 1 - back;
     y[k] *= inv_diag[k];
+    VRSPH_UNROLL_SMALL
     for (std::size_t i = 0; i < k; ++i) y[i] += std::abs(L[k * m + i]) * y[k];
   }
   const Real row_bound = *std::max_element(x.begin(), x.end()), col_bound = *std::max_element(y.begin(), y.end());
@@ -79,18 +102,24 @@ bool equilibrated_spd_solve(const Eigen::Matrix<Real, M, M>& A, const Eigen::Mat
     // The exact ||B^-1||_1: L^-1 by forward substitution, then B^-1 = L^-T L^-1 on its lower
     // triangle, (B^-1)_ij = Σ_{k >= max(i, j)} Li_ki Li_kj.
     std::array<Real, m * m> Li{};
+    VRSPH_UNROLL_SMALL
     for (std::size_t c = 0; c < m; ++c) {
       Li[c * m + c] = inv_diag[c];
+      VRSPH_UNROLL_SMALL
       for (std::size_t i = c + 1; i < m; ++i) {
         Real v = 0;
+        VRSPH_UNROLL_SMALL
         for (std::size_t k = c; k < i; ++k) v -= L[i * m + k] * Li[k * m + c];
         Li[i * m + c] = v * inv_diag[i];
       }
     }
     std::array<Real, m> col_sum{};
+    VRSPH_UNROLL_SMALL
     for (std::size_t j = 0; j < m; ++j)
+      VRSPH_UNROLL_SMALL
       for (std::size_t i = j; i < m; ++i) {
         Real v = 0;
+        VRSPH_UNROLL_SMALL
         for (std::size_t k = i; k < m; ++k) v += Li[k * m + i] * Li[k * m + j];
         col_sum[j] += std::abs(v);
         if (i != j) col_sum[i] += std::abs(v);
@@ -100,21 +129,34 @@ bool equilibrated_spd_solve(const Eigen::Matrix<Real, M, M>& A, const Eigen::Mat
   // Y = D L^-T L^-1 D R, the columns side by side.
   const auto nc = static_cast<std::size_t>(comps);
   std::array<std::array<Real, m>, static_cast<std::size_t>(C)> z;
+  VRSPH_UNROLL_SMALL
   for (std::size_t c = 0; c < nc; ++c)
+    VRSPH_UNROLL_SMALL
     for (std::size_t i = 0; i < m; ++i) z[c][i] = R(static_cast<int>(i), static_cast<Eigen::Index>(c)) * scale[i];
+  VRSPH_UNROLL_SMALL
   for (std::size_t k = 0; k < m; ++k)
+    VRSPH_UNROLL_SMALL
     for (std::size_t c = 0; c < nc; ++c) {
       z[c][k] *= inv_diag[k];
+      VRSPH_UNROLL_SMALL
       for (std::size_t i = k + 1; i < m; ++i) z[c][i] -= L[i * m + k] * z[c][k];
     }
-  for (std::size_t k = m; k-- > 0;)
+  VRSPH_UNROLL_SMALL
+  for (std::size_t back = 0; back < m; ++back)
+    VRSPH_UNROLL_SMALL
     for (std::size_t c = 0; c < nc; ++c) {
+      const std::size_t k = m - 1 - back;
       z[c][k] *= inv_diag[k];
+      VRSPH_UNROLL_SMALL
       for (std::size_t i = 0; i < k; ++i) z[c][i] -= L[k * m + i] * z[c][k];
     }
+  VRSPH_UNROLL_SMALL
   for (std::size_t c = 0; c < nc; ++c)
+    VRSPH_UNROLL_SMALL
     for (std::size_t i = 0; i < m; ++i) Y(static_cast<int>(i), static_cast<Eigen::Index>(c)) = z[c][i] * scale[i];
   return true;
 }
 
 }  // namespace vrsph::cubic_rows
+
+#undef VRSPH_UNROLL_SMALL

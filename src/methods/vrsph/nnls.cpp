@@ -226,17 +226,30 @@ inline void givens(Real a, Real b, Real& c, Real& s) {
 }
 
 // FixedM > 0: the size known at compile time (the loops unroll; a third of the fast path's time).
+// Every loop unrolled up to 10 trips: the 9 x 9 systems' elimination becomes straight-line
+// code, 1.3 times faster (225 -> 168 ns a solve, x86-64-v3, the same bits); 12 x 12 1.2 times,
+// 19 x 19 within 5 %. GCC only: clang cannot unroll the elimination's outer loop (it returns
+// early) and warns (-Wpass-failed); its builds are the sanitizer and fuzz ones.
+#if defined(__GNUC__) && !defined(__clang__)
+#define VRSPH_UNROLL_SMALL _Pragma("GCC unroll 10")
+#else
+#define VRSPH_UNROLL_SMALL
+#endif
 template <int FixedM>
 VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
   const auto M = static_cast<std::size_t>(FixedM > 0 ? FixedM : m);
   Real scale = 0;
+  VRSPH_UNROLL_SMALL
   for (std::size_t e = 0; e < M * M; ++e) scale = std::max(scale, std::abs(S[e]));
+  VRSPH_UNROLL_SMALL
   for (std::size_t c = 0; c < M; ++c) {  // LU with partial pivoting, applied to z as it goes
     std::size_t piv = c;
+    VRSPH_UNROLL_SMALL
     for (std::size_t r = c + 1; r < M; ++r)
       if (std::abs(S[c * M + r]) > std::abs(S[c * M + piv])) piv = r;
     if (!(std::abs(S[c * M + piv]) > 1e3 * eps * scale * static_cast<Real>(M))) return false;  // (nearly) singular
     if (piv != c) {
+      VRSPH_UNROLL_SMALL
       for (std::size_t j = 0; j < M; ++j) std::swap(S[j * M + c], S[j * M + piv]);
       std::swap(z[c], z[piv]);
     }
@@ -244,27 +257,34 @@ VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
     // (the row-by-row form ran across columns with stride M and did not vectorise).
     const Real inv = 1 / S[c * M + c];
     Real* lc = S + c * M;
+    VRSPH_UNROLL_SMALL
     for (std::size_t r = c + 1; r < M; ++r) {
       lc[r] *= inv;
       z[r] -= lc[r] * z[c];
     }
+    VRSPH_UNROLL_SMALL
     for (std::size_t j = c + 1; j < M; ++j) {
       Real* sj = S + j * M;
       const Real scj = sj[c];
+      VRSPH_UNROLL_SMALL
       for (std::size_t r = c + 1; r < M; ++r) sj[r] -= lc[r] * scj;
     }
   }
   // Back substitution column by column: z[c] is final when its column is reached, and its
   // updates of the rows above are independent. (Row by row, each unknown's sum began with the
   // one just found and waited for it: a chain of dependent subtractions per unknown.)
-  for (std::size_t c = M; c-- > 0;) {
+  VRSPH_UNROLL_SMALL
+  for (std::size_t back = 0; back < M; ++back) {
+    const std::size_t c = M - 1 - back;
     z[c] /= S[c * M + c];
     if (!(z[c] > xtol)) return false;
     const Real* sc = S + c * M;
+    VRSPH_UNROLL_SMALL
     for (std::size_t r = 0; r < c; ++r) z[r] -= sc[r] * z[c];
   }
   return true;
 }
+#undef VRSPH_UNROLL_SMALL
 }  // namespace
 
 bool solve_square_positive(Real* S, int m, Real* z, Real xtol) {

@@ -121,11 +121,18 @@ class VolumeRows {
     const auto dist = nl_.distances_of(i);
     const Vec3& xi = disc_.cloud.positions[static_cast<std::size_t>(i)];
     const Real y_scale = half_y_scale(length_, dim);
+    guess_r_.resize(M);
     for (std::size_t c = 0; c < M; ++c) {
       const auto k = static_cast<std::size_t>(guess_[c]);
       xji_[c] = (disc_.neighbour_position(i, static_cast<Index>(k)) - xi) / length_;
-      half_y_[c] = ker_->dW_over_r(dist[k]) * y_scale;
+      guess_r_[c] = dist[k];
     }
+    // The kernel's batched form, as neighbour_geometry computes a fresh row's: the moment
+    // columns are now those of a fresh build bit for bit (the scalar form differs in the last
+    // bits), and no branch per neighbour on which piece of the spline its distance falls in
+    // (those lines took about 6 % of an update step's samples, perf; the batched call 2.5 %).
+    ker_->dW_over_r(guess_r_.data(), half_y_.data(), m_);
+    for (std::size_t c = 0; c < M; ++c) half_y_[c] *= y_scale;
     build_moment_system(conditions_, dim, xji_.data(), half_y_.data(), m_, A_.data(), b_.data(), opt_.layout,
                         MatrixOrder::ColumnMajor);
     if (!targets_.empty()) {
@@ -292,6 +299,7 @@ class VolumeRows {
   std::vector<Real> A_, b_, half_y_, Aw_, xw_, near_;
   std::vector<Vec3> xji_;
   std::vector<int> guess_;    ///< the current row's warm-start columns
+  std::vector<Real> guess_r_;  ///< their distances
   std::vector<Real> lu_, z_;  ///< square_row's LU factors and solution
   Index warm_rows_ = 0, warm_hits_ = 0;
   std::optional<Kernel> ker_;
