@@ -18,6 +18,22 @@ namespace vrsph::detail {
 namespace {
 constexpr Real kHaloMargin = 1 + 1e-9;
 
+// The halo to widen to when the current one does not hold `need`: need itself, at least twice
+// the current. A periodic box's halo holds the images across its faces, which must stay within
+// one period (periodic_images): an estimate made before the halo held those images can ask for
+// more (a particle beside a face, seeing no one across it, gets a Voronoi cell open to the far
+// side: a covering radius of the box's size), so beyond that bound the halo doubles instead, and
+// the request is refused only once the halo has reached the bound.
+Real next_halo_width(const Partition& part, Real need, const char* what) {
+  const Real wider = std::max(need, 2 * part.halo_width());
+  const Real period = part.local().domain.shortest_period();  // +infinity without a periodic axis
+  const Real bound = 0.999 * period;
+  if (wider < bound) return wider;
+  check<ConfigError>(part.halo_width() < bound, what, " needs particles up to ", need,
+                     " away, beyond one period ", period, " of the periodic box; use more particles or a longer box");
+  return std::min(2 * part.halo_width(), bound);
+}
+
 // Covering: h = kappa max(dx, r_N), r_N exact from each rank's owned Voronoi cells when the
 // halo holds every particle within 2 r_N of the owned ones (covering_radius.hpp); the halo
 // must also hold reach x h. Widen and partition again until both hold.
@@ -32,7 +48,7 @@ void covering_support(Partition& part, const BvpSolveOptions& o, int reach, Supp
       sup.h = h;
       return;
     }
-    part.widen(std::max(need, 2 * part.halo_width()));
+    part.widen(next_halo_width(part, need, "the covering radius"));
   }
 }
 
@@ -59,7 +75,7 @@ void knn_support(Partition& part, const BvpSolveOptions& o, int reach, Support& 
       sup.h = sum_over_ranks(part.comm(), sum) / static_cast<Real>(part.global_size());
       return;
     }
-    part.widen(std::max(need, 2 * part.halo_width()));
+    part.widen(next_halo_width(part, need, "the k-th neighbour distance"));
   }
 }
 
