@@ -26,7 +26,9 @@ constexpr Real kHaloMargin = 1 + 1e-9;
 // the request is refused only once the halo has reached the bound.
 Real next_halo_width(const Partition& part, Real need, const char* what) {
   const Real wider = std::max(need, 2 * part.halo_width());
-  const Real period = part.local().domain.shortest_period();  // +infinity without a periodic axis
+  // +infinity without a periodic axis; over the ranks, so that every rank widens alike (a rank
+  // whose part is empty may not know the box).
+  const Real period = min_over_ranks(part.comm(), part.local().domain.shortest_period());
   const Real bound = 0.999 * period;
   if (wider < bound) return wider;
   check<ConfigError>(part.halo_width() < bound, what, " needs particles up to ", need,
