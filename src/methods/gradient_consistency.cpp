@@ -37,8 +37,8 @@ GradientConsistencyReport raise_to_cubic_exactness(const Discretisation& disc, c
   }
   cubic_rows::Outcome o;
   switch (dim) {
-    case 1: o = cubic_rows::correct_rows<3, 3>(disc, req, s, targets, max_condition); break;
-    case 2: o = cubic_rows::correct_rows<9, 3>(disc, req, s, targets, max_condition); break;
+    case 1: o = cubic_rows::correct_rows<3, 1>(disc, req, s, targets, max_condition); break;
+    case 2: o = cubic_rows::correct_rows<9, 2>(disc, req, s, targets, max_condition); break;
     default: o = cubic_rows::correct_rows<19, 3>(disc, req, s, targets, max_condition); break;
   }
   return {o.corrected, std::move(o.kept)};
