@@ -317,8 +317,8 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
         kept_here.push_back(i);
         continue;
       }
-      // δ_k = W_k p_k · y per component, every component in one pass over the neighbours (the
-      // columns of Y past `comps` are not read: their products are never stored).
+      // δ_k = W_k p_k · y per component, every component in one pass over the neighbours (past
+      // `comps`, y is zero and its products go unused: C is the callers' largest count).
       std::array<std::array<Real, m>, nc> y{};
       for (std::size_t c = 0; c < comps; ++c)
         for (std::size_t a = 0; a < m; ++a) y[c][a] = Y(static_cast<int>(a), static_cast<int>(c));
