@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The dam break's surge front z/L against T = t (2g/L)^(1/2): one line per method and
 resolution, beside Martin & Moyce's experiments and Koshizuka & Oka's MPS (the JSON's
-reference_curves); in Buchner's tank (geometry "buchner ...") the far wall's pressure at probe P1
+reference_curves), and in a second panel the column's height at the left wall beside Martin &
+Moyce's (height_reference); in Buchner's tank (geometry "buchner ...") the far wall's pressure at probe P1
 against T = t (g/H)^(1/2), beside Buchner's record.
 
 Usage: plot_dam_break.py RUN.json OUT.png   (vrsph flow --case dam-break --format json)
@@ -26,15 +27,21 @@ def main() -> int:
         doc = json.load(f)
     buchner = str(doc.get("geometry", "")).startswith("buchner")
     key = "probe_pressure" if buchner else "front_z_over_l"
-    runs = {}
+    runs, heights = {}, {}
     for r in doc["rows"]:
         if r.get("t_star") is None or r.get(key) is None:  # a run that failed before its first sample
             continue
         runs.setdefault(f'{r["method"]} nx={r["nx"]}', []).append((r["t_star"], r[key]))
+        if r.get("column_height_over_l") is not None:
+            heights.setdefault(f'{r["method"]} nx={r["nx"]}', []).append((r["t_star"], r["column_height_over_l"]))
     if not runs:
         print("plot_dam_break.py: no run to plot (every run failed)", file=sys.stderr)
         return 1
-    fig, ax = plt.subplots(figsize=(6.0, 4.4))
+    height_ref = None if buchner else doc.get("height_reference")
+    if height_ref:
+        fig, (ax, hax) = plt.subplots(1, 2, figsize=(11.0, 4.4))
+    else:
+        fig, ax = plt.subplots(figsize=(6.0, 4.4))
     for name, pts in runs.items():
         pts.sort()
         ax.plot([p[0] for p in pts], [p[1] for p in pts], label=name)
@@ -53,6 +60,18 @@ def main() -> int:
         ax.set_title("dam break: surge front")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
+    if height_ref:
+        for name, pts in heights.items():
+            pts.sort()
+            hax.plot([p[0] for p in pts], [p[1] for p in pts], label=name)
+        hax.plot(height_ref["t_star"], height_ref["height_over_l"], "d", mfc="none", color="k", label=height_ref["name"])
+        hax.set_xlim(ax.get_xlim())
+        hax.set_ylim(0, 2.1)
+        hax.set_xlabel("T = t (2g/L)^(1/2)")
+        hax.set_ylabel("column height at the left wall / L")
+        hax.set_title("dam break: residual column")
+        hax.grid(True, alpha=0.3)
+        hax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(sys.argv[2], dpi=120)
     return 0

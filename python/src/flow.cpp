@@ -307,13 +307,14 @@ void bind_flow(py::module_& m) {
       r = run_dam_break(o);
     }
     py::dict d;
-    std::vector<Real> t, z, h, lo, hi, mps, probe, probe_ref;
+    std::vector<Real> t, z, h, h_exp, lo, hi, mps, probe, probe_ref;
     for (const DamBreakSample& s : r.samples) {
       probe.push_back(s.probe_pressure);
       probe_ref.push_back(s.probe_reference);
       t.push_back(s.t_star);
       z.push_back(s.front_z_over_l);
       h.push_back(s.column_height_over_l);
+      h_exp.push_back(s.experiment_height);
       lo.push_back(s.experiment_low);
       hi.push_back(s.experiment_high);
       mps.push_back(s.mps);
@@ -324,10 +325,12 @@ void bind_flow(py::module_& m) {
     d["t_star"] = t;
     d["front_z_over_l"] = z;
     d["column_height_over_l"] = h;
+    d["experiment_height_over_l"] = h_exp;
     d["experiment_low"] = lo;
     d["experiment_high"] = hi;
     d["mps_z_over_l"] = mps;
     d["max_outside_experiments"] = r.max_outside_experiments;
+    d["max_height_deviation"] = r.max_height_deviation;
     d["reached_far_wall"] = r.reached_far_wall;
     d["far_wall_t_star"] = r.far_wall_t_star;
     d["probe_pressure"] = probe;

@@ -105,6 +105,25 @@ const std::vector<SurgeCurve>& dam_break_references() {
   return curves;
 }
 
+const SurgeCurve& martin_moyce_height_reference() {
+  // Martin & Moyce (1952) Table 6, n² = 2: (τ, H) with τ = t (g/a)^½, H = η / (n² a). With a = L:
+  // T = t (2g/L)^½ = √2 τ and η/L = 2H.
+  static const SurgeCurve curve = [] {
+    const std::vector<Real> tau = {0.56, 0.77, 0.93, 1.08, 1.28, 1.46, 1.66, 1.84, 2.00,
+                                   2.21, 2.45, 2.70, 3.06, 3.44, 4.20, 5.25, 7.40};
+    const std::vector<Real> height = {0.94, 0.89, 0.83, 0.78, 0.72, 0.67, 0.61, 0.56, 0.50,
+                                      0.44, 0.39, 0.33, 0.28, 0.22, 0.17, 0.11, 0.06};
+    SurgeCurve c;
+    c.name = "martin-moyce height";
+    for (std::size_t k = 0; k < tau.size(); ++k) {
+      c.t_star.push_back(std::sqrt(2.0) * tau[k]);
+      c.z_over_l.push_back(2 * height[k]);
+    }
+    return c;
+  }();
+  return curve;
+}
+
 DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
   check<ConfigError>(o.flow.frame == FlowFrame::Lagrangian, "dam break: the water moves: the frame must be lagrangian");
   check<ConfigError>(std::isfinite(o.t_star_end) && o.t_star_end > 0, "dam break: the end time must be positive, got ",
@@ -191,6 +210,7 @@ DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
       else
         s.outside_experiments = std::numeric_limits<Real>::quiet_NaN();
       s.mps = refs[2].at(s.t_star);
+      s.experiment_height = martin_moyce_height_reference().at(s.t_star);
     }
     s.max_speed = speed / std::sqrt(g * L);
     s.surface_particles = solver.last().surface_particles;
@@ -240,6 +260,12 @@ DamBreakRun run_dam_break(const DamBreakRunOptions& o) {
   for (const DamBreakSample& s : run.samples)
     if (s.front_z_over_l <= 3.5 && std::isfinite(s.outside_experiments))
       run.max_outside_experiments = std::max(run.max_outside_experiments, s.outside_experiments);
+  for (const DamBreakSample& s : run.samples) {
+    if (run.reached_far_wall && s.t_star >= run.far_wall_t_star) break;
+    if (!std::isfinite(s.experiment_height)) continue;
+    const Real d = std::abs(s.column_height_over_l - s.experiment_height);
+    run.max_height_deviation = std::isfinite(run.max_height_deviation) ? std::max(run.max_height_deviation, d) : d;
+  }
   if (buchner) {
     run.max_outside_experiments = std::numeric_limits<Real>::quiet_NaN();
     summarise_probe(run);

@@ -618,6 +618,13 @@ class Flow(unittest.TestCase):
             self.assertTrue(1.3 < rows[-1]["front_z_over_l"] < 1.9)  # experiments 1.52-1.55, MPS 1.65 at T = 1.41
             self.assertLess(rows[-1]["max_outside_experiments"], 0.25)
             self.assertEqual([c["name"] for c in out["reference_curves"]][2], "koshizuka-oka mps")
+            # The column height beside Martin & Moyce's Table 6 (tau = T / sqrt 2, H = eta / 2L) from
+            # their first point, tau = 0.56 (T = 0.79), on.
+            self.assertIsNone(rows[0]["experiment_height_over_l"])
+            late = [r for r in rows if r["t_star"] > 0.8]
+            self.assertTrue(late and all(1.6 < r["experiment_height_over_l"] < 1.9 for r in late))
+            self.assertLess(rows[-1]["max_height_deviation"], 0.3)
+            self.assertEqual(out["height_reference"]["name"], "martin-moyce height")
             self.assertTrue(os.path.getsize(png) > 1000)
         for args, message in ((["--dim", "3"], "two-dimensional"), (["--frame", "eulerian"], "--frame lagrangian"),
                               (["--cfl", "2"], "must be in (0, 1]"), (["--nx", "500"], "at most 400")):

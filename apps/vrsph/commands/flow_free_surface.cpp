@@ -144,8 +144,9 @@ void run_hydrostatic_case(const FlowArgs& a, const std::vector<std::string>& met
 
 const std::vector<std::string> dam_break_columns = {
     "case", "method", "gradient", "surface_gradient", "pressure_corrections", "shifting", "nx", "particles", "t", "t_star", "front_z_over_l", "column_height_over_l",
-    "experiment_low", "experiment_high", "outside_experiments", "mps_z_over_l", "max_speed", "surface_particles",
-    "min_spacing", "probe_pressure", "probe_reference", "max_outside_experiments", "reached_far_wall",
+    "experiment_low", "experiment_high", "outside_experiments", "mps_z_over_l", "experiment_height_over_l", "max_speed",
+    "surface_particles", "min_spacing", "probe_pressure", "probe_reference", "max_outside_experiments",
+    "max_height_deviation", "reached_far_wall",
     "far_wall_t_star", "probe_peak", "probe_peak_t_star", "reference_peak", "reference_peak_t_star", "probe_plateau",
     "reference_plateau", "steps", "seconds_per_step", "seconds_ppe", "status"};
 
@@ -210,12 +211,14 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
             {"t", buchner ? s.t_star : s.t_star / std::sqrt(2.0)}, {"t_star", s.t_star}, {"front_z_over_l", s.front_z_over_l},
             {"column_height_over_l", s.column_height_over_l}, {"experiment_low", number(s.experiment_low)},
             {"experiment_high", number(s.experiment_high)}, {"outside_experiments", number(s.outside_experiments)},
-            {"mps_z_over_l", number(s.mps)}, {"max_speed", s.max_speed},
+            {"mps_z_over_l", number(s.mps)}, {"experiment_height_over_l", number(s.experiment_height)},
+            {"max_speed", s.max_speed},
             {"surface_particles", static_cast<long long>(s.surface_particles)}, {"min_spacing", s.min_spacing},
             {"probe_pressure", number(s.probe_pressure)}, {"probe_reference", number(s.probe_reference)},
             {"status", std::string(k + 1 == r.samples.size() && !r.stopped.empty() ? r.stopped : "ok")}};
         if (k + 1 == r.samples.size()) {  // the run's summary on its last row
           row.emplace_back("max_outside_experiments", number(r.max_outside_experiments));
+          row.emplace_back("max_height_deviation", number(r.max_height_deviation));
           row.emplace_back("reached_far_wall", r.reached_far_wall);
           row.emplace_back("far_wall_t_star", r.reached_far_wall ? TableCell(r.far_wall_t_star) : TableCell());
           for (const auto& [name, v] : {std::pair{"probe_peak", r.probe_peak}, {"probe_peak_t_star", r.probe_peak_t_star},
@@ -243,10 +246,12 @@ void run_dam_break_case(const FlowArgs& a, const std::vector<std::string>& metho
     curves.push_back(Json::object({{"name", c.name}, {"t_star", c.t_star}, {"probe_pressure", c.z_over_l}}));
   } else {
     extra["geometry"] = "martin-moyce: column L x 2L, tank 4L wide, L = g = 1, T = t (2 g / L)^(1/2)";
-    extra["references"] = Json::array({"Martin & Moyce, Phil. Trans. R. Soc. A 244 (1952) 312-324, Fig. 3 (n^2 = 2, a = 1.125 in and 2.25 in)",
+    extra["references"] = Json::array({"Martin & Moyce, Phil. Trans. R. Soc. A 244 (1952) 312-324, Fig. 3 (n^2 = 2, a = 1.125 in and 2.25 in) and Table 6 (the column height, n^2 = 2)",
                            "Koshizuka & Oka, Nucl. Sci. Eng. 123 (1996) 421-434 (MPS)"});
     for (const SurgeCurve& c : dam_break_references())
       curves.push_back(Json::object({{"name", c.name}, {"t_star", c.t_star}, {"z_over_l", c.z_over_l}}));
+    const SurgeCurve& h = martin_moyce_height_reference();
+    extra["height_reference"] = Json::object({{"name", h.name}, {"t_star", h.t_star}, {"height_over_l", h.z_over_l}});
   }
   extra["reference_curves"] = curves;
   extra["t_end"] = t_end;

@@ -24,6 +24,10 @@ struct SurgeCurve {
 };
 /// Martin & Moyce a = 1.125 in, a = 2.25 in, and Koshizuka & Oka's MPS.
 const std::vector<SurgeCurve>& dam_break_references();
+/// Martin & Moyce's residual column height for n² = 2 (their Table 6, the tabulated (τ, H) with
+/// τ = t (g/a)^½ and H = η / (n² a)), in this tank's units (a = L): z_over_l holds η/L = 2H at
+/// T = t (2g/L)^½ = √2 τ.
+const SurgeCurve& martin_moyce_height_reference();
 
 /// The tank of the run:
 ///  - MartinMoyce: a column L wide and 2L high in a tank 4L wide (walls 3L high); T = t (2g/L)^½,
@@ -68,6 +72,8 @@ struct DamBreakSample {
   /// outside it (0 inside).
   Real experiment_low = 0, experiment_high = 0, outside_experiments = 0;
   Real mps = 0;                    ///< Koshizuka & Oka at t_star (NaN beyond its range)
+  /// Martin & Moyce's column height η/L at t_star (NaN outside their table, and in Buchner's tank).
+  Real experiment_height = std::numeric_limits<Real>::quiet_NaN();
   Real max_speed = 0;              ///< over the water, / (g L)^½
   Index surface_particles = 0;
   Real min_spacing = 0;
@@ -92,6 +98,10 @@ struct DamBreakRun {
   std::vector<DamBreakSample> samples;
   /// Largest front deviation outside the experiments' spread while z/L <= 3.5, / L (Martin–Moyce).
   Real max_outside_experiments = 0;
+  /// Largest |column height - Martin & Moyce's| / L over the samples inside their table taken
+  /// before the front reached the far wall (their plane had none: the wave reflected there
+  /// comes back to the column later); NaN when there was none, and in Buchner's tank.
+  Real max_height_deviation = std::numeric_limits<Real>::quiet_NaN();
   /// Buchner: the probe's first peak (largest p/(ρgH) for T <= 3.5) and when, the mean over
   /// 3 <= T <= 5 (the plateau before the wave falls back), and Buchner's (0.687 at T = 2.77,
   /// mean 0.55); NaN when the run did not reach those times or in the other geometry.
