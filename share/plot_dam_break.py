@@ -19,6 +19,21 @@ import matplotlib.pyplot as plt  # noqa: E402
 MARKERS = {"martin-moyce a=1.125in": "o", "martin-moyce a=2.25in": "s", "koshizuka-oka mps": "^"}
 
 
+def draw(axis, runs):
+    """One line per run: (T, value) pairs in time order."""
+    for name, pts in runs.items():
+        pts.sort()
+        axis.plot([p[0] for p in pts], [p[1] for p in pts], label=name)
+
+
+def finish(axis, xlabel, ylabel, title):
+    axis.set_xlabel(xlabel)
+    axis.set_ylabel(ylabel)
+    axis.set_title(title)
+    axis.grid(True, alpha=0.3)
+    axis.legend(fontsize=8)
+
+
 def main() -> int:
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
@@ -42,36 +57,22 @@ def main() -> int:
         fig, (ax, hax) = plt.subplots(1, 2, figsize=(11.0, 4.4))
     else:
         fig, ax = plt.subplots(figsize=(6.0, 4.4))
-    for name, pts in runs.items():
-        pts.sort()
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], label=name)
+    draw(ax, runs)
     for c in doc.get("reference_curves", []):
         ax.plot(c["t_star"], c["probe_pressure" if buchner else "z_over_l"], MARKERS.get(c["name"], "x"), mfc="none",
                 color="k", label=c["name"])
     ax.set_xlim(0, max(max(p[0] for p in pts) for pts in runs.values()) * 1.05)
     if buchner:
-        ax.set_xlabel("T = t (g/H)^(1/2)")
-        ax.set_ylabel("p / (rho g H) at probe P1")
-        ax.set_title("dam break, Buchner's tank: far-wall pressure")
+        finish(ax, "T = t (g/H)^(1/2)", "p / (rho g H) at probe P1", "dam break, Buchner's tank: far-wall pressure")
     else:
         ax.set_ylim(1, 4.2)
-        ax.set_xlabel("T = t (2g/L)^(1/2)")
-        ax.set_ylabel("z / L")
-        ax.set_title("dam break: surge front")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+        finish(ax, "T = t (2g/L)^(1/2)", "z / L", "dam break: surge front")
     if height_ref:
-        for name, pts in heights.items():
-            pts.sort()
-            hax.plot([p[0] for p in pts], [p[1] for p in pts], label=name)
+        draw(hax, heights)
         hax.plot(height_ref["t_star"], height_ref["height_over_l"], "d", mfc="none", color="k", label=height_ref["name"])
         hax.set_xlim(ax.get_xlim())
         hax.set_ylim(0, 2.1)
-        hax.set_xlabel("T = t (2g/L)^(1/2)")
-        hax.set_ylabel("column height at the left wall / L")
-        hax.set_title("dam break: residual column")
-        hax.grid(True, alpha=0.3)
-        hax.legend(fontsize=8)
+        finish(hax, "T = t (2g/L)^(1/2)", "column height at the left wall / L", "dam break: residual column")
     fig.tight_layout()
     fig.savefig(sys.argv[2], dpi=120)
     return 0
