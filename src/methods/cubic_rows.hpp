@@ -18,6 +18,7 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/method.hpp>
 #include <vrsph/methods/monomials.hpp>
+#include "../core/compiler_hints.hpp"
 #include "equilibrated_spd_solve.hpp"
 
 namespace vrsph::cubic_rows {
@@ -125,25 +126,20 @@ struct MomentSums {
 // The per-neighbour helpers below are forced inline, and their loops written as folds over
 // constant indices: a call or a loop left in the body of a loop over the neighbours kept the
 // compiler from vectorising that loop (-fopt-info-vec).
-#if defined(__GNUC__)
-#define VRSPH_CUBIC_INLINE __attribute__((always_inline))
-#else
-#define VRSPH_CUBIC_INLINE
-#endif
 
 // p[e] = x^e, e = 0 ... Top, by repeated products.
 template <std::size_t Top>
-VRSPH_CUBIC_INLINE inline void powers_of(Real x, std::array<Real, Top + 1>& p) {
+VRSPH_ALWAYS_INLINE inline void powers_of(Real x, std::array<Real, Top + 1>& p) {
   p[0] = 1;
-  [&]<std::size_t... E>(std::index_sequence<E...>) VRSPH_CUBIC_INLINE { ((p[E + 1] = p[E] * x), ...); }(std::make_index_sequence<Top>{});
+  [&]<std::size_t... E>(std::index_sequence<E...>) VRSPH_ALWAYS_INLINE { ((p[E + 1] = p[E] * x), ...); }(std::make_index_sequence<Top>{});
 }
 
 // The powers q_c^0 ... q_c^Top of neighbour k's scaled offset, per coordinate.
 template <int Dim, std::size_t Top>
-VRSPH_CUBIC_INLINE inline std::array<std::array<Real, Top + 1>, static_cast<std::size_t>(Dim)> offset_powers(
+VRSPH_ALWAYS_INLINE inline std::array<std::array<Real, Top + 1>, static_cast<std::size_t>(Dim)> offset_powers(
     std::array<const Real*, 3> q, std::size_t k) {
   std::array<std::array<Real, Top + 1>, static_cast<std::size_t>(Dim)> pw;
-  [&]<std::size_t... Cs>(std::index_sequence<Cs...>) VRSPH_CUBIC_INLINE { (powers_of<Top>(q[Cs][k], pw[Cs]), ...); }(
+  [&]<std::size_t... Cs>(std::index_sequence<Cs...>) VRSPH_ALWAYS_INLINE { (powers_of<Top>(q[Cs][k], pw[Cs]), ...); }(
       std::make_index_sequence<static_cast<std::size_t>(Dim)>{});
   return pw;
 }
@@ -155,14 +151,14 @@ VRSPH_CUBIC_INLINE inline std::array<std::array<Real, Top + 1>, static_cast<std:
 // stored monomials, each sum waited on its own chain of adds, and storing the monomials and their
 // weighted copies cost as much again (2.5·10⁵ moving 2D particles, perf).
 template <int M, int Degree, std::size_t First, std::size_t G>
-VRSPH_CUBIC_INLINE inline void moment_sums(std::array<const Real*, 3> q, const Real* w, std::size_t K, Real* out) {
+VRSPH_ALWAYS_INLINE inline void moment_sums(std::array<const Real*, 3> q, const Real* w, std::size_t K, Real* out) {
   using S = MomentSums<M, Degree>;
   constexpr std::size_t top = 2 * static_cast<std::size_t>(Degree);
   std::array<Real, G> acc{};
   for (std::size_t k = 0; k < K; ++k) {
     const auto pw = offset_powers<S::dim, top>(q, k);
     const Real wk = w[k];
-    [&]<std::size_t... E>(std::index_sequence<E...>) VRSPH_CUBIC_INLINE {
+    [&]<std::size_t... E>(std::index_sequence<E...>) VRSPH_ALWAYS_INLINE {
       ((acc[E] += wk * monomial_value<S::sums[First + E], S::dim>(pw)), ...);
     }(std::make_index_sequence<G>{});
   }
@@ -171,7 +167,7 @@ VRSPH_CUBIC_INLINE inline void moment_sums(std::array<const Real*, 3> q, const R
 
 // Every sum of MomentSums<M, Degree>, sixteen to a pass (more than the registers hold spill).
 template <int M, int Degree, std::size_t First = 0>
-VRSPH_CUBIC_INLINE inline void all_moment_sums(std::array<const Real*, 3> q, const Real* w, std::size_t K, Real* out) {
+VRSPH_ALWAYS_INLINE inline void all_moment_sums(std::array<const Real*, 3> q, const Real* w, std::size_t K, Real* out) {
   constexpr std::size_t count = MomentSums<M, Degree>::count;
   if constexpr (First < count) {
     constexpr std::size_t g = std::min<std::size_t>(16, count - First);
@@ -182,8 +178,8 @@ VRSPH_CUBIC_INLINE inline void all_moment_sums(std::array<const Real*, 3> q, con
 
 // Σ_a u_a v_a in index order, unrolled.
 template <std::size_t N>
-VRSPH_CUBIC_INLINE inline Real fixed_dot(const std::array<Real, N>& u, const std::array<Real, N>& v) {
-  return [&]<std::size_t... A>(std::index_sequence<A...>) VRSPH_CUBIC_INLINE {
+VRSPH_ALWAYS_INLINE inline Real fixed_dot(const std::array<Real, N>& u, const std::array<Real, N>& v) {
+  return [&]<std::size_t... A>(std::index_sequence<A...>) VRSPH_ALWAYS_INLINE {
     Real d = 0;
     ((d += u[A] * v[A]), ...);
     return d;
@@ -192,11 +188,11 @@ VRSPH_CUBIC_INLINE inline Real fixed_dot(const std::array<Real, N>& u, const std
 
 // The monomials p_a(q_k), a < M, of neighbour k.
 template <int M, int Degree>
-VRSPH_CUBIC_INLINE inline std::array<Real, static_cast<std::size_t>(M)> monomials_at(std::array<const Real*, 3> q,
+VRSPH_ALWAYS_INLINE inline std::array<Real, static_cast<std::size_t>(M)> monomials_at(std::array<const Real*, 3> q,
                                                                                      std::size_t k) {
   using S = MomentSums<M, Degree>;
   const auto pw = offset_powers<S::dim, static_cast<std::size_t>(Degree)>(q, k);
-  return [&]<std::size_t... A>(std::index_sequence<A...>) VRSPH_CUBIC_INLINE {
+  return [&]<std::size_t... A>(std::index_sequence<A...>) VRSPH_ALWAYS_INLINE {
     return std::array<Real, static_cast<std::size_t>(M)>{monomial_value<S::exponents[A], S::dim>(pw)...};
   }(std::make_index_sequence<static_cast<std::size_t>(M)>{});
 }
@@ -327,7 +323,7 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
       for (std::size_t k = 0; k < K; ++k) {
         const auto p = monomials_at<M, Degree>(q, k);
         const Real wk = weight[k];
-        [&]<std::size_t... Cs>(std::index_sequence<Cs...>) VRSPH_CUBIC_INLINE {
+        [&]<std::size_t... Cs>(std::index_sequence<Cs...>) VRSPH_ALWAYS_INLINE {
           ((work[Cs * stride + k] = wk * fixed_dot(y[Cs], p)), ...);
         }(std::make_index_sequence<nc>{});
       }
@@ -353,4 +349,3 @@ Outcome correct_rows(const Discretisation& disc, const StencilRequest& req, Sten
 
 }  // namespace vrsph::cubic_rows
 
-#undef VRSPH_CUBIC_INLINE

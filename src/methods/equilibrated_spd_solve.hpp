@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <vrsph/core/types.hpp>
+#include "../core/compiler_hints.hpp"
 
 namespace vrsph::cubic_rows {
 
@@ -14,12 +15,8 @@ namespace vrsph::cubic_rows {
 // become straight-line code the compiler schedules across the Cholesky's sqrt and division
 // chains, 1.5 times faster a solve (395 -> 255 ns, the same bits); M = 14, 19 and 34 gain 0-7 %.
 // (Unrolled up to 16 trips, M = 14 was 9 % slower: twice the code for no gain.) GCC only, as
-// the warm start's LU (nnls.cpp): clang's builds are the sanitizer and fuzz ones.
-#if defined(__GNUC__) && !defined(__clang__)
-#define VRSPH_UNROLL_SMALL _Pragma("GCC unroll 10")
-#else
-#define VRSPH_UNROLL_SMALL
-#endif
+// the warm start's LU (nnls.cpp): clang's builds are the sanitizer and fuzz ones
+// (VRSPH_UNROLL_SMALL, core/compiler_hints.hpp).
 
 // Y = A^-1 R (the first `comps` columns) for the symmetric positive definite A (its lower
 // triangle read), through its symmetric equilibration B = D A D (unit diagonal: the monomials'
@@ -159,4 +156,3 @@ bool equilibrated_spd_solve(const Eigen::Matrix<Real, M, M>& A, const Eigen::Mat
 
 }  // namespace vrsph::cubic_rows
 
-#undef VRSPH_UNROLL_SMALL

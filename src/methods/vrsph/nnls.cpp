@@ -6,6 +6,7 @@
 #include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
+#include "../../core/compiler_hints.hpp"
 
 // Every particle solves one NNLS, so the solver is compiled twice on x86-64 with GCC: for
 // x86-64-v3 (AVX2 + FMA: four doubles per instruction, fused multiply-add) and for the
@@ -21,11 +22,6 @@
 #define VRSPH_NNLS_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define VRSPH_NNLS_CLONES
-#endif
-#if defined(__GNUC__)
-#define VRSPH_ALWAYS_INLINE __attribute__((always_inline))
-#else
-#define VRSPH_ALWAYS_INLINE
 #endif
 
 namespace vrsph {
@@ -229,12 +225,7 @@ inline void givens(Real a, Real b, Real& c, Real& s) {
 // Every loop unrolled up to 10 trips: the 9 x 9 systems' elimination becomes straight-line
 // code, 1.3 times faster (225 -> 168 ns a solve, x86-64-v3, the same bits); 12 x 12 1.2 times,
 // 19 x 19 within 5 %. GCC only: clang cannot unroll the elimination's outer loop (it returns
-// early) and warns (-Wpass-failed); its builds are the sanitizer and fuzz ones.
-#if defined(__GNUC__) && !defined(__clang__)
-#define VRSPH_UNROLL_SMALL _Pragma("GCC unroll 10")
-#else
-#define VRSPH_UNROLL_SMALL
-#endif
+// early) and warns (-Wpass-failed); its builds are the sanitizer and fuzz ones (VRSPH_UNROLL_SMALL).
 template <int FixedM>
 VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
   const auto M = static_cast<std::size_t>(FixedM > 0 ? FixedM : m);
@@ -284,7 +275,6 @@ VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
   }
   return true;
 }
-#undef VRSPH_UNROLL_SMALL
 }  // namespace
 
 bool solve_square_positive(Real* S, int m, Real* z, Real xtol) {
