@@ -22,8 +22,15 @@ struct CellGrid {
   std::vector<Index> order;  // particle ids sorted by cell
   std::vector<Vec3> sorted;  // positions in that order (cache-friendly scans)
 
+  // The cell of coordinate x along axis k, clamped to the grid: floor((x - lo) / cell) by a
+  // truncation where that is the floor (0 <= v below the last cell), since the clamp decides
+  // every other case. (std::floor is a call into libm on baseline x86-64, which has no rounding
+  // instruction: a tenth of a search's time, perf.)
   long long coord(Real x, int k) const {
-    return std::clamp(static_cast<long long>(std::floor((x - lo[k]) / cell)), 0LL, cells[static_cast<std::size_t>(k)] - 1);
+    const Real v = (x - lo[k]) / cell;
+    const long long last = cells[static_cast<std::size_t>(k)] - 1;
+    if (!(v > 0)) return 0;
+    return v >= static_cast<Real>(last) ? last : static_cast<long long>(v);
   }
   std::array<long long, 3> coord(const Vec3& x) const {
     std::array<long long, 3> c{0, 0, 0};

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <algorithm>
 #include <random>
 #include <vrsph/cloud/generate.hpp>
 #include <vrsph/core/error.hpp>
@@ -55,6 +56,40 @@ INSTANTIATE_TEST_SUITE_P(Backends, SearchVsBruteForce,
                          ::testing::Combine(::testing::Values(1, 2, 3),
                                             ::testing::Values(SearchBackend::CellList, SearchBackend::KdTree),
                                             ::testing::Bool()));
+
+// Rows sorted by index whatever order their candidates arrive in: a cloud numbered along its
+// lattice (nearly sorted runs: the cell list's insertion sort alone) and the same cloud numbered
+// at random (rows long enough that the sort gives up on insertion), wide radii in 2D and 3D.
+TEST(Search, RowsInIndexOrderOnLatticeAndShuffledNumberings) {
+  for (const int dim : {2, 3}) {
+    const int n = dim == 2 ? 40 : 12;
+    std::mt19937 rng(5u + static_cast<unsigned>(dim));
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+    PointCloud lattice;
+    lattice.dim = dim;
+    for (int c = 0; c < (dim == 3 ? n : 1); ++c)
+      for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) {
+          Vec3 x(a + jitter(rng), b + jitter(rng), dim == 3 ? c + jitter(rng) : 0.0);
+          lattice.add(x / n, Tag::Interior);
+        }
+    std::vector<Index> perm(static_cast<std::size_t>(lattice.size()));
+    for (std::size_t i = 0; i < perm.size(); ++i) perm[i] = static_cast<Index>(i);
+    std::shuffle(perm.begin(), perm.end(), rng);
+    PointCloud shuffled;
+    shuffled.dim = dim;
+    for (const Index i : perm) shuffled.add(lattice.positions[static_cast<std::size_t>(i)], Tag::Interior);
+    SearchParams p;
+    p.min_neighbours = 0;
+    p.radius = (dim == 2 ? 6.0 : 4.0) / n;  // rows of about 110 (2D) and 270 (3D)
+    for (const PointCloud* c : {&lattice, &shuffled}) {
+      const NeighbourList fast = find_neighbours(*c, p), ref = find_neighbours_brute_force(*c, p);
+      ASSERT_EQ(fast.offsets, ref.offsets) << dim << "D";
+      ASSERT_EQ(fast.indices, ref.indices) << dim << "D";
+      EXPECT_GT(fast.total(), (dim == 2 ? 90 : 200) * c->size() / 2);
+    }
+  }
+}
 
 // A search written into another list's arrays (what a Verlet list does at every search of a
 // moving cloud) equals the plain search, whatever that list held: more pairs or fewer, cached
