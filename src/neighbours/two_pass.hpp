@@ -62,7 +62,7 @@ inline double neighbour_pair_bytes(const SearchParams& params) {
 // (3D) of its time with std::sort, which partitions first and mispredicts (10^6 perturbed
 // particles, radius 3.6 spacings, one thread). On a shuffled cloud the shifts grow as the row's
 // square (n / 4 a key): once they exceed 1.5 log2(n) a key so far (plus a slack of n / 2), the
-// row goes to std::sort (shuffled: 2D 0.89, 3D 0.93-0.96 of std::sort's time). The keys are
+// row goes to std::sort (shuffled: 2D 0.89, 3D 0.93 of std::sort's time). The keys are
 // distinct (each holds its slot): either way gives the same order.
 inline void sort_row_keys(std::uint64_t* key, std::uint32_t count) {
   const std::size_t per_key = 3 * static_cast<std::size_t>(std::bit_width(count)) / 2, slack = count / 2;
