@@ -59,9 +59,9 @@ void check_scalar_coefficient(const PointCloud& cloud, const Field& a) {
   }
 }
 
-int rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_given) {
+Real rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_given) {
   const bool estimates = !coefficient_gradient_given && method.needs_coefficient_gradient(use);
-  return std::max(method.reach(), estimates ? method.estimated_gradient_reach() : 0);
+  return std::max(method.reach_for(use), estimates ? method.estimated_gradient_reach() : Real{0});
 }
 
 }  // namespace vrsph

@@ -135,7 +135,7 @@ Stencil build_on_images(const Method& method, const PointCloud& cloud, const Per
 PeriodicImages images_for(const Method& method, const PointCloud& cloud, Real h, const StencilRequest& request) {
   check<InputError>(cloud.domain.any_periodic(), "periodic_stencil: the cloud's box has no periodic axis");
   check_periodic_cloud(cloud, h);
-  const int reach = rows_reach(method, request.use, request.coefficient_gradient != nullptr);
+  const Real reach = rows_reach(method, request.use, request.coefficient_gradient != nullptr);
   return periodic_images(cloud, reach * h * 1.05);
 }
 }  // namespace

@@ -63,7 +63,7 @@ std::string label_of(const BvpSolveOptions& o);
 
 ProblemFields check_problem(const BoundaryValueProblem& p, const BvpSolveOptions& o);
 /// The spacing, the support radius and the partition whose halo holds every row's reach.
-std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolveOptions& o, int reach, Support& support);
+std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolveOptions& o, Real reach, Support& support);
 LocalData local_data(const Partition& part, const BoundaryValueProblem& p, const ProblemFields& given);
 RowMasks row_masks(const Partition& part);
 NeighbourList find_local_neighbours(const Partition& part, const Support& support, const RowMasks& masks);

@@ -39,7 +39,7 @@ Real next_halo_width(const Partition& part, Real need, const char* what) {
 // Covering: h = kappa max(dx, r_N), r_N exact from each rank's owned Voronoi cells when the
 // halo holds every particle within 2 r_N of the owned ones (covering_radius.hpp); the halo
 // must also hold reach x h. Widen and partition again until both hold.
-void covering_support(Partition& part, const BvpSolveOptions& o, int reach, Support& sup) {
+void covering_support(Partition& part, const BvpSolveOptions& o, Real reach, Support& sup) {
   for (;;) {
     CoveringRadius mine;
     part.stage([&] { mine = covering_radius_of_owned(part.local(), part.owned(), sup.spacing); });
@@ -56,7 +56,7 @@ void covering_support(Partition& part, const BvpSolveOptions& o, int reach, Supp
 
 // knn: h_i = kappa r_k(i), exact on the owner when every particle within r_k(i) is local;
 // the halo must also hold reach x max h_i. h is reported as the mean radius.
-void knn_support(Partition& part, const BvpSolveOptions& o, int reach, Support& sup) {
+void knn_support(Partition& part, const BvpSolveOptions& o, Real reach, Support& sup) {
   const int k = o.h_knn > 0 ? o.h_knn : 2 * std::max(part.local().dim, 1);
   for (;;) {
     std::vector<Real> rk;
@@ -101,7 +101,7 @@ void check_local_support(const Partition& part, const BvpSolveOptions& o, const 
 }
 }  // namespace
 
-std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolveOptions& o, int reach, Support& sup) {
+std::unique_ptr<Partition> choose_support(const PointCloud& chunk, const BvpSolveOptions& o, Real reach, Support& sup) {
   const Communicator& comm = o.communicator;
   sup.spacing = o.spacing > 0 ? o.spacing : spacing_over_ranks(chunk, comm);
   collective(comm, [&] {

@@ -413,13 +413,15 @@ TEST(DistributedStudy, TheStudyTableEqualsTheSerialOne) {
 // the choices between a signed and a positive row as in serial (the estimate's wave number
 // is the whole cloud's, Discretisation::length_unit). Example 5 perturbed at n = 100 has
 // such rows (its max error is 3.3e-8 with them, 1.1e-7 without). (Its choices are not close
-// calls: a wave number from each rank's part alone passes too.)
+// calls: a wave number from each rank's part alone passes too.) Without the wider support
+// (compact_wide=1), which gives those rows positive rows instead (the next test).
 TEST(DistributedStudy, SignedCompactAveragesAsSerial) {
   BvpStudyParams p;
   p.methods = {"vrsph"};
   p.cloud = CloudFamily::Perturbed;
   p.n = {100};
   p.solver = direct_petsc();
+  p.method_options["vrsph"].set("compact_wide", "1");
   const BvpStudyResult ref = run_bvp_study(p);
   p.method_options["vrsph"].set("compact_fallback", "positive");
   const BvpStudyResult positive = run_bvp_study(p);
@@ -434,9 +436,47 @@ TEST(DistributedStudy, SignedCompactAveragesAsSerial) {
   EXPECT_TRUE(r.rows[0].m_matrix_all);
 }
 
-// [SPE] §5.3 over the ranks: every particle method's solve distributed, the TPFA reference
-// and the table's figures (errors against TPFA, fluxes through the cross-sections, which sum
-// each rank's operator rows) as in serial; the Krylov study stays serial.
+// The compact rows' wider support (compact_wide, the default) over the ranks: a row by a rank's
+// edge finds the particles within 1.25 h through its neighbours' lists, which the halo (1.25
+// supports, 2.25 where the method fits ∇a itself) holds as in serial. Example 5 perturbed at
+// n = 100 (∇a given; a mixed problem, so wall rows try it too), and a hole in the middle
+// of a perturbed cloud with a wavy a whose gradient VRSPH fits (the rows around the hole).
+TEST(DistributedStudy, CompactRowsOnTheWiderSupportAsSerial) {
+  BvpStudyParams p;
+  p.methods = {"vrsph"};
+  p.cloud = CloudFamily::Perturbed;
+  p.n = {100};
+  p.neumann = {"x1"};
+  p.solver = direct_petsc();
+  const BvpStudyResult ref = run_bvp_study(p);
+  p.method_options["vrsph"].set("compact_wide", "1");
+  const BvpStudyResult narrow = run_bvp_study(p);
+  p.method_options["vrsph"] = {};
+  p.communicator = world();
+  const BvpStudyResult r = run_bvp_study(p);
+  for (std::size_t k = 0; k < p.n.size(); ++k) {
+    SCOPED_TRACE(testing::Message() << "n = " << p.n[k]);
+    EXPECT_NE(ref.rows[k].error_inf, narrow.rows[k].error_inf);  // the case has wide rows
+    EXPECT_NEAR(r.rows[k].error_inf, ref.rows[k].error_inf, 1e-4 * ref.rows[k].error_inf);
+    EXPECT_NEAR(r.rows[k].error_l2, ref.rows[k].error_l2, 1e-4 * ref.rows[k].error_l2);
+    EXPECT_TRUE(r.rows[k].m_matrix_all);
+  }
+}
+
+TEST(DistributedSolve, CompactRowsOnTheWiderSupportWithAFittedGradientAsSerial) {
+  const PointCloud full = with_hole(perturbed_box(2, 40, 7), Vec3(0.5, 0.5, 0), 0.04);
+  const BoundaryValueProblem whole = problem_on(full, true);
+  BvpSolveOptions serial = serial_options("vrsph", 40);
+  const BvpSolution ref = solve(whole, serial);
+  serial.method_options.set("compact_wide", "1");
+  const BvpSolution narrow = solve(whole, serial);
+  EXPECT_GT((ref.u - narrow.u).cwiseAbs().maxCoeff(), 1e-9);  // rows by the hole took the wider support
+  serial.method_options = {};
+  const auto [s, b] = solve_my_part(whole, serial);
+  const Real scale = ref.u.cwiseAbs().maxCoeff();
+  for (Index k = 0; k < s.u.size(); ++k) ASSERT_NEAR(s.u[k], ref.u[b + k], 1e-10 * scale) << "particle " << b + k;
+}
+
 TEST(DistributedStudy, HeterogeneousStudyAsSerial) {
   HeterogeneousStudyParams p;
   p.problem = "spe-lognormal";

@@ -145,11 +145,15 @@ class Method {
   /// volumes of the neighbours (averages of the NNLS volumes of every row that sees them). A
   /// distributed solve sizes its halo by it (reach x h).
   virtual int reach() const { return info().stencil_rings; }
+  /// The same for the rows a request of this use gets, in supports (not always whole ones), where
+  /// the method's options make it depend on the use (VRSPH's compact rows of a boundary value
+  /// problem reach 1.25 supports: their wider support, compact_wide). Default: reach().
+  virtual Real reach_for(StencilUse /*use*/) const { return reach(); }
   /// Supports away from a row at which its weights read ∇a when this method estimates it
   /// itself (needs_coefficient_gradient, none given): 1 when a row fits ∇a at its own
   /// particle (the Taylor-type methods), 2 when it reads ∇a at its neighbours, each fitted
   /// over that neighbour's support (VRSPH compact rows). A distributed solve widens its halo.
-  virtual int estimated_gradient_reach() const { return 1; }
+  virtual Real estimated_gradient_reach() const { return 1; }
   /// True when this method's Laplacian / div(a grad) rows at Neumann particles are balance
   /// rows (Stencil::wall_flux) that take the flux data themselves, for requests of this use:
   /// a boundary value problem then asks for those rows in the operator request and builds no
@@ -167,7 +171,7 @@ class Method {
 /// Supports away from a row that its weights read for this use: Method::reach, or further
 /// when the method fits ∇a itself (no coefficient gradient given): estimated_gradient_reach.
 /// A halo (a rank's, or the periodic images) must be this many supports wide.
-int rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_given);
+Real rows_reach(const Method& method, StencilUse use, bool coefficient_gradient_given);
 
 /// Shared checks for every method: operator supported, sizes agree, a > 0 and finite, and no
 /// periodic shifts in the list unless `periodic_pairs` (the method reads them).

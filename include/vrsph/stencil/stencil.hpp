@@ -12,6 +12,7 @@
 // Shapes: row_ptr has rows()+1 entries; col (sorted within each row, always
 // containing the diagonal) and every values[c] have nnz() entries. Vector
 // operators (Gradient) keep dim value arrays over one shared pattern.
+#include <span>
 #include <string>
 #include <vrsph/core/types.hpp>
 #include <vrsph/neighbours/neighbour_list.hpp>
@@ -88,6 +89,21 @@ inline Real row_product(const Stencil& s, int component, Index i, const Real* u)
   for (Index k = s.row_begin(i); k < s.row_end(i); ++k) acc += v[static_cast<std::size_t>(k)] * u[s.col[static_cast<std::size_t>(k)]];
   return acc;
 }
+
+/// A row of its own pattern that replace_rows puts in place of a stencil's row: its columns
+/// (sorted, distinct, the row's own index included), one value array per component of the
+/// stencil and, when the stencil has right-hand-side weights, those, all aligned with `col`.
+struct RowReplacement {
+  Index row = 0;
+  std::vector<Index> col;
+  std::vector<std::vector<Real>> values;
+  std::vector<Real> rhs;
+};
+/// Replaces the rows named in `rows` (sorted by row, each once) with their own patterns and
+/// values; the other rows, and every per-row array, stay as they are. What a method uses when
+/// a few rows reach beyond the neighbour list that gave the stencil its pattern (VRSPH's
+/// compact rows on a wider support). InputError for a malformed replacement.
+void replace_rows(Stencil& s, std::span<const RowReplacement> rows);
 
 /// Sets L_ii = -sum_{j != i} L_ij in every component and row (difference form).
 void set_difference_diagonal(Stencil& s);

@@ -168,6 +168,8 @@ class CompactRowSolver {
 
   void solve(Index i) {
     const NeighbourList& nl = disc_.neighbours;
+    wide_ = nullptr;
+    candidates_ = nl.of(i);
     const auto distances = nl.distances_of(i);
     column_scales(distances, scale_);  // the w and μ columns of neighbour j, scaled back below
     // First the inner neighbours alone, at the top degree: the most compact positive row
@@ -265,7 +267,7 @@ class CompactRowSolver {
   // Row i's system of degree `deg` over columns_ into A_ (row-major, rows_ x C_) and b_:
   // w, μ of the neighbours, μ_ii, the wall flux.
   void build_system(Index i, int deg) {
-    const auto nbr = disc_.neighbours.of(i);
+    const auto nbr = candidates_;
     const std::size_t cnt = columns_.size();
     const bool wall = wall_row(i);
     C_ = 2 * cnt + 1 + (wall ? 1 : 0);
@@ -318,7 +320,7 @@ class CompactRowSolver {
   // channelised medium) signed weights can cancel the operator out and leave a row without a
   // diagonal (w = 0, the row reads 0 = Σ μ f): such rows keep the point form.
   bool laplacian_type(Index i, std::size_t cnt) const {
-    const auto nbr = disc_.neighbours.of(i);
+    const auto nbr = candidates_;
     const PointCloud& cloud = disc_.cloud;
     const Real ai = a_ ? (*a_)[i] : 1.0;
     Real mean = x_[2 * cnt] * ai, second = 0;
@@ -388,7 +390,7 @@ class CompactRowSolver {
   // Row i takes the solution in x_ (degree `deg` over columns_): its weights into the target.
   void accept(Index i, int deg, bool signed_mu) {
     const auto si = static_cast<std::size_t>(i);
-    const auto nbr = disc_.neighbours.of(i);
+    const auto nbr = candidates_;
     const std::size_t cnt = columns_.size();
     const bool wall = wall_row(i);
     h_ = disc_.neighbours.radius(i);
@@ -398,6 +400,9 @@ class CompactRowSolver {
     bool negative = false;
     for (std::size_t k = cnt; k <= 2 * cnt; ++k) negative = negative || x_[k] < 0;
     out_.signed_average[si] = signed_mu && negative;
+    out_.mu_self[si] = x_[2 * cnt];
+    if (wall) out_.wall_flux[si] = x_[2 * cnt + 1] / h_;
+    if (wide_) return accept_wide(i);
     if (cnt < nbr.size())  // the neighbours left out of an inner row weigh nothing
       for (std::size_t j = 0; j < nbr.size(); ++j) {
         const auto slot = static_cast<std::size_t>(neighbour_slot(target_, i, static_cast<Index>(j)));
@@ -410,8 +415,79 @@ class CompactRowSolver {
       target_.values[0][slot] = x_[k] * scale_[j] / (h_ * h_);
       target_.rhs[slot] = x_[cnt + k] * scale_[j];
     }
-    out_.mu_self[si] = x_[2 * cnt];
-    if (wall) out_.wall_flux[si] = x_[2 * cnt + 1] / h_;
+  }
+
+ public:
+  // Row i again over every particle within CompactRowOptions::wide_support times its radius
+  // that a neighbour's list holds (with a covering radius below (2 - wide_support) / 2 of
+  // the support, every particle of that ball: the lens the two supports share holds one),
+  // where its neighbours admit no positive row of the top degree. True, and the row in `row`
+  // (the stencil's pattern cannot hold it), when the wider support admits one; else row i is
+  // left as solve() made it.
+  bool solve_wide(Index i, RowReplacement& row) {
+    const NeighbourList& nl = disc_.neighbours;
+    const PointCloud& cloud = disc_.cloud;
+    const auto si = static_cast<std::size_t>(i);
+    const Vec3& xi = cloud.positions[si];
+    const Real reach = options_.wide_support * nl.radius(i);
+    // Two images of one particle lie a period apart: on a box shorter than two reaches (a
+    // period between 2 h, the least a support allows, and 2.5 h) the ball could hold both, and
+    // the folded row one column twice. Such rows keep what their own support gave.
+    if (cloud.domain.shortest_period() <= 2 * reach) return false;
+    wide_candidates_.clear();
+    for (const Index k : nl.of(i)) {
+      wide_candidates_.push_back(k);
+      for (const Index j : nl.of(k))
+        if (j != i && (cloud.positions[static_cast<std::size_t>(j)] - xi).squaredNorm() <= reach * reach)
+          wide_candidates_.push_back(j);
+    }
+    std::sort(wide_candidates_.begin(), wide_candidates_.end());
+    wide_candidates_.erase(std::unique(wide_candidates_.begin(), wide_candidates_.end()), wide_candidates_.end());
+    if (wide_candidates_.size() == static_cast<std::size_t>(nl.count(i))) return false;  // nobody beyond the support
+    wide_distances_.resize(wide_candidates_.size());
+    for (std::size_t k = 0; k < wide_candidates_.size(); ++k)
+      wide_distances_[k] = (cloud.positions[static_cast<std::size_t>(wide_candidates_[k])] - xi).norm();
+    candidates_ = wide_candidates_;
+    column_scales(wide_distances_, scale_);
+    columns_.resize(wide_candidates_.size());
+    for (std::size_t k = 0; k < columns_.size(); ++k) columns_[k] = k;
+    const Real residual_before = out_.residual[si];
+    wide_ = &row;
+    // Held to the test of a signed row: where a jumps by orders of magnitude (a channelised
+    // medium) a positive row over the wider support can weigh the average of f alone and
+    // leave the particle without a diagonal (no w), unconnected.
+    const bool found = solve_degree(i, options_.degree, false) && laplacian_type(i, columns_.size());
+    if (found) accept(i, options_.degree, false);
+    else out_.residual[si] = residual_before;
+    wide_ = nullptr;
+    return found;
+  }
+
+ private:
+  // The wide row in x_ as a replacement row: its columns sorted, the diagonal's value left for
+  // the caller's difference form and its right-hand-side weight μ_ii.
+  void accept_wide(Index i) {
+    const std::size_t cnt = columns_.size();
+    RowReplacement& row = *wide_;
+    row.row = i;
+    row.col.clear();
+    row.values.assign(1, {});
+    row.rhs.clear();
+    bool self = false;
+    for (std::size_t k = 0; k <= cnt; ++k) {
+      if (!self && (k == cnt || candidates_[columns_[k]] > i)) {  // the diagonal in its place
+        self = true;
+        row.col.push_back(i);
+        row.values[0].push_back(0);
+        row.rhs.push_back(out_.mu_self[static_cast<std::size_t>(i)]);
+      }
+      if (k == cnt) break;
+      const std::size_t j = columns_[k];
+      if (x_[k] == 0 && x_[cnt + k] == 0) continue;  // a wide row keeps only the particles it weighs
+      row.col.push_back(candidates_[j]);
+      row.values[0].push_back(x_[k] * scale_[j] / (h_ * h_));
+      row.rhs.push_back(x_[cnt + k] * scale_[j]);
+    }
   }
 
   // The weight of ||μ-|| against the fit of the scaled system (entries O(1)): small enough
@@ -431,7 +507,11 @@ class CompactRowSolver {
   NnlsSolver solver_;
   std::optional<NnlsSolver> signed_solver_;  ///< for the augmented systems of signed averages
   std::vector<Real> A_, b_, x_, scale_, vals_, M_, c_, z_, signed_x_;
-  std::vector<std::size_t> columns_;  ///< the neighbours (positions in the list) of the current attempt
+  std::vector<std::size_t> columns_;  ///< the candidates (positions in candidates_) of the current attempt
+  std::span<const Index> candidates_;  ///< the particles row i may weigh: its neighbours, or wide_candidates_
+  std::vector<Index> wide_candidates_;
+  std::vector<Real> wide_distances_;
+  RowReplacement* wide_ = nullptr;  ///< where accept() puts a wide row (null: into the stencil's pattern)
   std::array<std::array<Real, 8>, 3> pw_{};
   std::size_t C_ = 0;  ///< columns of the current system
   int rows_ = 0;       ///< its rows
@@ -450,6 +530,9 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
                      "compact rows: polynomial degrees ", options.min_degree, "..", options.degree, " outside 3..6");
   check<ConfigError>(options.inner_support > 0 && options.inner_support <= 1, "compact rows: the inner support must be a "
                      "fraction in (0, 1] of the support radius, got ", options.inner_support);
+  check<ConfigError>(std::isfinite(options.wide_support) && options.wide_support >= 1 && options.wide_support < 2,
+                     "compact rows: the wider support must be a multiple in [1, 2) of the support radius (1: none), got ",
+                     options.wide_support);
   check<ConfigError>(std::isfinite(options.wave_number) && options.wave_number >= 0, "compact rows: the wave number of "
                      "the truncation estimate must be finite and >= 0 (0: from the cloud's extent), got ", options.wave_number);
   check<InputError>(!a || a->size() == n, "compact rows: coefficient has ", a ? a->size() : 0, " values for ", n, " particles");
@@ -474,18 +557,41 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   if (any_wall) out.wall_flux.assign(static_cast<std::size_t>(n), 0.0);
   Index max_count = 0;
   for (Index i = 0; i < n; ++i) max_count = std::max(max_count, nl.count(i));
+  const auto wanted = [&](Index i) {
+    const auto si = static_cast<std::size_t>(i);
+    return rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
+  };
+  // The rows left without a positive row of the top degree, tried again on the wider support.
+  std::vector<Index> retry;
+  std::vector<RowReplacement> wide;
+  std::vector<char> widened;
 #pragma omp parallel
   {
     CompactRowSolver thread_rows(disc, a, grad_a, tables, options, wave_number, walls, max_count, target, out);
 #pragma omp for schedule(dynamic, 64)
     for (Index i = 0; i < n; ++i) {
-      const auto si = static_cast<std::size_t>(i);
-      const bool wanted = rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
-      if (!wanted || interrupt_pending(i)) continue;  // (after a stop request: skipped, see below)
+      if (!wanted(i) || interrupt_pending(i)) continue;  // (after a stop request: skipped, see below)
       thread_rows.solve(i);
+    }
+    if (options.wide_support > 1) {
+#pragma omp single
+      {
+        for (Index i = 0; i < n; ++i) {
+          const auto si = static_cast<std::size_t>(i);
+          if (wanted(i) && !(out.ok[si] && out.degree[si] == options.degree && !out.signed_average[si])) retry.push_back(i);
+        }
+        wide.resize(retry.size());
+        widened.assign(retry.size(), 0);
+      }
+#pragma omp for schedule(dynamic, 1)
+      for (std::size_t r = 0; r < retry.size(); ++r)
+        if (!interrupt_pending(retry[r])) widened[r] = thread_rows.solve_wide(retry[r], wide[r]);
     }
   }
   check_interrupt();  // rows skipped after a stop request: the result is incomplete
+  out.wide_attempted = static_cast<Index>(retry.size());
+  for (std::size_t r = 0; r < retry.size(); ++r)
+    if (widened[r]) out.wide.push_back(std::move(wide[r]));
   return out;
 }
 

@@ -52,6 +52,10 @@ MethodInfo vrsph_info() {
            {"compact_support", "compact rows: the fraction of the support radius whose neighbours each row tries "
                                "first, falling back to the whole support where they admit no positive row of degree "
                                "4 (default 0.8; 1: the whole support only, the rows before issue 37)"},
+           {"compact_wide", "compact rows whose support admits no positive row of degree 4 (a few per 10^5 particles, "
+                            "by the voids of a disordered cloud and by walls) try again over the particles within this "
+                            "multiple of the support radius, and keep that row where it exists (default 1.25; 1: no "
+                            "second try, the rows before)"},
            {"compact_fallback", "compact rows whose degree 4 admits no w, mu >= 0 (a few by the walls and at voids "
                                 "of a disordered cloud): signed (default: also degree 4 with w >= 0 and a signed "
                                 "average mu, kept where its estimated truncation is below the positive degree-3 "
@@ -137,6 +141,10 @@ class Vrsph final : public Method {
     cubic_gradient_ = pinned("gradient_order", "3", {"2", "3"}, "2") == "3";
     signed_fallback_ = o.get_choice("compact_fallback", "signed", {"signed", "positive"}) == "signed";
     compact_support_ = o.get_real("compact_support", 0.8);
+    wide_support_ = o.get_real("compact_wide", 1.25);
+    check<ConfigError>(std::isfinite(wide_support_) && wide_support_ >= 1 && wide_support_ < 2, "method option "
+                       "compact_wide must be a multiple in [1, 2) of the support radius (1: no wider support), got ",
+                       wide_support_);
     check<ConfigError>(compact_support_ > 0 && compact_support_ <= 1, "method option compact_support must be a "
                        "fraction in (0, 1] of the support radius, got ", compact_support_);
   }
@@ -144,7 +152,15 @@ class Vrsph final : public Method {
   bool balances_flux_rows(StencilUse use) const override { return resolve(flux_, use); }
   // Compact rows use grad a: better than the fit they fall back on.
   bool needs_coefficient_gradient(StencilUse use) const override { return compact_rows_for(use); }
-  int estimated_gradient_reach() const override { return 2; }  // compact_system: ∇a at the neighbours
+  // compact_system: ∇a at the particles a row weighs, each fitted over its own support: 2
+  // supports, 2.25 with the wider support (compact_wide = 1.25).
+  Real estimated_gradient_reach() const override { return 1 + wide_support_; }
+  // The wider support reaches compact_wide supports. (Its particles are found through the
+  // neighbours' lists, and a neighbour's list holds every particle of the halo within its
+  // support, so the halo need hold no more.)
+  Real reach_for(StencilUse use) const override {
+    return compact_rows_for(use) ? std::max<Real>(wide_support_, reach()) : reach();
+  }
   // Point rows read pair vectors and distances only (moment systems, weights); compact rows,
   // balance rows and mobility targets read more of the cloud.
   bool reads_periodic_pairs(const StencilRequest& req) const override {
@@ -307,7 +323,10 @@ class Vrsph final : public Method {
     s.local_failure = vol.failed;
     s.wall_flux = std::move(vol.wall_flux);
     if (signed_) s.negative_volumes = std::move(vol.negative);
-    if (compact_form) store_compact_rows(*compact_form, disc, wall, s);
+    if (compact_form) {
+      store_compact_rows(*compact_form, disc, wall, s);
+      replace_rows(s, compact_form->wide);  // the rows of the wider support: beyond the pattern
+    }
     if (!whole_rows) set_difference_diagonal(s);
     if (cubic) {
       // A raised row meets every gradient moment condition (it is exact on cubics): its NNLS
@@ -602,6 +621,7 @@ class Vrsph final : public Method {
   bool cubic_gradient_ = true;  // gradient_order=3
   Real compact_support_ = 0.8;  // compact rows: the inner neighbours tried first (fraction of h)
   bool signed_fallback_ = true;  // compact_fallback=signed: rows without a positive degree-4 row
+  Real wide_support_ = 1.25;     // compact_wide: their second try's support (multiple of h)
 
   // The compact (Mehrstellen) form of every requested row that admits one (CompactRows::ok).
   // Balance (wall) rows take the compact form too where it exists, with the wall flux c_i
@@ -646,6 +666,7 @@ class Vrsph final : public Method {
     co.tolerance = kCompactTolerance;
     co.inner_support = compact_support_;
     co.signed_average = signed_fallback_;
+    co.wide_support = wide_support_;
     return compact_rows(disc, rows, divagrad ? req.coefficient : nullptr, divagrad ? grad_a : nullptr, co, s, walls);
   }
 

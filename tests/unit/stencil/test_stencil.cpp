@@ -120,3 +120,98 @@ TEST(Stencil, SplicedRowsComeFromTheirOwnStencilWithTheirOutputs) {
   const Stencil gradient = builtin_methods().create("fpm")->build(disc, {OperatorKind::Gradient});
   EXPECT_THROW_MSG(splice_rows(base, gradient, rows, out), InputError, "cannot take rows of a gradient stencil");
 }
+
+namespace {
+// The stencil as a dense matrix per component, and its right-hand-side weights.
+std::vector<Eigen::MatrixXd> dense(const Stencil& s) {
+  std::vector<Eigen::MatrixXd> out;
+  for (int c = 0; c <= s.components(); ++c) {
+    if (c == s.components() && s.rhs.empty()) break;
+    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(s.rows(), s.rows());
+    const auto& v = c < s.components() ? s.values[static_cast<std::size_t>(c)] : s.rhs;
+    for (Index i = 0; i < s.rows(); ++i)
+      for (Index k = s.row_begin(i); k < s.row_end(i); ++k) m(i, s.col[static_cast<std::size_t>(k)]) = v[static_cast<std::size_t>(k)];
+    out.push_back(m);
+  }
+  return out;
+}
+
+// A replacement of row i over the columns i + offsets (those inside the stencil), values from
+// a formula, right-hand side too.
+RowReplacement replacement(const Stencil& s, Index i, std::initializer_list<Index> offsets) {
+  RowReplacement r;
+  r.row = i;
+  for (const Index o : offsets)
+    if (i + o >= 0 && i + o < s.rows()) r.col.push_back(i + o);
+  r.values.assign(static_cast<std::size_t>(s.components()), {});
+  for (int c = 0; c < s.components(); ++c)
+    for (const Index j : r.col) r.values[static_cast<std::size_t>(c)].push_back(100.0 * (c + 1) + j + 0.5 * i);
+  for (const Index j : r.col) r.rhs.push_back(-1.0 * j - i);
+  return r;
+}
+}  // namespace
+
+TEST(Stencil, ReplacedRowsTakeTheirOwnPatternsWhetherShorterOrLongerAndTheRestStays) {
+  Fixture f;
+  Stencil base = make_stencil_pattern(f.nl, OperatorKind::Gradient, 2, "test");
+  base.rhs.assign(base.col.size(), 0.0);
+  for (std::size_t k = 0; k < base.col.size(); ++k) {
+    base.values[0][k] = std::sin(1.0 + static_cast<double>(k));
+    base.values[1][k] = std::cos(2.0 + static_cast<double>(k));
+    base.rhs[k] = 0.25 * static_cast<double>(k);
+  }
+  const Index n = base.rows();
+  std::vector<Index> every(static_cast<std::size_t>(n));
+  for (Index j = 0; j < n; ++j) every[static_cast<std::size_t>(j)] = j;
+  const auto full_row = [&](Index i) {
+    RowReplacement r = replacement(base, i, {0});
+    r.col = every;
+    r.values.assign(2, std::vector<Real>(every.size(), 3.0));
+    r.values[1][static_cast<std::size_t>(i)] = -7;
+    r.rhs.assign(every.size(), 0.5);
+    return r;
+  };
+  // Shorter rows only (in place); shorter and longer within the spare capacity (blocks move
+  // left and right); longer than the capacity holds (fresh arrays); first and last rows.
+  const std::vector<std::vector<RowReplacement>> cases{
+      {replacement(base, 0, {0, 1}), replacement(base, 40, {-1, 0}), replacement(base, n - 1, {0})},
+      {replacement(base, 3, {0}), full_row(20), replacement(base, 50, {-9, -1, 0, 1, 9})},
+      {full_row(0), replacement(base, 10, {0}), full_row(n - 2), full_row(n - 1)},
+  };
+  for (std::size_t t = 0; t < cases.size(); ++t) {
+    SCOPED_TRACE(t);
+    Stencil s = base;
+    s.col.reserve(base.col.size() + base.col.size() / 16);
+    auto expected = dense(base);
+    for (const RowReplacement& r : cases[t])
+      for (std::size_t c = 0; c < expected.size(); ++c) {
+        expected[c].row(r.row).setZero();
+        const auto& v = c < 2 ? r.values[c] : r.rhs;
+        for (std::size_t k = 0; k < r.col.size(); ++k) expected[c](r.row, r.col[k]) = v[k];
+      }
+    replace_rows(s, cases[t]);
+    const auto got = dense(s);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t c = 0; c < got.size(); ++c) EXPECT_EQ((got[c] - expected[c]).cwiseAbs().maxCoeff(), 0) << c;
+    ASSERT_EQ(s.col.size(), static_cast<std::size_t>(s.nnz()));
+    ASSERT_EQ(s.rhs.size(), s.col.size());
+    for (Index i = 0; i < n; ++i) {
+      EXPECT_EQ(s.col[static_cast<std::size_t>(s.diag[static_cast<std::size_t>(i)])], i) << i;
+      for (Index k = s.row_begin(i) + 1; k < s.row_end(i); ++k)
+        EXPECT_LT(s.col[static_cast<std::size_t>(k) - 1], s.col[static_cast<std::size_t>(k)]) << i;
+    }
+  }
+  // Malformed replacements are named, and leave the stencil as it was.
+  Stencil s = base;
+  RowReplacement unsorted = replacement(base, 5, {1, 0});
+  EXPECT_THROW_MSG(replace_rows(s, std::vector<RowReplacement>{unsorted}), InputError, "must be sorted, distinct");
+  EXPECT_THROW_MSG(replace_rows(s, std::vector<RowReplacement>{replacement(base, 5, {1})}), InputError,
+                   "include the row itself");
+  EXPECT_THROW_MSG(replace_rows(s, std::vector<RowReplacement>{replacement(base, 6, {0}), replacement(base, 5, {0})}),
+                   InputError, "out of order");
+  RowReplacement short_values = replacement(base, 5, {0, 1});
+  short_values.values[1].pop_back();
+  EXPECT_THROW_MSG(replace_rows(s, std::vector<RowReplacement>{short_values}), InputError, "values for 2 columns");
+  EXPECT_EQ(s.col, base.col);
+  EXPECT_EQ(s.values, base.values);
+}

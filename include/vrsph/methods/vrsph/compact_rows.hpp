@@ -26,6 +26,13 @@ struct CompactRows {
   std::vector<Real> residual;   ///< per particle: ||A x - b|| / ||b|| of the local system
   std::vector<Real> wall_flux;  ///< wall rows: c_i >= 0 of Σ w (u_j - u_i) = Σ μ f - c_i q_i; else empty
   std::vector<char> signed_average;  ///< per particle: 1 = its μ has negative entries (signed_average)
+  /// The rows that found their positive row of the top degree on the wider support
+  /// (CompactRowOptions::wide_support), sorted by row: beyond the neighbour list, so not in the
+  /// target's pattern; each with its diagonal (value 0, right-hand-side weight μ_ii). The
+  /// caller puts them in place (replace_rows). Their other outputs above are filled as for
+  /// any row.
+  std::vector<RowReplacement> wide;
+  Index wide_attempted = 0;  ///< rows that tried the wider support
 };
 
 /// Compact balance rows at wall particles (with flux=balance): one more unknown c_i >= 0 and
@@ -54,6 +61,13 @@ struct CompactRowOptions {
   /// monomial e^α): 0 means π / Discretisation::length_unit() (the whole cloud's largest side,
   /// on every rank), the smoothest mode the box holds.
   Real wave_number = 0;
+  /// A row whose neighbours admit no positive row of `degree` (it fell to a lower degree, a
+  /// signed average, or none) tries again over the particles within this multiple of its
+  /// support radius, found through its neighbours' lists (so a halo must hold two supports),
+  /// and takes that row where it exists (CompactRows::wide). 1: no second try. Such rows sit
+  /// by the voids of a disordered cloud and by walls, a few per 10^5 particles, and their
+  /// O(h^2) or signed rows set the max-norm error at fine resolution.
+  Real wide_support = 1;
 };
 
 /// rows: the particles to build (empty: every non-ghost particle). a, grad_a: the
