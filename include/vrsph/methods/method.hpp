@@ -152,7 +152,8 @@ class Method {
   /// Supports away from a row at which its weights read ∇a when this method estimates it
   /// itself (needs_coefficient_gradient, none given): 1 when a row fits ∇a at its own
   /// particle (the Taylor-type methods), 2 when it reads ∇a at its neighbours, each fitted
-  /// over that neighbour's support (VRSPH compact rows). A distributed solve widens its halo.
+  /// over that neighbour's support (VRSPH compact rows; 2.25 with their wider support). A
+  /// distributed solve widens its halo.
   virtual Real estimated_gradient_reach() const { return 1; }
   /// True when this method's Laplacian / div(a grad) rows at Neumann particles are balance
   /// rows (Stencil::wall_flux) that take the flux data themselves, for requests of this use:

@@ -12,6 +12,7 @@
 #include <vrsph/methods/periodic_stencil.hpp>
 #include <vrsph/methods/registry.hpp>
 #include <vrsph/neighbours/search.hpp>
+#include "compact_quartic.hpp"
 #include "test_util.hpp"
 
 using namespace vrsph;
@@ -35,7 +36,7 @@ WideSetup wide_setup(int n) {
   s.grad_a.resize(s.cloud.size(), 2);
   for (Index i = 0; i < s.cloud.size(); ++i) {
     const Vec3& x = s.cloud.positions[static_cast<std::size_t>(i)];
-    s.a[i] = 1 + x[0] * x[0] + x[1];
+    s.a[i] = test::quartic_coefficient(x);
     s.grad_a(i, 0) = 2 * x[0];
     s.grad_a(i, 1) = 1;
   }
@@ -54,34 +55,14 @@ Stencil compact(const WideSetup& s, const std::string& wide) {
   return builtin_methods().create("vrsph", mo)->build(disc, req);
 }
 
-// p = x^3 y - 2 x y^2 + y^4 and L p = a Δp + ∇a·∇p for a = 1 + x^2 + y.
-Real p(const Vec3& x) { return x[0] * x[0] * x[0] * x[1] - 2 * x[0] * x[1] * x[1] + x[1] * x[1] * x[1] * x[1]; }
-Real Lp(const Vec3& x) {
-  const Real px = 3 * x[0] * x[0] * x[1] - 2 * x[1] * x[1], py = x[0] * x[0] * x[0] - 4 * x[0] * x[1] + 4 * x[1] * x[1] * x[1];
-  const Real lap = 6 * x[0] * x[1] - 4 * x[0] + 12 * x[1] * x[1];
-  return (1 + x[0] * x[0] + x[1]) * lap + 2 * x[0] * px + py;
-}
-
 struct RowCheck {
   bool exact_quartic = false;  // Σ w (p_j - p_i) = Σ μ (L p)_k
   bool positive = true;        // w_ij >= 0 (j != i) and μ >= 0
   Real farthest = 0;           // largest distance to a weighed particle, in units of h
 };
 RowCheck check_row(const Stencil& L, const PointCloud& c, Index i, Real h) {
-  RowCheck r;
-  Real lhs = 0, rhs = 0;
-  for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
-    const auto sk = static_cast<std::size_t>(k);
-    const Index j = L.col[sk];
-    const Vec3& xj = c.positions[static_cast<std::size_t>(j)];
-    lhs += L.values[0][sk] * p(xj);
-    rhs += L.rhs[sk] * Lp(xj);
-    r.positive = r.positive && L.rhs[sk] >= 0 && (j == i || L.values[0][sk] >= 0);
-    if (L.values[0][sk] != 0 || L.rhs[sk] != 0)
-      r.farthest = std::max(r.farthest, (xj - c.positions[static_cast<std::size_t>(i)]).norm() / h);
-  }
-  r.exact_quartic = std::abs(lhs - rhs) < 1e-7 * (1 + std::abs(rhs));
-  return r;
+  const test::CompactRowSums r = test::compact_row_sums(L, c, i, h);
+  return {r.exact(1e-7), !r.negative_w && !r.negative_mu, r.farthest};
 }
 
 bool same_row(const Stencil& A, const Stencil& B, Index i) {
@@ -209,7 +190,9 @@ TEST(VrsphCompactWide, OnAPeriodicBoxTheWiderSupportReachesAcrossTheFace) {
         lhs += L.values[0][sk] * p4(e);
         rhs += L.rhs[sk] * lap(e);
         EXPECT_GE(L.rhs[sk], 0) << i;
-        if (L.col[sk] != i) EXPECT_GE(L.values[0][sk], 0) << i;
+        if (L.col[sk] != i) {
+          EXPECT_GE(L.values[0][sk], 0) << i;
+        }
         EXPECT_LE(e.norm(), 1.25 * h * (1 + 1e-12)) << i;
         across += wrapped && (L.values[0][sk] != 0 || L.rhs[sk] != 0);
       }

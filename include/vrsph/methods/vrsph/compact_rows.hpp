@@ -63,8 +63,8 @@ struct CompactRowOptions {
   Real wave_number = 0;
   /// A row whose neighbours admit no positive row of `degree` (it fell to a lower degree, a
   /// signed average, or none) tries again over the particles within this multiple of its
-  /// support radius, found through its neighbours' lists (so a halo must hold two supports),
-  /// and takes that row where it exists (CompactRows::wide). 1: no second try. Such rows sit
+  /// support radius, found through its neighbours' lists (so a halo must hold that many
+  /// supports: Method::reach_for), and takes that row where it exists (CompactRows::wide). 1: no second try. Such rows sit
   /// by the voids of a disordered cloud and by walls, a few per 10^5 particles, and their
   /// O(h^2) or signed rows set the max-norm error at fine resolution.
   Real wide_support = 1;
