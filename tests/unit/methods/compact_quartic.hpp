@@ -11,10 +11,10 @@ namespace vrsph::test {
 
 inline Real quartic(const Vec3& x) { return x[0] * x[0] * x[0] * x[1] - 2 * x[0] * x[1] * x[1] + x[1] * x[1] * x[1] * x[1]; }
 inline Real quartic_coefficient(const Vec3& x) { return 1 + x[0] * x[0] + x[1]; }
+inline Real quartic_laplacian(const Vec3& x) { return 6 * x[0] * x[1] - 4 * x[0] + 12 * x[1] * x[1]; }
 inline Real quartic_operator(const Vec3& x) {
   const Real px = 3 * x[0] * x[0] * x[1] - 2 * x[1] * x[1], py = x[0] * x[0] * x[0] - 4 * x[0] * x[1] + 4 * x[1] * x[1] * x[1];
-  const Real lap = 6 * x[0] * x[1] - 4 * x[0] + 12 * x[1] * x[1];
-  return quartic_coefficient(x) * lap + 2 * x[0] * px + py;
+  return quartic_coefficient(x) * quartic_laplacian(x) + 2 * x[0] * px + py;
 }
 
 // Row i of a compact stencil applied to the quartic: both sides, Σ μ, the signs of its weights

@@ -143,9 +143,6 @@ TEST(VrsphCompactWide, OnAPeriodicBoxTheWiderSupportReachesAcrossTheFace) {
   spec.seed = 7;
   const PointCloud full = make_study_cloud(spec).cloud;
   const Real h = 3 * full.spacing;
-  // p = x^3 y - 2 x y^2 + y^4 about x_i, Δp = 6 x y - 4 x + 12 y^2.
-  const auto p4 = [](const Vec3& e) { return e[0] * e[0] * e[0] * e[1] - 2 * e[0] * e[1] * e[1] + e[1] * e[1] * e[1] * e[1]; };
-  const auto lap = [](const Vec3& e) { return 6 * e[0] * e[1] - 4 * e[0] + 12 * e[1] * e[1]; };
   Index widened = 0, across = 0;
   for (const Real centre : {0.0, 0.01, 0.02, 0.03}) {
     PointCloud c;
@@ -187,8 +184,8 @@ TEST(VrsphCompactWide, OnAPeriodicBoxTheWiderSupportReachesAcrossTheFace) {
         Vec3 e = xj - c.positions[static_cast<std::size_t>(i)];
         const bool wrapped = std::abs(e[0]) > 0.5;  // an image across the face
         e[0] -= std::round(e[0]);
-        lhs += L.values[0][sk] * p4(e);
-        rhs += L.rhs[sk] * lap(e);
+        lhs += L.values[0][sk] * test::quartic(e);  // the quartic about x_i (a = 1: L p = Δp)
+        rhs += L.rhs[sk] * test::quartic_laplacian(e);
         EXPECT_GE(L.rhs[sk], 0) << i;
         if (L.col[sk] != i) {
           EXPECT_GE(L.values[0][sk], 0) << i;
