@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// A dense two-phase simplex method for the many small linear programs
+//   min c^T x  subject to  A x = b,  x >= 0
+// that VRSPH's compact rows pose (rows 15 in 2D, 35 in 3D; columns 2 x neighbours + 2).
+// Among the (many) non-negative solutions of a row's moment conditions it picks the one whose
+// bound on the next degree's truncation error, a weighted l1 norm c^T x, is least; the
+// Lawson–Hanson NNLS, which finds *a* solution, leaves that choice to its path.
+//
+// Written by hand for the same reason as NnlsSolver: every particle solves one, and a general
+// LP library (GLPK) costs tens of microseconds a problem in set-up alone. The tableau
+// ((m + 1) x (n + 1): no columns for the artificial variables, which never re-enter) fits in
+// the L1 cache at these sizes; Dantzig's rule with the largest pivot among tied ratios, and
+// Bland's rule after a run of degenerate pivots (b is zero but for one entry, so degeneracy is
+// the rule, and Bland's rule cannot cycle). No heap allocation per solve.
+#include <vector>
+#include <vrsph/core/types.hpp>
+
+namespace vrsph {
+
+enum class LpStatus { Optimal, Infeasible, Unbounded, IterationLimit };
+
+struct LpOptions {
+  /// Phase 1 ends infeasible when the artificial variables still sum to more than this
+  /// (|b|_1 times it). The caller checks the residual of the answer in its own norm.
+  Real feasibility = 1e-10;
+  int max_iterations = -1;  ///< pivots over both phases; < 0: 10 (m + n)
+};
+
+struct LpResult {
+  LpStatus status = LpStatus::Optimal;
+  int iterations = 0;  ///< pivots over both phases
+  Real objective = 0;  ///< c^T x of the returned x (Optimal)
+  int positive = 0;    ///< entries of x above zero
+};
+
+class DenseSimplex {
+ public:
+  /// Workspace for problems up to max_rows x max_cols (grown on demand, never shrunk).
+  DenseSimplex(int max_rows = 16, int max_cols = 64);
+  /// A: m x n row-major (row i = A + i n); b: m values; c: n values; x receives n values (the
+  /// optimal vertex when Optimal, zeros otherwise). Columns whose entries are all zero are
+  /// fine; rows that repeat others (rank-deficient A) are left basic on their artificial at zero.
+  LpResult solve(const Real* A, int m, int n, const Real* b, const Real* c, Real* x, const LpOptions& options = {});
+
+ private:
+  void reserve(int m, int n);
+  void pivot(int row, int col);
+  // One phase: entering columns by the reduced costs in `cost` (the tableau's objective row)
+  // until optimal; the iteration limit or an unbounded direction end it early.
+  LpStatus run_phase(Real* cost, int& iterations, int max_iterations);
+
+  std::vector<Real> T_;      ///< tableau, (m + 1) x (n + 1) row-major: constraints, then the reduced costs
+  std::vector<int> basis_;   ///< per constraint row: its basic column (< 0: the row's artificial variable)
+  std::vector<char> basic_;  ///< per column: 1 = basic
+  std::vector<char> held_;   ///< per row: its basic variable is an artificial one held at zero
+  int m_ = 0, n_ = 0, width_ = 0;
+  int cap_m_ = 0, cap_n_ = 0;
+  Real pivot_tol_ = 1e-9, cost_tol_ = 0;
+};
+
+}  // namespace vrsph
