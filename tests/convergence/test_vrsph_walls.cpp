@@ -74,14 +74,16 @@ TEST(VrsphWallConvergence, SignedRowsIn3D) {
 }
 
 TEST(VrsphWallConvergence, BalanceFluxRowsMakeMixedProblemsSecondOrder) {
-  // Measured (a = 1 + xy): gradient flux rows order ~1; balance rows order ~2 with an
+  // Measured (a = 1 + xy): gradient flux rows order ~1 (not even convergent: n = 16 ... 256
+  // 1.08e-1, 4.34e-2, 1.17e-2, 5.49e-3, 2.16e-2; fitted over 16 ... 128 1.2 with the NNLS's
+  // interior rows, 1.48 with the least-truncation rows); balance rows order ~2 with an
   // M-matrix; 3D likewise.
   const auto balance = run_bvp_study(mixed(2, {16, 32, 64, 128}, "balance"));
   std::cout << to_markdown(to_table(balance));
   EXPECT_GE(balance.fitted_order_inf.at("vrsph"), 1.8);
   for (const auto& row : balance.rows) EXPECT_TRUE(row.m_matrix_all) << row.first.n;
   const auto gradient = run_bvp_study(mixed(2, {16, 32, 64, 128}, "gradient"));
-  EXPECT_LT(gradient.fitted_order_inf.at("vrsph"), 1.3);
+  EXPECT_LT(gradient.fitted_order_inf.at("vrsph"), 1.6);
   EXPECT_LT(balance.rows.back().error_inf, 0.1 * gradient.rows.back().error_inf);
   const auto three = run_bvp_study(mixed(3, {8, 16, 24}, "balance"));
   std::cout << to_markdown(to_table(three));
@@ -135,28 +137,66 @@ TEST(VrsphCompactConvergence, SignedAveragesRemoveTheErrorSpikesOfRowsWithoutAPo
   // compact_fallback=signed (the default) gives such a row degree 4 with w >= 0 and a signed
   // average where its estimated truncation is the smaller. Example 5, perturbed; measured
   // (seed 1 / seed 3) positive 1.06e-7, 1.29e-8 / 1.94e-7, 6.06e-9 and signed 3.26e-8, 4.45e-9 /
-  // 5.98e-8, 2.44e-9 at n = 100, 200; the matrix stays an M-matrix. Without the wider support
-  // (compact_wide=1), which since gives those rows a positive quartic row of their own (the
-  // default, below: the same errors as the signed rows here, within 1 %).
+  // 5.98e-8, 2.44e-9 at n = 100, 200 with the NNLS's rows (compact_select=nnls, pinned here);
+  // the matrix stays an M-matrix. Without the wider support (compact_wide=1), which since gives
+  // those rows a positive quartic row of their own (the defaults, below: the same errors as the
+  // signed rows here, within 1 %). The least-truncation rows (the default since) make the
+  // positive degree-3 rows better too, and the signed rows' lead smaller: 9.26e-8, 4.91e-9 /
+  // 7.12e-8, 2.69e-9 against 2.64e-8, 1.89e-9 / 2.56e-8, 1.89e-9 (at least 1.4 times).
   for (const std::uint64_t seed : {std::uint64_t{1}, std::uint64_t{3}}) {
     BvpStudyParams p;
     p.methods = {"vrsph"};
     p.cloud = CloudFamily::Perturbed;
     p.seeds = {seed};
     p.n = {100, 200};
-    p.method_options["vrsph"].set("compact_wide", "1");
-    p.method_options["vrsph"].set("compact_fallback", "positive");
-    const auto positive = run_bvp_study(p);
-    p.method_options["vrsph"].set("compact_fallback", "signed");
-    const auto signed_rows = run_bvp_study(p);
-    p.method_options["vrsph"] = {};
-    const auto defaults = run_bvp_study(p);
-    for (std::size_t k = 0; k < p.n.size(); ++k) {
-      const Real e_pos = positive.rows[k].error_inf, e_signed = signed_rows.rows[k].error_inf;
-      EXPECT_LT(e_signed, e_pos / 2) << "seed " << seed << ", n = " << p.n[k];
-      EXPECT_TRUE(signed_rows.rows[k].m_matrix_all) << "seed " << seed << ", n = " << p.n[k];
-      EXPECT_LT(defaults.rows[k].error_inf, 1.05 * e_signed) << "seed " << seed << ", n = " << p.n[k];
-      EXPECT_TRUE(defaults.rows[k].m_matrix_all) << "seed " << seed << ", n = " << p.n[k];
+    for (const char* select : {"nnls", "truncation"}) {
+      p.method_options["vrsph"] = {};
+      p.method_options["vrsph"].set("compact_select", select);
+      p.method_options["vrsph"].set("compact_wide", "1");
+      p.method_options["vrsph"].set("compact_fallback", "positive");
+      const auto positive = run_bvp_study(p);
+      p.method_options["vrsph"].set("compact_fallback", "signed");
+      const auto signed_rows = run_bvp_study(p);
+      p.method_options["vrsph"] = {};
+      p.method_options["vrsph"].set("compact_select", select);
+      const auto defaults = run_bvp_study(p);
+      const Real lead = std::string(select) == "nnls" ? 2 : 1.4;
+      for (std::size_t k = 0; k < p.n.size(); ++k) {
+        const Real e_pos = positive.rows[k].error_inf, e_signed = signed_rows.rows[k].error_inf;
+        EXPECT_LT(e_signed, e_pos / lead) << select << ", seed " << seed << ", n = " << p.n[k];
+        EXPECT_TRUE(signed_rows.rows[k].m_matrix_all) << select << ", seed " << seed << ", n = " << p.n[k];
+        EXPECT_LT(defaults.rows[k].error_inf, 1.05 * e_signed) << select << ", seed " << seed << ", n = " << p.n[k];
+        EXPECT_TRUE(defaults.rows[k].m_matrix_all) << select << ", seed " << seed << ", n = " << p.n[k];
+      }
+    }
+  }
+}
+
+TEST(VrsphCompactConvergence, LeastTruncationRowsAreMoreAccurateThanTheNnlsRows) {
+  // Among a degree's positive compact rows the default takes the one of least bound on the
+  // next degree's truncation (compact_select=truncation, a linear program per row) instead of
+  // the NNLS path's (compact_select=nnls). Example 5, perturbed, max error (seed 1 / seed 3),
+  // measured: 2D n = 200 4.45e-9 / 2.45e-9 with the NNLS's rows against 1.89e-9 / 1.89e-9; 3D
+  // n = 12, 16 6.50e-4, 1.80e-4 / 6.15e-4, 1.88e-4 against 1.58e-4, 4.65e-5 / 1.20e-4, 5.30e-5.
+  // -L stays an M-matrix (w >= 0 either way).
+  const auto study = [](int dim, std::vector<int> n, std::uint64_t seed, const char* select) {
+    BvpStudyParams p;
+    p.methods = {"vrsph"};
+    p.dim = dim;
+    p.cloud = CloudFamily::Perturbed;
+    p.seeds = {seed};
+    p.n = std::move(n);
+    p.method_options["vrsph"].set("compact_select", select);
+    return run_bvp_study(p);
+  };
+  for (const std::uint64_t seed : {std::uint64_t{1}, std::uint64_t{3}}) {
+    const auto nnls2 = study(2, {200}, seed, "nnls"), lp2 = study(2, {200}, seed, "truncation");
+    EXPECT_LT(lp2.rows[0].error_inf, 0.8 * nnls2.rows[0].error_inf) << "2D, seed " << seed;
+    EXPECT_TRUE(lp2.rows[0].m_matrix_all) << "2D, seed " << seed;
+    const auto nnls3 = study(3, {12, 16}, seed, "nnls"), lp3 = study(3, {12, 16}, seed, "truncation");
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_LT(lp3.rows[k].error_inf, 0.4 * nnls3.rows[k].error_inf) << "3D, seed " << seed << ", row " << k;
+      EXPECT_TRUE(lp3.rows[k].m_matrix_all) << "3D, seed " << seed << ", row " << k;
     }
   }
 }

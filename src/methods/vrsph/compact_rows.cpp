@@ -13,6 +13,7 @@
 #include <vrsph/methods/vrsph/compact_rows.hpp>
 #include <vrsph/methods/vrsph/moments.hpp>
 #include <vrsph/methods/vrsph/nnls.hpp>
+#include <vrsph/methods/vrsph/simplex.hpp>
 
 namespace vrsph {
 
@@ -143,11 +144,23 @@ namespace {
 struct MonomialTables {
   std::vector<std::vector<std::array<int, 3>>> mono;
   std::vector<OperatorTable> table;
+  /// Per degree d: the rows of table[d] whose monomial has degree exactly d, and 1 / α!.
+  std::vector<std::vector<std::pair<std::size_t, Real>>> top;
   MonomialTables(int dim, int min_degree, int degree)
-      : mono(static_cast<std::size_t>(degree) + 1), table(static_cast<std::size_t>(degree) + 1) {
+      : mono(static_cast<std::size_t>(degree) + 1), table(static_cast<std::size_t>(degree) + 1),
+        top(static_cast<std::size_t>(degree) + 1) {
     for (int d = min_degree; d <= degree; ++d) {
-      mono[static_cast<std::size_t>(d)] = monomial_exponents(dim, d);
-      table[static_cast<std::size_t>(d)] = operator_table(dim, d, mono[static_cast<std::size_t>(d)]);
+      const auto ud = static_cast<std::size_t>(d);
+      mono[ud] = monomial_exponents(dim, d);
+      table[ud] = operator_table(dim, d, mono[ud]);
+      for (std::size_t r = 0; r < mono[ud].size(); ++r) {
+        const auto& alpha = mono[ud][r];
+        if (alpha[0] + alpha[1] + alpha[2] != d) continue;
+        Real factorial = 1;
+        for (const int e : alpha)
+          for (int q = 2; q <= e; ++q) factorial *= q;
+        top[ud].emplace_back(r, 1 / factorial);
+      }
     }
   }
 };
@@ -164,7 +177,8 @@ class CompactRowSolver {
                    Stencil& target, CompactRows& out)
       : disc_(disc), a_(a), grad_a_(grad_a), t_(t), options_(options), wave_number_(wave_number), walls_(walls),
         target_(target), out_(out),
-        solver_(static_cast<int>(t.mono[static_cast<std::size_t>(options.degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2) {}
+        solver_(static_cast<int>(t.mono[static_cast<std::size_t>(options.degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2),
+        lp_(static_cast<int>(t.mono[static_cast<std::size_t>(options.degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2) {}
 
   void solve(Index i) {
     const NeighbourList& nl = disc_.neighbours;
@@ -235,19 +249,25 @@ class CompactRowSolver {
     for (std::size_t r = 0; r + 1 < R; ++r) {
       const OperatorTable::Row& row = ops.rows[r];
       if (with_w) A_[r * C_ + w_col] = s * vals_[static_cast<std::size_t>(row.value)];
-      Real lap = 0, drift = 0;
-      for (int t = 0; t < row.n_laplacian; ++t) {
-        const auto& term = row.laplacian[static_cast<std::size_t>(t)];
-        lap += term.coefficient * vals_[static_cast<std::size_t>(term.index)];
-      }
-      if (grad_a_)
-        for (int t = 0; t < row.n_drift; ++t) {
-          const auto& term = row.drift[static_cast<std::size_t>(t)];
-          drift += ga[term.axis] * term.coefficient * vals_[static_cast<std::size_t>(term.index)];
-        }
-      A_[r * C_ + mu_col] = -s * (ap * lap + drift);
+      A_[r * C_ + mu_col] = -s * operator_value(row, ap, ga);
     }
     A_[(R - 1) * C_ + mu_col] = s;
+  }
+
+  // (a Δq + h ∇a·∇q) at the particle whose monomials vals_ holds, for q = e^α of `row` (ga: h ∇a
+  // there; read only with grad_a_).
+  Real operator_value(const OperatorTable::Row& row, Real ap, const Vec3& ga) const {
+    Real lap = 0, drift = 0;
+    for (int t = 0; t < row.n_laplacian; ++t) {
+      const auto& term = row.laplacian[static_cast<std::size_t>(t)];
+      lap += term.coefficient * vals_[static_cast<std::size_t>(term.index)];
+    }
+    if (grad_a_)
+      for (int t = 0; t < row.n_drift; ++t) {
+        const auto& term = row.drift[static_cast<std::size_t>(t)];
+        drift += ga[term.axis] * term.coefficient * vals_[static_cast<std::size_t>(term.index)];
+      }
+    return ap * lap + drift;
   }
 
   // ĉ = c h times a_i n·∇q(0): only the degree-1 monomials q = e_k have ∇q(0) != 0.
@@ -263,6 +283,40 @@ class CompactRowSolver {
   }
 
   bool wall_row(Index i) const { return !walls_.rows.empty() && walls_.rows[static_cast<std::size_t>(i)]; }
+
+  // The linear program's costs for the system build_system(i, deg) made: per column the bound
+  // Σ_|α|=deg+1 |entry of that column in the row of e^α| / α! on its share of the row's
+  // truncation at the next degree (w_j: |e_j^α|; μ_k: |a_k Δe^α + h ∇a_k·∇e^α| at e_k; μ_ii
+  // and the wall flux: 0 from degree 3 on), times the column's scale.
+  void truncation_costs(Index i, int deg) {
+    const int m = deg + 1;
+    const OperatorTable& ops = t_.table[static_cast<std::size_t>(m)];
+    const auto& top = t_.top[static_cast<std::size_t>(m)];
+    const auto nbr = candidates_;
+    const std::size_t cnt = columns_.size();
+    const PointCloud& cloud = disc_.cloud;
+    cost_.assign(C_, 0.0);
+    vals_.resize(ops.all.size());
+    for (std::size_t k = 0; k < cnt; ++k) {
+      const Index p = nbr[columns_[k]];
+      const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[static_cast<std::size_t>(i)]) / h_;
+      tabulate(e, m, pw_);
+      for (std::size_t q = 0; q < ops.all.size(); ++q) vals_[q] = monomial(pw_, ops.all[q]);
+      const Real ap = a_ ? (*a_)[p] : 1.0;
+      Vec3 ga = Vec3::Zero();
+      if (grad_a_)
+        for (int d = 0; d < cloud.dim; ++d) ga[d] = h_ * (*grad_a_)(p, d);
+      Real cw = 0, cmu = 0;
+      for (const auto& [r, inv_factorial] : top) {
+        const OperatorTable::Row& row = ops.rows[r];
+        cw += std::abs(vals_[static_cast<std::size_t>(row.value)]) * inv_factorial;
+        cmu += std::abs(operator_value(row, ap, ga)) * inv_factorial;
+      }
+      const Real s = scale_[columns_[k]];
+      cost_[k] = s * cw;
+      cost_[cnt + k] = s * cmu;
+    }
+  }
 
   // Row i's system of degree `deg` over columns_ into A_ (row-major, rows_ x C_) and b_:
   // w, μ of the neighbours, μ_ii, the wall flux.
@@ -295,7 +349,8 @@ class CompactRowSolver {
     NnlsResult r;
     if (!signed_mu) {
       x_.assign(C_, 0.0);
-      r = solver_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), x_.data(), options, MatrixOrder::RowMajor);
+      if (!(options_.least_truncation && least_truncation_row(i, deg, r)))
+        r = solver_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), x_.data(), options, MatrixOrder::RowMajor);
     } else {
       r = solve_signed(cnt, options);
     }
@@ -310,6 +365,30 @@ class CompactRowSolver {
     if (!(r.status == NnlsStatus::Converged && res <= options_.tolerance)) return false;
     if (signed_mu && !laplacian_type(i, cnt)) return false;
     residual_ = res;
+    return true;
+  }
+
+  // The positive row of degree `deg` (system in A_, b_) whose truncation bound is least, by
+  // the linear program; false where it finds none (infeasible, the iteration limit, or a vertex
+  // the tableau's round-off left further from the conditions than the polish repairs: the NNLS
+  // then decides, so a row is admitted or refused as without this option), with x_ zero.
+  bool least_truncation_row(Index i, int deg, NnlsResult& r) {
+    truncation_costs(i, deg);
+    const LpResult lp = lp_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), cost_.data(), x_.data());
+    Real r2 = 0;
+    for (std::size_t q = 0; lp.status == LpStatus::Optimal && q < static_cast<std::size_t>(rows_); ++q) {
+      Real t = -b_[q];
+      for (std::size_t k = 0; k < C_; ++k) t += A_[q * C_ + k] * x_[k];
+      r2 += t * t;
+    }
+    if (lp.status != LpStatus::Optimal || !(std::sqrt(r2) <= kPolishBelow)) {
+      std::fill(x_.begin(), x_.end(), 0.0);
+      return false;
+    }
+    r.status = NnlsStatus::Converged;
+    r.iterations = lp.iterations;
+    r.passive = lp.positive;
+    r.residual = std::sqrt(r2);
     return true;
   }
 
@@ -505,8 +584,9 @@ class CompactRowSolver {
   Stencil& target_;
   CompactRows& out_;
   NnlsSolver solver_;
+  DenseSimplex lp_;  ///< CompactRowOptions::least_truncation
   std::optional<NnlsSolver> signed_solver_;  ///< for the augmented systems of signed averages
-  std::vector<Real> A_, b_, x_, scale_, vals_, M_, c_, z_, signed_x_;
+  std::vector<Real> A_, b_, x_, scale_, vals_, M_, c_, z_, signed_x_, cost_;
   std::vector<std::size_t> columns_;  ///< the candidates (positions in candidates_) of the current attempt
   std::span<const Index> candidates_;  ///< the particles row i may weigh: its neighbours, or wide_candidates_
   std::vector<Index> wide_candidates_;
@@ -544,8 +624,10 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
   const bool any_wall = !walls.rows.empty();
   check<InputError>(!any_wall || (static_cast<Index>(walls.rows.size()) == n && static_cast<Index>(walls.conormal.size()) == n),
                     "compact rows: wall mask and conormals need one entry per particle");
-  // Signed averages compare rows by their residuals one degree up.
-  const MonomialTables tables(dim, options.min_degree, options.degree + (options.signed_average ? 1 : 0));
+  // Signed averages compare rows by their residuals one degree up
+  // (and the least-truncation rows bound their residuals there).
+  const MonomialTables tables(dim, options.min_degree,
+                              options.degree + (options.signed_average || options.least_truncation ? 1 : 0));
   // The whole cloud's extent (on one rank's part too: the rows do not depend on the ranks).
   const Real wave_number = options.wave_number > 0 ? options.wave_number : std::numbers::pi / disc.length_unit();
   CompactRows out;

@@ -274,7 +274,9 @@ TEST(VrsphCompact, RowsAreExactOnQuarticsWithPositiveWeightsAndAverage) {
 TEST(VrsphCompact, InnerSupportFirstGivesTheMostCompactRowsAndOnALatticeAMoreAccurateSolution) {
   // compact_support (default 0.8): each row first tries the neighbours within 0.8 h; on a
   // lattice (h = 3 dx) those admit a positive degree-4 row, which leaves every weight beyond
-  // 0.8 h at zero; the whole support (compact_support=1) picks weights out to 3 dx.
+  // 0.8 h at zero. With the NNLS's row (compact_select=nnls) the whole support
+  // (compact_support=1) picks weights out to 3 dx; the least-truncation row (the default)
+  // prefers the nearest neighbours by itself and stays within 0.8 h either way.
   const PointCloud c = vertex_lattice(Domain::unit_box(2), 16);
   const auto farthest_weight = [&](const Stencil& L) {
     Real far = 0;
@@ -288,24 +290,29 @@ TEST(VrsphCompact, InnerSupportFirstGivesTheMostCompactRowsAndOnALatticeAMoreAcc
     }
     return far / c.spacing;
   };
-  const Stencil inner = build(c, "rhs=compact");
-  const Stencil whole = build(c, "rhs=compact,compact_support=1");
-  EXPECT_LE(farthest_weight(inner), 0.8 * 3 + 1e-12);
-  EXPECT_GT(farthest_weight(whole), 0.8 * 3);
+  EXPECT_LE(farthest_weight(build(c, "rhs=compact,compact_select=nnls")), 0.8 * 3 + 1e-12);
+  EXPECT_GT(farthest_weight(build(c, "rhs=compact,compact_support=1,compact_select=nnls")), 0.8 * 3);
+  EXPECT_LE(farthest_weight(build(c, "rhs=compact")), 0.8 * 3 + 1e-12);
+  EXPECT_LE(farthest_weight(build(c, "rhs=compact,compact_support=1")), 0.8 * 3 + 1e-12);
 
-  // Example 5 on the uniform lattice at n = 80: the compact rows' solution is at least 5 times
-  // more accurate (measured 7.2e-9 against 1.55e-7; at n = 20 and 40, where the rows next to
-  // the boundary dominate, 1.3 and 2 times less accurate).
-  const auto error = [](const std::string& support) {
+  // Example 5 on the uniform lattice at n = 80: with the NNLS's rows the inner support is at
+  // least 5 times more accurate (measured 7.2e-9 against 1.55e-7; at n = 20 and 40, where the
+  // rows next to the boundary dominate, 1.3 and 2 times less accurate); the least-truncation
+  // rows are as accurate on either support (measured 7.19e-9 both).
+  const auto error = [](const std::string& support, const std::string& select) {
     BvpStudyParams p;
     p.cloud = CloudFamily::Uniform;
     p.n = {80};
     p.solver.type = SolverType::SparseLU;
     p.method_options["vrsph"].set("compact_support", support);
+    p.method_options["vrsph"].set("compact_select", select);
     return run_bvp_study(p).rows.front().error_inf;
   };
-  const Real e_inner = error("0.8"), e_whole = error("1");
+  const Real e_inner = error("0.8", "nnls"), e_whole = error("1", "nnls");
   EXPECT_LT(e_inner, e_whole / 5) << e_inner << " vs " << e_whole;
+  const Real t_inner = error("0.8", "truncation"), t_whole = error("1", "truncation");
+  EXPECT_LT(t_inner, 1.2 * e_inner) << t_inner << " vs " << e_inner;
+  EXPECT_LT(t_whole, 1.2 * e_inner) << t_whole << " vs " << e_inner;
 
   for (const char* bad : {"rhs=compact,compact_support=0", "rhs=compact,compact_support=1.5", "compact_support=-1"})
     EXPECT_THROW_MSG((void)build(c, bad), ConfigError, "compact_support must be a fraction in (0, 1]");
