@@ -93,28 +93,33 @@ LpStatus DenseSimplex::run_phase(Real* cost, int& iterations, int max_iterations
   for (;;) {
     // Dantzig: the most negative reduced cost, and of those within kTie of it the first
     // (symmetric columns of a lattice tie up to round-off, and the round-off must not choose);
-    // Bland: the first improving column.
+    // Bland: the first improving column. A basic column's reduced cost is exactly 0 (pivots
+    // keep its unit column exact), so none is ever chosen and the scan needs no test for it:
+    // the minimum in four independent lanes (the branchy scan was half of this function).
     int q = -1;
-    Real best = -cost_tol_;
-    for (int j = 0; j < n_; ++j) {
-      if (basic_[static_cast<std::size_t>(j)] || !(cost[j] < best)) continue;
-      q = j;
-      if (bland) break;
-      best = cost[j];
+    if (bland) {
+      for (int j = 0; j < n_ && q < 0; ++j)
+        if (cost[j] < -cost_tol_) q = j;
+    } else {
+      Real part[4] = {0, 0, 0, 0};
+      int j = 0;
+      for (; j + 4 <= n_; j += 4)
+        for (int l = 0; l < 4; ++l) part[l] = std::min(part[l], cost[j + l]);
+      for (; j < n_; ++j) part[0] = std::min(part[0], cost[j]);
+      const Real best = std::min(std::min(part[0], part[1]), std::min(part[2], part[3]));
+      if (best < -cost_tol_) {
+        const Real threshold = best - kTie * best;  // best < 0: a little above it
+        for (j = 0; q < 0; ++j)
+          if (cost[j] <= threshold) q = j;
+      }
     }
     if (q < 0) return LpStatus::Optimal;
-    if (!bland) {
-      const Real threshold = best - kTie * best;  // best < 0: a little above it
-      for (int j = 0; j < q; ++j)
-        if (!basic_[static_cast<std::size_t>(j)] && cost[j] <= threshold) {
-          q = j;
-          break;
-        }
-    }
     // Ratio test: the largest step that keeps every basic variable >= 0 and every held
     // artificial variable at 0 (a step of 0 wherever its row has an entry of either sign).
-    // Among tied rows the largest pivot (stability), or under Bland's rule the row whose basic
-    // variable comes first (artificial variables before all; no cycling).
+    // Among tied rows the held ones first, then the largest pivot (stability), or under
+    // Bland's rule the row whose basic variable comes first (artificial variables before all;
+    // no cycling). (Computing the ratios first without branches and choosing after was no
+    // faster: 0.79-0.92 against 0.73-0.84 s for the compact rows at n = 300, alternately.)
     int r = -1;
     Real ratio = std::numeric_limits<Real>::infinity(), piv = 0;
     for (int i = 0; i < m_; ++i) {
@@ -129,7 +134,7 @@ LpStatus DenseSimplex::run_phase(Real* cost, int& iterations, int max_iterations
         const Real tie = 1e-12 * (1 + ratio);
         if (t < ratio - tie)
           take = true;
-        else if (t <= ratio + tie)  // tied
+        else if (t <= ratio + tie)
           take = bland ? basis_[static_cast<std::size_t>(i)] < basis_[static_cast<std::size_t>(r)]
                        : held > (held_[static_cast<std::size_t>(r)] != 0) ||
                              (held == (held_[static_cast<std::size_t>(r)] != 0) && size > piv * (1 + kTie));
@@ -140,9 +145,10 @@ LpStatus DenseSimplex::run_phase(Real* cost, int& iterations, int max_iterations
         piv = size;
       }
     }
+    const Real step = ratio;
     if (r < 0) return LpStatus::Unbounded;
     if (++iterations > max_iterations) return LpStatus::IterationLimit;
-    degenerate = ratio == 0 ? degenerate + 1 : 0;
+    degenerate = step == 0 ? degenerate + 1 : 0;
     if (degenerate > kDegenerateRun) bland = true;
     pivot(r, q);
   }
