@@ -142,7 +142,7 @@ TEST(VrsphCompactConvergence, SignedAveragesRemoveTheErrorSpikesOfRowsWithoutAPo
   // those rows a positive quartic row of their own (the defaults, below: the same errors as the
   // signed rows here, within 1 %). The least-truncation rows (the default since) make the
   // positive degree-3 rows better too, and the signed rows' lead smaller: 9.26e-8, 4.91e-9 /
-  // 7.12e-8, 2.69e-9 against 2.64e-8, 1.89e-9 / 2.56e-8, 1.89e-9 (at least 1.4 times).
+  // 7.12e-8, 2.69e-9 against 2.64e-8, 1.89e-9 / 2.56e-8, 1.89e-9 (1.42 times at least).
   for (const std::uint64_t seed : {std::uint64_t{1}, std::uint64_t{3}}) {
     BvpStudyParams p;
     p.methods = {"vrsph"};
@@ -160,7 +160,7 @@ TEST(VrsphCompactConvergence, SignedAveragesRemoveTheErrorSpikesOfRowsWithoutAPo
       p.method_options["vrsph"] = {};
       p.method_options["vrsph"].set("compact_select", select);
       const auto defaults = run_bvp_study(p);
-      const Real lead = std::string(select) == "nnls" ? 2 : 1.4;
+      const Real lead = std::string(select) == "nnls" ? 2 : 1.3;  // measured >= 1.42
       for (std::size_t k = 0; k < p.n.size(); ++k) {
         const Real e_pos = positive.rows[k].error_inf, e_signed = signed_rows.rows[k].error_inf;
         EXPECT_LT(e_signed, e_pos / lead) << select << ", seed " << seed << ", n = " << p.n[k];
@@ -191,7 +191,7 @@ TEST(VrsphCompactConvergence, LeastTruncationRowsAreMoreAccurateThanTheNnlsRows)
   };
   for (const std::uint64_t seed : {std::uint64_t{1}, std::uint64_t{3}}) {
     const auto nnls2 = study(2, {200}, seed, "nnls"), lp2 = study(2, {200}, seed, "truncation");
-    EXPECT_LT(lp2.rows[0].error_inf, 0.8 * nnls2.rows[0].error_inf) << "2D, seed " << seed;
+    EXPECT_LT(lp2.rows[0].error_inf, 0.85 * nnls2.rows[0].error_inf) << "2D, seed " << seed;  // measured 0.43, 0.77
     EXPECT_TRUE(lp2.rows[0].m_matrix_all) << "2D, seed " << seed;
     const auto nnls3 = study(3, {12, 16}, seed, "nnls"), lp3 = study(3, {12, 16}, seed, "truncation");
     for (std::size_t k = 0; k < 2; ++k) {
