@@ -144,7 +144,7 @@ namespace {
 struct MonomialTables {
   std::vector<std::vector<std::array<int, 3>>> mono;
   std::vector<OperatorTable> table;
-  /// Per degree d: the rows of table[d] whose monomial has degree exactly d, and 1 / α!.
+  /// Per degree d: the rows of table[d] whose monomial has degree exactly d, and α!.
   std::vector<std::vector<std::pair<std::size_t, Real>>> top;
   MonomialTables(int dim, int min_degree, int degree)
       : mono(static_cast<std::size_t>(degree) + 1), table(static_cast<std::size_t>(degree) + 1),
@@ -159,7 +159,7 @@ struct MonomialTables {
         Real factorial = 1;
         for (const int e : alpha)
           for (int q = 2; q <= e; ++q) factorial *= q;
-        top[ud].emplace_back(r, 1 / factorial);
+        top[ud].emplace_back(r, factorial);
       }
     }
   }
@@ -237,21 +237,29 @@ class CompactRowSolver {
   void columns(Index i, Index p, int deg, std::size_t w_col, std::size_t mu_col, bool with_w, Real s) {
     const OperatorTable& ops = t_.table[static_cast<std::size_t>(deg)];
     const auto R = static_cast<std::size_t>(rows_);
-    const PointCloud& cloud = disc_.cloud;
-    const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[static_cast<std::size_t>(i)]) / h_;
-    tabulate(e, deg, pw_);
-    vals_.resize(ops.all.size());
-    for (std::size_t k = 0; k < ops.all.size(); ++k) vals_[k] = monomial(pw_, ops.all[k]);
-    const Real ap = a_ ? (*a_)[p] : 1.0;
-    Vec3 ga = Vec3::Zero();
-    if (grad_a_)
-      for (int k = 0; k < cloud.dim; ++k) ga[k] = h_ * (*grad_a_)(p, k);
+    Vec3 ga;
+    const Real ap = evaluate_at(i, p, deg, ga);
     for (std::size_t r = 0; r + 1 < R; ++r) {
       const OperatorTable::Row& row = ops.rows[r];
       if (with_w) A_[r * C_ + w_col] = s * vals_[static_cast<std::size_t>(row.value)];
       A_[r * C_ + mu_col] = -s * operator_value(row, ap, ga);
     }
     A_[(R - 1) * C_ + mu_col] = s;
+  }
+
+  // Particle p's monomials of e = (x_p - x_i)/h up to degree `deg` into vals_ (in the order of
+  // that degree's table); returns a at p, and h ∇a at p in ga (zero without grad_a_).
+  Real evaluate_at(Index i, Index p, int deg, Vec3& ga) {
+    const OperatorTable& ops = t_.table[static_cast<std::size_t>(deg)];
+    const PointCloud& cloud = disc_.cloud;
+    const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[static_cast<std::size_t>(i)]) / h_;
+    tabulate(e, deg, pw_);
+    vals_.resize(ops.all.size());
+    for (std::size_t k = 0; k < ops.all.size(); ++k) vals_[k] = monomial(pw_, ops.all[k]);
+    ga = Vec3::Zero();
+    if (grad_a_)
+      for (int k = 0; k < cloud.dim; ++k) ga[k] = h_ * (*grad_a_)(p, k);
+    return a_ ? (*a_)[p] : 1.0;
   }
 
   // (a Δq + h ∇a·∇q) at the particle whose monomials vals_ holds, for q = e^α of `row` (ga: h ∇a
@@ -292,25 +300,16 @@ class CompactRowSolver {
     const int m = deg + 1;
     const OperatorTable& ops = t_.table[static_cast<std::size_t>(m)];
     const auto& top = t_.top[static_cast<std::size_t>(m)];
-    const auto nbr = candidates_;
     const std::size_t cnt = columns_.size();
-    const PointCloud& cloud = disc_.cloud;
     cost_.assign(C_, 0.0);
-    vals_.resize(ops.all.size());
     for (std::size_t k = 0; k < cnt; ++k) {
-      const Index p = nbr[columns_[k]];
-      const Vec3 e = (cloud.positions[static_cast<std::size_t>(p)] - cloud.positions[static_cast<std::size_t>(i)]) / h_;
-      tabulate(e, m, pw_);
-      for (std::size_t q = 0; q < ops.all.size(); ++q) vals_[q] = monomial(pw_, ops.all[q]);
-      const Real ap = a_ ? (*a_)[p] : 1.0;
-      Vec3 ga = Vec3::Zero();
-      if (grad_a_)
-        for (int d = 0; d < cloud.dim; ++d) ga[d] = h_ * (*grad_a_)(p, d);
+      Vec3 ga;
+      const Real ap = evaluate_at(i, candidates_[columns_[k]], m, ga);
       Real cw = 0, cmu = 0;
-      for (const auto& [r, inv_factorial] : top) {
+      for (const auto& [r, factorial] : top) {
         const OperatorTable::Row& row = ops.rows[r];
-        cw += std::abs(vals_[static_cast<std::size_t>(row.value)]) * inv_factorial;
-        cmu += std::abs(operator_value(row, ap, ga)) * inv_factorial;
+        cw += std::abs(vals_[static_cast<std::size_t>(row.value)]) / factorial;
+        cmu += std::abs(operator_value(row, ap, ga)) / factorial;
       }
       const Real s = scale_[columns_[k]];
       cost_[k] = s * cw;
@@ -375,20 +374,15 @@ class CompactRowSolver {
   bool least_truncation_row(Index i, int deg, NnlsResult& r) {
     truncation_costs(i, deg);
     const LpResult lp = lp_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), cost_.data(), x_.data());
-    Real r2 = 0;
-    for (std::size_t q = 0; lp.status == LpStatus::Optimal && q < static_cast<std::size_t>(rows_); ++q) {
-      Real t = -b_[q];
-      for (std::size_t k = 0; k < C_; ++k) t += A_[q * C_ + k] * x_[k];
-      r2 += t * t;
-    }
-    if (lp.status != LpStatus::Optimal || !(std::sqrt(r2) <= kPolishBelow)) {
+    const Real res = lp.status == LpStatus::Optimal ? residual() : std::numeric_limits<Real>::infinity();
+    if (!(res <= kPolishBelow)) {
       std::fill(x_.begin(), x_.end(), 0.0);
       return false;
     }
     r.status = NnlsStatus::Converged;
     r.iterations = lp.iterations;
     r.passive = lp.positive;
-    r.residual = std::sqrt(r2);
+    r.residual = res;
     return true;
   }
 
@@ -433,11 +427,16 @@ class CompactRowSolver {
                                          MatrixOrder::RowMajor);
     x_.assign(z_.begin(), z_.begin() + static_cast<std::ptrdiff_t>(C_));
     for (std::size_t k = 0; k < nm; ++k) x_[cnt + k] -= z_[C_ + k];
-    const Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> A(A_.data(), rows_, static_cast<Eigen::Index>(C_));
-    r.residual = (A * Eigen::Map<const Eigen::VectorXd>(x_.data(), static_cast<Eigen::Index>(C_)) -
-                  Eigen::Map<const Eigen::VectorXd>(b_.data(), rows_))
-                     .norm();
+    r.residual = residual();
     return r;
+  }
+
+  // ||A x - b|| of the current system (A_, b_) at x_.
+  Real residual() const {
+    const Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> A(A_.data(), rows_, static_cast<Eigen::Index>(C_));
+    return (A * Eigen::Map<const Eigen::VectorXd>(x_.data(), static_cast<Eigen::Index>(C_)) -
+            Eigen::Map<const Eigen::VectorXd>(b_.data(), rows_))
+        .norm();
   }
 
   // The estimated error the row in x_ (degree `deg` over columns_) makes at its particle: on u
@@ -447,16 +446,10 @@ class CompactRowSolver {
   Real truncation_estimate(Index i, int deg) {
     const int m = deg + 1;
     build_system(i, m);  // the same columns: x_ still matches them
-    const auto& mo = t_.mono[static_cast<std::size_t>(m)];
     Real sum = 0;
-    for (std::size_t r = 0; r < mo.size(); ++r) {
-      const auto& alpha = mo[r];
-      if (alpha[0] + alpha[1] + alpha[2] != m) continue;
+    for (const auto& [r, factorial] : t_.top[static_cast<std::size_t>(m)]) {
       Real t = 0;
       for (std::size_t k = 0; k < C_; ++k) t += A_[r * C_ + k] * x_[k];
-      Real factorial = 1;
-      for (const int e : alpha)
-        for (int q = 2; q <= e; ++q) factorial *= q;
       sum += std::abs(t) / factorial;
     }
     // A row's defect τ moves its own value by about τ over its diagonal Σ_j w_j (the

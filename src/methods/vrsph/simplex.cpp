@@ -12,7 +12,6 @@
 // repeat others.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/simplex.hpp>
