@@ -180,12 +180,16 @@ class CompactRowSolver {
         solver_(static_cast<int>(t.mono[static_cast<std::size_t>(options.degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2),
         lp_(static_cast<int>(t.mono[static_cast<std::size_t>(options.degree)].size()) + 1, 2 * static_cast<int>(max_count) + 2) {}
 
-  void solve(Index i) {
+  // Row i's positive row of the top degree over its own support (first the inner neighbours,
+  // then all), accepted where found. Where none is found and `defer` is set, the row is left
+  // for solve_wide and lower_degrees (true returned: the caller tries the wider support first,
+  // and the lower degrees over this support only where that fails); else the lower degrees
+  // here (false returned).
+  bool solve(Index i, bool defer) {
     const NeighbourList& nl = disc_.neighbours;
     wide_ = nullptr;
-    candidates_ = nl.of(i);
+    own_support(i);
     const auto distances = nl.distances_of(i);
-    column_scales(distances, scale_);  // the w and μ columns of neighbour j, scaled back below
     // First the inner neighbours alone, at the top degree: the most compact positive row
     // (on a lattice the Mehrstellen-type row of the nearest two shells, 22 times more accurate
     // on Example 5 than the row NNLS picks from the whole support; on disordered clouds as
@@ -195,24 +199,42 @@ class CompactRowSolver {
       const Real r = options_.inner_support * nl.radius(i);
       for (std::size_t j = 0; j < distances.size(); ++j)
         if (distances[j] <= r) columns_.push_back(j);
-      if (columns_.size() < distances.size() && solve_degree(i, options_.degree, false)) return accept(i, options_.degree, false);
+      if (columns_.size() < distances.size() && solve_degree(i, options_.degree, false)) {
+        accept(i, options_.degree, false);
+        return false;
+      }
     }
-    columns_.resize(distances.size());
-    for (std::size_t j = 0; j < distances.size(); ++j) columns_[j] = j;
-    // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
-    // positive row with the O(h) part of the truncation moved into the average of f). With
-    // signed averages the signed row of the first degree without a positive one competes with
-    // that positive row on its estimated truncation: a row one degree short with a positive
-    // average is the worse at fine resolution (the error spikes of the few rows by the walls
-    // and at voids of a disordered cloud set the max-norm error there), a signed row whose μ
-    // is large and cancelling is the worse at coarse resolution. Not at walls (flux=balance
-    // rows): a wall row's error is not confined to its particle, and on mixed problems signed
-    // wall rows were 7-16 times more accurate at n = 128 but up to 4 times less at n = 16.
+    all_columns(distances.size());
+    if (solve_degree(i, options_.degree, false)) {
+      accept(i, options_.degree, false);
+      return false;
+    }
+    if (defer) return true;
+    lower_degrees(i);
+    return false;
+  }
+
+  // Row i over its own support below the top degree (solve() found no positive row of the
+  // top degree there, and the wider support, where tried, none either).
+  // The highest degree that admits w, μ >= 0 (next to a wall often only 3: still a
+  // positive row with the O(h) part of the truncation moved into the average of f). With
+  // signed averages the signed row of the first degree without a positive one competes with
+  // that positive row on its estimated truncation: a row one degree short with a positive
+  // average is the worse at fine resolution (the error spikes of the few rows by the walls
+  // and at voids of a disordered cloud set the max-norm error there), a signed row whose μ
+  // is large and cancelling is the worse at coarse resolution. Not at walls (flux=balance
+  // rows): a wall row's error is not confined to its particle, and on mixed problems signed
+  // wall rows were 7-16 times more accurate at n = 128 but up to 4 times less at n = 16.
+  void lower_degrees(Index i) {
+    wide_ = nullptr;
+    own_support(i);
+    all_columns(static_cast<std::size_t>(disc_.neighbours.count(i)));
     bool have_signed = false;
     int signed_degree = 0;
     Real signed_error = 0, signed_residual = 0;
     for (int deg = options_.degree; deg >= options_.min_degree; --deg) {
-      if (solve_degree(i, deg, false)) {
+      // (the top degree's positive row: none, solve() found)
+      if (deg < options_.degree && solve_degree(i, deg, false)) {
         if (have_signed && !(truncation_estimate(i, deg) < signed_error)) break;
         return accept(i, deg, false);
       }
@@ -231,6 +253,18 @@ class CompactRowSolver {
   }
 
  private:
+  // Row i's own neighbours as its candidates (and their columns' scales).
+  void own_support(Index i) {
+    const NeighbourList& nl = disc_.neighbours;
+    candidates_ = nl.of(i);
+    column_scales(nl.distances_of(i), scale_);  // the w and μ columns of neighbour j, scaled back below
+  }
+  // Every candidate a column.
+  void all_columns(std::size_t count) {
+    columns_.resize(count);
+    for (std::size_t j = 0; j < count; ++j) columns_[j] = j;
+  }
+
   // The columns of particle p from one evaluation of its monomials: its w column at w_col
   // (q(e_p); none for the row's own particle) and its μ column at mu_col
   // (-(a Δq + h ∇a·∇q)(e_p), and 1 in the Σ μ = 1 row).
@@ -636,7 +670,10 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
     const auto si = static_cast<std::size_t>(i);
     return rows.empty() ? cloud.tags[si] != Tag::Ghost : rows[si] != 0;
   };
-  // The rows left without a positive row of the top degree, tried again on the wider support.
+  // The rows left without a positive row of the top degree over their own support, tried
+  // again on the wider support.
+  const bool try_wide = options.wide_support > 1;
+  std::vector<char> deferred(try_wide ? static_cast<std::size_t>(n) : 0, 0);
   std::vector<Index> retry;
   std::vector<RowReplacement> wide;
   std::vector<char> widened;
@@ -646,21 +683,26 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
 #pragma omp for schedule(dynamic, 64)
     for (Index i = 0; i < n; ++i) {
       if (!wanted(i) || interrupt_pending(i)) continue;  // (after a stop request: skipped, see below)
-      thread_rows.solve(i);
+      const bool defer = thread_rows.solve(i, try_wide);
+      if (defer) deferred[static_cast<std::size_t>(i)] = 1;
     }
-    if (options.wide_support > 1) {
+    if (try_wide) {
 #pragma omp single
       {
-        for (Index i = 0; i < n; ++i) {
-          const auto si = static_cast<std::size_t>(i);
-          if (wanted(i) && !(out.ok[si] && out.degree[si] == options.degree && !out.signed_average[si])) retry.push_back(i);
-        }
+        for (Index i = 0; i < n; ++i)
+          if (deferred[static_cast<std::size_t>(i)]) retry.push_back(i);
         wide.resize(retry.size());
         widened.assign(retry.size(), 0);
       }
+      // The wider support first: where it admits a positive row of the top degree that row is
+      // kept, so the lower degrees over the row's own support (the signed averages, with
+      // their larger systems) are worked out only where it does not.
 #pragma omp for schedule(dynamic, 1)
-      for (std::size_t r = 0; r < retry.size(); ++r)
-        if (!interrupt_pending(retry[r])) widened[r] = thread_rows.solve_wide(retry[r], wide[r]);
+      for (std::size_t r = 0; r < retry.size(); ++r) {
+        if (interrupt_pending(retry[r])) continue;
+        widened[r] = thread_rows.solve_wide(retry[r], wide[r]);
+        if (!widened[r]) thread_rows.lower_degrees(retry[r]);
+      }
     }
   }
   check_interrupt();  // rows skipped after a stop request: the result is incomplete
