@@ -229,14 +229,39 @@ class CompactRowSolver {
     wide_ = nullptr;
     own_support(i);
     all_columns(static_cast<std::size_t>(disc_.neighbours.count(i)));
+    lower_degree_row(i, false);
+  }
+
+  // The same over the wider support that solve_wide(i, row) just tried (CompactRowOptions::
+  // wide_lower_degrees); true, and the row in `row`, where it admits one (positive or signed,
+  // held to the test of a Laplacian-type row as the wider support's rows are).
+  bool wide_lower_degrees(Index i, RowReplacement& row) {
+    if (wide_row_ != i) return false;  // solve_wide found no wider support for row i
+    const auto si = static_cast<std::size_t>(i);
+    candidates_ = wide_candidates_;
+    column_scales(wide_distances_, scale_);
+    all_columns(wide_candidates_.size());
+    const Real residual_before = out_.residual[si];
+    wide_ = &row;
+    const bool found = lower_degree_row(i, true);
+    if (!found) out_.residual[si] = residual_before;
+    wide_ = nullptr;
+    return found;
+  }
+
+ private:
+  // The chain of lower_degrees over the current candidates and columns; true where a row was
+  // accepted. `laplacian` also holds the positive rows to laplacian_type.
+  bool lower_degree_row(Index i, bool laplacian) {
     bool have_signed = false;
     int signed_degree = 0;
     Real signed_error = 0, signed_residual = 0;
     for (int deg = options_.degree; deg >= options_.min_degree; --deg) {
       // (the top degree's positive row: none, solve() found)
-      if (deg < options_.degree && solve_degree(i, deg, false)) {
+      if (deg < options_.degree && solve_degree(i, deg, false) && (!laplacian || laplacian_type(i, columns_.size()))) {
         if (have_signed && !(truncation_estimate(i, deg) < signed_error)) break;
-        return accept(i, deg, false);
+        accept(i, deg, false);
+        return true;
       }
       if (options_.signed_average && !have_signed && !wall_row(i) && solve_degree(i, deg, true)) {
         have_signed = true;
@@ -246,13 +271,13 @@ class CompactRowSolver {
         signed_error = truncation_estimate(i, deg);
       }
     }
-    if (!have_signed) return;
+    if (!have_signed) return false;
     x_ = signed_x_;
     residual_ = signed_residual;
     accept(i, signed_degree, true);
+    return true;
   }
 
- private:
   // Row i's own neighbours as its candidates (and their columns' scales).
   void own_support(Index i) {
     const NeighbourList& nl = disc_.neighbours;
@@ -532,6 +557,7 @@ class CompactRowSolver {
   // left as solve() made it.
   bool solve_wide(Index i, RowReplacement& row) {
     const NeighbourList& nl = disc_.neighbours;
+    wide_row_ = -1;
     const PointCloud& cloud = disc_.cloud;
     const auto si = static_cast<std::size_t>(i);
     const Vec3& xi = cloud.positions[si];
@@ -553,10 +579,10 @@ class CompactRowSolver {
     wide_distances_.resize(wide_candidates_.size());
     for (std::size_t k = 0; k < wide_candidates_.size(); ++k)
       wide_distances_[k] = (cloud.positions[static_cast<std::size_t>(wide_candidates_[k])] - xi).norm();
+    wide_row_ = i;
     candidates_ = wide_candidates_;
     column_scales(wide_distances_, scale_);
-    columns_.resize(wide_candidates_.size());
-    for (std::size_t k = 0; k < columns_.size(); ++k) columns_[k] = k;
+    all_columns(wide_candidates_.size());
     const Real residual_before = out_.residual[si];
     wide_ = &row;
     // Held to the test of a signed row: where a jumps by orders of magnitude (a channelised
@@ -619,6 +645,7 @@ class CompactRowSolver {
   std::vector<Index> wide_candidates_;
   std::vector<Real> wide_distances_;
   RowReplacement* wide_ = nullptr;  ///< where accept() puts a wide row (null: into the stencil's pattern)
+  Index wide_row_ = -1;             ///< the row whose wider support wide_candidates_ holds
   std::array<std::array<Real, 8>, 3> pw_{};
   std::size_t C_ = 0;  ///< columns of the current system
   int rows_ = 0;       ///< its rows
@@ -701,6 +728,7 @@ CompactRows compact_rows(const Discretisation& disc, std::span<const char> rows,
       for (std::size_t r = 0; r < retry.size(); ++r) {
         if (interrupt_pending(retry[r])) continue;
         widened[r] = thread_rows.solve_wide(retry[r], wide[r]);
+        if (!widened[r] && options.wide_lower_degrees) widened[r] = thread_rows.wide_lower_degrees(retry[r], wide[r]);
         if (!widened[r]) thread_rows.lower_degrees(retry[r]);
       }
     }

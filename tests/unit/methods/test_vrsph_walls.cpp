@@ -318,6 +318,66 @@ TEST(VrsphCompact, InnerSupportFirstGivesTheMostCompactRowsAndOnALatticeAMoreAcc
     EXPECT_THROW_MSG((void)build(c, bad), ConfigError, "compact_support must be a fraction in (0, 1]");
 }
 
+TEST(VrsphCompact, SixthDegreeRowsAreExactOnSexticsWithPositiveWeights) {
+  // compact_degree=6: the rows are exact on polynomials of degree 6 (here p = x^5 y - 3 x^3 y^3
+  // + x^2 y^4 + y^6 under a = 1 + x^2 + y, a given at the particles), w >= 0 and Σ μ = 1; a
+  // row without a positive one over its support or the wider one falls to a lower degree
+  // (measured on this cloud: every interior row but a few by the walls at degree 6).
+  const PerturbedSetup setup = perturbed_setup(16);
+  const PointCloud& c = setup.cloud;
+  Field a(c.size());
+  Eigen::MatrixXd ga(c.size(), 2);
+  for (Index i = 0; i < c.size(); ++i) {
+    const Vec3& x = c.positions[static_cast<std::size_t>(i)];
+    a[i] = test::quartic_coefficient(x);
+    ga(i, 0) = 2 * x[0];
+    ga(i, 1) = 1;
+  }
+  const auto p = [](const Vec3& x) {
+    const Real X = x[0], Y = x[1];
+    return std::pow(X, 5) * Y - 3 * std::pow(X, 3) * std::pow(Y, 3) + X * X * std::pow(Y, 4) + std::pow(Y, 6);
+  };
+  const auto Lp = [](const Vec3& x) {
+    const Real X = x[0], Y = x[1];
+    const Real px = 5 * std::pow(X, 4) * Y - 9 * X * X * std::pow(Y, 3) + 2 * X * std::pow(Y, 4);
+    const Real py = std::pow(X, 5) - 9 * std::pow(X, 3) * Y * Y + 4 * X * X * std::pow(Y, 3) + 6 * std::pow(Y, 5);
+    const Real lap = 2 * std::pow(X, 3) * Y - 18 * X * std::pow(Y, 3) + 12 * X * X * Y * Y + 32 * std::pow(Y, 4);
+    return test::quartic_coefficient(x) * lap + 2 * X * px + py;
+  };
+  MethodOptions mo;
+  mo.set("rhs", "compact");
+  mo.set("compact_degree", "6");
+  StencilRequest req;
+  req.kind = OperatorKind::DivAGrad;
+  req.coefficient = &a;
+  req.coefficient_gradient = &ga;
+  const Stencil L = builtin_methods().create("vrsph", mo)->build({c, setup.neighbours, KernelType::CubicSpline, c.spacing}, req);
+  Index sextic = 0, quartic = 0;
+  for (Index i = 0; i < c.size(); ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    if (c.tags[si] != Tag::Interior) continue;
+    Real lhs = 0, rhs = 0, mu_sum = 0;
+    bool negative_w = false;
+    for (Index k = L.row_begin(i); k < L.row_end(i); ++k) {
+      const auto sk = static_cast<std::size_t>(k);
+      const Vec3& xj = c.positions[static_cast<std::size_t>(L.col[sk])];
+      lhs += L.values[0][sk] * p(xj);
+      rhs += L.rhs[sk] * Lp(xj);
+      mu_sum += L.rhs[sk];
+      negative_w = negative_w || (L.col[sk] != i && L.values[0][sk] < 0);
+    }
+    EXPECT_FALSE(negative_w) << i;
+    EXPECT_NEAR(mu_sum, 1, 1e-12) << i;
+    if (std::abs(lhs - rhs) < 1e-6 * (1 + std::abs(rhs))) ++sextic;
+    if (test::compact_row_sums(L, c, i).exact(1e-6)) ++quartic;
+  }
+  const Index interior = c.count(Tag::Interior);
+  EXPECT_GT(sextic, interior * 19 / 20);
+  EXPECT_EQ(quartic, interior);  // the rows that fell are exact on degree 4 still
+  EXPECT_THROW_MSG((void)builtin_methods().create("vrsph", MethodOptions::parse({"compact_degree=5"})), ConfigError,
+                   "compact_degree='5' is not one of: 4, 6");
+}
+
 TEST(VrsphCompact, AssemblyAveragesFAndNamesANonFiniteValueItReads) {
   PointCloud c = vertex_lattice(Domain::unit_box(2), 8);
   SearchParams sp;

@@ -68,6 +68,12 @@ struct CompactRowOptions {
   /// by the voids of a disordered cloud and by walls, a few per 10^5 particles, and their
   /// O(h^2) or signed rows set the max-norm error at fine resolution.
   Real wide_support = 1;
+  /// Where the wider support admits no positive row of `degree` either, the lower degrees (and
+  /// signed averages) are tried over the wider support before the row's own support. Off: over
+  /// the own support only (the degree-4 rows' way). For degrees above 4 by the walls, where
+  /// the own support is one-sided: there the wider support's degree 5 beats the own support's
+  /// degree 4 (docs/methods.md, `compact_degree`).
+  bool wide_lower_degrees = false;
   /// Which of a degree's positive rows (there are many: the moment conditions leave w, μ a
   /// polytope) a row takes: off, the one Lawson–Hanson's NNLS path ends at; on, the one whose
   /// bound on the next degree's truncation, Σ_|α|=d+1 |T_α| / α! ≤ Σ_k |column_k(e^α)| x_k / α!,
