@@ -50,8 +50,9 @@ std::vector<std::string> vrsph_method_options(const std::string& name) {
   if (name == "vrsph-compact") return {"vrsph:rhs=compact"};
   if (name == "vrsph-point") return {"vrsph:rhs=point"};
   if (name == "vrsph-qw") return {"vrsph:profile=qw"};
+  if (name == "vrsph-d6") return {"vrsph:compact_degree=6"};
   throw ConfigError(detail::concat("--configurations: unknown configuration '", name,
-                                   "' (vrsph, vrsph-compact, vrsph-point, vrsph-qw; the peer's degrees come from "
+                                   "' (vrsph, vrsph-compact, vrsph-d6, vrsph-point, vrsph-qw; the peer's degrees come from "
                                    "--anchor fenicsx --anchor-degree)"));
 }
 
@@ -81,7 +82,7 @@ RaceEntry vrsph_entry(const AccuracyBenchArgs& a, const std::string& name) {
   warm_up_run(*p, "vrsph", a.seed);
   RaceEntry e;
   e.name = name;
-  e.nominal_order = name == "vrsph-qw" || name == "vrsph-point" ? 2 : 3;
+  e.nominal_order = name == "vrsph-qw" || name == "vrsph-point" ? 2 : name == "vrsph-d6" ? 5 : 3;
   e.run = [p, a](int n) {
     return fastest_of(a.repeat, [&] {
       const BvpRun r = run_bvp(*p, "vrsph", n, a.seed, false, nullptr, nullptr);
@@ -285,8 +286,8 @@ void add_accuracy_bench(CLI::App& bench) {
   cmd->add_option("--targets", a->targets,
                   "Target max errors, comma-separated (default 1e-4 ... 1e-10 in 2D, 1e-3 ... 1e-7 in 3D)");
   cmd->add_option("--configurations", a->configurations,
-                  "vrsph's configurations: vrsph (the default rows: rhs=compact), vrsph-compact, vrsph-point "
-                  "(rhs=point), vrsph-qw ([QW]'s published rows)")
+                  "vrsph's configurations: vrsph (the default rows: rhs=compact), vrsph-compact, vrsph-d6 (compact "
+                  "rows of degree 6: compact_degree=6), vrsph-point (rhs=point), vrsph-qw ([QW]'s published rows)")
       ->capture_default_str();
   add_anchor_options(*cmd, a->peer, "Race the peer too: fenicsx (Lagrange Pk, CG + BoomerAMG)");
   cmd->add_option("--threads", a->threads, "OpenMP threads of vrsph (0 = all cores)")->capture_default_str();
