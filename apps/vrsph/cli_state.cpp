@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
+#include <thread>
 #include <vrsph/core/error.hpp>
 #include <vrsph/core/resources.hpp>
 #include <vrsph/methods/registry.hpp>
@@ -51,18 +52,28 @@ void set_verbose(bool on) { verbose_flag() = on; }
 void set_thread_count(int threads) {
   check<ConfigError>(threads >= 0, "--threads must be >= 0 (0 = one per core), got ", threads);
 #ifdef _OPENMP
-  const int cores = omp_get_num_procs();
-  if (threads > cores)
-    std::cerr << "vrsph: warning: --threads " << threads << " is more than the " << cores
-              << " cores of this machine; using " << cores << '\n';
-  // 0: one per core, shared among this machine's ranks under mpirun (two ranks with a
-  // thread per core each would oversubscribe the cores).
+  const int cores = omp_get_num_procs();  // those this process may run on
+  // 0: one per core, shared among this machine's ranks under mpirun; a number given: at most
+  // that share too (ranks x threads above the cores would oversubscribe them: `vrsph --ranks 2
+  // ... --threads 2` ran four threads on two cores). A rank bound to fewer cores than the
+  // machine has (mpirun binds each rank to its own by default) has them for itself.
   int ranks_here = 1;
   if (communicator().distributed()) {
     const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
     ranks_here = local ? std::max(1, std::atoi(local)) : communicator().size();
   }
-  omp_set_num_threads(threads == 0 ? std::max(1, cores / ranks_here) : threads > cores ? cores : threads);
+  const bool bound = cores < static_cast<int>(std::thread::hardware_concurrency());
+  const int share = ranks_here > 1 && !bound ? std::max(1, cores / ranks_here) : cores;
+  if (threads > share) {
+    if (ranks_here > 1)
+      std::cerr << "vrsph: warning: --threads " << threads << " is more than the " << share << " core"
+                << (share == 1 ? "" : "s") << " each of the " << ranks_here << " ranks on this machine has; using "
+                << share << '\n';
+    else
+      std::cerr << "vrsph: warning: --threads " << threads << " is more than the " << cores
+                << " cores of this machine; using " << cores << '\n';
+  }
+  omp_set_num_threads(threads == 0 ? share : std::min(threads, share));
 #else
   if (threads > 1)
     std::cerr << "vrsph: warning: --threads " << threads << " is more than the 1 thread of this build (no OpenMP); using 1\n";

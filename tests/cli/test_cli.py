@@ -952,6 +952,16 @@ class AutoRanks(unittest.TestCase):
         self.assertIn("resource limit", p.stderr)
         self.assertNotIn("MPI ranks", p.stderr)
 
+    def test_threads_asked_of_every_rank_are_its_share_of_the_cores(self):
+        # Two ranks on two cores with --threads 2 each would run four threads on two cores.
+        p = self.vrsph("--ranks", "2", "bench", "solve", "--n", "8", "--threads", "2", "--format", "json",
+                       env=self.env())
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("--threads 2 is more than the", p.stderr)
+        self.assertIn("each of the 2 ranks on this machine has; using", p.stderr)
+        self.assertEqual(json.loads(p.stdout)["rows"][0]["ranks"], 2)
+        self.assertEqual(p.stderr.count("is more than the"), 1, p.stderr)  # said once, by rank 0
+
     def test_sigterm_to_vrsph_ends_its_ranks(self):
         import signal
         import time
