@@ -27,7 +27,7 @@ namespace vrsph::cli {
 namespace {
 struct AccuracyBenchArgs {
   int dim = 2, threads = 0, n_start = 0, repeat = 1;
-  std::string cloud = "perturbed", targets, configurations = "vrsph,vrsph-qw", solver = "petsc", petsc_options;
+  std::string cloud = "perturbed", targets, configurations, solver = "petsc", petsc_options;
   AnchorOptions peer{"", "1,2,3", "", 0};
   std::uint64_t seed = 1;
   double h_factor = 3, max_seconds = 60;
@@ -214,7 +214,11 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
 
   std::vector<RaceEntry> entries;
-  for (const std::string& name : parse_name_list(a.configurations, "--configurations"))
+  // By default vrsph's best rows of each kind: in 2D also the rows of degree 6 (in 3D they take
+  // 45-77 times the stencil time of degree 4, docs/methods.md).
+  const std::string configurations =
+      !a.configurations.empty() ? a.configurations : a.dim == 2 ? "vrsph,vrsph-d6,vrsph-qw" : "vrsph,vrsph-qw";
+  for (const std::string& name : parse_name_list(configurations, "--configurations"))
     entries.push_back(vrsph_entry(a, name));
   AnchorSetup setup;
   if (!a.peer.anchor.empty()) {
@@ -287,8 +291,8 @@ void add_accuracy_bench(CLI::App& bench) {
                   "Target max errors, comma-separated (default 1e-4 ... 1e-10 in 2D, 1e-3 ... 1e-7 in 3D)");
   cmd->add_option("--configurations", a->configurations,
                   "vrsph's configurations: vrsph (the default rows: rhs=compact), vrsph-compact, vrsph-d6 (compact "
-                  "rows of degree 6: compact_degree=6), vrsph-point (rhs=point), vrsph-qw ([QW]'s published rows)")
-      ->capture_default_str();
+                  "rows of degree 6: compact_degree=6), vrsph-point (rhs=point), vrsph-qw ([QW]'s published rows); "
+                  "default vrsph,vrsph-d6,vrsph-qw in 2D, vrsph,vrsph-qw in 3D");
   add_anchor_options(*cmd, a->peer, "Race the peer too: fenicsx (Lagrange Pk, CG + BoomerAMG)");
   cmd->add_option("--threads", a->threads, "OpenMP threads of vrsph (0 = all cores)")->capture_default_str();
   cmd->add_option("--solver", a->solver, "vrsph's solver: petsc, auto, umfpack, sparselu, bicgstab")->capture_default_str();
