@@ -27,7 +27,8 @@ struct CompactRows {
   std::vector<Real> wall_flux;  ///< wall rows: c_i >= 0 of Σ w (u_j - u_i) = Σ μ f - c_i q_i; else empty
   std::vector<char> signed_average;  ///< per particle: 1 = its μ has negative entries (signed_average)
   /// The rows that found their positive row of the top degree on the wider support
-  /// (CompactRowOptions::wide_support), sorted by row: beyond the neighbour list, so not in the
+  /// (CompactRowOptions::wide_support; with wide_lower_degrees also their row of a lower degree
+  /// or signed average there), sorted by row: beyond the neighbour list, so not in the
   /// target's pattern; each with its diagonal (value 0, right-hand-side weight μ_ii). The
   /// caller puts them in place (replace_rows). Their other outputs above are filled as for
   /// any row.
