@@ -20,3 +20,14 @@
 #else
 #define VRSPH_UNROLL_SMALL
 #endif
+
+// A hot kernel compiled twice on x86-64 with GCC, for x86-64-v3 (AVX2 + FMA) and the baseline,
+// the loader picking one per CPU (the NNLS and simplex solves). Clang (the fuzz build) does not
+// clone templates; the sanitizer builds compile one copy (the clones doubled the largest file of
+// that CI stage). Only the instruction selection changes: results may differ in their last bits
+// between CPUs (FMA contraction), never between thread counts on one machine.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#define VRSPH_AVX2_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define VRSPH_AVX2_CLONES
+#endif

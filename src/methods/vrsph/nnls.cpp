@@ -11,18 +11,10 @@
 // Every particle solves one NNLS, so the solver is compiled twice on x86-64 with GCC: for
 // x86-64-v3 (AVX2 + FMA: four doubles per instruction, fused multiply-add) and for the
 // baseline, and the loader picks the clone the CPU runs (an ifunc, resolved once).
-// Measured with `vrsph_bench --benchmark_filter=Nnls`: see docs/performance.md. Clang (the
-// fuzz build) does not clone templates and gets the baseline. The clone only changes the
-// instruction selection, so results may differ in the last bits between CPUs (FMA
-// contraction), never between thread counts on one machine. The sanitizer builds compile one
-// copy (the same source; the clones doubled the largest file of that CI stage).
+// Measured with `vrsph_bench --benchmark_filter=Nnls`: see docs/performance.md. The clones:
+// VRSPH_AVX2_CLONES (core/compiler_hints.hpp).
 // The steps are lambdas forced inline: a lambda the compiler leaves out of line is a
 // separate function without the clone's target, and runs the baseline code.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define VRSPH_NNLS_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define VRSPH_NNLS_CLONES
-#endif
 
 namespace vrsph {
 
@@ -227,7 +219,7 @@ inline void givens(Real a, Real b, Real& c, Real& s) {
 // 19 x 19 within 5 %. GCC only: clang cannot unroll the elimination's outer loop (it returns
 // early) and warns (-Wpass-failed); its builds are the sanitizer and fuzz ones (VRSPH_UNROLL_SMALL).
 template <int FixedM>
-VRSPH_NNLS_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
+VRSPH_AVX2_CLONES bool solve_square_impl(Real* S, int m, Real* z, Real xtol) {
   const auto M = static_cast<std::size_t>(FixedM > 0 ? FixedM : m);
   Real scale = 0;
   VRSPH_UNROLL_SMALL
@@ -318,7 +310,7 @@ void NnlsSolver::reserve(int m, int n) {
 // workspaces, and the compiler specialises the whole loop nest on FixedRows; split into
 // functions the state would travel through arguments on the hottest path of the library.
 template <int FixedRows>
-VRSPH_NNLS_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x,
+VRSPH_AVX2_CLONES NnlsResult NnlsSolver::solve_impl(const Real* A, int m_runtime, int n, const Real* b, Real* x,
                                                      const NnlsOptions& options, MatrixOrder order,
                                                      std::span<const int> initial_passive) {
   // With FixedRows > 0 the row count is a compile-time constant: the short loops over

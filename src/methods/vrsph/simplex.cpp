@@ -16,13 +16,10 @@
 #include <vrsph/core/error.hpp>
 #include <vrsph/methods/vrsph/simplex.hpp>
 
-// Compiled twice on x86-64 with GCC (AVX2 + FMA, and the baseline), as the NNLS is
-// (nnls.cpp): the pivot's row updates are the hot loop.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define VRSPH_SIMPLEX_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define VRSPH_SIMPLEX_CLONES
-#endif
+#include "../../core/compiler_hints.hpp"
+
+// Compiled twice on x86-64 with GCC (AVX2 + FMA, and the baseline; VRSPH_AVX2_CLONES), as the
+// NNLS is: the pivot's row updates are the hot loop.
 
 namespace vrsph {
 
@@ -41,7 +38,7 @@ constexpr int artificial(int row) { return -1 - row; }
 
 // Each row of T (rows 0..rows, width w) except `row`: T_i -= T_i[col] T_row, with T_row
 // already divided by its pivot.
-VRSPH_SIMPLEX_CLONES void eliminate(Real* T, int rows, std::size_t w, int row, int col) {
+VRSPH_AVX2_CLONES void eliminate(Real* T, int rows, std::size_t w, int row, int col) {
   const Real* __restrict pr = T + static_cast<std::size_t>(row) * w;
   for (int i = 0; i <= rows; ++i) {
     if (i == row) continue;

@@ -4,6 +4,7 @@
 // (boundary=signed). Exactness and sign structure here; orders in convergence/.
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vrsph/assembly/assemble.hpp>
 #include <vrsph/cloud/box_faces.hpp>
 #include <vrsph/cloud/generate.hpp>
@@ -219,11 +220,8 @@ TEST(VrsphWalls, BadOptionsAndCloudsAreNamed) {
 // positive quartic row may instead keep degree 4 with a signed average: w >= 0 still, and
 // such rows are exact on the quartic.
 namespace {
-void expect_compact_rows_exact_on_quartics(const std::string& fallback) {
-  SCOPED_TRACE(fallback);
-  const bool signed_average = fallback == "signed";
-  const PerturbedSetup setup = perturbed_setup(16);
-  const PointCloud& c = setup.cloud;
+// a = 1 + x^2 + y (compact_quartic.hpp) and its gradient at the particles of c (2D).
+std::pair<Field, Eigen::MatrixXd> quartic_coefficient_at(const PointCloud& c) {
   Field a(c.size());
   Eigen::MatrixXd ga(c.size(), 2);
   for (Index i = 0; i < c.size(); ++i) {
@@ -232,6 +230,15 @@ void expect_compact_rows_exact_on_quartics(const std::string& fallback) {
     ga(i, 0) = 2 * x[0];
     ga(i, 1) = 1;
   }
+  return {a, ga};
+}
+
+void expect_compact_rows_exact_on_quartics(const std::string& fallback) {
+  SCOPED_TRACE(fallback);
+  const bool signed_average = fallback == "signed";
+  const PerturbedSetup setup = perturbed_setup(16);
+  const PointCloud& c = setup.cloud;
+  const auto [a, ga] = quartic_coefficient_at(c);
   MethodOptions mo;
   mo.set("rhs", "compact");
   mo.set("compact_fallback", fallback);
@@ -325,14 +332,7 @@ TEST(VrsphCompact, SixthDegreeRowsAreExactOnSexticsWithPositiveWeights) {
   // (measured on this cloud: every interior row but a few by the walls at degree 6).
   const PerturbedSetup setup = perturbed_setup(16);
   const PointCloud& c = setup.cloud;
-  Field a(c.size());
-  Eigen::MatrixXd ga(c.size(), 2);
-  for (Index i = 0; i < c.size(); ++i) {
-    const Vec3& x = c.positions[static_cast<std::size_t>(i)];
-    a[i] = test::quartic_coefficient(x);
-    ga(i, 0) = 2 * x[0];
-    ga(i, 1) = 1;
-  }
+  const auto [a, ga] = quartic_coefficient_at(c);
   const auto p = [](const Vec3& x) {
     const Real X = x[0], Y = x[1];
     return std::pow(X, 5) * Y - 3 * std::pow(X, 3) * std::pow(Y, 3) + X * X * std::pow(Y, 4) + std::pow(Y, 6);
