@@ -407,8 +407,16 @@ class CompactRowSolver {
     NnlsResult r;
     if (!signed_mu) {
       x_.assign(C_, 0.0);
-      if (!(options_.least_truncation && least_truncation_row(i, deg, r)))
+      if (!(options_.least_truncation && least_truncation_row(i, deg, r))) {
+        // Where the program proved that no x >= 0 comes within the tolerance, the NNLS would
+        // only confirm it (at degree 6 two thirds of the rows' NNLS calls, a fifth of their
+        // time): its answer is taken as the row's residual instead.
+        if (options_.least_truncation && infeasible_bound_ > options_.tolerance) {
+          out_.residual[si] = deg == options_.degree ? infeasible_bound_ : std::min(out_.residual[si], infeasible_bound_);
+          return false;
+        }
         r = solver_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), x_.data(), options, MatrixOrder::RowMajor);
+      }
     } else {
       r = solve_signed(cnt, options);
     }
@@ -433,6 +441,7 @@ class CompactRowSolver {
   bool least_truncation_row(Index i, int deg, NnlsResult& r) {
     truncation_costs(i, deg);
     const LpResult lp = lp_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), cost_.data(), x_.data());
+    infeasible_bound_ = lp.status == LpStatus::Infeasible ? lp.residual_bound : 0;
     const Real res = lp.status == LpStatus::Optimal ? residual() : std::numeric_limits<Real>::infinity();
     if (!(res <= kPolishBelow)) {
       std::fill(x_.begin(), x_.end(), 0.0);
@@ -638,6 +647,7 @@ class CompactRowSolver {
   CompactRows& out_;
   NnlsSolver solver_;
   DenseSimplex lp_;  ///< CompactRowOptions::least_truncation
+  Real infeasible_bound_ = 0;  ///< the last program's LpResult::residual_bound where it was infeasible, else 0
   std::optional<NnlsSolver> signed_solver_;  ///< for the augmented systems of signed averages
   std::vector<Real> A_, b_, x_, scale_, vals_, M_, c_, z_, signed_x_, cost_;
   std::vector<std::size_t> columns_;  ///< the candidates (positions in candidates_) of the current attempt

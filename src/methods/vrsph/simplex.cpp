@@ -62,6 +62,8 @@ void DenseSimplex::reserve(int m, int n) {
   basis_.resize(M);
   basic_.resize(N);
   held_.resize(M);
+  dual_.resize(M * M + M);
+  perm_.resize(M);
 }
 
 // Tableau: rows 0..m-1 the constraints, row m the reduced costs of the current phase (its
@@ -198,6 +200,7 @@ LpResult DenseSimplex::solve(const Real* A, int m, int n, const Real* b, const R
     if (basis_[i] < 0 && !held_[i]) infeasibility += std::max(T_[i * W + N], Real(0));
   if (!(infeasibility <= options.feasibility * std::max(bnorm, Real(1)))) {
     res.status = LpStatus::Infeasible;
+    res.residual_bound = farkas_bound(A, b, options.bound_x_sum);
     return res;
   }
   // An artificial variable still basic is at (or within the tolerance of) zero: held there
@@ -238,6 +241,77 @@ LpResult DenseSimplex::solve(const Real* A, int m, int n, const Real* b, const R
     res.positive += v > 0 ? 1 : 0;
   }
   return res;
+}
+
+// Phase 1 minimised the artificial variables of the rows with b_i != 0 over S A x + a = S b
+// (S the rows' signs), and its optimum is positive. Its dual y (B^T y = c_B, c_B 1 at those
+// rows' basic artificial variables, else 0) is then a Farkas certificate: the reduced costs
+// -(S A)^T y are >= 0 at the optimum and (S b)^T y is the optimum. For x >= 0,
+// y^T S (b - A x) >= (S b)^T y - max_j z_j^+ sum x with z = (S A)^T y (z <= 0 but for round-off),
+// so ||A x - b|| is at least that over ||y||. Solved afresh from the final basis (the tableau
+// keeps no columns of B^-1): an m x m LU, a few microseconds, where a caller's confirming
+// search costs tens.
+Real DenseSimplex::farkas_bound(const Real* A, const Real* b, Real x_sum) {
+  const int m = m_;
+  const auto M = static_cast<std::size_t>(m), N = static_cast<std::size_t>(n_);
+  Real* L = dual_.data();  // B^T, row k = the basic column of row k
+  Real* y = dual_.data() + M * M;
+  for (std::size_t k = 0; k < M; ++k) {
+    Real* row = L + k * M;
+    const int j = basis_[k];
+    if (j >= 0) {
+      for (std::size_t i = 0; i < M; ++i) row[i] = (b[i] < 0 ? -1 : 1) * A[i * N + static_cast<std::size_t>(j)];
+      y[k] = 0;
+    } else {
+      std::fill(row, row + M, 0.0);
+      row[k] = 1;
+      y[k] = b[k] != 0 ? 1 : 0;
+    }
+  }
+  // Gaussian elimination with partial pivoting on B^T y = c_B.
+  for (int c = 0; c < m; ++c) {
+    int p = c;
+    for (int r = c + 1; r < m; ++r)
+      if (std::abs(L[static_cast<std::size_t>(r) * M + static_cast<std::size_t>(c)]) >
+          std::abs(L[static_cast<std::size_t>(p) * M + static_cast<std::size_t>(c)]))
+        p = r;
+    const Real piv = L[static_cast<std::size_t>(p) * M + static_cast<std::size_t>(c)];
+    if (!(std::abs(piv) > 0)) return 0;
+    if (p != c) {
+      std::swap_ranges(L + static_cast<std::size_t>(p) * M, L + static_cast<std::size_t>(p + 1) * M,
+                       L + static_cast<std::size_t>(c) * M);
+      std::swap(y[p], y[c]);
+    }
+    const Real* lc = L + static_cast<std::size_t>(c) * M;
+    for (int r = c + 1; r < m; ++r) {
+      Real* lr = L + static_cast<std::size_t>(r) * M;
+      const Real f = lr[c] / piv;
+      if (f == 0) continue;
+      for (int k = c + 1; k < m; ++k) lr[k] -= f * lc[k];
+      y[r] -= f * y[c];
+    }
+  }
+  for (int c = m - 1; c >= 0; --c) {
+    const Real* lc = L + static_cast<std::size_t>(c) * M;
+    Real v = y[c];
+    for (int k = c + 1; k < m; ++k) v -= lc[k] * y[k];
+    y[c] = v / lc[c];
+  }
+  // y in the original rows' signs: (S b)^T y = b^T (S y), (S A)^T y = A^T (S y).
+  Real by = 0, yy = 0;
+  for (std::size_t i = 0; i < M; ++i) {
+    if (b[i] < 0) y[i] = -y[i];
+    by += b[i] * y[i];
+    yy += y[i] * y[i];
+  }
+  Real zmax = 0;
+  for (std::size_t j = 0; j < N; ++j) {
+    Real z = 0;
+    for (std::size_t i = 0; i < M; ++i) z += A[i * N + j] * y[i];
+    zmax = std::max(zmax, z);
+  }
+  const Real bound = (by - zmax * x_sum) / std::sqrt(yy);
+  return std::isfinite(bound) && bound > 0 ? bound : 0;
 }
 
 }  // namespace vrsph

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // DenseSimplex: the optimum of small linear programs against brute-force enumeration of their
 // vertices, degenerate and rank-deficient systems of the compact rows' shape (b = e_m),
-// infeasible and unbounded problems, and a workspace that grows on demand.
+// infeasible and unbounded problems (with the bound on the residual an infeasible one proves),
+// and a workspace that grows on demand.
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <vector>
+#include <vrsph/methods/vrsph/nnls.hpp>
 #include <vrsph/methods/vrsph/simplex.hpp>
 #include "test_util.hpp"
 
@@ -129,8 +131,11 @@ TEST(Simplex, InfeasibleAndUnboundedProblemsAreSaid) {
   RowMajor A(1, 2);
   A << 1, 1;
   Eigen::VectorXd x;
-  // x1 + x2 = -1 with x >= 0.
-  EXPECT_EQ(solve_lp(A, Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Ones(2), x).status, LpStatus::Infeasible);
+  // x1 + x2 = -1 with x >= 0: the nearest is x = 0, at distance 1, and the certificate
+  // y = -1 (A^T y = (-1, -1) <= 0, b^T y = 1) proves exactly that.
+  const LpResult no = solve_lp(A, Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Ones(2), x);
+  EXPECT_EQ(no.status, LpStatus::Infeasible);
+  EXPECT_NEAR(no.residual_bound, 1.0, 1e-14);
   EXPECT_EQ(x.cwiseAbs().maxCoeff(), 0.0);
   // x1 - x2 = 0, min -x1: unbounded along x1 = x2.
   A << 1, -1;
@@ -146,4 +151,34 @@ TEST(Simplex, InfeasibleAndUnboundedProblemsAreSaid) {
   o.max_iterations = 0;
   EXPECT_EQ(s.solve(B.data(), 2, 4, bb.data(), cc.data(), y.data(), o).status, LpStatus::IterationLimit);
   EXPECT_THROW_MSG((void)s.solve(B.data(), 0, 4, bb.data(), cc.data(), y.data()), InputError, "invalid problem size");
+}
+
+TEST(Simplex, AnInfeasibleProgramBoundsTheResidualOfEveryNonNegativeX) {
+  // Problems of the compact rows' shape (homogeneous rows, Σ x = 1 over half the columns) that
+  // have no x >= 0: the bound phase 1's dual gives must lie below the least residual, which
+  // the NNLS finds, and be positive (a certificate) on nearly all of them.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0, 1);
+  int infeasible = 0, certified = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int m = 3 + trial % 6, n = m + 2 + trial % 7;
+    RowMajor A(m, n);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < n; ++j) A(i, j) = g(rng) + (i == 0 ? 1.0 : 0.0);  // row 0 mostly positive: often infeasible
+    for (int j = 0; j < n; ++j) A(m - 1, j) = j >= n / 2 ? 1.0 : 0.0;
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(m), c = Eigen::VectorXd::Ones(n), x;
+    b[m - 1] = 1;
+    const LpResult r = solve_lp(A, b, c, x);
+    if (r.status != LpStatus::Infeasible) continue;
+    ++infeasible;
+    NnlsSolver nnls(m, n);
+    Eigen::VectorXd xn = Eigen::VectorXd::Zero(n);
+    const NnlsResult least = nnls.solve(A.data(), m, n, b.data(), xn.data(), {}, MatrixOrder::RowMajor);
+    ASSERT_EQ(least.status, NnlsStatus::Converged) << "trial " << trial;
+    EXPECT_LE(r.residual_bound, (A * xn - b).norm() * (1 + 1e-10) + 1e-14) << "trial " << trial;
+    EXPECT_GE(r.residual_bound, 0.0);
+    certified += r.residual_bound > 0 ? 1 : 0;
+  }
+  EXPECT_GE(infeasible, 100);
+  EXPECT_GE(certified, infeasible * 9 / 10);
 }

@@ -25,6 +25,9 @@ struct LpOptions {
   /// (|b|_1 times it). The caller checks the residual of the answer in its own norm.
   Real feasibility = 1e-10;
   int max_iterations = -1;  ///< pivots over both phases; < 0: 10 (m + n)
+  /// Infeasible: LpResult::residual_bound holds for every x >= 0 whose entries sum to at most
+  /// this (the certificate's round-off is weighed against it).
+  Real bound_x_sum = 1e6;
 };
 
 struct LpResult {
@@ -32,6 +35,12 @@ struct LpResult {
   int iterations = 0;  ///< pivots over both phases
   Real objective = 0;  ///< c^T x of the returned x (Optimal)
   int positive = 0;    ///< entries of x above zero
+  /// Infeasible: a lower bound on ||A x - b||_2 over x >= 0 (with sum x <= LpOptions::
+  /// bound_x_sum), from phase 1's dual (a Farkas certificate y: A^T y <= 0, b^T y > 0, so
+  /// ||A x - b|| >= b^T y / ||y|| for every such x); 0 where the certificate does not hold
+  /// up. A caller that accepts an x by its residual can skip its own search where this bound
+  /// already exceeds its tolerance.
+  Real residual_bound = 0;
 };
 
 class DenseSimplex {
@@ -49,11 +58,15 @@ class DenseSimplex {
   // One phase: entering columns by the reduced costs in `cost` (the tableau's objective row)
   // until optimal; the iteration limit or an unbounded direction end it early.
   LpStatus run_phase(Real* cost, int& iterations, int max_iterations);
+  // After phase 1 ended infeasible: LpResult::residual_bound from its dual y (B^T y = c_B).
+  Real farkas_bound(const Real* A, const Real* b, Real x_sum);
 
   std::vector<Real> T_;      ///< tableau, (m + 1) x (n + 1) row-major: constraints, then the reduced costs
   std::vector<int> basis_;   ///< per constraint row: its basic column (< 0: the row's artificial variable)
   std::vector<char> basic_;  ///< per column: 1 = basic
   std::vector<char> held_;   ///< per row: its basic variable is an artificial one held at zero
+  std::vector<Real> dual_;   ///< farkas_bound's m x m system and its solution
+  std::vector<int> perm_;
   int m_ = 0, n_ = 0, width_ = 0;
   int cap_m_ = 0, cap_n_ = 0;
   Real pivot_tol_ = 1e-9, cost_tol_ = 0;
