@@ -20,6 +20,7 @@ namespace vrsph {
 namespace {
 constexpr Real kPolishBelow = 1e-6;   // residuals NNLS left that the polish is tried on,
 constexpr Real kPolishAbove = 1e-13;  // above round-off (most rows: the polish would be a no-op)
+constexpr int kPhase1PivotsPerSize = 1;  // phase 1's pivot limit over (rows + columns): least_truncation_row
 
 // e^alpha with the powers of e's coordinates tabulated (pw[k][p] = e_k^p).
 Real monomial(const std::array<std::array<Real, 8>, 3>& pw, const std::array<int, 3>& a) {
@@ -424,14 +425,28 @@ class CompactRowSolver {
     // relative to ||A||): the polish below finishes such near-exact rows. A signed row's
     // residual is mostly the penalty's (of order κ² μ-): always polished.
     const std::size_t free_begin = signed_mu ? cnt : 0, free_end = signed_mu ? 2 * cnt + 1 : 0;
-    const Real res = r.residual > kPolishAbove && (signed_mu || r.residual <= kPolishBelow)
-                         ? polish(A_, rows_, C_, b_, x_, free_begin, free_end)
-                         : r.residual;
+    Real res = r.residual > kPolishAbove && (signed_mu || r.residual <= kPolishBelow)
+                   ? polish(A_, rows_, C_, b_, x_, free_begin, free_end)
+                   : r.residual;
     if (deg == options_.degree || res < out_.residual[si]) out_.residual[si] = res;
     if (!(r.status == NnlsStatus::Converged && res <= options_.tolerance)) return false;
     if (signed_mu && !laplacian_type(i, cnt)) return false;
+    if (!signed_mu && lp_stopped_) res = least_truncation_from_nnls(res);
     residual_ = res;
     return true;
+  }
+
+  // Phase 1 of the program stopped at its pivot limit and the NNLS found a positive row (x_):
+  // the least-truncation row from there (phase 2 alone, from the NNLS's vertex), where it
+  // meets the tolerance as well; else the NNLS's row stays. Returns the kept row's residual.
+  Real least_truncation_from_nnls(Real nnls_residual) {
+    start_ = x_;
+    const LpResult lp = lp_.solve_from(A_.data(), rows_, static_cast<int>(C_), b_.data(), cost_.data(), start_.data(), x_.data());
+    Real res = lp.status == LpStatus::Optimal ? residual() : std::numeric_limits<Real>::infinity();
+    if (res > kPolishAbove && res <= kPolishBelow) res = polish(A_, rows_, C_, b_, x_);
+    if (res <= options_.tolerance) return res;
+    x_ = start_;
+    return nnls_residual;
   }
 
   // The positive row of degree `deg` (system in A_, b_) whose truncation bound is least, by
@@ -440,8 +455,15 @@ class CompactRowSolver {
   // then decides, so a row is admitted or refused as without this option), with x_ zero.
   bool least_truncation_row(Index i, int deg, NnlsResult& r) {
     truncation_costs(i, deg);
-    const LpResult lp = lp_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), cost_.data(), x_.data());
+    LpOptions o;
+    // Phase 1 on these degenerate programs (every row homogeneous but Σ μ = 1) mostly ends
+    // within m + n pivots, but on some (3D degree 6: 84 rows, a third of its rows' programs)
+    // it wanders among degenerate vertices for thousands; past 2 (m + n) the NNLS decides
+    // feasibility instead, and phase 2 goes on from its row (least_truncation_from_nnls).
+    o.phase1_iterations = kPhase1PivotsPerSize * (rows_ + static_cast<int>(C_));
+    const LpResult lp = lp_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), cost_.data(), x_.data(), o);
     infeasible_bound_ = lp.status == LpStatus::Infeasible ? lp.residual_bound : 0;
+    lp_stopped_ = lp.status == LpStatus::IterationLimit;
     const Real res = lp.status == LpStatus::Optimal ? residual() : std::numeric_limits<Real>::infinity();
     if (!(res <= kPolishBelow)) {
       std::fill(x_.begin(), x_.end(), 0.0);
@@ -647,7 +669,9 @@ class CompactRowSolver {
   CompactRows& out_;
   NnlsSolver solver_;
   DenseSimplex lp_;  ///< CompactRowOptions::least_truncation
-  Real infeasible_bound_ = 0;  ///< the last program's LpResult::residual_bound where it was infeasible, else 0
+  Real infeasible_bound_ = 0;
+  bool lp_stopped_ = false;  ///< the last program stopped at its pivot limit
+  std::vector<Real> start_;  ///< least_truncation_from_nnls's start  ///< the last program's LpResult::residual_bound where it was infeasible, else 0
   std::optional<NnlsSolver> signed_solver_;  ///< for the augmented systems of signed averages
   std::vector<Real> A_, b_, x_, scale_, vals_, M_, c_, z_, signed_x_, cost_;
   std::vector<std::size_t> columns_;  ///< the candidates (positions in candidates_) of the current attempt

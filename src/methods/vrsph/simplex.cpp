@@ -152,20 +152,16 @@ LpStatus DenseSimplex::run_phase(Real* cost, int& iterations, int max_iterations
   }
 }
 
-LpResult DenseSimplex::solve(const Real* A, int m, int n, const Real* b, const Real* c, Real* x,
-                             const LpOptions& options) {
+// The tableau of A x = b (rows with b_i < 0 negated, so that the artificial basis is
+// feasible), every row's artificial variable basic, those of the rows with b_i = 0 held.
+Real DenseSimplex::load(const Real* A, int m, int n, const Real* b) {
   check<InputError>(m >= 1 && n >= 0, "simplex: invalid problem size ", m, " x ", n);
   reserve(m, n);
   m_ = m;
   n_ = n;
   width_ = n + 1;
   const auto M = static_cast<std::size_t>(m), N = static_cast<std::size_t>(n), W = static_cast<std::size_t>(width_);
-  std::fill(x, x + n, 0.0);
-  LpResult res;
-  const int max_it = options.max_iterations >= 0 ? options.max_iterations : 10 * (m + n);
-
-  // Rows with b_i < 0 negated (the artificial basis must be feasible).
-  Real amax = 0, bnorm = 0, cmax = 0;
+  Real amax = 0, bnorm = 0;
   for (std::size_t i = 0; i < M; ++i) {
     Real* ti = T_.data() + i * W;
     const Real s = b[i] < 0 ? -1 : 1;
@@ -178,47 +174,37 @@ LpResult DenseSimplex::solve(const Real* A, int m, int n, const Real* b, const R
     basis_[i] = artificial(static_cast<int>(i));
     held_[i] = b[i] == 0;
   }
-  for (std::size_t j = 0; j < N; ++j) cmax = std::max(cmax, std::abs(c[j]));
   std::fill(basic_.begin(), basic_.begin() + static_cast<std::ptrdiff_t>(N), 0);
-  pivot_tol_ = 1e-9 * std::max(amax, std::numeric_limits<Real>::min());
+  amax_ = std::max(amax, std::numeric_limits<Real>::min());
+  pivot_tol_ = 1e-9 * amax_;
+  return bnorm;
+}
 
-  // Phase 1: minimise the artificial variables of the rows with b_i != 0; reduced costs
-  // -Σ_i T[i][j] over those rows.
-  Real* cost = T_.data() + M * W;
-  std::fill(cost, cost + W, 0.0);
-  for (std::size_t i = 0; i < M; ++i) {
-    if (held_[i]) continue;
-    const Real* ti = T_.data() + i * W;
-    for (std::size_t j = 0; j <= N; ++j) cost[j] -= ti[j];
-  }
-  cost_tol_ = 1e-11 * std::max(amax, std::numeric_limits<Real>::min()) * static_cast<Real>(m);
-  res.status = run_phase(cost, res.iterations, max_it);
-  if (res.status == LpStatus::IterationLimit) return res;
-  // Σ of the artificial variables left (those held are at zero).
-  Real infeasibility = 0;
-  for (std::size_t i = 0; i < M; ++i)
-    if (basis_[i] < 0 && !held_[i]) infeasibility += std::max(T_[i * W + N], Real(0));
-  if (!(infeasibility <= options.feasibility * std::max(bnorm, Real(1)))) {
-    res.status = LpStatus::Infeasible;
-    res.residual_bound = farkas_bound(A, b, options.bound_x_sum);
-    return res;
-  }
-  // An artificial variable still basic is at (or within the tolerance of) zero: held there
-  // from now on, and pivoted out on its row's largest entry where the row has one.
-  for (std::size_t i = 0; i < M; ++i) {
+// Every artificial variable still basic is at (or within the tolerance of) zero: held there
+// from now on, and pivoted out on its row's largest entry where the row has one.
+void DenseSimplex::hold_artificials() {
+  const auto W = static_cast<std::size_t>(width_);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m_); ++i) {
     if (basis_[i] >= 0) continue;
     held_[i] = 1;
     const Real* ti = T_.data() + i * W;
     int q = -1;
     Real best = pivot_tol_;
-    for (int j = 0; j < n; ++j)
+    for (int j = 0; j < n_; ++j)
       if (!basic_[static_cast<std::size_t>(j)] && std::abs(ti[j]) > best) {
         best = std::abs(ti[j]);
         q = j;
       }
     if (q >= 0) pivot(static_cast<int>(i), q);
   }
-  // Phase 2: reduced costs c_j - c_B^T T_j.
+}
+
+// Phase 2 from the current (feasible) basis: reduced costs c_j - c_B^T T_j, then x.
+void DenseSimplex::phase_two(const Real* c, Real* x, LpResult& res, int max_iterations) {
+  const auto M = static_cast<std::size_t>(m_), N = static_cast<std::size_t>(n_), W = static_cast<std::size_t>(width_);
+  Real* cost = T_.data() + M * W;
+  Real cmax = 0;
+  for (std::size_t j = 0; j < N; ++j) cmax = std::max(cmax, std::abs(c[j]));
   for (std::size_t j = 0; j < N; ++j) cost[j] = c[j];
   cost[N] = 0;
   for (std::size_t i = 0; i < M; ++i) {
@@ -229,9 +215,9 @@ LpResult DenseSimplex::solve(const Real* A, int m, int n, const Real* b, const R
     const Real* ti = T_.data() + i * W;
     for (std::size_t j = 0; j <= N; ++j) cost[j] -= cb * ti[j];
   }
-  cost_tol_ = 1e-11 * std::max(cmax, std::numeric_limits<Real>::min()) * static_cast<Real>(m);
-  res.status = run_phase(cost, res.iterations, max_it);
-  if (res.status != LpStatus::Optimal) return res;
+  cost_tol_ = 1e-11 * std::max(cmax, std::numeric_limits<Real>::min()) * static_cast<Real>(m_);
+  res.status = run_phase(cost, res.iterations, max_iterations);
+  if (res.status != LpStatus::Optimal) return;
   for (std::size_t i = 0; i < M; ++i) {
     const int bj = basis_[i];
     if (bj < 0) continue;
@@ -240,6 +226,77 @@ LpResult DenseSimplex::solve(const Real* A, int m, int n, const Real* b, const R
     res.objective += c[bj] * v;
     res.positive += v > 0 ? 1 : 0;
   }
+}
+
+LpResult DenseSimplex::solve(const Real* A, int m, int n, const Real* b, const Real* c, Real* x,
+                             const LpOptions& options) {
+  const Real bnorm = load(A, m, n, b);
+  const auto M = static_cast<std::size_t>(m), W = static_cast<std::size_t>(width_), N = static_cast<std::size_t>(n);
+  std::fill(x, x + n, 0.0);
+  LpResult res;
+  const int max_it = options.max_iterations >= 0 ? options.max_iterations : 10 * (m + n);
+
+  // Phase 1: minimise the artificial variables of the rows with b_i != 0; reduced costs
+  // -Σ_i T[i][j] over those rows.
+  Real* cost = T_.data() + M * W;
+  std::fill(cost, cost + W, 0.0);
+  for (std::size_t i = 0; i < M; ++i) {
+    if (held_[i]) continue;
+    const Real* ti = T_.data() + i * W;
+    for (std::size_t j = 0; j <= N; ++j) cost[j] -= ti[j];
+  }
+  cost_tol_ = 1e-11 * amax_ * static_cast<Real>(m);
+  const int phase1_max = options.phase1_iterations >= 0 ? std::min(max_it, options.phase1_iterations) : max_it;
+  res.status = run_phase(cost, res.iterations, phase1_max);
+  if (res.status == LpStatus::IterationLimit) return res;
+  // Σ of the artificial variables left (those held are at zero).
+  Real infeasibility = 0;
+  for (std::size_t i = 0; i < M; ++i)
+    if (basis_[i] < 0 && !held_[i]) infeasibility += std::max(T_[i * W + N], Real(0));
+  if (!(infeasibility <= options.feasibility * std::max(bnorm, Real(1)))) {
+    res.status = LpStatus::Infeasible;
+    res.residual_bound = farkas_bound(A, b, options.bound_x_sum);
+    return res;
+  }
+  hold_artificials();
+  phase_two(c, x, res, max_it);
+  return res;
+}
+
+LpResult DenseSimplex::solve_from(const Real* A, int m, int n, const Real* b, const Real* c, const Real* start,
+                                  Real* x, const LpOptions& options) {
+  const Real bnorm = load(A, m, n, b);
+  const auto M = static_cast<std::size_t>(m), W = static_cast<std::size_t>(width_), N = static_cast<std::size_t>(n);
+  std::fill(x, x + n, 0.0);
+  LpResult res;
+  const int max_it = options.max_iterations >= 0 ? options.max_iterations : 10 * (m + n);
+  // The start's positive columns into the basis, each on the row (still an artificial
+  // variable's) where its entry is largest: Gaussian elimination with partial pivoting of
+  // those columns. A column dependent on those before it finds no row and stays out.
+  for (std::size_t j = 0; j < N; ++j) {
+    if (!(start[j] > 0)) continue;
+    int r = -1;
+    Real best = pivot_tol_;
+    for (std::size_t i = 0; i < M; ++i)
+      if (basis_[i] < 0 && std::abs(T_[i * W + j]) > best) {
+        best = std::abs(T_[i * W + j]);
+        r = static_cast<int>(i);
+      }
+    if (r >= 0) pivot(r, static_cast<int>(j));
+  }
+  // The basis is feasible when its structural variables are >= 0 and its artificial ones 0,
+  // each to the tolerance of phase 1's end (then set to exactly that).
+  const Real tol = options.feasibility * std::max(bnorm, Real(1));
+  for (std::size_t i = 0; i < M; ++i) {
+    Real& rhs = T_[i * W + N];
+    if (basis_[i] >= 0 ? rhs < -tol : std::abs(rhs) > tol) {
+      res.status = LpStatus::Infeasible;
+      return res;
+    }
+    if (rhs < 0 || basis_[i] < 0) rhs = 0;
+  }
+  hold_artificials();
+  phase_two(c, x, res, max_it);
   return res;
 }
 

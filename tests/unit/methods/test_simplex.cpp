@@ -182,3 +182,61 @@ TEST(Simplex, AnInfeasibleProgramBoundsTheResidualOfEveryNonNegativeX) {
   EXPECT_GE(infeasible, 100);
   EXPECT_GE(certified, infeasible * 9 / 10);
 }
+
+TEST(Simplex, PhaseTwoFromAnNnlsVertexReachesTheSameOptimum) {
+  // Feasible programs of both shapes: phase 2 started from the NNLS's answer (a vertex: its
+  // positive columns independent) must end at phase 1 + 2's optimum, and phase 1 under a pivot
+  // limit of 0 says so. A start whose columns make an infeasible basis is refused.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  int compared = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int m = 3 + trial % 5, n = m + 4 + trial % 6;
+    RowMajor A(m, n);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < n; ++j) A(i, j) = g(rng);
+    Eigen::VectorXd b(m);
+    if (trial % 2 == 0) {
+      Eigen::VectorXd x0(n);
+      for (int j = 0; j < n; ++j) x0[j] = u(rng) < 0.5 ? 0.0 : u(rng);
+      b = A * x0;
+    } else {
+      for (int j = 0; j < n; ++j) A(m - 1, j) = j >= n / 2 ? 1.0 : 0.0;
+      b.setZero();
+      b[m - 1] = 1;
+    }
+    Eigen::VectorXd c(n);
+    for (int j = 0; j < n; ++j) c[j] = u(rng);
+    Eigen::VectorXd x;
+    const LpResult full = solve_lp(A, b, c, x);
+    if (full.status != LpStatus::Optimal) continue;
+    NnlsSolver nnls(m, n);
+    Eigen::VectorXd start = Eigen::VectorXd::Zero(n), y(n);
+    ASSERT_EQ(nnls.solve(A.data(), m, n, b.data(), start.data(), {}, MatrixOrder::RowMajor).status, NnlsStatus::Converged);
+    if ((A * start - b).norm() > 1e-12 * (1 + b.norm())) continue;  // the NNLS's own tolerance
+    DenseSimplex s;
+    const LpResult from = s.solve_from(A.data(), m, n, b.data(), c.data(), start.data(), y.data());
+    ASSERT_EQ(from.status, LpStatus::Optimal) << "trial " << trial;
+    EXPECT_GE(y.minCoeff(), 0.0);
+    EXPECT_LT((A * y - b).norm(), 1e-10 * (1 + b.norm())) << "trial " << trial;
+    EXPECT_NEAR(from.objective, full.objective, 1e-10 * (1 + std::abs(full.objective))) << "trial " << trial;
+    ++compared;
+    LpOptions o;
+    o.phase1_iterations = 0;
+    EXPECT_EQ(s.solve(A.data(), m, n, b.data(), c.data(), y.data(), o).status, LpStatus::IterationLimit);
+  }
+  EXPECT_GE(compared, 100);
+  // x1 - x2 = 1 from the start (0, 1): the basis {x2} has x2 = -1.
+  RowMajor A(1, 2);
+  A << 1, -1;
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(1), c = Eigen::VectorXd::Ones(2), start = (Eigen::VectorXd(2) << 0, 1).finished();
+  Eigen::VectorXd y(2);
+  DenseSimplex s;
+  EXPECT_EQ(s.solve_from(A.data(), 1, 2, b.data(), c.data(), start.data(), y.data()).status, LpStatus::Infeasible);
+  const Eigen::VectorXd good = (Eigen::VectorXd(2) << 1, 0).finished();
+  const LpResult r = s.solve_from(A.data(), 1, 2, b.data(), c.data(), good.data(), y.data());
+  ASSERT_EQ(r.status, LpStatus::Optimal);
+  EXPECT_NEAR(y[0], 1, 1e-15);
+  EXPECT_EQ(y[1], 0.0);
+}

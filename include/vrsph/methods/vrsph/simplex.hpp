@@ -25,6 +25,10 @@ struct LpOptions {
   /// (|b|_1 times it). The caller checks the residual of the answer in its own norm.
   Real feasibility = 1e-10;
   int max_iterations = -1;  ///< pivots over both phases; < 0: 10 (m + n)
+  /// Pivots of phase 1 at most (< 0: max_iterations): on highly degenerate problems phase 1
+  /// can wander for thousands of pivots where a caller finds a feasible point sooner by other
+  /// means (an NNLS) and goes on with solve_from.
+  int phase1_iterations = -1;
   /// Infeasible: LpResult::residual_bound holds for every x >= 0 whose entries sum to at most
   /// this (the certificate's round-off is weighed against it).
   Real bound_x_sum = 1e6;
@@ -51,6 +55,13 @@ class DenseSimplex {
   /// optimal vertex when Optimal, zeros otherwise). Columns whose entries are all zero are
   /// fine; rows that repeat others (rank-deficient A) are left basic on their artificial at zero.
   LpResult solve(const Real* A, int m, int n, const Real* b, const Real* c, Real* x, const LpOptions& options = {});
+  /// Phase 2 alone, from a start x0 >= 0: the columns of its positive entries make the first
+  /// basis (of those that are dependent on the ones before them, none) and phase 2 goes on
+  /// from that basic solution — x0 itself where x0 is a vertex with A x0 = b, such as an NNLS
+  /// answer of zero residual. Infeasible when that basic solution is not feasible (a variable
+  /// below -LpOptions::feasibility |b|_1, or a row it leaves unsatisfied by more).
+  LpResult solve_from(const Real* A, int m, int n, const Real* b, const Real* c, const Real* x0, Real* x,
+                      const LpOptions& options = {});
 
  private:
   void reserve(int m, int n);
@@ -58,6 +69,9 @@ class DenseSimplex {
   // One phase: entering columns by the reduced costs in `cost` (the tableau's objective row)
   // until optimal; the iteration limit or an unbounded direction end it early.
   LpStatus run_phase(Real* cost, int& iterations, int max_iterations);
+  Real load(const Real* A, int m, int n, const Real* b);  // the tableau; returns |b|_1
+  void hold_artificials();
+  void phase_two(const Real* c, Real* x, LpResult& res, int max_iterations);
   // After phase 1 ended infeasible: LpResult::residual_bound from its dual y (B^T y = c_B).
   Real farkas_bound(const Real* A, const Real* b, Real x_sum);
 
@@ -69,7 +83,7 @@ class DenseSimplex {
   std::vector<int> perm_;
   int m_ = 0, n_ = 0, width_ = 0;
   int cap_m_ = 0, cap_n_ = 0;
-  Real pivot_tol_ = 1e-9, cost_tol_ = 0;
+  Real pivot_tol_ = 1e-9, cost_tol_ = 0, amax_ = 1;
 };
 
 }  // namespace vrsph
