@@ -1168,7 +1168,7 @@ class TimeToAccuracy(unittest.TestCase):
         self.assertIn("add --anchor fenicsx", p.stderr)
 
     def test_the_default_configurations_are_vrsphs_best_rows_of_each_kind(self):
-        # In 2D the rows of degree 6 race too (vrsph-d6); in 3D they would cost 45-77 times
+        # In 2D the rows of degree 6 race too (vrsph-d6); in 3D they would cost 33-49 times
         # the stencil time of degree 4 and are left out.
         for dim, expected in (("2", {"vrsph", "vrsph-d6", "vrsph-qw"}), ("3", {"vrsph", "vrsph-qw"})):
             out = run_json("bench", "accuracy", "--dim", dim, "--targets", "1e-2", "--threads", "1", "--max-seconds", "5")

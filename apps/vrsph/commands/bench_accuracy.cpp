@@ -215,7 +215,7 @@ void run_accuracy_bench(const AccuracyBenchArgs& a) {
 
   std::vector<RaceEntry> entries;
   // By default vrsph's best rows of each kind: in 2D also the rows of degree 6 (in 3D they take
-  // 45-77 times the stencil time of degree 4, docs/methods.md).
+  // 33-49 times the stencil time of degree 4, docs/methods.md).
   const std::string configurations =
       !a.configurations.empty() ? a.configurations : a.dim == 2 ? "vrsph,vrsph-d6,vrsph-qw" : "vrsph,vrsph-qw";
   for (const std::string& name : parse_name_list(configurations, "--configurations"))

@@ -62,8 +62,8 @@ MethodInfo vrsph_info() {
                               "rows before)"},
            {"compact_degree", "compact rows: the polynomial degree each row tries first, 4 (default: O(h^4) solutions) | 6 "
                               "(2D Dirichlet problems: O(h^6), on Example 5 80-1300 times more accurate at n = 25-100 "
-                              "for about 10 times the stencil time; rows without a positive row of degree 6 over their support or the wider one "
-                              "fall to the lower degrees, over the wider support first; in 3D 45-77 times the stencil "
+                              "for 4.5-8.5 times the stencil time; rows without a positive row of degree 6 over their support or the wider one "
+                              "fall to the lower degrees, over the wider support first; in 3D 33-49 times the stencil "
                               "time of degree 4, and Neumann walls keep their lower-degree rows)"},
            {"compact_fallback", "compact rows whose degree 4 admits no w, mu >= 0 (a few by the walls and at voids "
                                 "of a disordered cloud): signed (default: also degree 4 with w >= 0 and a signed "
