@@ -63,7 +63,6 @@ void DenseSimplex::reserve(int m, int n) {
   basic_.resize(N);
   held_.resize(M);
   dual_.resize(M * M + M);
-  perm_.resize(M);
 }
 
 // Tableau: rows 0..m-1 the constraints, row m the reduced costs of the current phase (its

@@ -80,7 +80,6 @@ class DenseSimplex {
   std::vector<char> basic_;  ///< per column: 1 = basic
   std::vector<char> held_;   ///< per row: its basic variable is an artificial one held at zero
   std::vector<Real> dual_;   ///< farkas_bound's m x m system and its solution
-  std::vector<int> perm_;
   int m_ = 0, n_ = 0, width_ = 0;
   int cap_m_ = 0, cap_n_ = 0;
   Real pivot_tol_ = 1e-9, cost_tol_ = 0, amax_ = 1;
