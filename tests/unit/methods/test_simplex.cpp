@@ -51,6 +51,32 @@ double best_vertex(const RowMajor& A, const Eigen::VectorXd& b, const Eigen::Vec
   }
   return best;
 }
+
+// A random program min c^T x, A x = b, x >= 0 with c >= 0 (bounded): feasible by construction
+// (b = A x0, x0 >= 0), or of the compact rows' shape (homogeneous rows and Σ x_j = 1 over the
+// last n/2 columns: feasible when 0 is in the convex hull of those columns' other entries).
+// The distributions are the caller's, so that a sequence of calls draws one stream.
+struct Program {
+  RowMajor A;
+  Eigen::VectorXd b, c;
+};
+Program random_program(std::mt19937& rng, std::normal_distribution<double>& g, std::uniform_real_distribution<double>& u,
+                       int m, int n, bool compact_shape) {
+  Program p{RowMajor(m, n), Eigen::VectorXd(m), Eigen::VectorXd(n)};
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < n; ++j) p.A(i, j) = g(rng);
+  if (!compact_shape) {
+    Eigen::VectorXd x0(n);
+    for (int j = 0; j < n; ++j) x0[j] = u(rng) < 0.5 ? 0.0 : u(rng);
+    p.b = p.A * x0;
+  } else {
+    for (int j = 0; j < n; ++j) p.A(m - 1, j) = j >= n / 2 ? 1.0 : 0.0;
+    p.b.setZero();
+    p.b[m - 1] = 1;
+  }
+  for (int j = 0; j < n; ++j) p.c[j] = u(rng);
+  return p;
+}
 }  // namespace
 
 TEST(Simplex, TextbookProblem) {
@@ -77,23 +103,8 @@ TEST(Simplex, AgreesWithTheBestVertexOfRandomProblems) {
   std::uniform_real_distribution<double> u(0, 1);
   for (int trial = 0; trial < 200; ++trial) {
     const int m = 2 + trial % 4, n = m + 3 + trial % 5;
-    RowMajor A(m, n);
-    for (int i = 0; i < m; ++i)
-      for (int j = 0; j < n; ++j) A(i, j) = g(rng);
-    Eigen::VectorXd b(m);
-    if (trial % 2 == 0) {
-      Eigen::VectorXd x0(n);
-      for (int j = 0; j < n; ++j) x0[j] = u(rng) < 0.5 ? 0.0 : u(rng);
-      b = A * x0;
-    } else {
-      // Homogeneous rows and Σ x_j = 1 over the last n/2 columns: feasible when 0 is in the
-      // convex hull of those columns' other entries; else the LP must say infeasible.
-      for (int j = 0; j < n; ++j) A(m - 1, j) = j >= n / 2 ? 1.0 : 0.0;
-      b.setZero();
-      b[m - 1] = 1;
-    }
-    Eigen::VectorXd c(n);
-    for (int j = 0; j < n; ++j) c[j] = u(rng);
+    // (Of the compact rows' shape, an infeasible one must be said so.)
+    const auto [A, b, c] = random_program(rng, g, u, m, n, trial % 2 != 0);
     Eigen::VectorXd x;
     const LpResult r = solve_lp(A, b, c, x);
     const double best = best_vertex(A, b, c);
@@ -193,21 +204,7 @@ TEST(Simplex, PhaseTwoFromAnNnlsVertexReachesTheSameOptimum) {
   int compared = 0;
   for (int trial = 0; trial < 200; ++trial) {
     const int m = 3 + trial % 5, n = m + 4 + trial % 6;
-    RowMajor A(m, n);
-    for (int i = 0; i < m; ++i)
-      for (int j = 0; j < n; ++j) A(i, j) = g(rng);
-    Eigen::VectorXd b(m);
-    if (trial % 2 == 0) {
-      Eigen::VectorXd x0(n);
-      for (int j = 0; j < n; ++j) x0[j] = u(rng) < 0.5 ? 0.0 : u(rng);
-      b = A * x0;
-    } else {
-      for (int j = 0; j < n; ++j) A(m - 1, j) = j >= n / 2 ? 1.0 : 0.0;
-      b.setZero();
-      b[m - 1] = 1;
-    }
-    Eigen::VectorXd c(n);
-    for (int j = 0; j < n; ++j) c[j] = u(rng);
+    const auto [A, b, c] = random_program(rng, g, u, m, n, trial % 2 != 0);
     Eigen::VectorXd x;
     const LpResult full = solve_lp(A, b, c, x);
     if (full.status != LpStatus::Optimal) continue;
