@@ -413,7 +413,7 @@ class CompactRowSolver {
         // only confirm it (degree 6, n = 100: 13 663 such calls, not one of which found a
         // row, a fifth of the stencil time): the proven bound is the row's residual instead.
         if (options_.least_truncation && infeasible_bound_ > options_.tolerance) {
-          out_.residual[si] = deg == options_.degree ? infeasible_bound_ : std::min(out_.residual[si], infeasible_bound_);
+          record_residual(si, deg, infeasible_bound_);
           return false;
         }
         r = solver_.solve(A_.data(), rows_, static_cast<int>(C_), b_.data(), x_.data(), options, MatrixOrder::RowMajor);
@@ -428,12 +428,17 @@ class CompactRowSolver {
     Real res = r.residual > kPolishAbove && (signed_mu || r.residual <= kPolishBelow)
                    ? polish(A_, rows_, C_, b_, x_, free_begin, free_end)
                    : r.residual;
-    if (deg == options_.degree || res < out_.residual[si]) out_.residual[si] = res;
+    record_residual(si, deg, res);
     if (!(r.status == NnlsStatus::Converged && res <= options_.tolerance)) return false;
     if (signed_mu && !laplacian_type(i, cnt)) return false;
     if (!signed_mu && lp_stopped_) res = least_truncation_from_nnls(res);
     residual_ = res;
     return true;
+  }
+
+  // An attempt's residual: the top degree's always, a lower degree's where it is smaller.
+  void record_residual(std::size_t si, int deg, Real res) {
+    if (deg == options_.degree || res < out_.residual[si]) out_.residual[si] = res;
   }
 
   // Phase 1 of the program stopped at its pivot limit and the NNLS found a positive row (x_):

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <vrsph/core/error.hpp>
+#include <vrsph/methods/vrsph/nnls.hpp>
 #include <vrsph/methods/vrsph/simplex.hpp>
 
 #include "../../core/compiler_hints.hpp"
@@ -308,51 +309,16 @@ LpResult DenseSimplex::solve_from(const Real* A, int m, int n, const Real* b, co
 // keeps no columns of B^-1): an m x m LU, a few microseconds, where a caller's confirming
 // search costs tens.
 Real DenseSimplex::farkas_bound(const Real* A, const Real* b, Real x_sum) {
-  const int m = m_;
-  const auto M = static_cast<std::size_t>(m), N = static_cast<std::size_t>(n_);
-  Real* L = dual_.data();  // B^T, row k = the basic column of row k
+  const auto M = static_cast<std::size_t>(m_), N = static_cast<std::size_t>(n_);
+  Real* Bt = dual_.data();  // B^T column-major: its column k is row k of B (B's columns the basic ones)
   Real* y = dual_.data() + M * M;
-  for (std::size_t k = 0; k < M; ++k) {
-    Real* row = L + k * M;
-    const int j = basis_[k];
-    if (j >= 0) {
-      for (std::size_t i = 0; i < M; ++i) row[i] = (b[i] < 0 ? -1 : 1) * A[i * N + static_cast<std::size_t>(j)];
-      y[k] = 0;
-    } else {
-      std::fill(row, row + M, 0.0);
-      row[k] = 1;
-      y[k] = b[k] != 0 ? 1 : 0;
-    }
+  for (std::size_t r = 0; r < M; ++r) {
+    const int j = basis_[r];
+    for (std::size_t k = 0; k < M; ++k)
+      Bt[k * M + r] = j >= 0 ? (b[k] < 0 ? -1 : 1) * A[k * N + static_cast<std::size_t>(j)] : Real(k == r ? 1 : 0);
+    y[r] = j < 0 && b[r] != 0 ? 1 : 0;
   }
-  // Gaussian elimination with partial pivoting on B^T y = c_B.
-  for (int c = 0; c < m; ++c) {
-    int p = c;
-    for (int r = c + 1; r < m; ++r)
-      if (std::abs(L[static_cast<std::size_t>(r) * M + static_cast<std::size_t>(c)]) >
-          std::abs(L[static_cast<std::size_t>(p) * M + static_cast<std::size_t>(c)]))
-        p = r;
-    const Real piv = L[static_cast<std::size_t>(p) * M + static_cast<std::size_t>(c)];
-    if (!(std::abs(piv) > 0)) return 0;
-    if (p != c) {
-      std::swap_ranges(L + static_cast<std::size_t>(p) * M, L + static_cast<std::size_t>(p + 1) * M,
-                       L + static_cast<std::size_t>(c) * M);
-      std::swap(y[p], y[c]);
-    }
-    const Real* lc = L + static_cast<std::size_t>(c) * M;
-    for (int r = c + 1; r < m; ++r) {
-      Real* lr = L + static_cast<std::size_t>(r) * M;
-      const Real f = lr[c] / piv;
-      if (f == 0) continue;
-      for (int k = c + 1; k < m; ++k) lr[k] -= f * lc[k];
-      y[r] -= f * y[c];
-    }
-  }
-  for (int c = m - 1; c >= 0; --c) {
-    const Real* lc = L + static_cast<std::size_t>(c) * M;
-    Real v = y[c];
-    for (int k = c + 1; k < m; ++k) v -= lc[k] * y[k];
-    y[c] = v / lc[c];
-  }
+  if (!solve_square_positive(Bt, m_, y, -std::numeric_limits<Real>::infinity())) return 0;
   // y in the original rows' signs: (S b)^T y = b^T (S y), (S A)^T y = A^T (S y).
   Real by = 0, yy = 0;
   for (std::size_t i = 0; i < M; ++i) {

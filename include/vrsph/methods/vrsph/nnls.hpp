@@ -78,7 +78,8 @@ class NnlsSolver {
 /// The square system S z = b (S column-major m x m, overwritten by its LU factors; z holds b on
 /// entry) by LU with partial pivoting. True when S is not (nearly) singular and every z_j >
 /// xtol: then z is an NNLS optimum of any problem whose columns include S's (residual zero).
-/// The warm start's fast path (a guessed passive set of m columns).
+/// The warm start's fast path (a guessed passive set of m columns). With xtol = -infinity a
+/// plain solve (false only for a (nearly) singular S or a non-finite z): DenseSimplex's dual.
 bool solve_square_positive(Real* S, int m, Real* z, Real xtol);
 /// The value threshold below which NnlsSolver drops a variable (m x n problem, ||A||_1 given,
 /// default tolerance).
