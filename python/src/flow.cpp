@@ -88,7 +88,8 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
                                         bool free_surface, double body_force_ramp, const std::string& viscosity,
                                         double support_growth, double support_isotropy, std::optional<bool> warm_start,
                                         const std::string& wall_acceleration, const std::string& surface_gradient,
-                                        double wall_gap, double shift_limit, std::optional<int> pressure_corrections) {
+                                        double wall_gap, double shift_limit, std::optional<int> pressure_corrections,
+                                        double surface_film) {
   const PointCloud& c = as_cloud(cloud);
   const Eigen::MatrixXd u0 = matrix_from(velocity, c.size(), c.dim, "velocity");
   FlowOptions o = flow_options(frame, method, gradient, nu, scheme, h_factor, kernel, options, shifting, shift_coefficient,
@@ -104,6 +105,7 @@ std::unique_ptr<FlowSolver> make_solver(const py::object& cloud, const py::handl
   o.warm_start = warm_start;
   o.wall_acceleration = parse_wall_acceleration(wall_acceleration);
   o.surface_gradient = parse_surface_gradient(surface_gradient);
+  o.surface.film_eigenvalue = surface_film;
   o.wall_gap = wall_gap;
   o.shifting.max_shift = shift_limit;
   o.pressure_corrections = pressure_corrections;
@@ -219,7 +221,7 @@ void bind_flow(py::module_& m) {
            py::arg("body_force"), py::arg("free_surface"), py::arg("body_force_ramp"), py::arg("viscosity"),
            py::arg("support_growth"), py::arg("support_isotropy"), py::arg("warm_start") = py::none(),
            py::arg("wall_acceleration") = "momentum", py::arg("surface_gradient") = "linear", py::arg("wall_gap") = 0.0,
-           py::arg("shift_limit") = 0.25, py::arg("pressure_corrections") = py::none())
+           py::arg("shift_limit") = 0.25, py::arg("pressure_corrections") = py::none(), py::arg("surface_film") = 0.1)
       .def("step", [](FlowSolver& s, double dt) {
         FlowStepReport r;
         {
@@ -247,7 +249,8 @@ void bind_flow(py::module_& m) {
       });
   m.def("_hydrostatic", [](int nx, int dim, const std::string& frame, const std::string& method, double jitter,
                            std::uint64_t seed, double t_end, double gravity, double ramp, double h_factor,
-                           const py::dict& options, const std::string& surface_gradient, double wall_height) {
+                           const py::dict& options, const std::string& surface_gradient, double wall_height,
+                           double surface_film) {
     HydrostaticRunOptions o;
     o.tank.dim = dim;
     o.tank.nx = nx;
@@ -259,6 +262,7 @@ void bind_flow(py::module_& m) {
     o.ramp = ramp;
     o.flow = flow_options(frame, method, "auto", 0.01, "rk3", h_factor, "cubic", options, "none", 0, false, "explicit");
     o.flow.surface_gradient = parse_surface_gradient(surface_gradient);
+    o.flow.surface.film_eigenvalue = surface_film;
     HydrostaticRow r;
     {
       py::gil_scoped_release release;
@@ -286,11 +290,11 @@ void bind_flow(py::module_& m) {
     return d;
   }, py::arg("nx"), py::arg("dim"), py::arg("frame"), py::arg("method"), py::arg("jitter"), py::arg("seed"),
      py::arg("t_end"), py::arg("gravity"), py::arg("ramp"), py::arg("h_factor"), py::arg("options"),
-     py::arg("surface_gradient"), py::arg("wall_height"));
+     py::arg("surface_gradient"), py::arg("wall_height"), py::arg("surface_film") = 0.1);
   m.def("_dam_break", [](int nx, const std::string& method, double jitter, std::uint64_t seed, double t_star_end,
                          const std::string& shifting, double cfl, double h_factor, const py::dict& options,
                          const std::string& geometry, const std::string& wall_acceleration,
-                         const std::string& surface_gradient) {
+                         const std::string& surface_gradient, double surface_film) {
     DamBreakRunOptions o;
     o.geometry = parse_dam_break_geometry(geometry);
     o.nx = nx;
@@ -301,6 +305,7 @@ void bind_flow(py::module_& m) {
     o.flow = flow_options("lagrangian", method, "auto", 0.01, "rk3", h_factor, "cubic", options, shifting, 0, false, "explicit");
     o.flow.wall_acceleration = parse_wall_acceleration(wall_acceleration);
     o.flow.surface_gradient = parse_surface_gradient(surface_gradient);
+    o.flow.surface.film_eigenvalue = surface_film;
     DamBreakRun r;
     {
       py::gil_scoped_release release;
@@ -342,7 +347,7 @@ void bind_flow(py::module_& m) {
     return d;
   }, py::arg("nx"), py::arg("method"), py::arg("jitter"), py::arg("seed"), py::arg("t_star_end"), py::arg("shifting"),
      py::arg("cfl"), py::arg("h_factor"), py::arg("options"), py::arg("geometry"), py::arg("wall_acceleration"),
-     py::arg("surface_gradient"));
+     py::arg("surface_gradient"), py::arg("surface_film") = 0.1);
   m.def("_cavity", &cavity, py::arg("nx"), py::arg("re"), py::arg("method"), py::arg("gradient"), py::arg("jitter"),
         py::arg("seed"), py::arg("t_end"), py::arg("steady_tolerance"), py::arg("cfl"), py::arg("h_factor"),
         py::arg("options"), py::arg("viscosity"), py::arg("frame"), py::arg("shifting"), py::arg("wall_layers"),

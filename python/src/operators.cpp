@@ -199,7 +199,7 @@ void bind_operators(py::module_& m) {
   }, py::arg("cloud"), "The exact covering radius max_x min_i |x - x_i| over the cloud's box or ball domain.");
   m.def("free_surface", [](const PointCloud& cloud, const std::string& criterion, double h_factor, double spacing,
                            double density_threshold, double surface_eigenvalue, double interior_eigenvalue, bool scan,
-                           bool only_interior, bool scan_every_neighbour) {
+                           bool only_interior, bool scan_every_neighbour, double film_eigenvalue) {
     FreeSurfaceOptions o;
     o.criterion = parse_surface_criterion(criterion);
     o.h_factor = h_factor;
@@ -210,6 +210,7 @@ void bind_operators(py::module_& m) {
     o.scan = scan;
     o.only_interior = only_interior;
     o.scan_every_neighbour = scan_every_neighbour;
+    o.film_eigenvalue = film_eigenvalue;
     const FreeSurface fs = [&] {
       py::gil_scoped_release release;
       return detect_free_surface(cloud, o);
@@ -240,10 +241,12 @@ void bind_operators(py::module_& m) {
   }, py::arg("cloud"), py::kw_only(), py::arg("criterion") = "eigenvalue", py::arg("h_factor") = 2.5,
      py::arg("spacing") = 0.0, py::arg("density_threshold") = 0.97, py::arg("surface_eigenvalue") = 0.2,
      py::arg("interior_eigenvalue") = 0.75, py::arg("scan") = true, py::arg("only_interior") = false,
-     py::arg("scan_every_neighbour") = false,
+     py::arg("scan_every_neighbour") = false, py::arg("film_eigenvalue") = 0.1,
      "Free-surface particles and outward normals: criterion 'eigenvalue' (renormalisation matrix with Marrone's "
      "scan) or 'number-density' (n/n0 < density_threshold); only_interior: tagged particles are walls, never "
-     "surface; scan_every_neighbour: droplets cover in the scan too (Marrone et al. as published). Returns surface (bool), normals (N x dim), density_ratio, eigenvalue (both 1 inside a lattice), "
+     "surface; scan_every_neighbour: droplets cover in the scan too (Marrone et al. as published); film_eigenvalue "
+     "(with only_interior): a particle whose interior neighbours alone give an eigenvalue below this is surface (a "
+     "film one particle thick along a wall; 0: off). Returns surface (bool), normals (N x dim), density_ratio, eigenvalue (both 1 inside a lattice), "
      "scanned, count, spacing and radius.");
 }
 

@@ -379,7 +379,9 @@ class Flow:
     "body-force" (what the walls' extrapolated pressure carries), ``surface_gradient`` "linear" (the
     surface particles without a wall neighbour take the gradient's linear fit) or "same"; Lagrangian:
     ``wall_gap`` (spacings a particle is kept off a wall's face; 0: none) and ``shift_limit`` (the
-    largest shift of a step, in spacings; 0: unbounded), as the CLI's options of those names.
+    largest shift of a step, in spacings; 0: unbounded), as the CLI's options of those names;
+    ``surface_film`` (``--surface-film``, 0.1): a water particle whose water neighbours alone are
+    thin (a jet one particle thick up a wall) is surface (0: the scan alone decides).
     ``pressure_corrections``: defect corrections of every stage's pressure toward a divergence-free
     rate (``--pressure-corrections``; 0: none, as before 2026-12-06; None, the default: 1 with
     ``method="vrsph"``, 0 with the others; docs/flow.md).
@@ -394,7 +396,7 @@ class Flow:
                  free_surface: bool = False, body_force_ramp: float = 0.0, viscosity: str = "explicit",
                  support_growth: float = 0.0, support_isotropy: float = 0.3, warm_start: bool | None = None,
                  wall_acceleration: str = "momentum", surface_gradient: str = "linear", wall_gap: float = 0.0,
-                 shift_limit: float = 0.25, pressure_corrections: int | None = None):
+                 shift_limit: float = 0.25, pressure_corrections: int | None = None, surface_film: float = 0.1):
         _check_cloud(cloud)
         self._s = _vrsph._FlowSolver(cloud, np.asarray(velocity, dtype=float), _args.text(frame, "frame"),
                                      _args.text(method, "method"), _args.text(gradient, "gradient"),
@@ -415,7 +417,8 @@ class Flow:
                                      _args.text(surface_gradient, "surface_gradient"),
                                      _args.number(wall_gap, "wall_gap", minimum=0.0),
                                      _args.number(shift_limit, "shift_limit", minimum=0.0),
-                                     _args.pressure_corrections(pressure_corrections))
+                                     _args.pressure_corrections(pressure_corrections),
+                                     _args.number(surface_film, "surface_film", minimum=0.0))
 
     def step(self, dt: float) -> dict:
         return self._s.step(_args.number(dt, "dt", positive=True))
@@ -497,27 +500,29 @@ def taylor_green(nx: int = 32, dim: int = 2, frame: str = "eulerian", method: st
 def hydrostatic(nx: int = 20, dim: int = 2, frame: str = "lagrangian", method: str = "vrsph", jitter: float = 0.2,
                 seed: int = 1, t_end: float = 2.0, gravity: float = 1.0, ramp: float = 0.5, h_factor: float = 3.0,
                 options: Mapping[str, Any] | None = None, surface_gradient: str = "linear",
-                wall_height: float = 0.0) -> dict:
+                wall_height: float = 0.0, surface_film: float = 0.1) -> dict:
     """One row of ``vrsph flow --case hydrostatic``: water of depth 1 at rest in a tank of width 1
     (``nx`` intervals across) under gravity ramped in over ``ramp``, run to ``t_end``: the bottom
     pressure against g H, the spurious speeds in (g H)^(1/2), the surface's particles.
     ``surface_gradient`` as ``--surface-gradient``: "linear" (the gradient rows of the surface
     particles without a wall neighbour a linear fit) or "same" (the flow's quadratic fit there
     too). ``wall_height``: the walls' height (``--wall-height``; 0: the
-    water's depth, walls ending at its level)."""
+    water's depth, walls ending at its level). ``surface_film`` as for :class:`FlowSolver`."""
     return _vrsph._hydrostatic(_args.integer(nx, "nx", minimum=4), _args.integer(dim, "dim", minimum=2),
                                _args.text(frame, "frame"), _args.text(method, "method"),
                                _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
                                _args.number(t_end, "t_end", positive=True), _args.number(gravity, "gravity"),
                                _args.number(ramp, "ramp", minimum=0.0), _args.number(h_factor, "h_factor", positive=True),
                                _args.options(options, "options"), _args.text(surface_gradient, "surface_gradient"),
-                               _args.number(wall_height, "wall_height", minimum=0.0))
+                               _args.number(wall_height, "wall_height", minimum=0.0),
+                               _args.number(surface_film, "surface_film", minimum=0.0))
 
 
 def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: int = 1, t_star_end: float = 3.0,
               shifting: str = "xu", cfl: float = 0.25, h_factor: float = 3.0,
               options: Mapping[str, Any] | None = None, geometry: str = "martin-moyce",
-              wall_acceleration: str = "momentum", surface_gradient: str = "linear") -> dict:
+              wall_acceleration: str = "momentum", surface_gradient: str = "linear",
+              surface_film: float = 0.1) -> dict:
     """``vrsph flow --case dam-break`` for one method and resolution. ``geometry="martin-moyce"``
     (``nx`` intervals across the column L x 2L, tank 4L): the surge front z/L and the column's
     height at samples of T = t (2g/L)^(1/2), beside Martin & Moyce's experiments (their spread)
@@ -525,7 +530,8 @@ def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: in
     intervals across H, T = t (g/H)^(1/2)): also ``probe_pressure`` p/(rho g H) on the far wall at
     probe P1 beside Buchner's record (``probe_reference``). The run goes on after the front
     reaches the far wall (``far_wall_t_star``); ``wall_acceleration="body-force"`` lets it run
-    through the impact (docs/free_surface.md); ``surface_gradient`` as for :func:`hydrostatic`;
+    through the impact (docs/free_surface.md); ``surface_gradient`` and ``surface_film`` as for
+    :func:`hydrostatic`;
     ``stopped`` says why a run ended early (its samples before are kept)."""
     return _vrsph._dam_break(_args.integer(nx, "nx", minimum=2), _args.text(method, "method"),
                              _args.number(jitter, "jitter", minimum=0.0), _args.integer(seed, "seed", minimum=0),
@@ -533,7 +539,8 @@ def dam_break(nx: int = 20, method: str = "vrsph", jitter: float = 0.0, seed: in
                              _args.number(cfl, "cfl", positive=True), _args.number(h_factor, "h_factor", positive=True),
                              _args.options(options, "options"), _args.text(geometry, "geometry"),
                              _args.text(wall_acceleration, "wall_acceleration"),
-                             _args.text(surface_gradient, "surface_gradient"))
+                             _args.text(surface_gradient, "surface_gradient"),
+                             _args.number(surface_film, "surface_film", minimum=0.0))
 
 
 class Solution(dict):

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Free-surface detection (free_surface.hpp).
 #include <cmath>
+#include <utility>
 #include <Eigen/Eigenvalues>
 #include <vrsph/analysis/free_surface.hpp>
 #include <vrsph/core/error.hpp>
@@ -56,6 +57,8 @@ void check_options(const FreeSurfaceOptions& o) {
   check<ConfigError>(in_unit(o.surface_eigenvalue) && in_unit(o.interior_eigenvalue),
                      "free surface: the eigenvalue thresholds must lie in (0, 1), got ", o.surface_eigenvalue, " and ",
                      o.interior_eigenvalue);
+  check<ConfigError>(std::isfinite(o.film_eigenvalue) && o.film_eigenvalue >= 0 && o.film_eigenvalue < 1,
+                     "free surface: the film eigenvalue threshold must lie in [0, 1) (0: off), got ", o.film_eigenvalue);
   check<ConfigError>(o.surface_eigenvalue <= o.interior_eigenvalue, "free surface: the surface eigenvalue threshold (",
                      o.surface_eigenvalue, ") exceeds the interior one (", o.interior_eigenvalue, ")");
 }
@@ -66,6 +69,22 @@ Real smallest_eigenvalue(const Eigen::Matrix3d& m, int d) {
   if (d == 2) return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(m.topLeftCorner<2, 2>(), Eigen::EigenvaluesOnly)
       .eigenvalues()[0];
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()[0];
+}
+
+// The smallest eigenvalue of the symmetric d x d block of M and its unit eigenvector.
+std::pair<Real, Vec3> smallest_eigenpair(const Eigen::Matrix3d& m, int d) {
+  Vec3 v = Vec3::Zero();
+  if (d == 1) {
+    v[0] = 1;
+    return {m(0, 0), v};
+  }
+  if (d == 2) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(m.topLeftCorner<2, 2>());
+    v.head<2>() = es.eigenvectors().col(0);
+    return {es.eigenvalues()[0], v};
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(m);
+  return {es.eigenvalues()[0], es.eigenvectors().col(0)};
 }
 
 // -M^{-1} g normalised (g = sum_j V grad_i W_ij), or -g where M is (nearly) singular; 0 if
@@ -111,6 +130,10 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
   out.density_ratio.assign(static_cast<std::size_t>(n), 0);
   out.eigenvalue.assign(static_cast<std::size_t>(n), 0);
   out.scanned.assign(static_cast<std::size_t>(n), 0);
+  // Films (FreeSurfaceOptions::film_eigenvalue): the direction across a fluid particle's fluid
+  // neighbours where they alone are thin and the support is open (0 elsewhere).
+  const bool films = options.criterion == SurfaceCriterion::Eigenvalue && options.only_interior && options.film_eigenvalue > 0;
+  std::vector<Vec3> across_film(films ? static_cast<std::size_t>(n) : 0, Vec3::Zero());
   const Real s = out.radius / 2;  // the scan's length: its region reaches the support radius
 
   auto pair = [&](Index i, Index k) -> Vec3 {  // x_j - x_i (its periodic image)
@@ -124,14 +147,16 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
   for (Index i = 0; i < n; ++i) {
     const auto iu = static_cast<std::size_t>(i);
     Real density = kernel.W(0);
-    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d m = Eigen::Matrix3d::Zero(), fluid = Eigen::Matrix3d::Zero();
     Vec3 g = Vec3::Zero();
     for (Index k = nl.offsets[iu]; k < nl.offsets[iu + 1]; ++k) {
       const Vec3 xji = pair(i, k);
       const Real r = nl.distances[static_cast<std::size_t>(k)];
       density += kernel.W(r);
       const Real f = kernel.dW_over_r(r);  // W'(r)/r <= 0
-      m.noalias() += (volume * -f) * (xji * xji.transpose());
+      const Eigen::Matrix3d mk = (volume * -f) * (xji * xji.transpose());
+      m += mk;
+      if (films && cloud.tags[static_cast<std::size_t>(nl.indices[static_cast<std::size_t>(k)])] == Tag::Interior) fluid += mk;
       g += (volume * f) * (-xji);  // grad_i W_ij = W'(r) x_ij / r, x_ij = x_i - x_j
     }
     out.density_ratio[iu] = density / full.density;
@@ -139,6 +164,14 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
     out.eigenvalue[iu] = lambda / full.eigenvalue;
     if (out.eigenvalue[iu] < options.interior_eigenvalue)
       out.normals[iu] = outward_normal(m, g, d, lambda, full.eigenvalue, out.spacing);
+    // A film: the support open (a normal) and the fluid neighbours alone thin. Across them, to
+    // the side the renormalised normal points to (the walls turn it away from themselves); that
+    // normal itself may run along the film.
+    const Vec3& nrm = out.normals[iu];
+    if (films && cloud.tags[iu] == Tag::Interior && nrm.squaredNorm() > 0) {
+      const auto [mu, across] = smallest_eigenpair(fluid, d);
+      if (mu < options.film_eigenvalue * full.eigenvalue) across_film[iu] = nrm.dot(across) < 0 ? Vec3(-across) : across;
+    }
   }
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
@@ -147,6 +180,9 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
     bool surface = false;
     if (options.criterion == SurfaceCriterion::NumberDensity) {
       surface = out.density_ratio[iu] < options.density_threshold;
+    } else if (films && across_film[iu].squaredNorm() > 0) {
+      surface = true;
+      out.normals[iu] = across_film[iu];
     } else if (out.eigenvalue[iu] < options.surface_eigenvalue) {
       surface = true;
     } else if (out.eigenvalue[iu] <= options.interior_eigenvalue) {

@@ -250,7 +250,10 @@ class Cloud(unittest.TestCase):
             for args, reason in [(["--free-surface", "--surface-criterion", "number-density", "--density-threshold", "1"], "must lie in (0, 1)"),
                                  (["--free-surface", "--surface-eigenvalue", "0.9"], "exceeds the interior one"),
                                  (["--free-surface", "--surface-criterion", "density"], "unknown free-surface criterion"),
-                                 (["--no-scan"], "--no-scan needs --free-surface")]:
+                                 (["--no-scan"], "--no-scan needs --free-surface"),
+                                 (["--free-surface", "--surface-only-interior", "--film-eigenvalue", "-0.1"],
+                                  "the film eigenvalue threshold must lie in [0, 1)"),
+                                 (["--film-eigenvalue", "0.2"], "--film-eigenvalue needs --free-surface")]:
                 p = run("cloud", "--family", "disk", "--n", "10", *args, check=False)
                 self.assertEqual(p.returncode, 2, msg=p.stderr)
                 self.assertIn(reason, p.stderr)
@@ -627,7 +630,9 @@ class Flow(unittest.TestCase):
             self.assertEqual(out["height_reference"]["name"], "martin-moyce height")
             self.assertTrue(os.path.getsize(png) > 1000)
         for args, message in ((["--dim", "3"], "two-dimensional"), (["--frame", "eulerian"], "--frame lagrangian"),
-                              (["--cfl", "2"], "must be in (0, 1]"), (["--nx", "500"], "at most 400")):
+                              (["--cfl", "2"], "must be in (0, 1]"), (["--nx", "500"], "at most 400"),
+                              (["--surface-film", "1"], "--surface-film must be in [0, 1)"),
+                              (["--surface-film", "nan"], "--surface-film must be in [0, 1)")):
             result = run("flow", "--case", "dam-break", *args, check=False)
             self.assertEqual(result.returncode, 2, result.stderr)
             self.assertIn(message, result.stderr)
@@ -719,6 +724,9 @@ class Flow(unittest.TestCase):
         result = run("flow", "--case", "hydrostatic", "--nx", "10", "--method", "sph", "--format", "json", check=False)
         self.assertEqual(result.returncode, 5, result.stderr)
         self.assertIn("left the box", json.loads(result.stdout)["rows"][0]["status"])
+        result = run("flow", "--case", "taylor-green", "--surface-film", "0.2", check=False)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("--surface-film applies to the free-surface cases", result.stderr)
         for args, message in ((["--gravity", "0"], "--gravity must be positive"),
                               (["--depth", "0.33"], "not a whole number of particle spacings")):
             result = run("flow", "--case", "hydrostatic", "--nx", "10", *args, check=False)

@@ -50,7 +50,8 @@ struct CloudArgs {
   // --free-surface (free_surface.hpp)
   bool free_surface = false, surface_only_interior = false, no_scan = false, scan_every_neighbour = false;
   std::string surface_criterion = "eigenvalue";
-  double surface_h_factor = 2.5, density_threshold = 0.97, surface_eigenvalue = 0.2, interior_eigenvalue = 0.75;
+  double surface_h_factor = 2.5, density_threshold = 0.97, surface_eigenvalue = 0.2, interior_eigenvalue = 0.75,
+         film_eigenvalue = 0.1;
 };
 
 // --free-surface: the detection's options from the command line (each checked by the library).
@@ -58,7 +59,7 @@ FreeSurfaceOptions free_surface_options(const CloudArgs& a, const CLI::App& cmd,
   FreeSurfaceOptions o;
   o.criterion = parse_surface_criterion(a.surface_criterion);
   const bool eigenvalue = o.criterion == SurfaceCriterion::Eigenvalue;
-  for (const char* opt : {"--surface-eigenvalue", "--interior-eigenvalue", "--no-scan", "--scan-every-neighbour"})
+  for (const char* opt : {"--surface-eigenvalue", "--interior-eigenvalue", "--no-scan", "--scan-every-neighbour", "--film-eigenvalue"})
     check<ConfigError>(eigenvalue || cmd.count(opt) == 0, opt, " applies to --surface-criterion eigenvalue");
   check<ConfigError>(!eigenvalue || cmd.count("--density-threshold") == 0,
                      "--density-threshold applies to --surface-criterion number-density");
@@ -69,6 +70,7 @@ FreeSurfaceOptions free_surface_options(const CloudArgs& a, const CLI::App& cmd,
   o.interior_eigenvalue = a.interior_eigenvalue;
   o.scan = !a.no_scan;
   o.scan_every_neighbour = a.scan_every_neighbour;
+  o.film_eigenvalue = a.film_eigenvalue;
   o.only_interior = a.surface_only_interior;
   return o;
 }
@@ -236,6 +238,10 @@ void add_cloud_options(CLI::App* cmd, CloudArgs& a) {
   cmd->add_flag("--scan-every-neighbour", a.scan_every_neighbour, "With --free-surface eigenvalue: every neighbour covers "
                 "a particle in the scan, droplets included (Marrone et al. 2010 as published; default: particles that are "
                 "surface without a scan, eigenvalue below --surface-eigenvalue, do not)");
+  cmd->add_option("--film-eigenvalue", a.film_eigenvalue, "With --free-surface eigenvalue and --surface-only-interior: "
+                  "a particle whose interior neighbours alone give an eigenvalue below this is surface (a film one particle "
+                  "thick along a wall), in [0, 1), 0: off")
+      ->capture_default_str();
   cmd->add_flag("--surface-only-interior", a.surface_only_interior, "With --free-surface: classify only interior particles; "
                "tagged ones (walls) count as neighbours and are never surface");
   cmd->add_flag("--check", a.check_brute, "Verify the neighbour search against brute force (N <= 50000)");
@@ -445,7 +451,8 @@ void run_cloud(const CloudArgs& a, const CLI::App& cmd) {
     add_free_surface_rows(*fs, o, add);
   } else {
     for (const char* opt : {"--surface-criterion", "--surface-h-factor", "--density-threshold", "--surface-eigenvalue",
-                            "--interior-eigenvalue", "--no-scan", "--scan-every-neighbour", "--surface-only-interior"})
+                            "--interior-eigenvalue", "--no-scan", "--scan-every-neighbour", "--surface-only-interior",
+                            "--film-eigenvalue"})
       check<ConfigError>(cmd.count(opt) == 0, opt, " needs --free-surface");
   }
   print_report(t, a.format);

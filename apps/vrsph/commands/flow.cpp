@@ -100,6 +100,7 @@ FlowOptions flow_options_for(const FlowArgs& a, const std::string& method,
   if (a.warm_start != "auto") o.warm_start = a.warm_start == "on";
   o.wall_acceleration = parse_wall_acceleration(a.wall_acceleration);
   o.surface_gradient = parse_surface_gradient(a.surface_gradient);
+  o.surface.film_eigenvalue = a.surface_film;
   if (a.wall_gap) o.wall_gap = *a.wall_gap;
   return o;
 }
@@ -414,6 +415,10 @@ void run_flow(FlowArgs& a) {
   (void)parse_surface_gradient(a.surface_gradient);
   check<ConfigError>(a.surface_gradient == "linear" || dam_break || hydrostatic, "--surface-gradient applies to the "
                      "free-surface cases (hydrostatic, dam-break)");
+  check<ConfigError>(a.surface_film == 0.1 || dam_break || hydrostatic, "--surface-film applies to the free-surface cases "
+                     "(hydrostatic, dam-break)");
+  check<ConfigError>(std::isfinite(a.surface_film) && a.surface_film >= 0 && a.surface_film < 1,
+                     "--surface-film must be in [0, 1) (0: off), got ", a.surface_film);
   (void)parse_dam_break_geometry(a.geometry);
   check<ConfigError>(!a.wall_gap || (std::isfinite(*a.wall_gap) && *a.wall_gap >= 0 && *a.wall_gap < 1),
                      "--wall-gap must be in [0, 1) particle spacings, got ", a.wall_gap.value_or(0));
@@ -521,6 +526,10 @@ void add_flow_command(CLI::App& app) {
                   "order (auto beside vrsph: fpm gradient_order=2): linear (that fit's linear form at the surface "
                   "particles without a wall neighbour, whose supports only the air cuts; holds a tank at rest for 20 s at "
                   "nx = 10) | same (the higher order there too, as before 2026-12-06)")
+      ->capture_default_str();
+  cmd->add_option("--surface-film", a->surface_film, "Free surfaces: a water particle whose water neighbours alone (walls "
+                  "left out) give a smallest renormalisation eigenvalue below this is surface, its normal across them: a "
+                  "jet one particle thick running up a wall (0: off, the walls then make it look half full), in [0, 1)")
       ->capture_default_str();
   cmd->add_option("--geometry", a->geometry, "Dam-break: martin-moyce (column L x 2L, tank 4L, fronts against Martin & "
                   "Moyce and Koshizuka & Oka) | buchner (column 2H x H, tank 5.366H, the far wall's pressure at probe P1 "

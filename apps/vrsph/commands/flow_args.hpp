@@ -37,6 +37,7 @@ struct FlowArgs {
   std::string geometry = "martin-moyce";  // the dam break's tank (DamBreakGeometry)
   std::string wall_acceleration = "momentum";  // FlowOptions::wall_acceleration (free-surface cases)
   std::string surface_gradient = "linear";     // FlowOptions::surface_gradient (free-surface cases)
+  double surface_film = 0.1;                   // FlowOptions::surface.film_eigenvalue (free-surface cases)
   double shift_limit = 0.25;                   // ShiftingOptions::max_shift (spacings; 0: unbounded)
   bool frame_given = false;     // --frame on the command line (the free-surface cases default to lagrangian)
   bool shifting_given = false;  // --shifting on the command line (the dam break defaults to xu)

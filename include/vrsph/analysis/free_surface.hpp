@@ -21,6 +21,14 @@
 //    not cover i: spray 1.5-2.5 dx above the water hid the particles under it from the air
 //    (interior rows, whose pressure then spiked; docs/free_surface.md). Marrone et al. count
 //    every neighbour (scan_every_neighbour).
+//    With walls (only_interior), films: a fluid particle whose support is open (lambda_i
+//    below interior_eigenvalue, walls counted) and whose fluid neighbours alone are thin (the
+//    smallest eigenvalue of M_i over them below film_eigenvalue, 0.1) is surface, its normal
+//    the eigenvector across them, on the side n_i points to. A jet one particle thick running
+//    up a wall had lambda_i = 0.31 with the walls; its n_i was turned along the jet by a
+//    neighbour 0.55 dx above, the particle below then lay in the scan's cap, and its interior
+//    pressure row, between the walls and p = 0, swung until the jet was flung off (dam break;
+//    docs/free_surface.md). A water particle in a corner of walls has lambda_i near 1.
 //
 // Normal: n_i = -M_i^{-1} sum_j V grad_i W_ij, normalised (the renormalised gradient of the
 // Shepard sum points into the fluid); without renormalisation where M_i is singular, 0 where
@@ -58,6 +66,11 @@ struct FreeSurfaceOptions {
   /// Eigenvalue: every neighbour covers in the scan, droplets included (Marrone et al. 2010
   /// as published); false: neighbours with lambda_j < surface_eigenvalue do not.
   bool scan_every_neighbour = false;
+  /// Eigenvalue with only_interior: a fluid particle with lambda_i below interior_eigenvalue
+  /// whose fluid neighbours alone (walls left out) give a smallest eigenvalue below this (of
+  /// lambda_0) is surface, its normal across them: a film or jet one particle thick along a
+  /// wall, whose support the walls' layers fill on one side. 0: off (the scan alone decides).
+  Real film_eigenvalue = 0.1;
 };
 
 struct FreeSurface {

@@ -5,7 +5,9 @@
 // and a splash of droplets of one to four particles (all surface). The eigenvalue criterion
 // with its scan finds exactly these on lattices and on clouds perturbed by up to 0.4 dx; the
 // number density flags a band under the surface once the particles are disordered.
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vrsph/analysis/free_surface.hpp>
 #include <vrsph/cloud/generate.hpp>
@@ -215,6 +217,62 @@ TEST(FreeSurface, SprayAboveTheWaterDoesNotHideItsSurface) {
     const Score published = score(tank, detect_free_surface(tank.cloud, o), true);
     EXPECT_GE(published.false_negatives, 2) << dim << "D";
     EXPECT_EQ(published.false_positives, 0) << dim << "D";
+  }
+}
+
+// A jet one particle thick running up a wall (three layers of wall particles), above a wedge
+// of water: the particles of a dam break at the far wall one step before its blow-up (nx = 20,
+// seed 3, in units of dx about the particle that failed). The walls fill one side of each
+// jet particle's support, so lambda is 0.2-0.5 and the scan decides; the renormalised normal of
+// the particle at the origin was turned down along the jet by its neighbour 0.55 dx above,
+// and the particle below then covered it: an interior pressure row between the walls and
+// p = 0, which swung until the jet was flung off. Its fluid neighbours alone are a line (a
+// film): it is surface, its normal across the jet, away from the wall.
+TEST(FreeSurface, AJetOneParticleThickUpAWallIsSurface) {
+  const Real dx = 0.05;
+  const std::vector<std::array<Real, 2>> water = {
+      {-0.9, -5.7},  {-2.67, -5.35}, {-1.53, -5.19}, {0.42, -5.17}, {-0.23, -4.51}, {-4.03, -4.43}, {-2.53, -4.43},
+      {-1.45, -4.35}, {0.56, -3.91}, {-3.12, -3.82}, {-1.5, -3.49},  {-0.73, -3.43}, {-2.15, -3.16}, {-3.71, -3.13},
+      {-0.03, -3.09}, {-2.83, -2.8}, {-4.47, -2.63}, {0.37, -2.29},  {-3.6, -2.29},  {-4.79, -1.98}, {-5.48, -1.62},
+      {0.33, -1.44},  {0.0, 0.0},    {-0.16, 0.53},  {-0.2, 1.01}};
+  PointCloud c;
+  c.dim = 2;
+  c.spacing = dx;
+  for (const auto& [x, y] : water) c.add(Vec3(x * dx, y * dx, 0), Tag::Interior);
+  for (int layer = 0; layer < 3; ++layer)
+    for (int j = -9; j <= 5; ++j) c.add(Vec3((1.42 + layer) * dx, (j - 0.02) * dx, 0), Tag::Dirichlet);
+  const std::size_t origin = 22;  // {0, 0}; the jet: it, the particle below it and the two above
+  FreeSurfaceOptions o;
+  o.only_interior = true;
+  const FreeSurface fs = detect_free_surface(c, o);
+  for (const std::size_t k : {std::size_t{21}, origin, std::size_t{23}, std::size_t{24}}) {
+    EXPECT_EQ(fs.surface[k], 1) << "jet particle " << k;
+    EXPECT_LT(fs.normals[k][0], -0.9) << "jet particle " << k << ": its normal points away from the wall";
+  }
+  for (std::size_t k = water.size(); k < c.positions.size(); ++k) EXPECT_EQ(fs.surface[k], 0) << "wall " << k;
+  o.film_eigenvalue = 0;  // the scan alone: the neighbour above turns the normal, the one below covers
+  const FreeSurface scan_only = detect_free_surface(c, o);
+  EXPECT_EQ(scan_only.surface[origin], 0);
+  EXPECT_EQ(scan_only.scanned[origin], 1);
+  EXPECT_LT(scan_only.normals[origin][1], -0.7);  // (-0.62, -0.78): down along the jet
+  // In 3D, a sheet one particle thick along a wall (jittered along it) is surface too.
+  PointCloud sheet;
+  sheet.dim = 3;
+  sheet.spacing = dx;
+  std::uint64_t state = 12345;
+  auto jitter = [&] {  // U(-0.2, 0.2) dx, a fixed sequence
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<Real>(state >> 11) / 9007199254740992.0 - 0.5) * 0.4 * dx;
+  };
+  for (int j = 0; j < 8; ++j)
+    for (int k = 0; k < 8; ++k) sheet.add(Vec3(-1.4 * dx, j * dx + jitter(), k * dx + jitter()), Tag::Interior);
+  for (int layer = 0; layer < 3; ++layer)
+    for (int j = -3; j < 11; ++j)
+      for (int k = -3; k < 11; ++k) sheet.add(Vec3(layer * dx, j * dx, k * dx), Tag::Dirichlet);
+  const FreeSurface sfs = detect_free_surface(sheet, FreeSurfaceOptions{.only_interior = true});
+  for (std::size_t k = 0; k < 64; ++k) {
+    EXPECT_EQ(sfs.surface[k], 1) << "sheet particle " << k;
+    EXPECT_LT(sfs.normals[k][0], -0.9) << "sheet particle " << k;
   }
 }
 
