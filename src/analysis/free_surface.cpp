@@ -170,7 +170,10 @@ FreeSurface detect_free_surface(const PointCloud& cloud, const FreeSurfaceOption
     const Vec3& nrm = out.normals[iu];
     if (films && cloud.tags[iu] == Tag::Interior && nrm.squaredNorm() > 0) {
       const auto [mu, across] = smallest_eigenpair(fluid, d);
-      if (mu < options.film_eigenvalue * full.eigenvalue) across_film[iu] = nrm.dot(across) < 0 ? Vec3(-across) : across;
+      // (A particle with no fluid neighbour, a droplet beside a wall, keeps the renormalised
+      // normal: every direction is "across" nothing.)
+      if (mu < options.film_eigenvalue * full.eigenvalue)
+        across_film[iu] = fluid.trace() == 0 ? nrm : nrm.dot(across) < 0 ? Vec3(-across) : across;
     }
   }
 #pragma omp parallel for schedule(dynamic, 256)
